@@ -1,0 +1,34 @@
+//! The Kulla-Conty multiple-scattering lobe and its Fresnel scale.
+
+use std::f64::consts::PI;
+
+use super::DIV_EPSILON;
+
+/// Which form of the Fresnel scale `f_add` a preset uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FAvgForm {
+    /// `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`: the sum over bounces k >= 1 (DESIGN.md
+    /// section 1; Filament and Blender Cycles use it).
+    Accurate,
+    /// The homework's `F_avg E_avg / (1 - F_avg (1 - E_avg))`: brighter by `1 / F_avg`.
+    Games202,
+}
+
+/// The energy-compensation lobe (Kulla & Conty 2017, slide 18):
+/// `f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg))`.
+/// With `F = 1` its cosine-weighted integral over `mu_i` is exactly `1 - E(mu_o)`.
+pub fn f_ms(e_o: f64, e_i: f64, e_avg: f64) -> f64 {
+    (1.0 - e_o) * (1.0 - e_i) / (PI * (1.0 - e_avg)).max(DIV_EPSILON)
+}
+
+/// Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,
+/// slide 26, with the square that the geometric series gives; DESIGN.md section 1):
+/// `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`.
+pub fn f_add_accurate(f_avg: f64, e_avg: f64) -> f64 {
+    f_avg * f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg)).max(DIV_EPSILON)
+}
+
+/// The homework's Fresnel scale `F_avg E_avg / (1 - F_avg (1 - E_avg))` (no square).
+pub fn f_add_games202(f_avg: f64, e_avg: f64) -> f64 {
+    f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg)).max(DIV_EPSILON)
+}

@@ -1,0 +1,57 @@
+//! The library's one error type: a clear one-line message per case. The front end turns it
+//! into a message on stderr and a non-zero exit code.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("unknown {what} '{given}': expected one of {expected}")]
+    UnknownName { what: &'static str, given: String, expected: String },
+
+    #[error("invalid {what}: {message}")]
+    Invalid { what: &'static str, message: String },
+
+    #[error("cannot write '{}': {source}", path.display())]
+    Write { path: PathBuf, source: std::io::Error },
+
+    #[error("cannot encode '{}': {message}", path.display())]
+    Encode { path: PathBuf, message: String },
+
+    #[error("unsupported output file '{}': {expected}", path.display())]
+    Format { path: PathBuf, expected: &'static str },
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Parses `given` as one of `all` by each value's `name`.
+pub fn parse_named<T: Copy>(
+    given: &str,
+    all: &[T],
+    name: impl Fn(T) -> &'static str,
+    what: &'static str,
+) -> Result<T> {
+    all.iter().copied().find(|&v| name(v) == given).ok_or_else(|| Error::UnknownName {
+        what,
+        given: given.to_string(),
+        expected: all.iter().map(|&v| name(v)).collect::<Vec<_>>().join(", "),
+    })
+}
+
+/// Implements `FromStr` and `Display` for an enum with `ALL` and `name()`, so the CLI and
+/// scene files parse the same names the program prints.
+#[macro_export]
+macro_rules! named_enum {
+    ($ty:ty, $what:literal) => {
+        impl std::str::FromStr for $ty {
+            type Err = $crate::error::Error;
+            fn from_str(s: &str) -> $crate::error::Result<Self> {
+                $crate::error::parse_named(s, &<$ty>::ALL, <$ty>::name, $what)
+            }
+        }
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}

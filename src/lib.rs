@@ -1,0 +1,12 @@
+//! shadeballs: shading balls for the Kulla-Conty multiple-scattering microfacet BRDF.
+//!
+//! Layers (DESIGN.md section 7), each importing only those above it in this list:
+//! [`brdf`] (the maths), [`lut`] (baking and reading the tables).
+
+pub mod bench;
+pub mod brdf;
+pub mod error;
+pub mod lut;
+pub mod output;
+
+pub use error::{Error, Result};

@@ -1,0 +1,130 @@
+//! Errors of baked tables against the precise reference: the bake error (each texel's value
+//! at its exact coordinates) and the read-path error (what the shader's lookup returns at
+//! arbitrary `(mu, roughness)`).
+
+use rayon::prelude::*;
+
+use super::{e_avg_reference, e_reference, Layout, Tables};
+use crate::brdf::Geometry;
+
+/// Summary of absolute errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorStats {
+    pub max: f64,
+    pub mean: f64,
+    pub count: usize,
+    /// `(mu, roughness)` of the largest error (mu is NaN for E_avg).
+    pub worst_at: (f64, f64),
+}
+
+impl ErrorStats {
+    /// Folds `(error, mu, roughness)` triples.
+    pub fn from_errors(errors: impl IntoIterator<Item = (f64, f64, f64)>) -> Self {
+        let mut s = ErrorStats::default();
+        let mut sum = 0.0;
+        for (e, mu, r) in errors {
+            let e = if e.is_nan() { f64::INFINITY } else { e };
+            if e > s.max || s.count == 0 {
+                s.max = e;
+                s.worst_at = (mu, r);
+            }
+            sum += e;
+            s.count += 1;
+        }
+        s.mean = if s.count > 0 { sum / s.count as f64 } else { 0.0 };
+        s
+    }
+}
+
+/// Precise values at every texel of a layout: what a perfect bake would hold.
+#[derive(Clone, Debug)]
+pub struct ReferenceTables {
+    pub layout: Layout,
+    pub geometry: Geometry,
+    pub e: Vec<f64>,
+    pub e_avg: Vec<f64>,
+}
+
+impl ReferenceTables {
+    pub fn new(layout: Layout, geometry: Geometry) -> Self {
+        let l = layout;
+        let e = (0..l.texels())
+            .into_par_iter()
+            .map(|k| e_reference(l.mu_of_texel(k % l.mu_size), l.roughness_of_texel(k / l.mu_size), geometry))
+            .collect();
+        let e_avg = (0..l.r_size)
+            .into_par_iter()
+            .map(|j| e_avg_reference(l.roughness_of_texel(j), geometry))
+            .collect();
+        Self { layout, geometry, e, e_avg }
+    }
+
+    /// Bake error of every E texel and every E_avg texel of `tables`: `(E, E_avg)`.
+    /// `tables` must have this layout's texel coordinates and geometry.
+    pub fn bake_error(&self, tables: &Tables) -> (ErrorStats, ErrorStats) {
+        let l = self.layout;
+        assert_eq!(tables.config.geometry, self.geometry, "reference of another geometry term");
+        assert_eq!(tables.e.len(), self.e.len(), "reference of another layout");
+        let e = (0..l.texels()).map(|k| {
+            let (mu, r) = (l.mu_of_texel(k % l.mu_size), l.roughness_of_texel(k / l.mu_size));
+            ((tables.e[k] - self.e[k]).abs(), mu, r)
+        });
+        let avg = (0..l.r_size)
+            .map(|j| ((tables.e_avg[j] - self.e_avg[j]).abs(), f64::NAN, l.roughness_of_texel(j)));
+        (ErrorStats::from_errors(e), ErrorStats::from_errors(avg))
+    }
+}
+
+/// Bake error of every E texel and every E_avg texel: `(E, E_avg)`.
+pub fn bake_error(tables: &Tables) -> (ErrorStats, ErrorStats) {
+    ReferenceTables::new(*tables.layout(), tables.config.geometry).bake_error(tables)
+}
+
+/// Precise E at sample points, kept to compare many tables against the same points.
+#[derive(Clone, Debug)]
+pub struct ReferencePoints {
+    pub geometry: Geometry,
+    pub points: Vec<(f64, f64)>,
+    pub e: Vec<f64>,
+}
+
+impl ReferencePoints {
+    pub fn new(points: Vec<(f64, f64)>, geometry: Geometry) -> Self {
+        let e = points.par_iter().map(|&(mu, r)| e_reference(mu, r, geometry)).collect();
+        Self { geometry, points, e }
+    }
+
+    /// Read-path error of E: the shader's lookup of `tables` against the reference.
+    pub fn read_error(&self, tables: &Tables) -> ErrorStats {
+        assert_eq!(tables.config.geometry, self.geometry, "reference of another geometry term");
+        ErrorStats::from_errors(self.points.iter().zip(&self.e).map(|(&(mu, r), &exact)| {
+            ((tables.lut_e(mu as f32, r as f32) as f64 - exact).abs(), mu, r)
+        }))
+    }
+}
+
+/// Read-path error of E_avg at `roughness` values.
+pub fn read_error_avg_at(tables: &Tables, roughness: &[f64]) -> ErrorStats {
+    let g = tables.config.geometry;
+    let errors: Vec<_> = roughness
+        .par_iter()
+        .map(|&r| {
+            let read = tables.lut_e_avg(r as f32) as f64;
+            ((read - e_avg_reference(r, g)).abs(), f64::NAN, r)
+        })
+        .collect();
+    ErrorStats::from_errors(errors)
+}
+
+/// `n` uniformly random points in `[0, 1]^2` (SplitMix64, fixed `seed`): reproducible.
+pub fn random_points(n: usize, seed: u64) -> Vec<(f64, f64)> {
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n).map(|_| (next(), next())).collect()
+}

@@ -1,0 +1,132 @@
+//! The `shadeballs` command line: parses flags, calls the library, reports.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand};
+
+use shadeballs::brdf::Geometry;
+use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage};
+
+#[derive(Parser)]
+#[command(name = "shadeballs", version, about = "Shading balls for the Kulla-Conty multiple-scattering BRDF")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Bake E(mu, roughness) and E_avg(roughness) and write them to a file.
+    Bake(BakeArgs),
+    /// Measure run time against error (writes CSV and a markdown summary).
+    Bench(BenchArgs),
+}
+
+#[derive(clap::Args)]
+struct BakeArgs {
+    /// Output file: .csv (one row per texel), .exr (f32) or .png (16 bit).
+    #[arg(long)]
+    out: PathBuf,
+    /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(usize, usize)>,
+    /// Masking-shadowing term: schlick, smith or smith-correlated.
+    #[arg(long, default_value_t = Geometry::Schlick)]
+    geometry: Geometry,
+    /// Estimator: cosine, ndf, vndf or quadrature.
+    #[arg(long, default_value_t = lut::DEFAULT_METHOD)]
+    method: Method,
+    /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per side (quadrature).
+    #[arg(long, default_value_t = lut::DEFAULT_SAMPLES as u32, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    samples: u32,
+    /// Point set for Monte Carlo methods: random, hammersley or sobol.
+    #[arg(long, default_value_t = PointSet::Sobol)]
+    points: PointSet,
+    /// Table layout: sqrt-mu (default) or games202 (the homework's).
+    #[arg(long, default_value_t = LayoutKind::SqrtMu)]
+    layout: LayoutKind,
+    /// Storage format the GPU will read: f32, f16 or unorm8. Default: the layout's.
+    #[arg(long)]
+    storage: Option<Storage>,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Fewer configurations and repeats (under a minute).
+    #[arg(long)]
+    quick: bool,
+    /// Folder for the CSV files and summary.md.
+    #[arg(long, default_value = "bench-results")]
+    out: PathBuf,
+}
+
+/// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
+const MAX_TABLE_SIDE: usize = 8192;
+
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let one = |t: &str| -> Result<usize, String> {
+        let n: usize = t.trim().parse().map_err(|_| format!("'{t}' is not a whole number"))?;
+        if !(2..=MAX_TABLE_SIDE).contains(&n) {
+            return Err(format!("{n} is outside 2..={MAX_TABLE_SIDE}"));
+        }
+        Ok(n)
+    };
+    match s.split_once(['x', 'X']) {
+        Some((a, b)) => Ok((one(a)?, one(b)?)),
+        None => one(s).map(|n| (n, n)),
+    }
+}
+
+fn bake(args: BakeArgs) -> anyhow::Result<()> {
+    let mut layout = Layout::of_kind(args.layout);
+    if let Some((mu, r)) = args.size {
+        layout = layout.with_size(mu, r);
+    }
+    if let Some(storage) = args.storage {
+        layout = layout.with_storage(storage);
+    }
+    let config = BakeConfig {
+        geometry: args.geometry,
+        method: args.method,
+        points: args.points,
+        samples: args.samples as usize,
+        layout,
+    };
+    let start = Instant::now();
+    let tables = lut::bake(&config);
+    let elapsed = start.elapsed();
+    write_tables(&tables, &args.out)?;
+    eprintln!(
+        "baked E {}x{} + E_avg {} ({} G, {} with {} samples, {} layout) in {:.2} ms -> {}",
+        layout.mu_size,
+        layout.r_size,
+        layout.r_size,
+        config.geometry,
+        config.method,
+        config.samples,
+        layout.kind,
+        elapsed.as_secs_f64() * 1e3,
+        args.out.display()
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bake(args) => bake(args),
+        Command::Bench(args) => {
+            let options = shadeballs::bench::BenchOptions { quick: args.quick, out: args.out };
+            shadeballs::bench::run(&options).map(|summary| println!("{summary}")).map_err(Into::into)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! The BRDF maths: known values, limits, symmetry.
