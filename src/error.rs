@@ -19,6 +19,19 @@ pub enum Error {
 
     #[error("unsupported output file '{}': {expected}", path.display())]
     Format { path: PathBuf, expected: &'static str },
+
+    /// A scene file that cannot be read, parsed or validated; `message` names the line and
+    /// column.
+    #[error("scene file '{}': {message}", path.display())]
+    Scene { path: PathBuf, message: String },
+
+    /// No adapter for the requested backends.
+    #[error("no GPU adapter for {backends}: {message} (for software Vulkan install the package mesa-vulkan-drivers, or use --backend cpu)")]
+    NoAdapter { backends: String, message: String },
+
+    /// The GPU device reported an error (validation, out of memory, lost device).
+    #[error("GPU error: {message}")]
+    Gpu { message: String },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

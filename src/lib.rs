@@ -5,8 +5,12 @@
 
 pub mod bench;
 pub mod brdf;
+pub mod cpu;
 pub mod error;
+pub mod gpu;
+pub mod image_out;
 pub mod lut;
 pub mod output;
+pub mod scene;
 
 pub use error::{Error, Result};

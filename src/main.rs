@@ -6,6 +6,8 @@ use std::time::Instant;
 
 use clap::{Parser, Subcommand};
 
+mod render_cmd;
+
 use shadeballs::brdf::Geometry;
 use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage};
 
@@ -22,6 +24,10 @@ enum Command {
     Bake(BakeArgs),
     /// Measure run time against error (writes CSV and a markdown summary).
     Bench(BenchArgs),
+    /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
+    Render(render_cmd::RenderArgs),
+    /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
+    Probe(render_cmd::ProbeArgs),
 }
 
 #[derive(clap::Args)]
@@ -121,6 +127,8 @@ fn main() -> ExitCode {
             let options = shadeballs::bench::BenchOptions { quick: args.quick, out: args.out };
             shadeballs::bench::run(&options).map(|summary| println!("{summary}")).map_err(Into::into)
         }
+        Command::Render(args) => render_cmd::render(args),
+        Command::Probe(args) => render_cmd::probe(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,144 @@
+// brdf.wgsl: the BRDF terms, name for name the f64 functions of src/brdf evaluated in f32
+// (DESIGN.md section 1). Conventions: normal +z, mu_o = n.v, mu_i = n.l,
+// alpha = roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
+
+// The roughness the model uses: clamped to [ROUGHNESS_MIN, 1] (src/brdf roughness_clamped;
+// the shader never sees NaN: scenes are validated on load).
+fn roughness_clamped(roughness: f32) -> f32 {
+    return clamp(roughness, ROUGHNESS_MIN, 1.0);
+}
+
+// alpha = roughness^2 (Burley 2012's remapping), after the roughness clamp.
+fn alpha_from_roughness(roughness: f32) -> f32 {
+    let r = roughness_clamped(roughness);
+    return r * r;
+}
+
+// GGX / Trowbridge-Reitz NDF (Walter et al. 2007, "Microfacet Models for Refraction
+// through Rough Surfaces", eq. 33): D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2),
+// with 1 - (n.h)^2 formed first to keep precision near the mirror direction.
+fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
+    if n_dot_h <= 0.0 {
+        return 0.0;
+    }
+    let c2 = min(n_dot_h * n_dot_h, 1.0);
+    let a2 = alpha * alpha;
+    let s2 = 1.0 - c2;
+    let denom = max(c2 * a2 + s2, DIV_EPSILON);
+    return a2 / (PI * denom * denom);
+}
+
+// Schlick-GGX G1 (Schlick 1994, eq. 19, with Karis 2013's k = alpha / 2):
+// G1(c) = c / (c (1 - k) + k).
+fn g1_schlick(c_in: f32, k: f32) -> f32 {
+    let c = max(c_in, 0.0);
+    return c / max(c * (1.0 - k) + k, DIV_EPSILON);
+}
+
+// Separable Schlick-GGX: G = G1(mu_o) G1(mu_i), k = roughness^2 / 2.
+fn g_schlick(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
+    let k = alpha_from_roughness(roughness) / 2.0;
+    return g1_schlick(mu_o, k) * g1_schlick(mu_i, k);
+}
+
+// Smith's Lambda for GGX (Heitz 2014, eq. 72): (-1 + sqrt(1 + alpha^2 tan^2)) / 2, written
+// alpha^2 tan^2 / (2 (1 + sqrt(1 + alpha^2 tan^2))) against cancellation. c = 0 gives
+// LAMBDA_MAX (+infinity in the Rust model).
+fn lambda_smith(c_in: f32, alpha: f32) -> f32 {
+    let c = clamp(c_in, 0.0, 1.0);
+    let c2 = c * c;
+    if c2 <= 0.0 {
+        return LAMBDA_MAX;
+    }
+    let a2t2 = alpha * alpha * (1.0 - c2) / c2;
+    return a2t2 / (2.0 * (1.0 + sqrt(1.0 + a2t2)));
+}
+
+// Exact Smith G1 for GGX (Walter et al. 2007, eq. 34): 2 / (1 + sqrt(1 + alpha^2 tan^2)),
+// written 2c / (c + sqrt(c^2 + alpha^2 (1 - c^2))), finite at c = 0.
+fn g1_smith(c_in: f32, alpha: f32) -> f32 {
+    let c = clamp(c_in, 0.0, 1.0);
+    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
+    return 2.0 * c / max(c + root, DIV_EPSILON);
+}
+
+// Separable Smith: G = G1(mu_o) G1(mu_i).
+fn g_smith(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
+    let alpha = alpha_from_roughness(roughness);
+    return g1_smith(mu_o, alpha) * g1_smith(mu_i, alpha);
+}
+
+// Height-correlated Smith (Heitz 2014, "Understanding the Masking-Shadowing Function in
+// Microfacet-Based BRDFs", eq. 99): G = 1 / (1 + Lambda(mu_o) + Lambda(mu_i)).
+fn g_smith_correlated(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
+    let alpha = alpha_from_roughness(roughness);
+    return 1.0 / (1.0 + lambda_smith(mu_o, alpha) + lambda_smith(mu_i, alpha));
+}
+
+// The G chosen by the GEOMETRY override (src/brdf Geometry::g).
+fn geometry_g(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
+    if GEOMETRY == GEOMETRY_SMITH {
+        return g_smith(mu_o, mu_i, roughness);
+    }
+    if GEOMETRY == GEOMETRY_SMITH_CORRELATED {
+        return g_smith_correlated(mu_o, mu_i, roughness);
+    }
+    return g_schlick(mu_o, mu_i, roughness);
+}
+
+// Schlick's approximation (Schlick 1994, "An Inexpensive BRDF Model for Physically-based
+// Rendering", eq. 15): F = F0 + (1 - F0) (1 - cos)^5, cos = v.h, clamped to [0, 1].
+fn f_schlick(f0: vec3<f32>, cos_theta: f32) -> vec3<f32> {
+    let m = clamp(1.0 - clamp(cos_theta, 0.0, 1.0), 0.0, 1.0);
+    let m2 = m * m;
+    return f0 + (1.0 - f0) * (m2 * m2 * m);
+}
+
+// Cosine-weighted average of Schlick's Fresnel: F_avg = F0 + (1 - F0) / 21 (Kulla & Conty
+// 2017, slide 26 gives the same integral).
+fn f_avg_schlick(f0: vec3<f32>) -> vec3<f32> {
+    return f0 + (1.0 - f0) / 21.0;
+}
+
+// The homework's F_avg: Kulla & Conty 2017 (slide 26)'s polynomial fit of the average
+// Fresnel of Gulbrandsen 2014's artist-friendly conductor, reflectivity r, edge tint g.
+fn f_avg_games202(r: vec3<f32>, g: vec3<f32>) -> vec3<f32> {
+    return 0.087237 + 0.0230685 * g - 0.0864902 * g * g + 0.0774594 * g * g * g + 0.782654 * r
+        - 0.136432 * r * r
+        + 0.278708 * r * r * r
+        + 0.19744 * g * r
+        + 0.0360605 * g * g * r
+        - 0.2586 * g * r * r;
+}
+
+// The energy-compensation lobe (Kulla & Conty 2017, slide 18):
+// f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)), from the losses 1 - E as the
+// tables store them.
+fn f_ms(loss_o: f32, loss_i: f32, loss_avg: f32) -> f32 {
+    return loss_o * loss_i / max(PI * loss_avg, DIV_EPSILON);
+}
+
+// Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,
+// slide 26, with the square that the geometric series gives; DESIGN.md section 1):
+// F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
+fn f_add_accurate(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
+    return f_avg * f_avg * e_avg / max(1.0 - f_avg * (1.0 - e_avg), vec3<f32>(DIV_EPSILON));
+}
+
+// The homework's Fresnel scale F_avg E_avg / (1 - F_avg (1 - E_avg)) (no square; GAMES202
+// homework 1, Kulla & Conty 2017 slide 26 as the homework transcribes it).
+fn f_add_games202(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
+    return f_avg * e_avg / max(1.0 - f_avg * (1.0 - e_avg), vec3<f32>(DIV_EPSILON));
+}
+
+// The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):
+// F G D / (4 mu_i mu_o) for a Fresnel value per channel; below the horizon 0.
+fn f_micro(fresnel: vec3<f32>, mu_o: f32, mu_i: f32, n_dot_h: f32, roughness: f32) -> vec3<f32> {
+    if mu_o <= 0.0 || mu_i <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let alpha = alpha_from_roughness(roughness);
+    let d = d_ggx(n_dot_h, alpha);
+    let g = geometry_g(mu_o, mu_i, roughness);
+    return fresnel * (g * d / max(4.0 * mu_i * mu_o, DIV_EPSILON));
+}

@@ -1,0 +1,55 @@
+// lighting.wgsl: outgoing radiance at a ball's surface point and the display transform.
+// Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
+
+// Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye).
+//
+// Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
+// + ms f_add f_ms + diffuse / pi; Lo += f_r L mu_i.
+//
+// Uniform environment L_env: the cosine-weighted hemispherical integral of f_r. The
+// multiple-scattering lobe integrates exactly to f_add (1 - E(mu_o)) (its construction),
+// the Lambertian base to its albedo. The single-scattering part with Schlick F has no
+// table of its own: it is approximated by F_avg_schlick(F0) E(mu_o), i.e. F replaced by its
+// cosine-weighted average. That is exact when F is constant (F0 = 1, the furnace, where it
+// gives E(mu_o) and Lo = L_env exactly with the term on) and otherwise an approximation
+// of the split-sum kind (Karis 2013 keeps a second table for the (1 - F0) part instead).
+fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    let roughness = b.f0_roughness.w;
+    let f0 = b.f0_roughness.xyz;
+    let ms = b.diffuse_ms.w;
+    let mu_o = max(dot(n, v), 0.0);
+    let loss_o = lut_loss(mu_o, roughness);
+    let e_o = 1.0 - loss_o;
+    let loss_avg = lut_loss_avg(roughness);
+    let e_avg = 1.0 - loss_avg;
+    let f_avg_ss = f_avg_schlick(f0);
+    var f_add: vec3<f32>;
+    if F_ADD_FORM == F_ADD_GAMES202 {
+        f_add = f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
+    } else {
+        f_add = f_add_accurate(f_avg_schlick(f0), e_avg);
+    }
+    let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
+
+    var lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    for (var k = 0u; k < min(globals.counts.y, MAX_LIGHTS); k++) {
+        let l = lights[k].direction.xyz;
+        let mu_i = dot(n, l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = normalize(v + l);
+        let fresnel = f_schlick(f0, dot(v, h));
+        let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness);
+        let loss_i = lut_loss(mu_i, roughness);
+        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / PI;
+        lo += f_r * lights[k].radiance.xyz * mu_i;
+    }
+    return lo;
+}
+
+// Display transform (DESIGN.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.
+fn tone_map(radiance: vec3<f32>, exposure: f32) -> vec3<f32> {
+    let c = max(radiance * exposure, vec3<f32>(0.0));
+    return pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2));
+}

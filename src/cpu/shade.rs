@@ -1,0 +1,117 @@
+//! Per-pixel maths of the CPU reference renderer, term for term `shaders/lighting.wgsl`
+//! and `intersect_sphere` of `shaders/balls.wgsl`, in f64.
+
+use glam::DVec3;
+
+use crate::brdf::{
+    f_add_accurate, f_add_games202, f_avg_games202, f_avg_schlick, f_micro, f_ms, f_schlick, FAvgForm,
+    Geometry, GAMES202_EDGE_TINT,
+};
+use crate::lut::{e_avg_reference, e_reference, Tables};
+use crate::scene::{Ball, Scene};
+
+/// Where the CPU renderer takes E and E_avg from.
+pub enum TableRead<'a> {
+    /// The shader's read of the same tables (`Tables::lut_e`, f32): the default.
+    Lut(&'a Tables),
+    /// The precise reference (slow: for spot checks of a few pixels' worth).
+    Reference(Geometry),
+}
+
+impl TableRead<'_> {
+    /// `1 - E(mu, roughness)`.
+    fn loss(&self, mu: f64, roughness: f64) -> f64 {
+        match self {
+            TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
+            TableRead::Reference(g) => 1.0 - e_reference(mu.clamp(0.0, 1.0), roughness, *g),
+        }
+    }
+    /// `1 - E_avg(roughness)`.
+    fn loss_avg(&self, roughness: f64) -> f64 {
+        match self {
+            TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
+            TableRead::Reference(g) => 1.0 - e_avg_reference(roughness, *g),
+        }
+    }
+}
+
+/// `intersect_sphere` of `balls.wgsl`: nearest positive distance along unit `d` from `o`
+/// to the sphere, or -1.
+pub fn intersect_sphere(o: DVec3, d: DVec3, center: DVec3, r: f64) -> f64 {
+    let oc = o - center;
+    let b = oc.dot(d);
+    let perp = oc - b * d;
+    let disc = r * r - perp.dot(perp);
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let q = -b + if b > 0.0 { -disc.sqrt() } else { disc.sqrt() };
+    if q.abs() < crate::brdf::DIV_EPSILON {
+        return -1.0;
+    }
+    let c = oc.dot(oc) - r * r;
+    let (t0, t1) = ((c / q).min(q), (c / q).max(q));
+    if t0 > 0.0 {
+        t0
+    } else if t1 > 0.0 {
+        t1
+    } else {
+        -1.0
+    }
+}
+
+fn per_channel(v: DVec3, f: impl Fn(f64) -> f64) -> DVec3 {
+    DVec3::new(f(v.x), f(v.y), f(v.z))
+}
+
+/// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`
+/// (see the shader for the model and the environment approximation).
+pub fn shade(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableRead<'_>,
+    form: FAvgForm,
+    geometry: Geometry,
+) -> DVec3 {
+    let roughness = b.roughness;
+    let f0 = b.material.f0;
+    let ms = if b.multiple_scattering { 1.0 } else { 0.0 };
+    let mu_o = n.dot(v).max(0.0);
+    let loss_o = e.loss(mu_o, roughness);
+    let e_o = 1.0 - loss_o;
+    let loss_avg = e.loss_avg(roughness);
+    let e_avg = 1.0 - loss_avg;
+    let f_avg_ss = per_channel(f0, f_avg_schlick);
+    let tint = DVec3::from_array(GAMES202_EDGE_TINT);
+    let f_add = match form {
+        FAvgForm::Games202 => {
+            let f_avg = DVec3::new(
+                f_avg_games202(f0.x, tint.x),
+                f_avg_games202(f0.y, tint.y),
+                f_avg_games202(f0.z, tint.z),
+            );
+            per_channel(f_avg, |f| f_add_games202(f, e_avg))
+        }
+        FAvgForm::Accurate => per_channel(f_avg_ss, |f| f_add_accurate(f, e_avg)),
+    };
+    let kd = b.material.diffuse * (DVec3::ONE - f_avg_ss);
+
+    let mut lo = scene.environment * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    for light in &scene.lights {
+        let l = light.direction;
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = (v + l).normalize();
+        let v_dot_h = v.dot(h);
+        let n_dot_h = n.dot(h);
+        let spec = per_channel(f0, |f| f_micro(f_schlick(f, v_dot_h), mu_o, mu_i, n_dot_h, roughness, geometry));
+        let loss_i = e.loss(mu_i, roughness);
+        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / std::f64::consts::PI;
+        lo += f_r * light.radiance * mu_i;
+    }
+    lo
+}

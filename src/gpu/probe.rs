@@ -1,0 +1,124 @@
+//! The table probe: what the shader's `lut_e` / `lut_e_avg` return on an N x N grid,
+//! computed on the GPU by `shaders/probe.wgsl` (the same WGSL functions the renderer uses).
+
+use std::sync::Arc;
+
+use super::headless::read_buffer;
+use super::renderer::Renderer;
+use super::shaders;
+use crate::brdf::{FAvgForm, Geometry};
+use crate::error::{Error, Result};
+use crate::lut::Tables;
+
+/// Largest probe grid side (N^2 / 64 workgroups must fit one dispatch dimension, 65535).
+pub const MAX_PROBE_GRID: u32 = 1024;
+
+/// One probe sample: `mu = i / (N - 1)`, `roughness = j / (N - 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProbeSample {
+    pub roughness: f32,
+    pub mu: f32,
+    pub e: f32,
+    pub e_avg: f32,
+}
+
+impl Renderer {
+    /// Evaluates the tables for `geometry` (baked if needed) on the GPU; row-major,
+    /// row = roughness. Returns the tables read, for comparison.
+    pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
+        if !(2..=MAX_PROBE_GRID).contains(&n) {
+            return Err(Error::Invalid { what: "probe grid", message: format!("{n} is outside 2..={MAX_PROBE_GRID}") });
+        }
+        let tables = self.tables_for(geometry);
+        let device = self.gpu.device.clone();
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (lut, lut_dims, lut_r) = super::uniforms::lut_uniforms(&tables);
+        let globals = super::uniforms::Globals { lut, lut_dims, lut_r, ..bytemuck::Zeroable::zeroed() };
+        self.gpu.queue.write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
+
+        let count = (n * n) as u64;
+        let grid = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe grid"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.gpu.queue.write_buffer(&grid, 0, bytemuck::cast_slice(&[n, 0, 0, 0]));
+        let out_size = count * 8;
+        let out = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe out"),
+            size: out_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe readback"),
+            size: out_size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("probe"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, wgpu::BufferBindingType::Storage { read_only: false }),
+            ],
+        });
+        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("probe"),
+            layout: &layout1,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: grid.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("probe"),
+            bind_group_layouts: &[Some(&self.resources.layout), Some(&layout1)],
+            immediate_size: 0,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("probe"),
+            source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
+        });
+        let constants = shaders::overrides(geometry, FAvgForm::Accurate, false);
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("probe"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(shaders::PROBE_MAIN),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            cache: None,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &self.tables.as_ref().expect("tables bound above").1, &[]);
+            pass.set_bind_group(1, &group1, &[]);
+            pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
+        self.gpu.queue.submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(super::gpu_error(e));
+        }
+        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&read_buffer(&device, &readback)?);
+        let last = (n - 1) as f32;
+        let samples = (0..n * n)
+            .map(|k| ProbeSample {
+                roughness: (k / n) as f32 / last,
+                mu: (k % n) as f32 / last,
+                e: values[2 * k as usize],
+                e_avg: values[2 * k as usize + 1],
+            })
+            .collect();
+        Ok((tables, samples))
+    }
+}

@@ -1,0 +1,164 @@
+//! The ball renderer: one full-screen draw into any colour target (see `balls.wgsl` for why
+//! a full-screen triangle). A window reuses [`Renderer::render`] with its surface view.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use super::resources::Resources;
+use super::{shaders, uniforms, Gpu};
+use crate::brdf::{FAvgForm, Geometry};
+use crate::error::Result;
+use crate::lut::{self, BakeConfig, Tables};
+use crate::scene::Scene;
+
+/// Where to draw: a view of a texture of `format`, `width x height` pixels.
+/// Float formats receive linear radiance (for EXR); others the tone-mapped value.
+#[derive(Clone, Copy)]
+pub struct Target<'a> {
+    pub view: &'a wgpu::TextureView,
+    pub format: wgpu::TextureFormat,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Whether `format` gets linear radiance rather than display values.
+pub fn is_linear(format: wgpu::TextureFormat) -> bool {
+    matches!(
+        format,
+        wgpu::TextureFormat::Rgba32Float | wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::R32Float
+    )
+}
+
+type PipelineKey = (wgpu::TextureFormat, Geometry, FAvgForm);
+
+/// Device, shader modules, pipelines and the tables of the current geometry.
+pub struct Renderer {
+    pub(super) gpu: Gpu,
+    pub(super) resources: Resources,
+    module: wgpu::ShaderModule,
+    pub(super) pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pub(super) tables: Option<(Arc<Tables>, wgpu::BindGroup)>,
+}
+
+impl Renderer {
+    pub fn new(gpu: Gpu) -> Self {
+        let device = &gpu.device;
+        let resources = Resources::new(device);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("balls"),
+            source: wgpu::ShaderSource::Wgsl(shaders::balls_source().into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("balls"),
+            bind_group_layouts: &[Some(&resources.layout)],
+            immediate_size: 0,
+        });
+        Renderer { gpu, resources, module, pipeline_layout, pipelines: HashMap::new(), tables: None }
+    }
+
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Uses `tables` (baked for their `config.geometry`) from now on.
+    pub fn set_tables(&mut self, tables: Arc<Tables>) {
+        let bind = self.resources.bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
+        self.tables = Some((tables, bind));
+    }
+
+    /// The tables for `geometry`, baked (default layout and estimator) if not yet held.
+    pub fn tables_for(&mut self, geometry: Geometry) -> Arc<Tables> {
+        match &self.tables {
+            Some((t, _)) if t.config.geometry == geometry => t.clone(),
+            _ => {
+                let tables = Arc::new(lut::bake(&BakeConfig { geometry, ..Default::default() }));
+                self.set_tables(tables.clone());
+                tables
+            }
+        }
+    }
+
+    fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
+        let (format, geometry, form) = key;
+        let device = &self.gpu.device;
+        let (module, layout) = (&self.module, &self.pipeline_layout);
+        self.pipelines.entry(key).or_insert_with(|| {
+            let constants = shaders::overrides(geometry, form, is_linear(format));
+            let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("balls"),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some(shaders::VS_MAIN),
+                    compilation_options: options.clone(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some(shaders::FS_MAIN),
+                    compilation_options: options,
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+    }
+
+    /// Records the draw of `scene` into `target` on `encoder` (uploads uniforms now; bakes
+    /// tables if the scene's geometry changed).
+    pub fn encode(&mut self, scene: &Scene, target: Target<'_>, encoder: &mut wgpu::CommandEncoder) {
+        let geometry = scene.effective_geometry();
+        let tables = self.tables_for(geometry);
+        let queue = &self.gpu.queue;
+        let globals = uniforms::globals(scene, &tables, target.width, target.height);
+        queue.write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
+        let balls = uniforms::balls(scene);
+        if !balls.is_empty() {
+            queue.write_buffer(&self.resources.balls, 0, bytemuck::cast_slice(&balls));
+        }
+        let lights = uniforms::lights(scene);
+        if !lights.is_empty() {
+            queue.write_buffer(&self.resources.lights, 0, bytemuck::cast_slice(&lights));
+        }
+        let pipeline = self.pipeline((target.format, geometry, scene.preset.f_avg_form())).clone();
+        let bind = &self.tables.as_ref().expect("tables bound above").1;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("balls"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Draws `scene` into `target` and submits.
+    pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
+        let scope = self.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.encode(scene, target, &mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(super::gpu_error(e)),
+            None => Ok(()),
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! GPU resources of group 0 (`shaders/bindings.wgsl`): the uniform buffers and the tables
+//! uploaded as R32Float textures, read with `textureLoad` (no filtering feature needed).
+
+use std::mem::size_of;
+
+use super::uniforms::{Globals, GpuBall, GpuLight};
+use crate::lut::Tables;
+use crate::scene::{MAX_BALLS, MAX_LIGHTS};
+
+/// Buffers and the layout of group 0; the bind group follows the tables.
+pub struct Resources {
+    pub layout: wgpu::BindGroupLayout,
+    pub globals: wgpu::Buffer,
+    pub balls: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl Resources {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("group 0"),
+            entries: &[uniform_entry(0), uniform_entry(1), uniform_entry(2), texture_entry(3), texture_entry(4)],
+        });
+        Resources {
+            layout,
+            globals: uniform_buffer(device, "globals", size_of::<Globals>()),
+            balls: uniform_buffer(device, "balls", size_of::<GpuBall>() * MAX_BALLS),
+            lights: uniform_buffer(device, "lights", size_of::<GpuLight>() * MAX_LIGHTS),
+        }
+    }
+
+    /// Uploads `tables` (`1 - E`: mu_size x r_size, `1 - E_avg`: r_size x 1, both R32Float)
+    /// and binds them with the buffers.
+    pub fn bind_tables(&self, device: &wgpu::Device, queue: &wgpu::Queue, tables: &Tables) -> wgpu::BindGroup {
+        let l = tables.layout();
+        let e = r32_texture(device, queue, "1 - E", l.mu_size as u32, l.r_size as u32, &tables.stored_loss);
+        let e_avg = r32_texture(device, queue, "1 - E_avg", l.r_size as u32, 1, &tables.stored_loss_avg);
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("group 0"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.globals.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: self.balls.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: self.lights.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&e) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&e_avg) },
+            ],
+        })
+    }
+}
+
+fn r32_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    width: u32,
+    height: u32,
+    data: &[f32],
+) -> wgpu::TextureView {
+    let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(data),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 4), rows_per_image: Some(height) },
+        size,
+    );
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
+}

@@ -1,0 +1,60 @@
+//! The WGSL sources and how they are combined. naga has no `#include`, so each module is
+//! the concatenation of the role files in one fixed order: types, bindings, BRDF terms,
+//! table reads, then the entry points.
+
+use crate::brdf::{FAvgForm, Geometry};
+
+/// `shaders/*.wgsl`, in concatenation order, by file name.
+pub const COMMON: [(&str, &str); 4] = [
+    ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
+    ("brdf.wgsl", include_str!("../../shaders/brdf.wgsl")),
+    ("lut.wgsl", include_str!("../../shaders/lut.wgsl")),
+];
+const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
+const BALLS: &str = include_str!("../../shaders/balls.wgsl");
+const PROBE: &str = include_str!("../../shaders/probe.wgsl");
+
+/// Entry points of the ball renderer module.
+pub const VS_MAIN: &str = "vs_main";
+pub const FS_MAIN: &str = "fs_main";
+/// Entry point of the table probe module.
+pub const PROBE_MAIN: &str = "probe_main";
+
+fn concat(parts: &[&str]) -> String {
+    let common = COMMON.iter().map(|(_, src)| *src);
+    common.chain(parts.iter().copied()).collect::<Vec<_>>().join("\n")
+}
+
+/// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`.
+pub fn balls_source() -> String {
+    concat(&[LIGHTING, BALLS])
+}
+
+/// The table probe: common files, `probe.wgsl`.
+pub fn probe_source() -> String {
+    concat(&[PROBE])
+}
+
+/// The value of the `GEOMETRY` override for `g` (its index in `Geometry::ALL`, matching
+/// the `GEOMETRY_*` constants of `types.wgsl`).
+pub fn geometry_id(g: Geometry) -> u32 {
+    Geometry::ALL.iter().position(|&x| x == g).unwrap_or(0) as u32
+}
+
+/// The value of the `F_ADD_FORM` override (`F_ADD_*` in `types.wgsl`).
+pub fn f_add_form_id(form: FAvgForm) -> u32 {
+    match form {
+        FAvgForm::Accurate => 0,
+        FAvgForm::Games202 => 1,
+    }
+}
+
+/// Pipeline-time constants for every override the modules declare.
+pub fn overrides(geometry: Geometry, form: FAvgForm, linear: bool) -> [(&'static str, f64); 3] {
+    [
+        ("GEOMETRY", geometry_id(geometry) as f64),
+        ("F_ADD_FORM", f_add_form_id(form) as f64),
+        ("OUTPUT_LINEAR", if linear { 1.0 } else { 0.0 }),
+    ]
+}

@@ -1,0 +1,100 @@
+//! The uniform buffers' Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`
+//! (every member a 16-byte vector, so the WGSL uniform layout is the `repr(C)` one).
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::lut::{EAvgRead, Tables};
+use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct Globals {
+    pub cam_origin: [f32; 4],
+    pub cam_forward: [f32; 4],
+    pub cam_right: [f32; 4],
+    pub cam_up: [f32; 4],
+    pub environment: [f32; 4],
+    pub size: [f32; 4],
+    pub counts: [u32; 4],
+    pub lut: [f32; 4],
+    pub lut_dims: [u32; 4],
+    pub lut_r: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuBall {
+    pub center_radius: [f32; 4],
+    pub f0_roughness: [f32; 4],
+    pub diffuse_ms: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuLight {
+    pub direction: [f32; 4],
+    pub radiance: [f32; 4],
+}
+
+fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+/// The table-read uniforms of `tables`: `Layout::scale_bias` per axis; sizes, mu axis id
+/// and E_avg read id (`E_AVG_READ_*` in `types.wgsl`); `r_min` of the roughness axis.
+pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
+    let l = tables.layout();
+    let (sx, bx) = l.scale_bias(l.mu_size);
+    let (sy, by) = l.scale_bias(l.r_size);
+    let e_avg_read = match l.e_avg_read {
+        EAvgRead::Linear => 0,
+        EAvgRead::Geometric => 1,
+    };
+    (
+        [sx as f32, bx as f32, sy as f32, by as f32],
+        [l.mu_size as u32, l.r_size as u32, l.mu_axis.id(), e_avg_read],
+        [l.r_axis.r_min() as f32, 0.0, 0.0, 0.0],
+    )
+}
+
+/// Globals for rendering `scene` at `width x height` with `tables`.
+pub fn globals(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Globals {
+    let basis = scene.camera.basis(width, height);
+    let (lut, lut_dims, lut_r) = lut_uniforms(tables);
+    Globals {
+        cam_origin: v4(basis.origin, 1.0),
+        cam_forward: v4(basis.forward, 0.0),
+        cam_right: v4(basis.right, 0.0),
+        cam_up: v4(basis.up, 0.0),
+        environment: v4(scene.environment, scene.exposure),
+        size: [width as f32, height as f32, 0.0, 0.0],
+        counts: [scene.balls.len().min(MAX_BALLS) as u32, scene.lights.len().min(MAX_LIGHTS) as u32, 0, 0],
+        lut,
+        lut_dims,
+        lut_r,
+    }
+}
+
+/// The balls array (the used prefix of the uniform array).
+pub fn balls(scene: &Scene) -> Vec<GpuBall> {
+    scene
+        .balls
+        .iter()
+        .take(MAX_BALLS)
+        .map(|b| GpuBall {
+            center_radius: v4(b.center, b.radius),
+            f0_roughness: v4(b.material.f0, b.roughness),
+            diffuse_ms: v4(b.material.diffuse, if b.multiple_scattering { 1.0 } else { 0.0 }),
+        })
+        .collect()
+}
+
+/// The lights array (the used prefix of the uniform array).
+pub fn lights(scene: &Scene) -> Vec<GpuLight> {
+    scene
+        .lights
+        .iter()
+        .take(MAX_LIGHTS)
+        .map(|l| GpuLight { direction: v4(l.direction, 0.0), radiance: v4(l.radiance, 0.0) })
+        .collect()
+}

@@ -1,0 +1,145 @@
+//! The `render` and `probe` subcommands: parse flags, call the scene, GPU and CPU layers,
+//! report on stderr.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use shadeballs::brdf::Geometry;
+use shadeballs::error::{Error, Result};
+use shadeballs::gpu::{Backend, Gpu, Renderer};
+use shadeballs::image_out::{image_kind, write_exr, write_png, ImageKind};
+use shadeballs::lut::{self, BakeConfig};
+use shadeballs::scene::{self, Preset, Scene};
+use shadeballs::{cpu, output};
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML); default: the built-in reference scene.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// accurate or games202 (default: the scene's, else accurate).
+    #[arg(long)]
+    preset: Option<Preset>,
+    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated.
+    #[arg(long)]
+    geometry: Option<Geometry>,
+    #[arg(long, default_value_t = 1280, value_parser = parse_side)]
+    width: u32,
+    #[arg(long, default_value_t = 720, value_parser = parse_side)]
+    height: u32,
+    /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
+    #[arg(long, default_value = "shading_balls.png")]
+    out: PathBuf,
+    /// auto, vulkan, gl or cpu.
+    #[arg(long, default_value_t = Backend::Auto)]
+    backend: Backend,
+}
+
+#[derive(clap::Args)]
+pub struct ProbeArgs {
+    /// CSV output: roughness,mu,E,E_avg.
+    #[arg(long)]
+    out: PathBuf,
+    /// Grid side N (mu = i/(N-1), roughness = j/(N-1)).
+    #[arg(long, default_value_t = 65)]
+    grid: u32,
+    #[arg(long, default_value_t = Preset::Accurate)]
+    preset: Preset,
+    #[arg(long, default_value_t = Geometry::Schlick)]
+    geometry: Geometry,
+    /// vulkan, gl or auto (the probe needs a GPU).
+    #[arg(long, default_value_t = Backend::Auto)]
+    backend: Backend,
+}
+
+fn parse_side(s: &str) -> std::result::Result<u32, String> {
+    let n: u32 = s.trim().parse().map_err(|_| format!("'{s}' is not a whole number"))?;
+    if n == 0 {
+        return Err("the image size must be at least 1".into());
+    }
+    Ok(n)
+}
+
+fn open(backend: Backend) -> Result<Option<Renderer>> {
+    let Some(backends) = backend.wgpu_backends() else { return Ok(None) };
+    match Gpu::new(backends) {
+        Ok(gpu) => Ok(Some(Renderer::new(gpu))),
+        Err(e @ Error::NoAdapter { .. }) if backend == Backend::Auto => {
+            eprintln!("warning: {e}; falling back to the CPU reference renderer");
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+pub fn render(args: RenderArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let kind = image_kind(&args.out)?;
+    let mut scene = match &args.scene {
+        Some(path) => scene::load(path)?,
+        None => Scene::reference(),
+    };
+    scene.preset = args.preset.unwrap_or(scene.preset);
+    scene.geometry = args.geometry.unwrap_or(scene.geometry);
+    let (w, h) = (args.width, args.height);
+    let device = match open(args.backend)? {
+        Some(mut renderer) => {
+            let name = renderer.gpu().describe();
+            match kind {
+                ImageKind::Png => write_png(&args.out, w, h, renderer.render_ldr(&scene, w, h)?.rgba)?,
+                ImageKind::Exr => write_exr(&args.out, w, h, renderer.render_hdr(&scene, w, h)?.rgba)?,
+            }
+            name
+        }
+        None => {
+            check_cpu_size(w, h)?;
+            let tables = lut::bake(&BakeConfig { geometry: scene.effective_geometry(), ..Default::default() });
+            let radiance = cpu::render_radiance(&scene, &tables, w, h);
+            match kind {
+                ImageKind::Png => write_png(&args.out, w, h, cpu::to_rgba8(&radiance, scene.exposure))?,
+                ImageKind::Exr => write_exr(&args.out, w, h, cpu::to_rgba_f32(&radiance))?,
+            }
+            "CPU reference renderer".to_string()
+        }
+    };
+    eprintln!(
+        "rendered {w}x{h} ({} preset, {} G) on {device} in {:.0} ms -> {}",
+        scene.preset,
+        scene.effective_geometry(),
+        start.elapsed().as_secs_f64() * 1e3,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The CPU renderer's size limit: the same 16384 a GPU texture has on lavapipe.
+fn check_cpu_size(w: u32, h: u32) -> Result<()> {
+    const MAX: u32 = 16384;
+    if w > MAX || h > MAX {
+        return Err(Error::Invalid { what: "image size", message: format!("{w}x{h}: each side must be in 1..={MAX}") });
+    }
+    Ok(())
+}
+
+pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
+    let Some(mut renderer) = open(if args.backend == Backend::Cpu { Backend::Vulkan } else { args.backend })? else {
+        anyhow::bail!("the probe runs on the GPU and no adapter was found (install mesa-vulkan-drivers)");
+    };
+    let geometry = args.preset.geometry().unwrap_or(args.geometry);
+    let (_, samples) = renderer.probe(geometry, args.grid)?;
+    let mut csv = String::from("roughness,mu,E,E_avg\n");
+    for s in &samples {
+        let _ = writeln!(csv, "{},{},{},{}", s.roughness, s.mu, s.e, s.e_avg);
+    }
+    output::write_atomic(&args.out, csv.as_bytes())?;
+    eprintln!(
+        "probed {}x{} ({} G) on {} -> {}",
+        args.grid,
+        args.grid,
+        geometry,
+        renderer.gpu().describe(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,209 @@
+//! The scene file format (TOML) and its validation.
+//!
+//! ```toml
+//! preset = "accurate"          # optional: accurate | games202
+//! geometry = "schlick"         # optional: schlick | smith | smith-correlated
+//! exposure = 1.0               # optional, > 0
+//! [camera]                     # optional: the reference camera
+//! position = [0, 80, 300]
+//! target = [0, 0, 0]
+//! vfov_deg = 75
+//! [environment]                # optional: black
+//! radiance = [1, 1, 1]
+//! [[light]]                    # any number (up to MAX_LIGHTS)
+//! direction = [0, 0, 1]        # towards the light; normalised on load
+//! radiance = [1, 1, 1]
+//! [[ball]]                     # at least one (up to MAX_BALLS)
+//! grid = [0, 0]                # [row, col] (see `grid_position`), or position = [x, y, z]
+//! radius = 35
+//! roughness = 0.15             # in [0, 1]
+//! multiple_scattering = true   # optional, default true
+//! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
+//! ```
+//!
+//! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
+//! them with the line and column of the value; checks across fields report the line and
+//! column of their table.
+
+use std::ops::Range;
+use std::path::Path;
+
+use glam::DVec3;
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::values::{Colour, Direction, Finite3, Fov, Named, Positive, Radiance, Roughness};
+use super::{grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS};
+use crate::brdf::Geometry;
+use crate::error::{Error, Result};
+
+/// The F0 a dielectric gets when the file gives none (common glass and plastics, ~1.5 IOR).
+pub const DIELECTRIC_F0: f64 = 0.04;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    preset: Option<Named<super::Preset>>,
+    geometry: Option<Named<Geometry>>,
+    exposure: Option<Positive>,
+    camera: Option<Spanned<CameraFile>>,
+    environment: Option<EnvironmentFile>,
+    #[serde(default)]
+    light: Vec<LightFile>,
+    #[serde(default)]
+    ball: Vec<Spanned<BallFile>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraFile {
+    position: Finite3,
+    target: Finite3,
+    vfov_deg: Fov,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentFile {
+    radiance: Radiance,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFile {
+    direction: Direction,
+    radiance: Radiance,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BallFile {
+    position: Option<Finite3>,
+    grid: Option<[u32; 2]>,
+    radius: Positive,
+    roughness: Roughness,
+    #[serde(default = "yes")]
+    multiple_scattering: bool,
+    material: Spanned<MaterialFile>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum KindFile {
+    Metal,
+    Dielectric,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFile {
+    kind: KindFile,
+    /// sRGB colour: a metal's F0 (decoded with pow 2.2) or a dielectric's diffuse base.
+    albedo: Option<Colour>,
+    /// Linear F0 (a metal: instead of albedo; a dielectric: default 0.04).
+    f0: Option<Colour>,
+}
+
+/// Reads and parses the scene file at `path`.
+pub fn load(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::Scene { path: path.to_path_buf(), message: e.to_string() })?;
+    parse(&text, path)
+}
+
+/// Parses scene text; `path` only names the file in errors.
+pub fn parse(text: &str, path: &Path) -> Result<Scene> {
+    let err = |message: String| Error::Scene { path: path.to_path_buf(), message };
+    let file: SceneFile = toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    build(file, text).map_err(|(span, msg)| err(at(text, span, &msg)))
+}
+
+/// "line L, column C: message" for the byte offset `span.start` of `text`.
+fn at(text: &str, span: Range<usize>, message: &str) -> String {
+    let before = &text[..span.start.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    format!("line {line}, column {column}: {message}")
+}
+
+type Spanned2<T> = std::result::Result<T, (Range<usize>, String)>;
+
+fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
+    let reference = Scene::reference();
+    let camera = match file.camera {
+        None => reference.camera,
+        Some(c) => {
+            let span = c.span();
+            let c = c.into_inner();
+            let camera = Camera { position: c.position.0, target: c.target.0, vfov_deg: c.vfov_deg.0 };
+            if let Some(problem) = camera.problem() {
+                return Err((span, problem.to_string()));
+            }
+            camera
+        }
+    };
+    if file.ball.is_empty() {
+        return Err((0..0, "the scene has no balls (add a [[ball]] table)".to_string()));
+    }
+    if file.ball.len() > MAX_BALLS {
+        let span = file.ball[MAX_BALLS].span();
+        return Err((span, format!("more than {MAX_BALLS} balls")));
+    }
+    if file.light.len() > MAX_LIGHTS {
+        return Err((0..text.len().min(1), format!("more than {MAX_LIGHTS} lights")));
+    }
+    let balls = file.ball.into_iter().map(ball).collect::<Spanned2<Vec<_>>>()?;
+    let lights = file
+        .light
+        .into_iter()
+        .map(|l| Light { direction: l.direction.0, radiance: l.radiance.0 })
+        .collect();
+    Ok(Scene {
+        balls,
+        lights,
+        environment: file.environment.map_or(DVec3::ZERO, |e| e.radiance.0),
+        camera,
+        exposure: file.exposure.map_or(1.0, |e| e.0),
+        preset: file.preset.map_or(reference.preset, |p| p.0),
+        geometry: file.geometry.map_or(reference.geometry, |g| g.0),
+    })
+}
+
+fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {
+    let span = b.span();
+    let b = b.into_inner();
+    let center = match (b.position, b.grid) {
+        (Some(p), None) => p.0,
+        (None, Some([row, col])) => grid_position(row, col),
+        _ => return Err((span, "a ball needs exactly one of `position` or `grid`".to_string())),
+    };
+    let material = material(b.material)?;
+    Ok(Ball {
+        center,
+        radius: b.radius.0,
+        roughness: b.roughness.0,
+        material,
+        multiple_scattering: b.multiple_scattering,
+    })
+}
+
+fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
+    let span = m.span();
+    let m = m.into_inner();
+    match (m.kind, m.albedo, m.f0) {
+        (KindFile::Metal, Some(a), None) => Ok(Material::metal_srgb(a.0.to_array())),
+        (KindFile::Metal, None, Some(f0)) => {
+            Ok(Material { kind: MaterialKind::Metal, f0: f0.0, diffuse: DVec3::ZERO })
+        }
+        (KindFile::Metal, _, _) => Err((span, "a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)".into())),
+        (KindFile::Dielectric, albedo, f0) => Ok(Material {
+            kind: MaterialKind::Dielectric,
+            f0: f0.map_or(DVec3::splat(DIELECTRIC_F0), |f| f.0),
+            diffuse: albedo.map_or(DVec3::ZERO, |a| super::srgb_to_linear(a.0.to_array())),
+        }),
+    }
+}

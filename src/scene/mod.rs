@@ -1,0 +1,155 @@
+//! The scene: balls, lights, environment, camera and the render settings (DESIGN.md
+//! sections 1 and 4), its TOML file format, and its validation. Knows nothing of wgpu.
+//!
+//! Conventions: world units are arbitrary (the reference scene uses the homework's), `+y`
+//! is up, colours are linear RGB unless a field says sRGB, light directions point from the
+//! surface towards the light.
+
+mod camera;
+mod file;
+mod preset;
+mod values;
+
+use glam::DVec3;
+
+pub use camera::{Camera, CameraBasis};
+pub use file::{load, parse, DIELECTRIC_F0};
+pub use preset::Preset;
+
+use crate::brdf::Geometry;
+
+/// Most balls a scene may hold (the GPU keeps them in one uniform array).
+pub const MAX_BALLS: usize = 256;
+/// Most directional lights a scene may hold.
+pub const MAX_LIGHTS: usize = 16;
+
+/// Spacing of `grid = [row, col]` placements: the reference scene's layout (DESIGN.md
+/// section 4): column 0 at x = 180, each column 80 to the left; row 0 at y = +60, each row
+/// 120 lower; z = 0.
+pub fn grid_position(row: u32, col: u32) -> DVec3 {
+    DVec3::new(180.0 - 80.0 * col as f64, 60.0 - 120.0 * row as f64, 0.0)
+}
+
+/// What a ball is made of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialKind {
+    /// Specular only, `F0` coloured.
+    Metal,
+    /// Specular with a (usually grey) `F0` over a Lambertian base of colour `albedo`,
+    /// weighted by `1 - F_avg` (the energy the specular layer does not reflect on average).
+    Dielectric,
+}
+
+/// A ball's material, resolved to linear values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub kind: MaterialKind,
+    /// Linear reflectance at normal incidence, per channel.
+    pub f0: DVec3,
+    /// Linear diffuse albedo of a dielectric's base; zero for a metal.
+    pub diffuse: DVec3,
+}
+
+impl Material {
+    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2` (DESIGN.md
+    /// section 4: the homework's decoding).
+    pub fn metal_srgb(albedo: [f64; 3]) -> Self {
+        Material { kind: MaterialKind::Metal, f0: srgb_to_linear(albedo), diffuse: DVec3::ZERO }
+    }
+}
+
+/// `pow(c, 2.2)` per channel: the homework's sRGB decoding.
+pub fn srgb_to_linear(c: [f64; 3]) -> DVec3 {
+    DVec3::from_array(c).powf(2.2)
+}
+
+/// One exact sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ball {
+    pub center: DVec3,
+    pub radius: f64,
+    /// In `[0, 1]`; the model clamps it to `[ROUGHNESS_MIN, 1]` when shading.
+    pub roughness: f64,
+    pub material: Material,
+    /// Whether the Kulla-Conty term `f_add * f_ms` is added.
+    pub multiple_scattering: bool,
+}
+
+/// A directional light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Unit vector from the surface towards the light.
+    pub direction: DVec3,
+    pub radiance: DVec3,
+}
+
+/// A scene and its render settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub balls: Vec<Ball>,
+    pub lights: Vec<Light>,
+    /// Uniform environment radiance (the white furnace when 1 and `F0 = 1`); also the
+    /// background.
+    pub environment: DVec3,
+    pub camera: Camera,
+    /// Multiplies radiance before tone mapping.
+    pub exposure: f64,
+    pub preset: Preset,
+    /// The G the `accurate` preset uses (`games202` always uses schlick).
+    pub geometry: Geometry,
+}
+
+/// The reference scene's metal albedo (sRGB, DESIGN.md section 4).
+pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
+/// Roughness per column of the reference scene (column 0 at x = 180).
+pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
+/// The reference scene's ball radius.
+pub const REFERENCE_RADIUS: f64 = 35.0;
+
+impl Scene {
+    /// The homework's scene (DESIGN.md section 4): two rows of five copper-coloured metal
+    /// balls, top row with the multiple-scattering term, one white light from +z.
+    pub fn reference() -> Self {
+        Scene {
+            balls: two_rows(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),
+            lights: vec![Light { direction: DVec3::Z, radiance: DVec3::ONE }],
+            environment: DVec3::ZERO,
+            camera: Camera::reference(),
+            exposure: 1.0,
+            preset: Preset::Accurate,
+            geometry: Geometry::Schlick,
+        }
+    }
+
+    /// The white furnace (DESIGN.md section 4): the same balls with `F0 = 1`, no lights, a
+    /// uniform white environment. With the term on, the balls vanish into the background.
+    pub fn furnace() -> Self {
+        let white = Material { kind: MaterialKind::Metal, f0: DVec3::ONE, diffuse: DVec3::ZERO };
+        Scene {
+            balls: two_rows(white),
+            lights: Vec::new(),
+            environment: DVec3::ONE,
+            ..Scene::reference()
+        }
+    }
+
+    /// The G the tables and the shader use: the preset's, or `self.geometry` for
+    /// `accurate`.
+    pub fn effective_geometry(&self) -> Geometry {
+        self.preset.geometry().unwrap_or(self.geometry)
+    }
+}
+
+fn two_rows(material: Material) -> Vec<Ball> {
+    (0..2u32)
+        .flat_map(|row| {
+            REFERENCE_ROUGHNESS.iter().enumerate().map(move |(col, &roughness)| Ball {
+                center: grid_position(row, col as u32),
+                radius: REFERENCE_RADIUS,
+                roughness,
+                material,
+                multiple_scattering: row == 0,
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,47 @@
+//! Presets: which Fresnel average and which `f_add` form the multiple-scattering term uses
+//! (DESIGN.md section 1).
+
+use crate::brdf::{FAvgForm, Geometry};
+
+/// A named choice of `F_avg`, `f_add` and (for `games202`) G.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Preset {
+    /// One consistent Fresnel: Schlick with `F0`, `F_avg = f_avg_schlick(F0)` per channel,
+    /// `f_add_accurate` (with the square); G from `--geometry` (default schlick).
+    #[default]
+    Accurate,
+    /// The GAMES202 homework: schlick G, `F_avg = f_avg_games202(F0, GAMES202_EDGE_TINT)`
+    /// per channel, `f_add_games202` (without the square).
+    Games202,
+}
+
+impl Preset {
+    /// Every preset, in a fixed order.
+    pub const ALL: [Preset; 2] = [Preset::Accurate, Preset::Games202];
+
+    /// The name used on the command line and in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Accurate => "accurate",
+            Preset::Games202 => "games202",
+        }
+    }
+
+    /// The form of `F_avg` and `f_add` this preset uses.
+    pub fn f_avg_form(self) -> FAvgForm {
+        match self {
+            Preset::Accurate => FAvgForm::Accurate,
+            Preset::Games202 => FAvgForm::Games202,
+        }
+    }
+
+    /// The G this preset forces, if any.
+    pub fn geometry(self) -> Option<Geometry> {
+        match self {
+            Preset::Accurate => None,
+            Preset::Games202 => Some(Geometry::Schlick),
+        }
+    }
+}
+
+crate::named_enum!(Preset, "preset");

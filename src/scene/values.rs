@@ -1,0 +1,134 @@
+//! Checked value types for the scene file: each rejects bad input while toml deserialises
+//! it, so the error carries the value's line and column.
+
+use std::str::FromStr;
+
+use glam::DVec3;
+use serde::{Deserialize, Deserializer};
+
+fn finite3(v: [f64; 3], what: &str) -> Result<DVec3, String> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(DVec3::from_array(v))
+    } else {
+        Err(format!("{what} {v:?} has a NaN or infinite component"))
+    }
+}
+
+/// Any finite 3-vector (a position).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "[f64; 3]")]
+pub struct Finite3(pub DVec3);
+
+impl TryFrom<[f64; 3]> for Finite3 {
+    type Error = String;
+    fn try_from(v: [f64; 3]) -> Result<Self, String> {
+        finite3(v, "position").map(Finite3)
+    }
+}
+
+/// A non-zero finite direction, normalised.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "[f64; 3]")]
+pub struct Direction(pub DVec3);
+
+impl TryFrom<[f64; 3]> for Direction {
+    type Error = String;
+    fn try_from(v: [f64; 3]) -> Result<Self, String> {
+        let d = finite3(v, "direction")?;
+        if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
+            return Err(format!("direction {v:?} has zero (or unrepresentable) length"));
+        }
+        Ok(Direction(d.normalize()))
+    }
+}
+
+/// A colour with every channel in `[0, 1]`.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "[f64; 3]")]
+pub struct Colour(pub DVec3);
+
+impl TryFrom<[f64; 3]> for Colour {
+    type Error = String;
+    fn try_from(v: [f64; 3]) -> Result<Self, String> {
+        let c = finite3(v, "colour")?;
+        if c.min_element() < 0.0 || c.max_element() > 1.0 {
+            return Err(format!("colour {v:?} has a channel outside [0, 1]"));
+        }
+        Ok(Colour(c))
+    }
+}
+
+/// A radiance: finite, non-negative channels.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "[f64; 3]")]
+pub struct Radiance(pub DVec3);
+
+impl TryFrom<[f64; 3]> for Radiance {
+    type Error = String;
+    fn try_from(v: [f64; 3]) -> Result<Self, String> {
+        let c = finite3(v, "radiance")?;
+        if c.min_element() < 0.0 {
+            return Err(format!("radiance {v:?} has a negative channel"));
+        }
+        Ok(Radiance(c))
+    }
+}
+
+/// A finite number > 0 (radius, exposure).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Positive(pub f64);
+
+impl TryFrom<f64> for Positive {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if v.is_finite() && v > 0.0 {
+            Ok(Positive(v))
+        } else {
+            Err(format!("{v} must be a finite number greater than 0"))
+        }
+    }
+}
+
+/// A roughness in `[0, 1]`.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Roughness(pub f64);
+
+impl TryFrom<f64> for Roughness {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(Roughness(v))
+        } else {
+            Err(format!("roughness {v} is outside [0, 1]"))
+        }
+    }
+}
+
+/// A vertical field of view in degrees, in `(0, 180)`.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Fov(pub f64);
+
+impl TryFrom<f64> for Fov {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if v > 0.0 && v < 180.0 {
+            Ok(Fov(v))
+        } else {
+            Err(format!("vfov_deg {v} is outside (0, 180)"))
+        }
+    }
+}
+
+/// A name parsed with the type's `FromStr` (the `named_enum!` names).
+#[derive(Clone, Copy, Debug)]
+pub struct Named<T>(pub T);
+
+impl<'de, T: FromStr<Err = crate::Error>> Deserialize<'de> for Named<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map(Named).map_err(serde::de::Error::custom)
+    }
+}
