@@ -1,1 +1,17 @@
-fn main() {}
+//! `cargo bench`: the same harness as `shadeballs bench` (one bench binary).
+//! `cargo bench -- --quick` runs the short version.
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/bench-results");
+    match shadeballs::bench::run(&shadeballs::bench::BenchOptions {
+        quick,
+        out: out.clone(),
+    }) {
+        Ok(summary) => println!("{summary}\nwritten to {}", out.display()),
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(1);
+        }
+    }
+}

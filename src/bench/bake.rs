@@ -1,7 +1,7 @@
 //! Baking (time against bake error) and reading (memory against read-path error).
 
-use super::table::{sci, Table};
 use super::median_ms;
+use super::table::{sci, Table};
 use crate::brdf::Geometry;
 use crate::lut::accuracy::{random_points, ReferencePoints, ReferenceTables};
 use crate::lut::{self, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage};
@@ -55,22 +55,46 @@ pub fn bake_sweep(quick: bool) -> Vec<Table> {
     let mut sweep = Table::new(
         "bake",
         "Baking: wall time against bake error (default layout)",
-        &["geometry", "method", "points", "samples", "size", "time_ms", "e_max", "e_mean", "e_avg_max", "meets_1e-4"],
+        &[
+            "geometry",
+            "method",
+            "points",
+            "samples",
+            "size",
+            "time_ms",
+            "e_max",
+            "e_mean",
+            "e_avg_max",
+            "meets_1e-4",
+        ],
     );
-    let geometries: &[Geometry] = if quick { &[Geometry::Schlick] } else { &Geometry::ALL };
+    let geometries: &[Geometry] = if quick {
+        &[Geometry::Schlick]
+    } else {
+        &Geometry::ALL
+    };
     for &geometry in geometries {
         let layout = Layout::default();
         let reference = ReferenceTables::new(layout, geometry);
         for method in Method::ALL {
             for &samples in sample_counts(method, quick) {
-                let config = BakeConfig { geometry, method, samples, ..BakeConfig::default() };
+                let config = BakeConfig {
+                    geometry,
+                    method,
+                    samples,
+                    ..BakeConfig::default()
+                };
                 let (ms, tables) = timed_bake(&config);
                 let (e, avg) = reference.bake_error(&tables);
                 let meets = e.max <= BAKE_ERROR_GOAL && avg.max <= BAKE_ERROR_GOAL;
                 sweep.push(vec![
                     geometry.to_string(),
                     method.to_string(),
-                    if method == Method::Quadrature { "-".into() } else { config.points.to_string() },
+                    if method == Method::Quadrature {
+                        "-".into()
+                    } else {
+                        config.points.to_string()
+                    },
                     samples.to_string(),
                     format!("{}x{}", layout.mu_size, layout.r_size),
                     format!("{ms:.3}"),
@@ -99,14 +123,26 @@ fn homework_comparison() -> Table {
         &["config", "time_ms", "e_max", "e_mean", "e_avg_max"],
     );
     let homework = homework_config(Geometry::Schlick);
-    let ours = BakeConfig { layout: homework.layout, ..BakeConfig::default() };
+    let ours = BakeConfig {
+        layout: homework.layout,
+        ..BakeConfig::default()
+    };
     let reference = ReferenceTables::new(homework.layout, homework.geometry);
     let mut figures = Vec::new();
-    for (name, config) in [("homework (cosine, 1024 random)", homework), ("default (quadrature)", ours)] {
+    for (name, config) in [
+        ("homework (cosine, 1024 random)", homework),
+        ("default (quadrature)", ours),
+    ] {
         let (ms, tables) = timed_bake(&config);
         let (e, avg) = reference.bake_error(&tables);
         figures.push((ms, e.max));
-        t.push(vec![name.into(), format!("{ms:.3}"), sci(e.max), sci(e.mean), sci(avg.max)]);
+        t.push(vec![
+            name.into(),
+            format!("{ms:.3}"),
+            sci(e.max),
+            sci(e.mean),
+            sci(avg.max),
+        ]);
     }
     t.note = format!(
         "Default against homework, same run: {:.0}x faster, {:.0}x more accurate (max error).",
@@ -123,27 +159,55 @@ pub fn read_sweep(quick: bool) -> Vec<Table> {
     let mut t = Table::new(
         "read",
         "Reading: read-path error of a bilinear lookup against memory (schlick G)",
-        &["layout", "size", "storage", "bytes", "e_max", "e_mean", "e_avg_max"],
+        &[
+            "layout",
+            "size",
+            "storage",
+            "bytes",
+            "e_max",
+            "e_mean",
+            "e_avg_max",
+        ],
     );
     let n = if quick { 2_000 } else { 20_000 };
     let geometry = Geometry::Schlick;
     let points = ReferencePoints::new(random_points(n, 2017), geometry);
-    let rough: Vec<f64> = random_points(if quick { 50 } else { 200 }, 7).iter().map(|p| p.1).collect();
-    let avg_ref: Vec<f64> = rough.iter().map(|&r| lut::e_avg_reference(r, geometry)).collect();
+    let rough: Vec<f64> = random_points(if quick { 50 } else { 200 }, 7)
+        .iter()
+        .map(|p| p.1)
+        .collect();
+    let avg_ref: Vec<f64> = rough
+        .iter()
+        .map(|&r| lut::e_avg_reference(r, geometry))
+        .collect();
     let mut layouts = vec![
         Layout::of_kind(LayoutKind::Games202),
         Layout::of_kind(LayoutKind::Games202).with_storage(Storage::F32),
     ];
-    let sizes: &[(usize, usize)] =
-        if quick { &[(32, 32), (64, 64)] } else { &[(32, 32), (64, 32), (64, 64), (96, 64), (128, 64), (128, 128)] };
+    let sizes: &[(usize, usize)] = if quick {
+        &[(32, 32), (64, 64)]
+    } else {
+        &[(16, 16), (32, 32), (64, 32), (48, 48), (64, 64), (128, 128)]
+    };
     for &(mu, r) in sizes {
         layouts.push(Layout::default().with_size(mu, r));
+    }
+    for &(mu, r) in if quick {
+        &[(64, 64)][..]
+    } else {
+        &[(32, 32), (64, 64), (128, 128)][..]
+    } {
+        layouts.push(Layout::of_kind(LayoutKind::SqrtMu).with_size(mu, r));
     }
     for storage in [Storage::F16, Storage::Unorm8] {
         layouts.push(Layout::default().with_storage(storage));
     }
     for layout in layouts {
-        let tables = lut::bake(&BakeConfig { geometry, layout, ..BakeConfig::default() });
+        let tables = lut::bake(&BakeConfig {
+            geometry,
+            layout,
+            ..BakeConfig::default()
+        });
         let e = points.read_error(&tables);
         let avg = rough
             .iter()

@@ -24,8 +24,10 @@ pub struct BenchOptions {
 
 /// Runs every sweep, writes its files, and returns the markdown summary.
 pub fn run(options: &BenchOptions) -> Result<String> {
-    std::fs::create_dir_all(&options.out)
-        .map_err(|source| Error::Write { path: options.out.clone(), source })?;
+    std::fs::create_dir_all(&options.out).map_err(|source| Error::Write {
+        path: options.out.clone(),
+        source,
+    })?;
     let mut summary = String::from("# shadeballs bench\n\n");
     summary.push_str(&format!(
         "Mode: {}. Times are medians of repeated runs in one process; errors are against the \
@@ -34,7 +36,10 @@ pub fn run(options: &BenchOptions) -> Result<String> {
     ));
     for sweep in [bake::bake_sweep as fn(bool) -> Vec<Table>, bake::read_sweep] {
         for table in sweep(options.quick) {
-            write_atomic(&options.out.join(format!("{}.csv", table.name)), table.csv().as_bytes())?;
+            write_atomic(
+                &options.out.join(format!("{}.csv", table.name)),
+                table.csv().as_bytes(),
+            )?;
             summary.push_str(&table.markdown());
             summary.push('\n');
         }

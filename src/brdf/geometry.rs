@@ -19,7 +19,11 @@ pub enum Geometry {
 
 impl Geometry {
     /// Every variant, in a fixed order (tests and benchmarks loop over it).
-    pub const ALL: [Geometry; 3] = [Geometry::Schlick, Geometry::Smith, Geometry::SmithCorrelated];
+    pub const ALL: [Geometry; 3] = [
+        Geometry::Schlick,
+        Geometry::Smith,
+        Geometry::SmithCorrelated,
+    ];
 
     /// The name used on the command line and in files.
     pub fn name(self) -> &'static str {

@@ -17,8 +17,12 @@ pub enum FAvgForm {
 /// The energy-compensation lobe (Kulla & Conty 2017, slide 18):
 /// `f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg))`.
 /// With `F = 1` its cosine-weighted integral over `mu_i` is exactly `1 - E(mu_o)`.
-pub fn f_ms(e_o: f64, e_i: f64, e_avg: f64) -> f64 {
-    (1.0 - e_o) * (1.0 - e_i) / (PI * (1.0 - e_avg)).max(DIV_EPSILON)
+///
+/// The arguments are the energies single scattering misses, `loss = 1 - E` and
+/// `loss_avg = 1 - E_avg`, as the tables store them: at low roughness `1 - E_avg` falls to
+/// 1e-6 (Smith G), where `1 - E` formed from an f32 E would keep a few per cent of it.
+pub fn f_ms(loss_o: f64, loss_i: f64, loss_avg: f64) -> f64 {
+    loss_o * loss_i / (PI * loss_avg).max(DIV_EPSILON)
 }
 
 /// Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,

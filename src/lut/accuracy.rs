@@ -31,7 +31,11 @@ impl ErrorStats {
             sum += e;
             s.count += 1;
         }
-        s.mean = if s.count > 0 { sum / s.count as f64 } else { 0.0 };
+        s.mean = if s.count > 0 {
+            sum / s.count as f64
+        } else {
+            0.0
+        };
         s
     }
 }
@@ -50,27 +54,49 @@ impl ReferenceTables {
         let l = layout;
         let e = (0..l.texels())
             .into_par_iter()
-            .map(|k| e_reference(l.mu_of_texel(k % l.mu_size), l.roughness_of_texel(k / l.mu_size), geometry))
+            .map(|k| {
+                e_reference(
+                    l.mu_of_texel(k % l.mu_size, k / l.mu_size),
+                    l.roughness_of_texel(k / l.mu_size),
+                    geometry,
+                )
+            })
             .collect();
         let e_avg = (0..l.r_size)
             .into_par_iter()
             .map(|j| e_avg_reference(l.roughness_of_texel(j), geometry))
             .collect();
-        Self { layout, geometry, e, e_avg }
+        Self {
+            layout,
+            geometry,
+            e,
+            e_avg,
+        }
     }
 
     /// Bake error of every E texel and every E_avg texel of `tables`: `(E, E_avg)`.
     /// `tables` must have this layout's texel coordinates and geometry.
     pub fn bake_error(&self, tables: &Tables) -> (ErrorStats, ErrorStats) {
         let l = self.layout;
-        assert_eq!(tables.config.geometry, self.geometry, "reference of another geometry term");
+        assert_eq!(
+            tables.config.geometry, self.geometry,
+            "reference of another geometry term"
+        );
         assert_eq!(tables.e.len(), self.e.len(), "reference of another layout");
         let e = (0..l.texels()).map(|k| {
-            let (mu, r) = (l.mu_of_texel(k % l.mu_size), l.roughness_of_texel(k / l.mu_size));
+            let (mu, r) = (
+                l.mu_of_texel(k % l.mu_size, k / l.mu_size),
+                l.roughness_of_texel(k / l.mu_size),
+            );
             ((tables.e[k] - self.e[k]).abs(), mu, r)
         });
-        let avg = (0..l.r_size)
-            .map(|j| ((tables.e_avg[j] - self.e_avg[j]).abs(), f64::NAN, l.roughness_of_texel(j)));
+        let avg = (0..l.r_size).map(|j| {
+            (
+                (tables.e_avg[j] - self.e_avg[j]).abs(),
+                f64::NAN,
+                l.roughness_of_texel(j),
+            )
+        });
         (ErrorStats::from_errors(e), ErrorStats::from_errors(avg))
     }
 }
@@ -90,15 +116,29 @@ pub struct ReferencePoints {
 
 impl ReferencePoints {
     pub fn new(points: Vec<(f64, f64)>, geometry: Geometry) -> Self {
-        let e = points.par_iter().map(|&(mu, r)| e_reference(mu, r, geometry)).collect();
-        Self { geometry, points, e }
+        let e = points
+            .par_iter()
+            .map(|&(mu, r)| e_reference(mu, r, geometry))
+            .collect();
+        Self {
+            geometry,
+            points,
+            e,
+        }
     }
 
     /// Read-path error of E: the shader's lookup of `tables` against the reference.
     pub fn read_error(&self, tables: &Tables) -> ErrorStats {
-        assert_eq!(tables.config.geometry, self.geometry, "reference of another geometry term");
+        assert_eq!(
+            tables.config.geometry, self.geometry,
+            "reference of another geometry term"
+        );
         ErrorStats::from_errors(self.points.iter().zip(&self.e).map(|(&(mu, r), &exact)| {
-            ((tables.lut_e(mu as f32, r as f32) as f64 - exact).abs(), mu, r)
+            (
+                (tables.lut_e(mu as f32, r as f32) as f64 - exact).abs(),
+                mu,
+                r,
+            )
         }))
     }
 }

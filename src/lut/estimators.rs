@@ -24,7 +24,12 @@ pub enum Method {
 }
 
 impl Method {
-    pub const ALL: [Method; 4] = [Method::Cosine, Method::Ndf, Method::Vndf, Method::Quadrature];
+    pub const ALL: [Method; 4] = [
+        Method::Cosine,
+        Method::Ndf,
+        Method::Vndf,
+        Method::Quadrature,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -68,10 +73,16 @@ impl PointSet {
                 out.extend((0..n).map(|_| [rng.unit(), rng.unit()]));
             }
             PointSet::Hammersley => out.extend((0..n).map(|i| {
-                [(i as f64 + 0.5) / n as f64, (i as u32).reverse_bits() as f64 * TO_UNIT]
+                [
+                    (i as f64 + 0.5) / n as f64,
+                    (i as u32).reverse_bits() as f64 * TO_UNIT,
+                ]
             })),
             PointSet::Sobol => out.extend((0..n as u32).map(|i| {
-                [i.reverse_bits() as f64 * TO_UNIT, sobol_dim2(i) as f64 * TO_UNIT]
+                [
+                    i.reverse_bits() as f64 * TO_UNIT,
+                    sobol_dim2(i) as f64 * TO_UNIT,
+                ]
             })),
         }
     }
@@ -142,7 +153,13 @@ impl Estimator {
         } else {
             (Vec::new(), Vec::new())
         };
-        Self { method, points, samples, gl, scratch: Vec::with_capacity(samples) }
+        Self {
+            method,
+            points,
+            samples,
+            gl,
+            scratch: Vec::with_capacity(samples),
+        }
     }
 
     /// Estimate of `E(mu, roughness)`; `seed` decorrelates random points between texels.

@@ -19,7 +19,10 @@ pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
         "csv" => write_atomic(path, tables_csv(tables).as_bytes()),
         "exr" => write_image(path, &tables_image_f32(tables), ImageFormat::OpenExr),
         "png" => write_image(path, &tables_image_u16(tables), ImageFormat::Png),
-        _ => Err(Error::Format { path: path.to_path_buf(), expected: "use .csv, .exr or .png" }),
+        _ => Err(Error::Format {
+            path: path.to_path_buf(),
+            expected: "use .csv, .exr or .png",
+        }),
     }
 }
 
@@ -32,7 +35,12 @@ pub fn tables_csv(tables: &Tables) -> String {
     for j in 0..l.r_size {
         let r = l.roughness_of_texel(j);
         for i in 0..l.mu_size {
-            let _ = writeln!(s, "E,{r},{},{}", l.mu_of_texel(i), tables.e[j * l.mu_size + i]);
+            let _ = writeln!(
+                s,
+                "E,{r},{},{}",
+                l.mu_of_texel(i, j),
+                tables.e[j * l.mu_size + i]
+            );
         }
     }
     for j in 0..l.r_size {
@@ -45,7 +53,11 @@ fn tables_image_f32(tables: &Tables) -> DynamicImage {
     let l = tables.layout();
     let img = ImageBuffer::from_fn(l.mu_size as u32, l.r_size as u32, |i, j| {
         let (i, j) = (i as usize, j as usize);
-        Rgb([tables.e[j * l.mu_size + i] as f32, tables.e_avg[j] as f32, 0.0])
+        Rgb([
+            tables.e[j * l.mu_size + i] as f32,
+            tables.e_avg[j] as f32,
+            0.0,
+        ])
     });
     DynamicImage::ImageRgb32F(img)
 }

@@ -11,17 +11,125 @@
 //! - `HalfTexel` (the homework's, GL's texture convention): `scale = n`, `bias = -0.5`:
 //!   texel `i` is at `x = (i + 0.5) / n`; the ends are clamped, not interpolated.
 //!
-//! The mu axis is either linear (`x = mu`) or square-root (`x = sqrt(mu)`), which spends
-//! texels where E changes fastest: at grazing angles. The roughness axis is linear.
+//! The mu axis is linear, square-root, or warped by alpha ([`MuAxis`]); the roughness axis
+//! is linear in the clamped roughness over `[r_min, 1]` ([`RAxis`]).
+//!
+//! Tables hold the missing energy `1 - E` and `1 - E_avg` rather than E: the lobe needs
+//! exactly these, and they are small where E is near 1, where floating point keeps their
+//! relative precision (DESIGN.md section 3).
 //! Tables are stored row-major: row `j` (roughness) holds `mu_size` texels.
 
-use crate::brdf::roughness_clamped;
+use crate::brdf::ROUGHNESS_MIN;
 
 /// The mapping from mu to the table's x coordinate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MuAxis {
+    /// `x = mu` (the homework's).
     Linear,
+    /// `x = sqrt(mu)` (DESIGN.md section 3's candidate).
     Sqrt,
+    /// `x = mu (1 + a) / (mu + a)`, `a = alpha` at the read roughness (the default).
+    ///
+    /// At low roughness E has a feature at grazing angles whose width in mu scales with
+    /// alpha (the dip where `mu ~ alpha`, then the rise to E(0)); in `(mu, roughness)` it sits
+    /// on a curve that no fixed mu axis follows, and bilinear reads across roughness rows
+    /// blur it (3e-2 error with `Sqrt` at 64 x 64). This warp pins the feature to the same
+    /// x in every row (`mu = a` maps to `x = (1 + a) / 2`), keeps x in `[0, 1]` with
+    /// `x(0) = 0`, `x(1) = 1`, and tends to the identity as alpha grows. Measured: 1.1e-4
+    /// max read error at 64 x 64 (README, "Measured results").
+    Warped,
+}
+
+impl MuAxis {
+    /// The coordinate of `mu`, in f32 as the shader computes it (`mu_coord` in
+    /// `shaders/lut.wgsl`); `alpha` is the clamped alpha of the read. `mu + alpha >= alpha_min
+    /// > 0`, so the warp never divides by zero.
+    pub fn coord(self, mu: f32, alpha: f32) -> f32 {
+        let mu = mu.clamp(0.0, 1.0);
+        match self {
+            MuAxis::Linear => mu,
+            MuAxis::Sqrt => mu.sqrt(),
+            MuAxis::Warped => mu * (1.0 + alpha) / (mu + alpha),
+        }
+    }
+
+    /// The mu at coordinate `x` in a row of the given alpha (exact inverse, f64).
+    pub fn value(self, x: f64, alpha: f64) -> f64 {
+        match self {
+            MuAxis::Linear => x,
+            MuAxis::Sqrt => x * x,
+            MuAxis::Warped => (x * alpha / (1.0 + alpha - x)).clamp(0.0, 1.0),
+        }
+    }
+
+    /// The coordinate of `mu` in f64 (the bake's exact version of [`MuAxis::coord`]).
+    pub fn coord_f64(self, mu: f64, alpha: f64) -> f64 {
+        let mu = mu.clamp(0.0, 1.0);
+        match self {
+            MuAxis::Linear => mu,
+            MuAxis::Sqrt => mu.sqrt(),
+            MuAxis::Warped => mu * (1.0 + alpha) / (mu + alpha),
+        }
+    }
+
+    /// The id the shader switches on (`MU_AXIS_*` in `shaders/lut.wgsl`).
+    pub fn id(self) -> u32 {
+        match self {
+            MuAxis::Linear => 0,
+            MuAxis::Sqrt => 1,
+            MuAxis::Warped => 2,
+        }
+    }
+}
+
+/// How a read interpolates `1 - E_avg` between two roughness rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EAvgRead {
+    /// Linear (the homework's).
+    Linear,
+    /// As a power law through the two rows: `a (r / r_a)^p` with `p` such that it meets `b`
+    /// at `r_b`, i.e. linear in `ln(1 - E_avg)` against `ln r`.
+    ///
+    /// At low roughness `1 - E_avg` follows a power of roughness (about r^2 with Schlick G,
+    /// r^4 with Smith's), and `f_ms` divides by it: a linear read between rows 1/63 apart
+    /// is off by 40 % of `1 - E_avg` at roughness 0.025 and breaks the furnace by 4e-2; a
+    /// geometric read in r, 7 %. The power-law read is exact for any exponent.
+    PowerLaw,
+}
+
+impl EAvgRead {
+    /// The id the shader switches on (`E_AVG_READ_*` in `shaders/lut.wgsl`).
+    pub fn id(self) -> u32 {
+        match self {
+            EAvgRead::Linear => 0,
+            EAvgRead::PowerLaw => 1,
+        }
+    }
+}
+
+/// Smallest stored `1 - E_avg` a power-law read takes the logarithm of: far below any value
+/// the model produces (1.3e-6 at roughness 0.02 with Smith G), far above f32's subnormals.
+pub const LOSS_AVG_MIN: f32 = 1e-20;
+
+/// The range the roughness axis spans, linearly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RAxis {
+    /// `[0, 1]` (the homework's): rows below ROUGHNESS_MIN hold the clamp's values.
+    Full,
+    /// `[ROUGHNESS_MIN, 1]`: no row below the clamp. Rows below it would hold the clamp's
+    /// values at other coordinates, and a read at the clamp would lean towards the next row
+    /// (3e-2 furnace error at roughness 0 with Schlick G).
+    Clamped,
+}
+
+impl RAxis {
+    /// Roughness of the first row.
+    pub fn r_min(self) -> f64 {
+        match self {
+            RAxis::Full => 0.0,
+            RAxis::Clamped => ROUGHNESS_MIN,
+        }
+    }
 }
 
 /// Where the texel centres sit (see the module docs).
@@ -34,9 +142,9 @@ pub enum Centres {
 /// How texel values are stored on the GPU.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Storage {
-    /// `R32Float`: exact to f32.
+    /// `R32Float`.
     F32,
-    /// `R16Float`, storing E as is (step 9.8e-4 just below 1).
+    /// `R16Float`.
     F16,
     /// `R8Unorm` (the homework's 8-bit PNG): step 1/255.
     Unorm8,
@@ -74,17 +182,20 @@ impl Storage {
 /// A named table layout.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LayoutKind {
-    /// The default: `x = sqrt(mu)`, texel centres on the end points, f32.
+    /// The default: alpha-warped mu axis, texel centres on the end points, f32, 64 x 64.
+    Warped,
+    /// `x = sqrt(mu)`, texel centres on the end points, f32, 64 x 64.
     SqrtMu,
     /// The homework's: linear mu and roughness, centres at `(i + 0.5) / n`, 128 x 128, 8 bit.
     Games202,
 }
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 2] = [LayoutKind::SqrtMu, LayoutKind::Games202];
+    pub const ALL: [LayoutKind; 3] = [LayoutKind::Warped, LayoutKind::SqrtMu, LayoutKind::Games202];
 
     pub fn name(self) -> &'static str {
         match self {
+            LayoutKind::Warped => "warped",
             LayoutKind::SqrtMu => "sqrt-mu",
             LayoutKind::Games202 => "games202",
         }
@@ -99,6 +210,8 @@ crate::named_enum!(LayoutKind, "layout");
 pub struct Layout {
     pub kind: LayoutKind,
     pub mu_axis: MuAxis,
+    pub r_axis: RAxis,
+    pub e_avg_read: EAvgRead,
     pub centres: Centres,
     pub mu_size: usize,
     pub r_size: usize,
@@ -112,7 +225,7 @@ pub const DEFAULT_R_SIZE: usize = 64;
 
 impl Default for Layout {
     fn default() -> Self {
-        Layout::of_kind(LayoutKind::SqrtMu)
+        Layout::of_kind(LayoutKind::Warped)
     }
 }
 
@@ -120,9 +233,19 @@ impl Layout {
     /// A layout with its own default size and storage.
     pub fn of_kind(kind: LayoutKind) -> Self {
         match kind {
-            LayoutKind::SqrtMu => Layout {
+            LayoutKind::Warped | LayoutKind::SqrtMu => Layout {
                 kind,
-                mu_axis: MuAxis::Sqrt,
+                mu_axis: if kind == LayoutKind::Warped {
+                    MuAxis::Warped
+                } else {
+                    MuAxis::Sqrt
+                },
+                r_axis: RAxis::Clamped,
+                e_avg_read: if kind == LayoutKind::Warped {
+                    EAvgRead::PowerLaw
+                } else {
+                    EAvgRead::Linear
+                },
                 centres: Centres::Endpoints,
                 mu_size: DEFAULT_MU_SIZE,
                 r_size: DEFAULT_R_SIZE,
@@ -131,6 +254,8 @@ impl Layout {
             LayoutKind::Games202 => Layout {
                 kind,
                 mu_axis: MuAxis::Linear,
+                r_axis: RAxis::Full,
+                e_avg_read: EAvgRead::Linear,
                 centres: Centres::HalfTexel,
                 mu_size: 128,
                 r_size: 128,
@@ -167,27 +292,24 @@ impl Layout {
         ((i as f64 - bias) / scale).clamp(0.0, 1.0)
     }
 
-    /// mu of the texel in column `i`.
-    pub fn mu_of_texel(&self, i: usize) -> f64 {
-        let x = self.texel_coord(i, self.mu_size);
-        match self.mu_axis {
-            MuAxis::Linear => x,
-            MuAxis::Sqrt => x * x,
-        }
+    /// mu of the texel in column `i` of row `j`.
+    pub fn mu_of_texel(&self, i: usize, j: usize) -> f64 {
+        let alpha = crate::brdf::alpha_from_roughness(self.roughness_of_texel(j));
+        self.mu_axis.value(self.texel_coord(i, self.mu_size), alpha)
     }
 
     /// Roughness of the texel in row `j`.
     pub fn roughness_of_texel(&self, j: usize) -> f64 {
-        self.texel_coord(j, self.r_size)
+        let r_min = self.r_axis.r_min();
+        r_min + (1.0 - r_min) * self.texel_coord(j, self.r_size)
     }
 
-    /// x coordinate of `mu` on the mu axis, in f32 as the shader computes it.
-    pub fn mu_coord(&self, mu: f32) -> f32 {
-        let mu = mu.clamp(0.0, 1.0);
-        match self.mu_axis {
-            MuAxis::Linear => mu,
-            MuAxis::Sqrt => mu.sqrt(),
-        }
+    /// The roughness axis coordinate of a read, in f32 as the shader computes it
+    /// (`roughness_coord` in `shaders/lut.wgsl`): the clamped roughness mapped from
+    /// `[r_min, 1]` to `[0, 1]`.
+    pub fn r_coord(&self, roughness: f32) -> f32 {
+        let r_min = self.r_axis.r_min() as f32;
+        ((roughness_coord(roughness) - r_min) / (1.0 - r_min)).clamp(0.0, 1.0)
     }
 
     pub fn texels(&self) -> usize {
@@ -213,7 +335,11 @@ pub fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize,
     (i, i + 1, p - i0)
 }
 
-/// The clamped roughness the model uses, as the shader computes it (f32).
+/// The clamped roughness the model uses, as the shader computes it (f32,
+/// `roughness_clamped` in `shaders/brdf.wgsl`).
 pub fn roughness_coord(roughness: f32) -> f32 {
-    roughness_clamped(roughness as f64) as f32
+    if roughness.is_nan() {
+        return 1.0;
+    }
+    roughness.clamp(ROUGHNESS_MIN as f32, 1.0)
 }
