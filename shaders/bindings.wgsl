@@ -6,5 +6,6 @@
 @group(0) @binding(2) var<uniform> lights: array<Light, MAX_LIGHTS>;
 // 1 - E(mu, roughness): R32Float, mu_size x r_size, row = roughness (Tables::stored_loss).
 @group(0) @binding(3) var e_table: texture_2d<f32>;
-// 1 - E_avg(roughness): R32Float, r_size x 1 (Tables::stored_loss_avg).
+// Row 0: 1 - E_avg(roughness) (Tables::stored_loss_avg); row 1: the roughness of each
+// table row (f32, for the power-law read). R32Float, r_size x 2.
 @group(0) @binding(4) var e_avg_table: texture_2d<f32>;

@@ -67,18 +67,64 @@ fn lut_e(mu: f32, roughness: f32) -> f32 {
     return 1.0 - lut_loss(mu, roughness);
 }
 
-// Read of 1 - E_avg(roughness) between the two nearest rows, linear or geometric as the
-// layout says (Tables::lut_loss_avg, EAvgRead).
+// Read of 1 - E_avg(roughness) between the two nearest rows, linear or as the power law
+// through them (`a (r / r_a)^p` meeting `b` at `r_b`: linear in ln(1 - E_avg) against ln r),
+// as the layout says (Tables::lut_loss_avg, EAvgRead).
 fn lut_loss_avg(roughness: f32) -> f32 {
     let sy = lut_texel_span(r_coord(roughness), globals.lut_dims.y, globals.lut.z, globals.lut.w);
     let a = textureLoad(e_avg_table, vec2<u32>(sy.i0, 0u), 0).r;
     let b = textureLoad(e_avg_table, vec2<u32>(sy.i1, 0u), 0).r;
-    if globals.lut_dims.w == E_AVG_READ_GEOMETRIC {
-        let la = log(max(a, LOSS_AVG_MIN));
-        let lb = log(max(b, LOSS_AVG_MIN));
-        return exp(la + (lb - la) * sy.f);
+    if globals.lut_dims.w == E_AVG_READ_POWER_LAW {
+        // Both rows have roughness >= ROUGHNESS_MIN > 0 (clamped reads).
+        let ra = textureLoad(e_avg_table, vec2<u32>(sy.i0, 1u), 0).r;
+        let rb = textureLoad(e_avg_table, vec2<u32>(sy.i1, 1u), 0).r;
+        let w = ln_f32(roughness_clamped(roughness) / ra) / ln_f32(rb / ra);
+        let la = ln_f32(max(a, LOSS_AVG_MIN));
+        let lb = ln_f32(max(b, LOSS_AVG_MIN));
+        return exp_f32(la + (lb - la) * w);
     }
     return a + (b - a) * sy.f;
+}
+
+// ln and exp to within ~2 ulp of f32, for the power-law E_avg read, so that the read is the
+// same on every GPU as Rust's f32 ln/exp (WGSL leaves the built-ins' accuracy to the
+// implementation).
+// ln 2 split so that n * LN2_HI is exact for |n| < 256 (Cody & Waite 1980).
+const LN2_HI: f32 = 0.693145751953125;
+const LN2_LO: f32 = 1.4286067653e-6;
+const SQRT_HALF: f32 = 0.70710678118;
+
+// ln x for x > 0 normal: x = m 2^e, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s),
+// s = (m - 1) / (m + 1), |s| <= 0.172, by its series to s^9 (next term < 2e-9 relative).
+fn ln_f32(x: f32) -> f32 {
+    let parts = frexp(x);
+    var m = parts.fract;
+    var e = f32(parts.exp);
+    if m < SQRT_HALF {
+        m = m * 2.0;
+        e = e - 1.0;
+    }
+    let s = (m - 1.0) / (m + 1.0);
+    let s2 = s * s;
+    let series = 1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 * (1.0 / 9.0))));
+    return e * LN2_HI + (e * LN2_LO + 2.0 * s * series);
+}
+
+// exp y for y in f32's normal range: y = n ln 2 + r, |r| <= ln 2 / 2, exp r by Taylor to
+// r^8 (next term < 3e-10 relative).
+fn exp_f32(y: f32) -> f32 {
+    let n = round(y / (LN2_HI + LN2_LO));
+    let r = (y - n * LN2_HI) - n * LN2_LO;
+    var p = 1.0 / 40320.0;
+    p = 1.0 / 5040.0 + r * p;
+    p = 1.0 / 720.0 + r * p;
+    p = 1.0 / 120.0 + r * p;
+    p = 1.0 / 24.0 + r * p;
+    p = 1.0 / 6.0 + r * p;
+    p = 0.5 + r * p;
+    p = 1.0 + r * p;
+    p = 1.0 + r * p;
+    return ldexp(p, i32(n));
 }
 
 // E_avg as the shader reads it (Tables::lut_e_avg).

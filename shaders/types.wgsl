@@ -37,7 +37,7 @@ const MU_AXIS_WARPED: u32 = 2u;
 
 // Values of globals.lut_dims.w (src/lut EAvgRead).
 const E_AVG_READ_LINEAR: u32 = 0u;
-const E_AVG_READ_GEOMETRIC: u32 = 1u;
+const E_AVG_READ_POWER_LAW: u32 = 1u;
 
 // Smallest stored 1 - E_avg a geometric read takes the logarithm of (src/lut LOSS_AVG_MIN).
 const LOSS_AVG_MIN: f32 = 1e-20;

@@ -54,7 +54,10 @@ pub struct ProbeArgs {
 }
 
 fn parse_side(s: &str) -> std::result::Result<u32, String> {
-    let n: u32 = s.trim().parse().map_err(|_| format!("'{s}' is not a whole number"))?;
+    let n: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
     if n == 0 {
         return Err("the image size must be at least 1".into());
     }
@@ -62,7 +65,9 @@ fn parse_side(s: &str) -> std::result::Result<u32, String> {
 }
 
 fn open(backend: Backend) -> Result<Option<Renderer>> {
-    let Some(backends) = backend.wgpu_backends() else { return Ok(None) };
+    let Some(backends) = backend.wgpu_backends() else {
+        return Ok(None);
+    };
     match Gpu::new(backends) {
         Ok(gpu) => Ok(Some(Renderer::new(gpu))),
         Err(e @ Error::NoAdapter { .. }) if backend == Backend::Auto => {
@@ -87,17 +92,26 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
         Some(mut renderer) => {
             let name = renderer.gpu().describe();
             match kind {
-                ImageKind::Png => write_png(&args.out, w, h, renderer.render_ldr(&scene, w, h)?.rgba)?,
-                ImageKind::Exr => write_exr(&args.out, w, h, renderer.render_hdr(&scene, w, h)?.rgba)?,
+                ImageKind::Png => {
+                    write_png(&args.out, w, h, renderer.render_ldr(&scene, w, h)?.rgba)?
+                }
+                ImageKind::Exr => {
+                    write_exr(&args.out, w, h, renderer.render_hdr(&scene, w, h)?.rgba)?
+                }
             }
             name
         }
         None => {
             check_cpu_size(w, h)?;
-            let tables = lut::bake(&BakeConfig { geometry: scene.effective_geometry(), ..Default::default() });
+            let tables = lut::bake(&BakeConfig {
+                geometry: scene.effective_geometry(),
+                ..Default::default()
+            });
             let radiance = cpu::render_radiance(&scene, &tables, w, h);
             match kind {
-                ImageKind::Png => write_png(&args.out, w, h, cpu::to_rgba8(&radiance, scene.exposure))?,
+                ImageKind::Png => {
+                    write_png(&args.out, w, h, cpu::to_rgba8(&radiance, scene.exposure))?
+                }
                 ImageKind::Exr => write_exr(&args.out, w, h, cpu::to_rgba_f32(&radiance))?,
             }
             "CPU reference renderer".to_string()
@@ -117,14 +131,24 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
 fn check_cpu_size(w: u32, h: u32) -> Result<()> {
     const MAX: u32 = 16384;
     if w > MAX || h > MAX {
-        return Err(Error::Invalid { what: "image size", message: format!("{w}x{h}: each side must be in 1..={MAX}") });
+        return Err(Error::Invalid {
+            what: "image size",
+            message: format!("{w}x{h}: each side must be in 1..={MAX}"),
+        });
     }
     Ok(())
 }
 
 pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
-    let Some(mut renderer) = open(if args.backend == Backend::Cpu { Backend::Vulkan } else { args.backend })? else {
-        anyhow::bail!("the probe runs on the GPU and no adapter was found (install mesa-vulkan-drivers)");
+    let Some(mut renderer) = open(if args.backend == Backend::Cpu {
+        Backend::Vulkan
+    } else {
+        args.backend
+    })?
+    else {
+        anyhow::bail!(
+            "the probe runs on the GPU and no adapter was found (install mesa-vulkan-drivers)"
+        );
     };
     let geometry = args.preset.geometry().unwrap_or(args.geometry);
     let (_, samples) = renderer.probe(geometry, args.grid)?;

@@ -19,7 +19,12 @@ pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) 
 }
 
 /// As [`render_radiance`] with a chosen source of E and E_avg.
-pub fn render_radiance_with(scene: &Scene, e: &TableRead<'_>, width: u32, height: u32) -> Vec<DVec3> {
+pub fn render_radiance_with(
+    scene: &Scene,
+    e: &TableRead<'_>,
+    width: u32,
+    height: u32,
+) -> Vec<DVec3> {
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
@@ -75,5 +80,8 @@ pub fn to_rgba8(radiance: &[DVec3], exposure: f64) -> Vec<u8> {
 
 /// Linear RGBA f32 of `radiance` (alpha 1).
 pub fn to_rgba_f32(radiance: &[DVec3]) -> Vec<f32> {
-    radiance.iter().flat_map(|c| [c.x as f32, c.y as f32, c.z as f32, 1.0]).collect()
+    radiance
+        .iter()
+        .flat_map(|c| [c.x as f32, c.y as f32, c.z as f32, 1.0])
+        .collect()
 }

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use crate::brdf::{
-    f_add_accurate, f_add_games202, f_avg_games202, f_avg_schlick, f_micro, f_ms, f_schlick, FAvgForm,
-    Geometry, GAMES202_EDGE_TINT,
+    f_add_accurate, f_add_games202, f_avg_games202, f_avg_schlick, f_micro, f_ms, f_schlick,
+    FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
 use crate::lut::{e_avg_reference, e_reference, Tables};
 use crate::scene::{Ball, Scene};
@@ -108,7 +108,16 @@ pub fn shade(
         let h = (v + l).normalize();
         let v_dot_h = v.dot(h);
         let n_dot_h = n.dot(h);
-        let spec = per_channel(f0, |f| f_micro(f_schlick(f, v_dot_h), mu_o, mu_i, n_dot_h, roughness, geometry));
+        let spec = per_channel(f0, |f| {
+            f_micro(
+                f_schlick(f, v_dot_h),
+                mu_o,
+                mu_i,
+                n_dot_h,
+                roughness,
+                geometry,
+            )
+        });
         let loss_i = e.loss(mu_i, roughness);
         let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / std::f64::consts::PI;
         lo += f_r * light.radiance * mu_i;

@@ -29,7 +29,9 @@ impl Backend {
     /// The wgpu backends this choice allows (`None` for the CPU renderer).
     pub fn wgpu_backends(self) -> Option<wgpu::Backends> {
         match self {
-            Backend::Auto => Some(wgpu::Backends::from_env().unwrap_or(wgpu::Backends::VULKAN | wgpu::Backends::GL)),
+            Backend::Auto => Some(
+                wgpu::Backends::from_env().unwrap_or(wgpu::Backends::VULKAN | wgpu::Backends::GL),
+            ),
             Backend::Vulkan => Some(wgpu::Backends::VULKAN),
             Backend::Gl => Some(wgpu::Backends::GL),
             Backend::Cpu => None,
@@ -53,15 +55,25 @@ impl Gpu {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .map_err(|e| Error::NoAdapter { backends: format!("{backends:?}"), message: e.to_string() })?;
+        let adapter =
+            pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+                .map_err(|e| Error::NoAdapter {
+                backends: format!("{backends:?}"),
+                message: e.to_string(),
+            })?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadeballs"),
             required_limits: adapter.limits(),
             ..Default::default()
         }))
-        .map_err(|e| Error::Gpu { message: format!("cannot open the device: {e}") })?;
-        Ok(Gpu { adapter, device, queue })
+        .map_err(|e| Error::Gpu {
+            message: format!("cannot open the device: {e}"),
+        })?;
+        Ok(Gpu {
+            adapter,
+            device,
+            queue,
+        })
     }
 
     /// "name (backend)" of the adapter, for messages.

@@ -24,7 +24,11 @@ impl Renderer {
     /// shader) and reads it back.
     pub fn render_ldr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<LdrImage> {
         let rgba = self.render_readback(scene, width, height, wgpu::TextureFormat::Rgba8Unorm)?;
-        Ok(LdrImage { width, height, rgba })
+        Ok(LdrImage {
+            width,
+            height,
+            rgba,
+        })
     }
 
     /// Renders linear radiance into `Rgba32Float` (or `Rgba16Float` where 32-bit float is
@@ -35,7 +39,9 @@ impl Renderer {
         } else if self.gpu.renderable(wgpu::TextureFormat::Rgba16Float) {
             wgpu::TextureFormat::Rgba16Float
         } else {
-            return Err(Error::Gpu { message: format!("{} cannot render to a float target", self.gpu.describe()) });
+            return Err(Error::Gpu {
+                message: format!("{} cannot render to a float target", self.gpu.describe()),
+            });
         };
         let bytes = self.render_readback(scene, width, height, format)?;
         let rgba = match format {
@@ -45,7 +51,11 @@ impl Renderer {
                 .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
                 .collect(),
         };
-        Ok(HdrImage { width, height, rgba })
+        Ok(HdrImage {
+            width,
+            height,
+            rgba,
+        })
     }
 
     fn render_readback(
@@ -58,7 +68,11 @@ impl Renderer {
         self.gpu.check_size(width, height)?;
         let device = self.gpu.device.clone();
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("frame"),
             size,
@@ -72,7 +86,8 @@ impl Renderer {
         let view = texture.create_view(&Default::default());
         let texel = format.block_copy_size(None).unwrap_or(4);
         let row = width * texel;
-        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size: padded as u64 * height as u64,
@@ -80,7 +95,16 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&Default::default());
-        self.encode(scene, Target { view: &view, format, width, height }, &mut encoder);
+        self.encode(
+            scene,
+            Target {
+                view: &view,
+                format,
+                width,
+                height,
+            },
+            &mut encoder,
+        );
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -90,7 +114,11 @@ impl Renderer {
             },
             wgpu::TexelCopyBufferInfo {
                 buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded),
+                    rows_per_image: Some(height),
+                },
             },
             size,
         );
@@ -116,13 +144,21 @@ pub(super) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Resul
     });
     device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::Gpu { message: format!("waiting for the GPU: {e}") })?;
-    let mapped = rx.recv().map_err(|e| Error::Gpu { message: format!("readback: {e}") })?;
-    mapped.map_err(|e| Error::Gpu { message: format!("mapping the readback buffer: {e}") })?;
+        .map_err(|e| Error::Gpu {
+            message: format!("waiting for the GPU: {e}"),
+        })?;
+    let mapped = rx.recv().map_err(|e| Error::Gpu {
+        message: format!("readback: {e}"),
+    })?;
+    mapped.map_err(|e| Error::Gpu {
+        message: format!("mapping the readback buffer: {e}"),
+    })?;
     let data = buffer
         .slice(..)
         .get_mapped_range()
-        .map_err(|e| Error::Gpu { message: format!("mapping the readback buffer: {e}") })?
+        .map_err(|e| Error::Gpu {
+            message: format!("mapping the readback buffer: {e}"),
+        })?
         .to_vec();
     buffer.unmap();
     Ok(data)

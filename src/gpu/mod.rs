@@ -17,5 +17,7 @@ pub use renderer::{Renderer, Target};
 
 /// Turns a wgpu error captured by an error scope into the library's error.
 fn gpu_error(e: wgpu::Error) -> crate::Error {
-    crate::Error::Gpu { message: e.to_string() }
+    crate::Error::Gpu {
+        message: e.to_string(),
+    }
 }

@@ -27,14 +27,24 @@ impl Renderer {
     /// row = roughness. Returns the tables read, for comparison.
     pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
         if !(2..=MAX_PROBE_GRID).contains(&n) {
-            return Err(Error::Invalid { what: "probe grid", message: format!("{n} is outside 2..={MAX_PROBE_GRID}") });
+            return Err(Error::Invalid {
+                what: "probe grid",
+                message: format!("{n} is outside 2..={MAX_PROBE_GRID}"),
+            });
         }
         let tables = self.tables_for(geometry);
         let device = self.gpu.device.clone();
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let (lut, lut_dims, lut_r) = super::uniforms::lut_uniforms(&tables);
-        let globals = super::uniforms::Globals { lut, lut_dims, lut_r, ..bytemuck::Zeroable::zeroed() };
-        self.gpu.queue.write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
+        let globals = super::uniforms::Globals {
+            lut,
+            lut_dims,
+            lut_r,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        self.gpu
+            .queue
+            .write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
 
         let count = (n * n) as u64;
         let grid = device.create_buffer(&wgpu::BufferDescriptor {
@@ -43,7 +53,9 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        self.gpu.queue.write_buffer(&grid, 0, bytemuck::cast_slice(&[n, 0, 0, 0]));
+        self.gpu
+            .queue
+            .write_buffer(&grid, 0, bytemuck::cast_slice(&[n, 0, 0, 0]));
         let out_size = count * 8;
         let out = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe out"),
@@ -60,7 +72,11 @@ impl Renderer {
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
             count: None,
         };
         let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -74,8 +90,14 @@ impl Renderer {
             label: Some("probe"),
             layout: &layout1,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: grid.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: grid.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: out.as_entire_binding(),
+                },
             ],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -93,7 +115,10 @@ impl Renderer {
             layout: Some(&layout),
             module: &module,
             entry_point: Some(shaders::PROBE_MAIN),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             cache: None,
         });
         let mut encoder = device.create_command_encoder(&Default::default());

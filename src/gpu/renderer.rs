@@ -25,7 +25,9 @@ pub struct Target<'a> {
 pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     matches!(
         format,
-        wgpu::TextureFormat::Rgba32Float | wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::R32Float
+        wgpu::TextureFormat::Rgba32Float
+            | wgpu::TextureFormat::Rgba16Float
+            | wgpu::TextureFormat::R32Float
     )
 }
 
@@ -54,7 +56,14 @@ impl Renderer {
             bind_group_layouts: &[Some(&resources.layout)],
             immediate_size: 0,
         });
-        Renderer { gpu, resources, module, pipeline_layout, pipelines: HashMap::new(), tables: None }
+        Renderer {
+            gpu,
+            resources,
+            module,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            tables: None,
+        }
     }
 
     pub fn gpu(&self) -> &Gpu {
@@ -63,7 +72,9 @@ impl Renderer {
 
     /// Uses `tables` (baked for their `config.geometry`) from now on.
     pub fn set_tables(&mut self, tables: Arc<Tables>) {
-        let bind = self.resources.bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
+        let bind = self
+            .resources
+            .bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
         self.tables = Some((tables, bind));
     }
 
@@ -72,7 +83,10 @@ impl Renderer {
         match &self.tables {
             Some((t, _)) if t.config.geometry == geometry => t.clone(),
             _ => {
-                let tables = Arc::new(lut::bake(&BakeConfig { geometry, ..Default::default() }));
+                let tables = Arc::new(lut::bake(&BakeConfig {
+                    geometry,
+                    ..Default::default()
+                }));
                 self.set_tables(tables.clone());
                 tables
             }
@@ -85,7 +99,10 @@ impl Renderer {
         let (module, layout) = (&self.module, &self.pipeline_layout);
         self.pipelines.entry(key).or_insert_with(|| {
             let constants = shaders::overrides(geometry, form, is_linear(format));
-            let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+            let options = wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("balls"),
                 layout: Some(layout),
@@ -116,7 +133,12 @@ impl Renderer {
 
     /// Records the draw of `scene` into `target` on `encoder` (uploads uniforms now; bakes
     /// tables if the scene's geometry changed).
-    pub fn encode(&mut self, scene: &Scene, target: Target<'_>, encoder: &mut wgpu::CommandEncoder) {
+    pub fn encode(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
         let geometry = scene.effective_geometry();
         let tables = self.tables_for(geometry);
         let queue = &self.gpu.queue;
@@ -130,7 +152,9 @@ impl Renderer {
         if !lights.is_empty() {
             queue.write_buffer(&self.resources.lights, 0, bytemuck::cast_slice(&lights));
         }
-        let pipeline = self.pipeline((target.format, geometry, scene.preset.f_avg_form())).clone();
+        let pipeline = self
+            .pipeline((target.format, geometry, scene.preset.f_avg_form()))
+            .clone();
         let bind = &self.tables.as_ref().expect("tables bound above").1;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("balls"),
@@ -152,7 +176,10 @@ impl Renderer {
 
     /// Draws `scene` into `target` and submits.
     pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
-        let scope = self.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         self.encode(scene, target, &mut encoder);
         self.gpu.queue.submit([encoder.finish()]);

@@ -4,7 +4,7 @@
 use std::mem::size_of;
 
 use super::uniforms::{Globals, GpuBall, GpuLight};
-use crate::lut::Tables;
+use crate::lut::{roughness_coord, Tables};
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
 /// Buffers and the layout of group 0; the bind group follows the tables.
@@ -54,7 +54,13 @@ impl Resources {
     pub fn new(device: &wgpu::Device) -> Self {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("group 0"),
-            entries: &[uniform_entry(0), uniform_entry(1), uniform_entry(2), texture_entry(3), texture_entry(4)],
+            entries: &[
+                uniform_entry(0),
+                uniform_entry(1),
+                uniform_entry(2),
+                texture_entry(3),
+                texture_entry(4),
+            ],
         });
         Resources {
             layout,
@@ -64,21 +70,53 @@ impl Resources {
         }
     }
 
-    /// Uploads `tables` (`1 - E`: mu_size x r_size, `1 - E_avg`: r_size x 1, both R32Float)
+    /// Uploads `tables` (`1 - E`: mu_size x r_size, `1 - E_avg` and row roughness: r_size x 2, both R32Float)
     /// and binds them with the buffers.
-    pub fn bind_tables(&self, device: &wgpu::Device, queue: &wgpu::Queue, tables: &Tables) -> wgpu::BindGroup {
+    pub fn bind_tables(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tables: &Tables,
+    ) -> wgpu::BindGroup {
         let l = tables.layout();
-        let e = r32_texture(device, queue, "1 - E", l.mu_size as u32, l.r_size as u32, &tables.stored_loss);
-        let e_avg = r32_texture(device, queue, "1 - E_avg", l.r_size as u32, 1, &tables.stored_loss_avg);
+        let e = r32_texture(
+            device,
+            queue,
+            "1 - E",
+            l.mu_size as u32,
+            l.r_size as u32,
+            &tables.stored_loss,
+        );
+        // Row 0: 1 - E_avg per roughness row; row 1: each row's roughness as the power-law
+        // read uses it (`roughness_coord(roughness_of_texel(j) as f32)`, computed in f64
+        // here so the shader does not re-derive it in f32).
+        let mut e_avg_rows = tables.stored_loss_avg.clone();
+        e_avg_rows.extend((0..l.r_size).map(|j| roughness_coord(l.roughness_of_texel(j) as f32)));
+        let e_avg = r32_texture(device, queue, "1 - E_avg", l.r_size as u32, 2, &e_avg_rows);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("group 0"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.globals.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: self.balls.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: self.lights.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&e) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&e_avg) },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.globals.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.balls.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&e),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&e_avg),
+                },
             ],
         })
     }
@@ -92,7 +130,11 @@ fn r32_texture(
     height: u32,
     data: &[f32],
 ) -> wgpu::TextureView {
-    let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    };
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size,
@@ -111,7 +153,11 @@ fn r32_texture(
             aspect: wgpu::TextureAspect::All,
         },
         bytemuck::cast_slice(data),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 4), rows_per_image: Some(height) },
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(width * 4),
+            rows_per_image: Some(height),
+        },
         size,
     );
     texture.create_view(&wgpu::TextureViewDescriptor::default())

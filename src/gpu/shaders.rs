@@ -23,7 +23,10 @@ pub const PROBE_MAIN: &str = "probe_main";
 
 fn concat(parts: &[&str]) -> String {
     let common = COMMON.iter().map(|(_, src)| *src);
-    common.chain(parts.iter().copied()).collect::<Vec<_>>().join("\n")
+    common
+        .chain(parts.iter().copied())
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`.

@@ -48,11 +48,16 @@ pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
     let (sy, by) = l.scale_bias(l.r_size);
     let e_avg_read = match l.e_avg_read {
         EAvgRead::Linear => 0,
-        EAvgRead::Geometric => 1,
+        EAvgRead::PowerLaw => 1,
     };
     (
         [sx as f32, bx as f32, sy as f32, by as f32],
-        [l.mu_size as u32, l.r_size as u32, l.mu_axis.id(), e_avg_read],
+        [
+            l.mu_size as u32,
+            l.r_size as u32,
+            l.mu_axis.id(),
+            e_avg_read,
+        ],
         [l.r_axis.r_min() as f32, 0.0, 0.0, 0.0],
     )
 }
@@ -68,7 +73,12 @@ pub fn globals(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Globa
         cam_up: v4(basis.up, 0.0),
         environment: v4(scene.environment, scene.exposure),
         size: [width as f32, height as f32, 0.0, 0.0],
-        counts: [scene.balls.len().min(MAX_BALLS) as u32, scene.lights.len().min(MAX_LIGHTS) as u32, 0, 0],
+        counts: [
+            scene.balls.len().min(MAX_BALLS) as u32,
+            scene.lights.len().min(MAX_LIGHTS) as u32,
+            0,
+            0,
+        ],
         lut,
         lut_dims,
         lut_r,
@@ -84,7 +94,10 @@ pub fn balls(scene: &Scene) -> Vec<GpuBall> {
         .map(|b| GpuBall {
             center_radius: v4(b.center, b.radius),
             f0_roughness: v4(b.material.f0, b.roughness),
-            diffuse_ms: v4(b.material.diffuse, if b.multiple_scattering { 1.0 } else { 0.0 }),
+            diffuse_ms: v4(
+                b.material.diffuse,
+                if b.multiple_scattering { 1.0 } else { 0.0 },
+            ),
         })
         .collect()
 }
@@ -95,6 +108,9 @@ pub fn lights(scene: &Scene) -> Vec<GpuLight> {
         .lights
         .iter()
         .take(MAX_LIGHTS)
-        .map(|l| GpuLight { direction: v4(l.direction, 0.0), radiance: v4(l.radiance, 0.0) })
+        .map(|l| GpuLight {
+            direction: v4(l.direction, 0.0),
+            radiance: v4(l.radiance, 0.0),
+        })
         .collect()
 }

@@ -29,7 +29,11 @@ pub struct CameraBasis {
 impl Camera {
     /// The reference scene's camera (DESIGN.md section 4).
     pub fn reference() -> Self {
-        Camera { position: DVec3::new(0.0, 80.0, 300.0), target: DVec3::ZERO, vfov_deg: 75.0 }
+        Camera {
+            position: DVec3::new(0.0, 80.0, 300.0),
+            target: DVec3::ZERO,
+            vfov_deg: 75.0,
+        }
     }
 
     /// Why this camera cannot form a frame, if it cannot: target at the position, or
@@ -56,7 +60,12 @@ impl Camera {
         let up = right.cross(forward);
         let tan_half = (self.vfov_deg.to_radians() * 0.5).tan();
         let aspect = width as f64 / height.max(1) as f64;
-        CameraBasis { origin: self.position, forward, right: right * tan_half * aspect, up: up * tan_half }
+        CameraBasis {
+            origin: self.position,
+            forward,
+            right: right * tan_half * aspect,
+            up: up * tan_half,
+        }
     }
 }
 

@@ -33,7 +33,9 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{Colour, Direction, Finite3, Fov, Named, Positive, Radiance, Roughness};
-use super::{grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS};
+use super::{
+    grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS,
+};
 use crate::brdf::Geometry;
 use crate::error::{Error, Result};
 
@@ -110,15 +112,21 @@ struct MaterialFile {
 
 /// Reads and parses the scene file at `path`.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Scene { path: path.to_path_buf(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Scene {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
     parse(&text, path)
 }
 
 /// Parses scene text; `path` only names the file in errors.
 pub fn parse(text: &str, path: &Path) -> Result<Scene> {
-    let err = |message: String| Error::Scene { path: path.to_path_buf(), message };
-    let file: SceneFile = toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    let err = |message: String| Error::Scene {
+        path: path.to_path_buf(),
+        message,
+    };
+    let file: SceneFile =
+        toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
     build(file, text).map_err(|(span, msg)| err(at(text, span, &msg)))
 }
 
@@ -139,7 +147,11 @@ fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
         Some(c) => {
             let span = c.span();
             let c = c.into_inner();
-            let camera = Camera { position: c.position.0, target: c.target.0, vfov_deg: c.vfov_deg.0 };
+            let camera = Camera {
+                position: c.position.0,
+                target: c.target.0,
+                vfov_deg: c.vfov_deg.0,
+            };
             if let Some(problem) = camera.problem() {
                 return Err((span, problem.to_string()));
             }
@@ -147,20 +159,33 @@ fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
         }
     };
     if file.ball.is_empty() {
-        return Err((0..0, "the scene has no balls (add a [[ball]] table)".to_string()));
+        return Err((
+            0..0,
+            "the scene has no balls (add a [[ball]] table)".to_string(),
+        ));
     }
     if file.ball.len() > MAX_BALLS {
         let span = file.ball[MAX_BALLS].span();
         return Err((span, format!("more than {MAX_BALLS} balls")));
     }
     if file.light.len() > MAX_LIGHTS {
-        return Err((0..text.len().min(1), format!("more than {MAX_LIGHTS} lights")));
+        return Err((
+            0..text.len().min(1),
+            format!("more than {MAX_LIGHTS} lights"),
+        ));
     }
-    let balls = file.ball.into_iter().map(ball).collect::<Spanned2<Vec<_>>>()?;
+    let balls = file
+        .ball
+        .into_iter()
+        .map(ball)
+        .collect::<Spanned2<Vec<_>>>()?;
     let lights = file
         .light
         .into_iter()
-        .map(|l| Light { direction: l.direction.0, radiance: l.radiance.0 })
+        .map(|l| Light {
+            direction: l.direction.0,
+            radiance: l.radiance.0,
+        })
         .collect();
     Ok(Scene {
         balls,
@@ -179,7 +204,12 @@ fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {
     let center = match (b.position, b.grid) {
         (Some(p), None) => p.0,
         (None, Some([row, col])) => grid_position(row, col),
-        _ => return Err((span, "a ball needs exactly one of `position` or `grid`".to_string())),
+        _ => {
+            return Err((
+                span,
+                "a ball needs exactly one of `position` or `grid`".to_string(),
+            ))
+        }
     };
     let material = material(b.material)?;
     Ok(Ball {
@@ -196,10 +226,15 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let m = m.into_inner();
     match (m.kind, m.albedo, m.f0) {
         (KindFile::Metal, Some(a), None) => Ok(Material::metal_srgb(a.0.to_array())),
-        (KindFile::Metal, None, Some(f0)) => {
-            Ok(Material { kind: MaterialKind::Metal, f0: f0.0, diffuse: DVec3::ZERO })
-        }
-        (KindFile::Metal, _, _) => Err((span, "a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)".into())),
+        (KindFile::Metal, None, Some(f0)) => Ok(Material {
+            kind: MaterialKind::Metal,
+            f0: f0.0,
+            diffuse: DVec3::ZERO,
+        }),
+        (KindFile::Metal, _, _) => Err((
+            span,
+            "a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)".into(),
+        )),
         (KindFile::Dielectric, albedo, f0) => Ok(Material {
             kind: MaterialKind::Dielectric,
             f0: f0.map_or(DVec3::splat(DIELECTRIC_F0), |f| f.0),

@@ -54,7 +54,11 @@ impl Material {
     /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2` (DESIGN.md
     /// section 4: the homework's decoding).
     pub fn metal_srgb(albedo: [f64; 3]) -> Self {
-        Material { kind: MaterialKind::Metal, f0: srgb_to_linear(albedo), diffuse: DVec3::ZERO }
+        Material {
+            kind: MaterialKind::Metal,
+            f0: srgb_to_linear(albedo),
+            diffuse: DVec3::ZERO,
+        }
     }
 }
 
@@ -112,7 +116,10 @@ impl Scene {
     pub fn reference() -> Self {
         Scene {
             balls: two_rows(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),
-            lights: vec![Light { direction: DVec3::Z, radiance: DVec3::ONE }],
+            lights: vec![Light {
+                direction: DVec3::Z,
+                radiance: DVec3::ONE,
+            }],
             environment: DVec3::ZERO,
             camera: Camera::reference(),
             exposure: 1.0,
@@ -124,7 +131,11 @@ impl Scene {
     /// The white furnace (DESIGN.md section 4): the same balls with `F0 = 1`, no lights, a
     /// uniform white environment. With the term on, the balls vanish into the background.
     pub fn furnace() -> Self {
-        let white = Material { kind: MaterialKind::Metal, f0: DVec3::ONE, diffuse: DVec3::ZERO };
+        let white = Material {
+            kind: MaterialKind::Metal,
+            f0: DVec3::ONE,
+            diffuse: DVec3::ZERO,
+        };
         Scene {
             balls: two_rows(white),
             lights: Vec::new(),
@@ -143,13 +154,16 @@ impl Scene {
 fn two_rows(material: Material) -> Vec<Ball> {
     (0..2u32)
         .flat_map(|row| {
-            REFERENCE_ROUGHNESS.iter().enumerate().map(move |(col, &roughness)| Ball {
-                center: grid_position(row, col as u32),
-                radius: REFERENCE_RADIUS,
-                roughness,
-                material,
-                multiple_scattering: row == 0,
-            })
+            REFERENCE_ROUGHNESS
+                .iter()
+                .enumerate()
+                .map(move |(col, &roughness)| Ball {
+                    center: grid_position(row, col as u32),
+                    radius: REFERENCE_RADIUS,
+                    roughness,
+                    material,
+                    multiple_scattering: row == 0,
+                })
         })
         .collect()
 }

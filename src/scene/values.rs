@@ -36,7 +36,9 @@ impl TryFrom<[f64; 3]> for Direction {
     fn try_from(v: [f64; 3]) -> Result<Self, String> {
         let d = finite3(v, "direction")?;
         if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
-            return Err(format!("direction {v:?} has zero (or unrepresentable) length"));
+            return Err(format!(
+                "direction {v:?} has zero (or unrepresentable) length"
+            ));
         }
         Ok(Direction(d.normalize()))
     }

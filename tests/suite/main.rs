@@ -1,4 +1,10 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
 mod brdf;
+mod golden;
 mod lut;
+mod pixels;
+mod probe;
+mod render;
+mod scene;
+mod shaders;

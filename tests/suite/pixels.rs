@@ -1,0 +1,95 @@
+//! Shared helpers of the GPU tests: opening a renderer (failing, never skipping, when there
+//! is none) and comparing RGBA8 images.
+use std::path::PathBuf;
+
+use shadeballs::gpu::{Gpu, Renderer};
+
+/// A renderer on `backends`, or a test failure naming the package that provides one.
+pub fn renderer(backends: wgpu::Backends) -> Renderer {
+    match Gpu::new(backends) {
+        Ok(gpu) => Renderer::new(gpu),
+        Err(e) => panic!(
+            "GPU test cannot run: {e}. Install lavapipe: apt-get install -y --no-install-recommends \
+             mesa-vulkan-drivers libvulkan1"
+        ),
+    }
+}
+
+/// The lavapipe renderer every GPU test uses unless it says otherwise.
+pub fn vulkan() -> Renderer {
+    renderer(wgpu::Backends::VULKAN)
+}
+
+/// Per-pixel comparison of two RGBA8 images (alpha ignored).
+#[derive(Debug)]
+pub struct Diff {
+    pub pixels: usize,
+    /// Pixels whose largest channel difference is <= 1, <= 3.
+    pub within_1: usize,
+    pub within_3: usize,
+    pub max: u8,
+    /// Up to 10 pixels beyond 1/255: (x, y, a rgb, b rgb).
+    pub worst: Vec<(u32, u32, [u8; 3], [u8; 3])>,
+}
+
+impl Diff {
+    pub fn frac_1(&self) -> f64 {
+        self.within_1 as f64 / self.pixels as f64
+    }
+    pub fn frac_3(&self) -> f64 {
+        self.within_3 as f64 / self.pixels as f64
+    }
+    pub fn report(&self, what: &str) -> String {
+        format!(
+            "{what}: {} pixels, {:.4}% within 1/255, {:.4}% within 3/255, {} beyond 1/255, max {} /255; \
+             first beyond 1/255 (x, y, a, b): {:?}",
+            self.pixels,
+            100.0 * self.frac_1(),
+            100.0 * self.frac_3(),
+            self.pixels - self.within_1,
+            self.max,
+            self.worst
+        )
+    }
+}
+
+pub fn compare(a: &[u8], b: &[u8], width: u32) -> Diff {
+    assert_eq!(a.len(), b.len(), "image sizes differ");
+    let mut d = Diff {
+        pixels: a.len() / 4,
+        within_1: 0,
+        within_3: 0,
+        max: 0,
+        worst: Vec::new(),
+    };
+    for (k, (pa, pb)) in a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate() {
+        let m = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap();
+        d.max = d.max.max(m);
+        d.within_1 += (m <= 1) as usize;
+        d.within_3 += (m <= 3) as usize;
+        if m > 1 && d.worst.len() < 10 {
+            let (x, y) = (k as u32 % width, k as u32 / width);
+            d.worst
+                .push((x, y, [pa[0], pa[1], pa[2]], [pb[0], pb[1], pb[2]]));
+        }
+    }
+    d
+}
+
+/// `|a - b|` scaled by 32 per channel, for looking at.
+pub fn difference_image(a: &[u8], b: &[u8]) -> Vec<u8> {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .flat_map(|(pa, pb)| {
+            let d = |c: usize| (pa[c].abs_diff(pb[c]) as u32 * 32).min(255) as u8;
+            [d(0), d(1), d(2), 255]
+        })
+        .collect()
+}
+
+/// `target/test-output/`, created.
+pub fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
