@@ -80,6 +80,7 @@ fn open(backend: Backend) -> Result<Option<Renderer>> {
 
 pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
+    let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     let mut scene = match &args.scene {
         Some(path) => scene::load(path)?,
@@ -87,27 +88,38 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     };
     scene.preset = args.preset.unwrap_or(scene.preset);
     scene.geometry = args.geometry.unwrap_or(scene.geometry);
+    let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
-    let device = match open(args.backend)? {
+    let renderer = open(args.backend)?;
+    phases.mark("device");
+    let device = match renderer {
         Some(mut renderer) => {
-            let name = renderer.gpu().describe();
+            renderer.gpu().check_size(w, h)?;
+            renderer.tables_for(geometry);
+            phases.mark("tables");
             match kind {
                 ImageKind::Png => {
-                    write_png(&args.out, w, h, renderer.render_ldr(&scene, w, h)?.rgba)?
+                    let image = renderer.render_ldr(&scene, w, h)?;
+                    phases.mark("frame");
+                    write_png(&args.out, w, h, image.rgba)?
                 }
                 ImageKind::Exr => {
-                    write_exr(&args.out, w, h, renderer.render_hdr(&scene, w, h)?.rgba)?
+                    let image = renderer.render_hdr(&scene, w, h)?;
+                    phases.mark("frame");
+                    write_exr(&args.out, w, h, image.rgba)?
                 }
             }
-            name
+            renderer.gpu().describe()
         }
         None => {
             check_cpu_size(w, h)?;
             let tables = lut::bake(&BakeConfig {
-                geometry: scene.effective_geometry(),
+                geometry,
                 ..Default::default()
             });
+            phases.mark("tables");
             let radiance = cpu::render_radiance(&scene, &tables, w, h);
+            phases.mark("frame");
             match kind {
                 ImageKind::Png => {
                     write_png(&args.out, w, h, cpu::to_rgba8(&radiance, scene.exposure))?
@@ -117,14 +129,30 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
             "CPU reference renderer".to_string()
         }
     };
+    phases.mark("write");
     eprintln!(
-        "rendered {w}x{h} ({} preset, {} G) on {device} in {:.0} ms -> {}",
+        "rendered {w}x{h} ({} preset, {geometry} G) on {device} in {:.0} ms ({}) -> {}",
         scene.preset,
-        scene.effective_geometry(),
         start.elapsed().as_secs_f64() * 1e3,
+        phases.1.trim_end_matches(", "),
         args.out.display()
     );
     Ok(())
+}
+
+/// Wall time per phase since the previous mark, for the one-line report.
+struct Phases(Instant, String);
+
+impl Phases {
+    fn mark(&mut self, name: &str) {
+        let now = Instant::now();
+        let _ = write!(
+            self.1,
+            "{name} {:.0} ms, ",
+            (now - self.0).as_secs_f64() * 1e3
+        );
+        self.0 = now;
+    }
 }
 
 /// The CPU renderer's size limit: the same 16384 a GPU texture has on lavapipe.

@@ -24,11 +24,13 @@ pub fn vulkan() -> Renderer {
 #[derive(Debug)]
 pub struct Diff {
     pub pixels: usize,
+    /// Pixels equal in every colour channel.
+    pub equal: usize,
     /// Pixels whose largest channel difference is <= 1, <= 3.
     pub within_1: usize,
     pub within_3: usize,
     pub max: u8,
-    /// Up to 10 pixels beyond 1/255: (x, y, a rgb, b rgb).
+    /// The first 10 pixels that differ at all: (x, y, a rgb, b rgb).
     pub worst: Vec<(u32, u32, [u8; 3], [u8; 3])>,
 }
 
@@ -41,9 +43,10 @@ impl Diff {
     }
     pub fn report(&self, what: &str) -> String {
         format!(
-            "{what}: {} pixels, {:.4}% within 1/255, {:.4}% within 3/255, {} beyond 1/255, max {} /255; \
-             first beyond 1/255 (x, y, a, b): {:?}",
+            "{what}: {} pixels, {} equal, {:.4}% within 1/255, {:.4}% within 3/255, {} beyond 1/255, max {} /255; \
+             first differing (x, y, a, b): {:?}",
             self.pixels,
+            self.equal,
             100.0 * self.frac_1(),
             100.0 * self.frac_3(),
             self.pixels - self.within_1,
@@ -57,6 +60,7 @@ pub fn compare(a: &[u8], b: &[u8], width: u32) -> Diff {
     assert_eq!(a.len(), b.len(), "image sizes differ");
     let mut d = Diff {
         pixels: a.len() / 4,
+        equal: 0,
         within_1: 0,
         within_3: 0,
         max: 0,
@@ -65,9 +69,10 @@ pub fn compare(a: &[u8], b: &[u8], width: u32) -> Diff {
     for (k, (pa, pb)) in a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate() {
         let m = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap();
         d.max = d.max.max(m);
+        d.equal += (m == 0) as usize;
         d.within_1 += (m <= 1) as usize;
         d.within_3 += (m <= 3) as usize;
-        if m > 1 && d.worst.len() < 10 {
+        if m > 0 && d.worst.len() < 10 {
             let (x, y) = (k as u32 % width, k as u32 / width);
             d.worst
                 .push((x, y, [pa[0], pa[1], pa[2]], [pb[0], pb[1], pb[2]]));

@@ -75,6 +75,15 @@ fn hdr_output_is_linear_radiance() {
 }
 
 #[test]
+fn no_adapter_error_names_the_package() {
+    let e = shadeballs::Error::NoAdapter {
+        backends: "VULKAN".into(),
+        message: "none".into(),
+    };
+    assert!(e.to_string().contains("mesa-vulkan-drivers"), "{e}");
+}
+
+#[test]
 fn bad_sizes_are_errors() {
     let mut r = vulkan();
     for (w, h) in [(0, 10), (10, 0), (100_000, 10)] {
