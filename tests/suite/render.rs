@@ -43,6 +43,36 @@ fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {
     );
 }
 
+/// Every G variant, a dielectric, two lights and an environment at once.
+#[test]
+fn every_geometry_and_material_matches_cpu() {
+    use shadeballs::brdf::Geometry;
+    use shadeballs::scene::{Light, Material, MaterialKind};
+    let mut r = vulkan();
+    let mut scene = Scene::reference();
+    scene.environment = DVec3::new(0.1, 0.12, 0.15);
+    scene.lights.push(Light {
+        direction: DVec3::new(1.0, 1.0, 0.5).normalize(),
+        radiance: DVec3::new(2.0, 1.5, 1.0),
+    });
+    for b in scene.balls.iter_mut().step_by(2) {
+        b.material = Material {
+            kind: MaterialKind::Dielectric,
+            f0: DVec3::splat(0.04),
+            diffuse: DVec3::new(0.1, 0.4, 0.6),
+        };
+    }
+    for geometry in Geometry::ALL {
+        scene.geometry = geometry;
+        let (w, h) = (640, 360);
+        let (gpu, cpu) = both(&mut r, &scene, w, h);
+        assert_close(
+            &compare(&gpu, &cpu, w),
+            &format!("Vulkan vs CPU, mixed scene, {geometry} G"),
+        );
+    }
+}
+
 #[test]
 fn vulkan_matches_cpu_reference() {
     gpu_matches_cpu(&mut vulkan(), "Vulkan");
