@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::lut::{EAvgRead, Tables};
+use crate::lut::Tables;
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 
 #[repr(C)]
@@ -46,10 +46,7 @@ pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
     let l = tables.layout();
     let (sx, bx) = l.scale_bias(l.mu_size);
     let (sy, by) = l.scale_bias(l.r_size);
-    let e_avg_read = match l.e_avg_read {
-        EAvgRead::Linear => 0,
-        EAvgRead::PowerLaw => 1,
-    };
+    let e_avg_read = l.e_avg_read.id();
     (
         [sx as f32, bx as f32, sy as f32, by as f32],
         [
