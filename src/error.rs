@@ -6,19 +6,29 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     #[error("unknown {what} '{given}': expected one of {expected}")]
-    UnknownName { what: &'static str, given: String, expected: String },
+    UnknownName {
+        what: &'static str,
+        given: String,
+        expected: String,
+    },
 
     #[error("invalid {what}: {message}")]
     Invalid { what: &'static str, message: String },
 
     #[error("cannot write '{}': {source}", path.display())]
-    Write { path: PathBuf, source: std::io::Error },
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
 
     #[error("cannot encode '{}': {message}", path.display())]
     Encode { path: PathBuf, message: String },
 
     #[error("unsupported output file '{}': {expected}", path.display())]
-    Format { path: PathBuf, expected: &'static str },
+    Format {
+        path: PathBuf,
+        expected: &'static str,
+    },
 
     /// A scene file that cannot be read, parsed or validated; `message` names the line and
     /// column.
@@ -43,11 +53,14 @@ pub fn parse_named<T: Copy>(
     name: impl Fn(T) -> &'static str,
     what: &'static str,
 ) -> Result<T> {
-    all.iter().copied().find(|&v| name(v) == given).ok_or_else(|| Error::UnknownName {
-        what,
-        given: given.to_string(),
-        expected: all.iter().map(|&v| name(v)).collect::<Vec<_>>().join(", "),
-    })
+    all.iter()
+        .copied()
+        .find(|&v| name(v) == given)
+        .ok_or_else(|| Error::UnknownName {
+            what,
+            given: given.to_string(),
+            expected: all.iter().map(|&v| name(v)).collect::<Vec<_>>().join(", "),
+        })
 }
 
 /// Implements `FromStr` and `Display` for an enum with `ALL` and `name()`, so the CLI and

@@ -9,10 +9,16 @@ use clap::{Parser, Subcommand};
 mod render_cmd;
 
 use shadeballs::brdf::Geometry;
-use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage};
+use shadeballs::lut::{
+    self, io::write_tables, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage,
+};
 
 #[derive(Parser)]
-#[command(name = "shadeballs", version, about = "Shading balls for the Kulla-Conty multiple-scattering BRDF")]
+#[command(
+    name = "shadeballs",
+    version,
+    about = "Shading balls for the Kulla-Conty multiple-scattering BRDF"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -50,8 +56,8 @@ struct BakeArgs {
     /// Point set for Monte Carlo methods: random, hammersley or sobol.
     #[arg(long, default_value_t = PointSet::Sobol)]
     points: PointSet,
-    /// Table layout: sqrt-mu (default) or games202 (the homework's).
-    #[arg(long, default_value_t = LayoutKind::SqrtMu)]
+    /// Table layout: warped (default), sqrt-mu or games202 (the homework's).
+    #[arg(long, default_value_t = LayoutKind::Warped)]
     layout: LayoutKind,
     /// Storage format the GPU will read: f32, f16 or unorm8. Default: the layout's.
     #[arg(long)]
@@ -73,7 +79,10 @@ const MAX_TABLE_SIDE: usize = 8192;
 
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let one = |t: &str| -> Result<usize, String> {
-        let n: usize = t.trim().parse().map_err(|_| format!("'{t}' is not a whole number"))?;
+        let n: usize = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{t}' is not a whole number"))?;
         if !(2..=MAX_TABLE_SIDE).contains(&n) {
             return Err(format!("{n} is outside 2..={MAX_TABLE_SIDE}"));
         }
@@ -124,8 +133,13 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bake(args) => bake(args),
         Command::Bench(args) => {
-            let options = shadeballs::bench::BenchOptions { quick: args.quick, out: args.out };
-            shadeballs::bench::run(&options).map(|summary| println!("{summary}")).map_err(Into::into)
+            let options = shadeballs::bench::BenchOptions {
+                quick: args.quick,
+                out: args.out,
+            };
+            shadeballs::bench::run(&options)
+                .map(|summary| println!("{summary}"))
+                .map_err(Into::into)
         }
         Command::Render(args) => render_cmd::render(args),
         Command::Probe(args) => render_cmd::probe(args),

@@ -25,4 +25,5 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "$XDG_RUNTIME_DIR" ]; then
 fi
 
 cargo fmt --all -- --check
+cargo clippy --release --all-targets -- -D warnings
 cargo test --release

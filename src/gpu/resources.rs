@@ -4,7 +4,7 @@
 use std::mem::size_of;
 
 use super::uniforms::{Globals, GpuBall, GpuLight};
-use crate::lut::{roughness_coord, Tables};
+use crate::lut::Tables;
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
 /// Buffers and the layout of group 0; the bind group follows the tables.
@@ -88,10 +88,10 @@ impl Resources {
             &tables.stored_loss,
         );
         // Row 0: 1 - E_avg per roughness row; row 1: each row's roughness as the power-law
-        // read uses it (`roughness_coord(roughness_of_texel(j) as f32)`, computed in f64
+        // read uses it (`Layout::row_roughness`, computed from the f64 texel coordinate
         // here so the shader does not re-derive it in f32).
         let mut e_avg_rows = tables.stored_loss_avg.clone();
-        e_avg_rows.extend((0..l.r_size).map(|j| roughness_coord(l.roughness_of_texel(j) as f32)));
+        e_avg_rows.extend((0..l.r_size).map(|j| l.row_roughness(j)));
         let e_avg = r32_texture(device, queue, "1 - E_avg", l.r_size as u32, 2, &e_avg_rows);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("group 0"),

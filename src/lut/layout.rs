@@ -304,9 +304,13 @@ impl Layout {
         r_min + (1.0 - r_min) * self.texel_coord(j, self.r_size)
     }
 
-    /// The roughness axis coordinate of a read, in f32 as the shader computes it
-    /// (`roughness_coord` in `shaders/lut.wgsl`): the clamped roughness mapped from
-    /// `[r_min, 1]` to `[0, 1]`.
+    /// Roughness of row `j` as the shader's E_avg read uses it: clamped, in f32.
+    pub fn row_roughness(&self, j: usize) -> f32 {
+        roughness_coord(self.roughness_of_texel(j) as f32)
+    }
+
+    /// The roughness axis coordinate of a read, in f32 as the shader computes it (`r_coord`
+    /// in `shaders/lut.wgsl`): the clamped roughness mapped from `[r_min, 1]` to `[0, 1]`.
     pub fn r_coord(&self, roughness: f32) -> f32 {
         let r_min = self.r_axis.r_min() as f32;
         ((roughness_coord(roughness) - r_min) / (1.0 - r_min)).clamp(0.0, 1.0)

@@ -195,8 +195,7 @@ impl Tables {
             EAvgRead::Linear => a + (b - a) * fy,
             EAvgRead::PowerLaw => {
                 // Both rows have roughness >= ROUGHNESS_MIN > 0 (clamped reads).
-                let row_r = |j: usize| roughness_coord(l.roughness_of_texel(j) as f32);
-                let (ra, rb) = (row_r(j0), row_r(j1));
+                let (ra, rb) = (l.row_roughness(j0), l.row_roughness(j1));
                 let w = (roughness_coord(roughness) / ra).ln() / (rb / ra).ln();
                 let (la, lb) = (a.max(LOSS_AVG_MIN).ln(), b.max(LOSS_AVG_MIN).ln());
                 (la + (lb - la) * w).exp()
