@@ -1,22 +1,10 @@
 //! `shadeballs bake` as a user runs it: the real binary, its exit code and its messages.
 
-use std::process::Command;
-
-fn shadeballs(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
-        .args(args)
-        .output()
-        .expect("run shadeballs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use crate::cli::{shadeballs, temp_dir};
 
 #[test]
 fn bake_writes_each_format_and_reports_its_time() {
-    let dir = std::env::temp_dir().join(format!("shadeballs-cli-bake-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("bake");
     for ext in ["csv", "exr", "png"] {
         let path = dir.join(format!("tables.{ext}"));
         let (ok, stderr) = shadeballs(&[

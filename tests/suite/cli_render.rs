@@ -1,24 +1,8 @@
 //! `shadeballs render` and `shadeballs probe` as a user runs them: the real binary, its
 //! files, exit codes and messages.
 use std::path::PathBuf;
-use std::process::Command;
 
-fn shadeballs(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
-        .args(args)
-        .output()
-        .expect("run shadeballs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("shadeballs-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::cli::{shadeballs, temp_dir};
 
 fn scene_file(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

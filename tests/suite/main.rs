@@ -1,6 +1,7 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
 mod brdf;
+mod cli;
 mod cli_bake;
 mod cli_render;
 mod golden;
