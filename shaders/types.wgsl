@@ -39,7 +39,7 @@ const MU_AXIS_WARPED: u32 = 2u;
 const E_AVG_READ_LINEAR: u32 = 0u;
 const E_AVG_READ_POWER_LAW: u32 = 1u;
 
-// Smallest stored 1 - E_avg a geometric read takes the logarithm of (src/lut LOSS_AVG_MIN).
+// Smallest stored 1 - E_avg the power-law read takes the logarithm of (src/lut LOSS_AVG_MIN).
 const LOSS_AVG_MIN: f32 = 1e-20;
 
 // Pipeline-time choices (PipelineCompilationOptions::constants), folded by the compiler:

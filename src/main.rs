@@ -50,7 +50,7 @@ struct BakeArgs {
     /// Estimator: cosine, ndf, vndf or quadrature.
     #[arg(long, default_value_t = lut::DEFAULT_METHOD)]
     method: Method,
-    /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per side (quadrature).
+    /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per segment (quadrature).
     #[arg(long, default_value_t = lut::DEFAULT_SAMPLES as u32, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
     samples: u32,
     /// Point set for Monte Carlo methods: random, hammersley or sobol.

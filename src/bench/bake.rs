@@ -107,7 +107,7 @@ pub fn bake_sweep(quick: bool) -> Vec<Table> {
         }
     }
     sweep.note = format!(
-        "Goal: e_max and e_avg_max <= {BAKE_ERROR_GOAL:.0e}; the default is {} with {} nodes a side.",
+        "Goal: e_max and e_avg_max <= {BAKE_ERROR_GOAL:.0e}; the default is {} with {} nodes a segment.",
         lut::DEFAULT_METHOD,
         lut::DEFAULT_SAMPLES
     );

@@ -101,11 +101,6 @@ impl ReferenceTables {
     }
 }
 
-/// Bake error of every E texel and every E_avg texel: `(E, E_avg)`.
-pub fn bake_error(tables: &Tables) -> (ErrorStats, ErrorStats) {
-    ReferenceTables::new(*tables.layout(), tables.config.geometry).bake_error(tables)
-}
-
 /// Precise E at sample points, kept to compare many tables against the same points.
 #[derive(Clone, Debug)]
 pub struct ReferencePoints {
@@ -141,19 +136,6 @@ impl ReferencePoints {
             )
         }))
     }
-}
-
-/// Read-path error of E_avg at `roughness` values.
-pub fn read_error_avg_at(tables: &Tables, roughness: &[f64]) -> ErrorStats {
-    let g = tables.config.geometry;
-    let errors: Vec<_> = roughness
-        .par_iter()
-        .map(|&r| {
-            let read = tables.lut_e_avg(r as f32) as f64;
-            ((read - e_avg_reference(r, g)).abs(), f64::NAN, r)
-        })
-        .collect();
-    ErrorStats::from_errors(errors)
 }
 
 /// `n` uniformly random points in `[0, 1]^2` (SplitMix64, fixed `seed`): reproducible.

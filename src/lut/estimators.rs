@@ -189,13 +189,12 @@ impl Estimator {
         let f = EIntegrand::new(mu, roughness, geometry);
         let (nodes, weights) = &self.gl;
         f.segments()
-            .iter()
             .map(|seg| {
                 let span = seg.hi - seg.lo;
                 let sum: f64 = nodes
                     .iter()
                     .zip(weights)
-                    .map(|(&x, &w)| w * f.at_segment(seg, seg.lo + x * span))
+                    .map(|(&x, &w)| w * f.at_segment(&seg, seg.lo + x * span))
                     .sum();
                 sum * span
             })

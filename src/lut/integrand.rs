@@ -137,33 +137,31 @@ impl EIntegrand {
     }
 
     /// The pieces of `[0, pi/2]` in their mapped variables (see the module docs): up to
-    /// four, each integrated over `[seg.lo, seg.hi]` by [`EIntegrand::at_segment`].
-    pub fn segments(&self) -> Vec<Segment> {
+    /// four, each integrated over `[seg.lo, seg.hi]` by [`EIntegrand::at_segment`]. An
+    /// iterator, not a vector: the bake asks for them once per texel.
+    pub fn segments(&self) -> impl Iterator<Item = Segment> {
         let w = self.width();
-        let mut out = Vec::with_capacity(4);
         // (sign, distance to the end of the range) for the side towards the horizon and
         // the side towards the normal.
-        for (sign, reach) in [(1.0, FRAC_PI_2 - self.theta_o), (-1.0, self.theta_o)] {
-            if reach <= 0.0 {
-                continue;
-            }
-            let peak = reach.min(PEAK_SPAN * w);
-            out.push(Segment {
-                sign,
-                mapping: Mapping::Tan,
-                lo: 0.0,
-                hi: (peak / w).atan(),
-            });
-            if reach > peak {
-                out.push(Segment {
+        [(1.0, FRAC_PI_2 - self.theta_o), (-1.0, self.theta_o)]
+            .into_iter()
+            .filter(|&(_, reach)| reach > 0.0)
+            .flat_map(move |(sign, reach)| {
+                let peak = reach.min(PEAK_SPAN * w);
+                let tan = Segment {
+                    sign,
+                    mapping: Mapping::Tan,
+                    lo: 0.0,
+                    hi: (peak / w).atan(),
+                };
+                let log = (reach > peak).then(|| Segment {
                     sign,
                     mapping: Mapping::Log,
                     lo: peak.ln(),
                     hi: reach.ln(),
                 });
-            }
-        }
-        out
+                std::iter::once(tan).chain(log)
+            })
     }
 
     /// The integrand in a segment's variable `x` (Jacobian included).

@@ -19,7 +19,7 @@
 //! relative precision (DESIGN.md section 3).
 //! Tables are stored row-major: row `j` (roughness) holds `mu_size` texels.
 
-use crate::brdf::ROUGHNESS_MIN;
+use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
 
 /// The mapping from mu to the table's x coordinate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -342,8 +342,6 @@ pub fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize,
 /// The clamped roughness the model uses, as the shader computes it (f32,
 /// `roughness_clamped` in `shaders/brdf.wgsl`).
 pub fn roughness_coord(roughness: f32) -> f32 {
-    if roughness.is_nan() {
-        return 1.0;
-    }
-    roughness.clamp(ROUGHNESS_MIN as f32, 1.0)
+    // Exact: every f32 is an f64, and the clamp's result is the input or an f32 bound.
+    roughness_clamped(roughness as f64) as f32
 }

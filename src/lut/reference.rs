@@ -13,8 +13,7 @@ pub const REFERENCE_TOL: f64 = 1e-11;
 pub fn e_reference(mu: f64, roughness: f64, geometry: Geometry) -> f64 {
     let f = EIntegrand::new(mu, roughness, geometry);
     f.segments()
-        .iter()
-        .map(|seg| adaptive(&|x| f.at_segment(seg, x), seg.lo, seg.hi, REFERENCE_TOL))
+        .map(|seg| adaptive(&|x| f.at_segment(&seg, x), seg.lo, seg.hi, REFERENCE_TOL))
         .sum()
 }
 
