@@ -68,8 +68,19 @@ fn radiance_at(frag: vec2<f32>) -> vec3<f32> {
         return globals.environment.xyz;
     }
     let b = balls[best];
-    let n = normalize(o + best_t * d - b.center_radius.xyz);
+    let n = surface_normal(o + best_t * d - b.center_radius.xyz, d);
     return shade(b, n, -d);
+}
+
+// The unit normal along p (hit point minus centre), or facing the eye when |p| is at most
+// DIV_EPSILON, where normalize would give NaN (p = 0) or overflow (a subnormal |p|^2): a
+// ball far smaller than its distance from the camera, whose hit point is lost in the f32
+// rounding of the ray (src/cpu surface_normal).
+fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    if dot(p, p) > DIV_EPSILON * DIV_EPSILON {
+        return normalize(p);
+    }
+    return -d;
 }
 
 @fragment

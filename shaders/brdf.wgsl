@@ -16,14 +16,16 @@ fn alpha_from_roughness(roughness: f32) -> f32 {
 
 // GGX / Trowbridge-Reitz NDF (Walter et al. 2007, "Microfacet Models for Refraction
 // through Rough Surfaces", eq. 33): D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2),
-// with 1 - (n.h)^2 formed first to keep precision near the mirror direction.
+// with 1 - (n.h)^2 formed first, as (1 - n.h)(1 + n.h), to keep precision near the mirror
+// direction (1 - n.h is exact there; 1 - (n.h)^2 would carry the square's rounding).
 fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
     if n_dot_h <= 0.0 {
         return 0.0;
     }
-    let c2 = min(n_dot_h * n_dot_h, 1.0);
+    let c = min(n_dot_h, 1.0);
+    let c2 = c * c;
     let a2 = alpha * alpha;
-    let s2 = 1.0 - c2;
+    let s2 = (1.0 - c) * (1.0 + c);
     let denom = max(c2 * a2 + s2, DIV_EPSILON);
     return a2 / (PI * denom * denom);
 }
@@ -42,15 +44,15 @@ fn g_schlick(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
 }
 
 // Smith's Lambda for GGX (Heitz 2014, eq. 72): (-1 + sqrt(1 + alpha^2 tan^2)) / 2, written
-// alpha^2 tan^2 / (2 (1 + sqrt(1 + alpha^2 tan^2))) against cancellation. c = 0 gives
-// LAMBDA_MAX (+infinity in the Rust model).
+// alpha^2 tan^2 / (2 (1 + sqrt(1 + alpha^2 tan^2))) against cancellation, sin^2 as
+// (1 - c)(1 + c). c = 0 gives LAMBDA_MAX (+infinity in the Rust model).
 fn lambda_smith(c_in: f32, alpha: f32) -> f32 {
     let c = clamp(c_in, 0.0, 1.0);
     let c2 = c * c;
     if c2 <= 0.0 {
         return LAMBDA_MAX;
     }
-    let a2t2 = alpha * alpha * (1.0 - c2) / c2;
+    let a2t2 = alpha * alpha * ((1.0 - c) * (1.0 + c)) / c2;
     return a2t2 / (2.0 * (1.0 + sqrt(1.0 + a2t2)));
 }
 
@@ -122,13 +124,19 @@ fn f_ms(loss_o: f32, loss_i: f32, loss_avg: f32) -> f32 {
 // slide 26, with the square that the geometric series gives; DESIGN.md section 1):
 // F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
 fn f_add_accurate(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
-    return f_avg * f_avg * e_avg / max(1.0 - f_avg * (1.0 - e_avg), vec3<f32>(DIV_EPSILON));
+    return f_avg * f_avg * e_avg / f_add_denominator(f_avg, e_avg);
 }
 
 // The homework's Fresnel scale F_avg E_avg / (1 - F_avg (1 - E_avg)) (no square; GAMES202
 // homework 1, Kulla & Conty 2017 slide 26 as the homework transcribes it).
 fn f_add_games202(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
-    return f_avg * e_avg / max(1.0 - f_avg * (1.0 - e_avg), vec3<f32>(DIV_EPSILON));
+    return f_avg * e_avg / f_add_denominator(f_avg, e_avg);
+}
+
+// 1 - F_avg (1 - E_avg) as (1 - F_avg) + F_avg E_avg: two non-negative terms, no cancellation
+// as F_avg -> 1 (src/brdf f_add_denominator).
+fn f_add_denominator(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
+    return max((1.0 - f_avg) + f_avg * e_avg, vec3<f32>(DIV_EPSILON));
 }
 
 // The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):

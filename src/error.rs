@@ -15,10 +15,12 @@ pub enum Error {
     #[error("invalid {what}: {message}")]
     Invalid { what: &'static str, message: String },
 
-    #[error("cannot write '{}': {source}", path.display())]
+    /// The cause is part of the message, not a `source`: the front end prints the error's
+    /// chain, which would repeat it.
+    #[error("cannot write '{}': {reason}", path.display())]
     Write {
         path: PathBuf,
-        source: std::io::Error,
+        reason: std::io::Error,
     },
 
     #[error("cannot encode '{}': {message}", path.display())]

@@ -8,10 +8,8 @@ use clap::{Parser, Subcommand};
 
 mod render_cmd;
 
-use shadeballs::brdf::Geometry;
-use shadeballs::lut::{
-    self, io::write_tables, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage,
-};
+use shadeballs::cli::{BakeArgs, BenchArgs, ProbeArgs, RenderArgs};
+use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout};
 
 #[derive(Parser)]
 #[command(
@@ -31,70 +29,13 @@ enum Command {
     /// Measure run time against error (writes CSV and a markdown summary).
     Bench(BenchArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
-    Render(render_cmd::RenderArgs),
+    Render(RenderArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
-    Probe(render_cmd::ProbeArgs),
-}
-
-#[derive(clap::Args)]
-struct BakeArgs {
-    /// Output file: .csv (one row per texel), .exr (f32) or .png (16 bit).
-    #[arg(long)]
-    out: PathBuf,
-    /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.
-    #[arg(long, value_parser = parse_size)]
-    size: Option<(usize, usize)>,
-    /// Masking-shadowing term: schlick, smith or smith-correlated.
-    #[arg(long, default_value_t = Geometry::Schlick)]
-    geometry: Geometry,
-    /// Estimator: cosine, ndf, vndf or quadrature.
-    #[arg(long, default_value_t = lut::DEFAULT_METHOD)]
-    method: Method,
-    /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per segment (quadrature).
-    #[arg(long, default_value_t = lut::DEFAULT_SAMPLES as u32, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
-    samples: u32,
-    /// Point set for Monte Carlo methods: random, hammersley or sobol.
-    #[arg(long, default_value_t = PointSet::Sobol)]
-    points: PointSet,
-    /// Table layout: warped (default), sqrt-mu or games202 (the homework's).
-    #[arg(long, default_value_t = LayoutKind::Warped)]
-    layout: LayoutKind,
-    /// Storage format the GPU will read: f32, f16 or unorm8. Default: the layout's.
-    #[arg(long)]
-    storage: Option<Storage>,
-}
-
-#[derive(clap::Args)]
-struct BenchArgs {
-    /// Fewer configurations and repeats (under a minute).
-    #[arg(long)]
-    quick: bool,
-    /// Folder for the CSV files and summary.md.
-    #[arg(long, default_value = "bench-results")]
-    out: PathBuf,
-}
-
-/// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
-const MAX_TABLE_SIDE: usize = 8192;
-
-fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let one = |t: &str| -> Result<usize, String> {
-        let n: usize = t
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{t}' is not a whole number"))?;
-        if !(2..=MAX_TABLE_SIDE).contains(&n) {
-            return Err(format!("{n} is outside 2..={MAX_TABLE_SIDE}"));
-        }
-        Ok(n)
-    };
-    match s.split_once(['x', 'X']) {
-        Some((a, b)) => Ok((one(a)?, one(b)?)),
-        None => one(s).map(|n| (n, n)),
-    }
+    Probe(ProbeArgs),
 }
 
 fn bake(args: BakeArgs) -> anyhow::Result<()> {
+    shadeballs::output::check_output_path(&args.out)?;
     let mut layout = Layout::of_kind(args.layout);
     if let Some((mu, r)) = args.size {
         layout = layout.with_size(mu, r);

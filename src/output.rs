@@ -6,22 +6,54 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-/// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let err = |source| Error::Write {
+fn write_error(path: &Path, reason: std::io::Error) -> Error {
+    Error::Write {
         path: path.to_path_buf(),
-        source,
-    };
-    let dir = match path.parent() {
+        reason,
+    }
+}
+
+fn invalid(path: &Path, why: &str) -> Error {
+    write_error(
+        path,
+        std::io::Error::new(std::io::ErrorKind::InvalidInput, why.to_string()),
+    )
+}
+
+/// Checks, before any work, that `path` can name an output file: its folder exists and is a
+/// folder, and the path is not something other than a regular file (a folder, a device, a
+/// pipe), which the final rename would replace. Permissions are left to the write itself.
+pub fn check_output_path(path: &Path) -> Result<()> {
+    if path.file_name().is_none() {
+        return Err(invalid(path, "not a file name"));
+    }
+    let dir = folder_of(path);
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => return Err(invalid(path, "its folder is not a folder")),
+        Err(e) => return Err(write_error(path, e)),
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(invalid(path, "it exists and is not a regular file")),
+        _ => Ok(()),
+    }
+}
+
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file name",
-        ))
-    })?;
+    }
+}
+
+/// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    check_output_path(path)?;
+    let err = |reason| write_error(path, reason);
+    let dir = folder_of(path);
+    let name = path
+        .file_name()
+        .ok_or_else(|| invalid(path, "not a file name"))?;
     let tmp = dir.join(format!(
         ".{}.tmp-{}",
         name.to_string_lossy(),

@@ -2,67 +2,15 @@
 //! report on stderr.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::time::Instant;
 
-use shadeballs::brdf::Geometry;
+use shadeballs::cli::{ProbeArgs, RenderArgs};
 use shadeballs::error::{Error, Result};
 use shadeballs::gpu::{Backend, Gpu, Renderer};
 use shadeballs::image_out::{image_kind, write_exr, write_png, ImageKind};
 use shadeballs::lut::{self, BakeConfig};
-use shadeballs::scene::{self, Preset, Scene};
+use shadeballs::scene::{self, Scene};
 use shadeballs::{cpu, output};
-
-#[derive(clap::Args)]
-pub struct RenderArgs {
-    /// Scene file (TOML); default: the built-in reference scene.
-    #[arg(long)]
-    scene: Option<PathBuf>,
-    /// accurate or games202 (default: the scene's, else accurate).
-    #[arg(long)]
-    preset: Option<Preset>,
-    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated.
-    #[arg(long)]
-    geometry: Option<Geometry>,
-    #[arg(long, default_value_t = 1280, value_parser = parse_side)]
-    width: u32,
-    #[arg(long, default_value_t = 720, value_parser = parse_side)]
-    height: u32,
-    /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
-    #[arg(long, default_value = "shading_balls.png")]
-    out: PathBuf,
-    /// auto, vulkan, gl or cpu.
-    #[arg(long, default_value_t = Backend::Auto)]
-    backend: Backend,
-}
-
-#[derive(clap::Args)]
-pub struct ProbeArgs {
-    /// CSV output: roughness,mu,E,E_avg.
-    #[arg(long)]
-    out: PathBuf,
-    /// Grid side N (mu = i/(N-1), roughness = j/(N-1)).
-    #[arg(long, default_value_t = 65)]
-    grid: u32,
-    #[arg(long, default_value_t = Preset::Accurate)]
-    preset: Preset,
-    #[arg(long, default_value_t = Geometry::Schlick)]
-    geometry: Geometry,
-    /// vulkan, gl or auto (the probe needs a GPU).
-    #[arg(long, default_value_t = Backend::Auto)]
-    backend: Backend,
-}
-
-fn parse_side(s: &str) -> std::result::Result<u32, String> {
-    let n: u32 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number"))?;
-    if n == 0 {
-        return Err("the image size must be at least 1".into());
-    }
-    Ok(n)
-}
 
 fn open(backend: Backend) -> Result<Option<Renderer>> {
     let Some(backends) = backend.wgpu_backends() else {
@@ -82,6 +30,7 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
+    output::check_output_path(&args.out)?;
     let mut scene = match &args.scene {
         Some(path) => scene::load(path)?,
         None => Scene::reference(),
@@ -168,6 +117,7 @@ fn check_cpu_size(w: u32, h: u32) -> Result<()> {
 }
 
 pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
+    output::check_output_path(&args.out)?;
     let Some(mut renderer) = open(if args.backend == Backend::Cpu {
         Backend::Vulkan
     } else {

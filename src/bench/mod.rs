@@ -24,9 +24,9 @@ pub struct BenchOptions {
 
 /// Runs every sweep, writes its files, and returns the markdown summary.
 pub fn run(options: &BenchOptions) -> Result<String> {
-    std::fs::create_dir_all(&options.out).map_err(|source| Error::Write {
+    std::fs::create_dir_all(&options.out).map_err(|reason| Error::Write {
         path: options.out.clone(),
-        source,
+        reason,
     })?;
     let mut summary = String::from("# shadeballs bench\n\n");
     summary.push_str(&format!(

@@ -59,14 +59,15 @@ pub fn g_schlick(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
 
 /// Smith's Lambda for GGX (Heitz 2014, eq. 72): `(-1 + sqrt(1 + alpha^2 tan^2)) / 2`,
 /// written as `alpha^2 tan^2 / (2 (1 + sqrt(1 + alpha^2 tan^2)))` to avoid cancellation
-/// when `alpha tan` is small. `c = 0` gives +infinity (fully masked).
+/// when `alpha tan` is small, with `sin^2 = (1 - c)(1 + c)` (exact `1 - c` near the
+/// normal, as in [`super::d_ggx`]). `c = 0` gives +infinity (fully masked).
 pub fn lambda_smith(c: f64, alpha: f64) -> f64 {
     let c = c.clamp(0.0, 1.0);
     let c2 = c * c;
     if c2 <= 0.0 {
         return f64::INFINITY;
     }
-    let a2t2 = alpha * alpha * (1.0 - c2) / c2;
+    let a2t2 = alpha * alpha * ((1.0 - c) * (1.0 + c)) / c2;
     a2t2 / (2.0 * (1.0 + (1.0 + a2t2).sqrt()))
 }
 

@@ -46,13 +46,25 @@ pub fn render_radiance_with(
                     None => scene.environment,
                     Some((t, k)) => {
                         let b = &balls[k];
-                        let n = (o + t * d - b.center).normalize();
+                        let n = surface_normal(o + t * d - b.center, d);
                         shade(scene, b, n, -d, e, form, geometry)
                     }
                 }
             })
         })
         .collect()
+}
+
+/// `surface_normal` of `balls.wgsl`: the unit normal along `p` (hit point minus centre), or
+/// facing the eye (`-d`) when `|p| <= DIV_EPSILON`, where `normalize` would give NaN (a
+/// ball far smaller than its distance from the camera, its hit point lost in rounding).
+pub fn surface_normal(p: DVec3, d: DVec3) -> DVec3 {
+    let eps = crate::brdf::DIV_EPSILON;
+    if p.length_squared() > eps * eps {
+        p.normalize()
+    } else {
+        -d
+    }
 }
 
 /// The display transform of `shaders/lighting.wgsl` `tone_map` for one channel:

@@ -1,4 +1,12 @@
-//! Choosing a backend and opening a device.
+//! Choosing a backend and opening a device, and keeping its failures as errors.
+//!
+//! wgpu reports errors that no error scope captures (an out-of-memory texture, any call on
+//! a destroyed or lost device) to a handler that panics by default. [`Gpu::new`] installs
+//! a handler and a device-lost callback that record them instead, and every operation of
+//! the renderer asks [`Gpu::check`] afterwards, so a failing device is an [`Error::Gpu`],
+//! never a panic.
+
+use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 
@@ -46,6 +54,22 @@ pub struct Gpu {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    faults: Arc<Mutex<Faults>>,
+}
+
+/// What the device reported outside any error scope.
+#[derive(Default)]
+struct Faults {
+    /// Why the device was lost (destroyed, driver reset): every later operation fails.
+    lost: Option<String>,
+    /// The first uncaptured error since the last [`Gpu::check`].
+    uncaptured: Option<String>,
+}
+
+fn record(faults: &Mutex<Faults>, f: impl FnOnce(&mut Faults)) {
+    // A poisoned lock still holds the data; a fault must never be lost to it.
+    let mut guard = faults.lock().unwrap_or_else(|e| e.into_inner());
+    f(&mut guard);
 }
 
 impl Gpu {
@@ -69,11 +93,44 @@ impl Gpu {
         .map_err(|e| Error::Gpu {
             message: format!("cannot open the device: {e}"),
         })?;
+        let faults = Arc::new(Mutex::new(Faults::default()));
+        let sink = faults.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            record(&sink, |f| {
+                f.uncaptured.get_or_insert_with(|| one_line(&e.to_string()));
+            })
+        }));
+        let sink = faults.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            record(&sink, |f| {
+                f.lost = Some(match reason {
+                    wgpu::DeviceLostReason::Destroyed => "the device was destroyed".to_string(),
+                    _ => format!("the device was lost ({})", one_line(&message)),
+                });
+            })
+        });
         Ok(Gpu {
             adapter,
             device,
             queue,
+            faults,
         })
+    }
+
+    /// `Err` when the device is lost, or when an error escaped every error scope since the
+    /// last call (that error is then cleared: an out-of-memory texture does not poison the
+    /// next, smaller frame).
+    pub fn check(&self) -> Result<()> {
+        let mut guard = self.faults.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(lost) = &guard.lost {
+            return Err(Error::Gpu {
+                message: format!("{lost}; no further GPU work is possible"),
+            });
+        }
+        match guard.uncaptured.take() {
+            Some(message) => Err(Error::Gpu { message }),
+            None => Ok(()),
+        }
     }
 
     /// "name (backend)" of the adapter, for messages.
@@ -91,6 +148,7 @@ impl Gpu {
     }
 
     /// Checks an image size against 1 and the device's largest 2-D texture.
+    /// (`Renderer::render_ldr` / `render_hdr` also check the read-back buffer's size.)
     pub fn check_size(&self, width: u32, height: u32) -> Result<()> {
         let max = self.device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
@@ -101,4 +159,15 @@ impl Gpu {
         }
         Ok(())
     }
+}
+
+/// wgpu's messages span several lines (the error, then its causes); the front end prints
+/// one line.
+pub(super) fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(": ")
 }

@@ -66,8 +66,24 @@ impl Renderer {
         format: wgpu::TextureFormat,
     ) -> Result<Vec<u8>> {
         self.gpu.check_size(width, height)?;
+        self.gpu.check()?;
+        let texel = format.block_copy_size(None).unwrap_or(4);
+        let row = width * texel;
+        let padded =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let bytes = padded as u64 * height as u64;
+        let max = self.gpu.device.limits().max_buffer_size;
+        if bytes > max {
+            return Err(Error::Invalid {
+                what: "image size",
+                message: format!(
+                    "{width}x{height} in {format:?} needs a {bytes}-byte read-back buffer; \
+                     this device allows {max} (use a smaller size or a .png)"
+                ),
+            });
+        }
         let device = self.gpu.device.clone();
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scopes = super::Scopes::push(&device);
         let size = wgpu::Extent3d {
             width,
             height,
@@ -84,13 +100,9 @@ impl Renderer {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let texel = format.block_copy_size(None).unwrap_or(4);
-        let row = width * texel;
-        let padded =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size: padded as u64 * height as u64,
+            size: bytes,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
@@ -123,10 +135,12 @@ impl Renderer {
             size,
         );
         self.gpu.queue.submit([encoder.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(super::gpu_error(e));
-        }
-        let data = read_buffer(&device, &buffer)?;
+        scopes.pop()?;
+        self.gpu.check()?;
+        // A lost device fails the read; its own message says why, so it goes first.
+        let data = read_buffer(&device, &buffer);
+        self.gpu.check()?;
+        let data = data?;
         let mut out = Vec::with_capacity((row * height) as usize);
         for y in 0..height as usize {
             let start = y * padded as usize;
@@ -147,8 +161,9 @@ pub(super) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Resul
         .map_err(|e| Error::Gpu {
             message: format!("waiting for the GPU: {e}"),
         })?;
-    let mapped = rx.recv().map_err(|e| Error::Gpu {
-        message: format!("readback: {e}"),
+    // The wait above runs the callback; one that never ran means the device failed.
+    let mapped = rx.try_recv().map_err(|_| Error::Gpu {
+        message: "the read-back did not complete (the device failed)".to_string(),
     })?;
     mapped.map_err(|e| Error::Gpu {
         message: format!("mapping the readback buffer: {e}"),

@@ -15,9 +15,35 @@ pub use headless::{HdrImage, LdrImage};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
 pub use renderer::{Renderer, Target};
 
+/// Error scopes around one operation: validation and out-of-memory errors are returned by
+/// [`Scopes::pop`] instead of reaching the uncaptured-error handler.
+struct Scopes {
+    out_of_memory: wgpu::ErrorScopeGuard,
+    validation: wgpu::ErrorScopeGuard,
+}
+
+impl Scopes {
+    fn push(device: &wgpu::Device) -> Self {
+        Scopes {
+            out_of_memory: device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
+            validation: device.push_error_scope(wgpu::ErrorFilter::Validation),
+        }
+    }
+
+    /// Pops both scopes (innermost first); out of memory, the likelier root cause, wins.
+    fn pop(self) -> crate::Result<()> {
+        let validation = pollster::block_on(self.validation.pop());
+        let out_of_memory = pollster::block_on(self.out_of_memory.pop());
+        match out_of_memory.or(validation) {
+            Some(e) => Err(gpu_error(e)),
+            None => Ok(()),
+        }
+    }
+}
+
 /// Turns a wgpu error captured by an error scope into the library's error.
 fn gpu_error(e: wgpu::Error) -> crate::Error {
     crate::Error::Gpu {
-        message: e.to_string(),
+        message: context::one_line(&e.to_string()),
     }
 }

@@ -32,9 +32,10 @@ impl Renderer {
                 message: format!("{n} is outside 2..={MAX_PROBE_GRID}"),
             });
         }
+        self.gpu.check()?;
         let tables = self.tables_for(geometry);
         let device = self.gpu.device.clone();
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scopes = super::Scopes::push(&device);
         let (lut, lut_dims, lut_r) = super::uniforms::lut_uniforms(&tables);
         let globals = super::uniforms::Globals {
             lut,
@@ -131,10 +132,11 @@ impl Renderer {
         }
         encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
         self.gpu.queue.submit([encoder.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(super::gpu_error(e));
-        }
-        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&read_buffer(&device, &readback)?);
+        scopes.pop()?;
+        self.gpu.check()?;
+        let values = read_buffer(&device, &readback);
+        self.gpu.check()?;
+        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&values?);
         let last = (n - 1) as f32;
         let samples = (0..n * n)
             .map(|k| ProbeSample {

@@ -176,16 +176,12 @@ impl Renderer {
 
     /// Draws `scene` into `target` and submits.
     pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
-        let scope = self
-            .gpu
-            .device
-            .push_error_scope(wgpu::ErrorFilter::Validation);
+        self.gpu.check()?;
+        let scopes = super::Scopes::push(&self.gpu.device);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         self.encode(scene, target, &mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
-        match pollster::block_on(scope.pop()) {
-            Some(e) => Err(super::gpu_error(e)),
-            None => Ok(()),
-        }
+        scopes.pop()?;
+        self.gpu.check()
     }
 }

@@ -23,6 +23,14 @@ pub const MAX_BALLS: usize = 256;
 /// Most directional lights a scene may hold.
 pub const MAX_LIGHTS: usize = 16;
 
+/// Largest magnitude of any number in a scene file (coordinates, radii, radiances,
+/// exposure). The GPU works in f32 (largest value 3.4e38), where a "finite" f64 such as
+/// 1e300 is infinite. Within this bound no pixel can overflow: the BRDF times the cosine
+/// peaks near `1 / (2 pi alpha^3) = 2.5e9` at the roughness clamp (D up to
+/// `1 / (pi alpha^2)`, `G / (4 mu_o)` up to `1 / (2 alpha)`), so 16 lights of radiance 1e12
+/// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
+pub const MAX_MAGNITUDE: f64 = 1e12;
+
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout (DESIGN.md
 /// section 4): column 0 at x = 180, each column 80 to the left; row 0 at y = +60, each row
 /// 120 lower; z = 0.

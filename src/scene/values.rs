@@ -6,12 +6,18 @@ use std::str::FromStr;
 use glam::DVec3;
 use serde::{Deserialize, Deserializer};
 
+use super::MAX_MAGNITUDE;
+
 fn finite3(v: [f64; 3], what: &str) -> Result<DVec3, String> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(DVec3::from_array(v))
-    } else {
-        Err(format!("{what} {v:?} has a NaN or infinite component"))
+    if !v.iter().all(|c| c.is_finite()) {
+        return Err(format!("{what} {v:?} has a NaN or infinite component"));
     }
+    if v.iter().any(|c| c.abs() > MAX_MAGNITUDE) {
+        return Err(format!(
+            "{what} {v:?} has a component beyond {MAX_MAGNITUDE:e} in magnitude"
+        ));
+    }
+    Ok(DVec3::from_array(v))
 }
 
 /// Any finite 3-vector (a position).
@@ -76,7 +82,7 @@ impl TryFrom<[f64; 3]> for Radiance {
     }
 }
 
-/// A finite number > 0 (radius, exposure).
+/// A finite number in `(0, MAX_MAGNITUDE]` (radius, exposure).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
 pub struct Positive(pub f64);
@@ -84,10 +90,12 @@ pub struct Positive(pub f64);
 impl TryFrom<f64> for Positive {
     type Error = String;
     fn try_from(v: f64) -> Result<Self, String> {
-        if v.is_finite() && v > 0.0 {
+        if v.is_finite() && v > 0.0 && v <= MAX_MAGNITUDE {
             Ok(Positive(v))
         } else {
-            Err(format!("{v} must be a finite number greater than 0"))
+            Err(format!(
+                "{v} must be a number greater than 0 and at most {MAX_MAGNITUDE:e}"
+            ))
         }
     }
 }

@@ -1,0 +1,127 @@
+//! The command line's flags: what `shadeballs bake`, `bench`, `render` and `probe` accept,
+//! and the parsers of their values. The binary (`src/main.rs`) only adds the subcommand
+//! names around these; they live in the library so that tests parse argv in-process with
+//! exactly the binary's rules (`clap::Args::augment_args` and `FromArgMatches`), and fuzz
+//! them without starting a process per case. Values are checked here, so a bad flag is one
+//! clear line from clap before any work starts.
+
+use std::path::PathBuf;
+
+use crate::brdf::Geometry;
+use crate::gpu::Backend;
+use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
+use crate::scene::Preset;
+
+#[derive(clap::Args)]
+pub struct BakeArgs {
+    /// Output file: .csv (one row per texel), .exr (f32) or .png (16 bit).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.
+    #[arg(long, value_parser = parse_size, allow_negative_numbers = true)]
+    pub size: Option<(usize, usize)>,
+    /// Masking-shadowing term: schlick, smith or smith-correlated.
+    #[arg(long, default_value_t = Geometry::Schlick)]
+    pub geometry: Geometry,
+    /// Estimator: cosine, ndf, vndf or quadrature.
+    #[arg(long, default_value_t = lut::DEFAULT_METHOD)]
+    pub method: Method,
+    /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per segment (quadrature).
+    #[arg(long, default_value_t = lut::DEFAULT_SAMPLES as u32, value_parser = clap::value_parser!(u32).range(1..=1_000_000), allow_negative_numbers = true)]
+    pub samples: u32,
+    /// Point set for Monte Carlo methods: random, hammersley or sobol.
+    #[arg(long, default_value_t = PointSet::Sobol)]
+    pub points: PointSet,
+    /// Table layout: warped (default), sqrt-mu or games202 (the homework's).
+    #[arg(long, default_value_t = LayoutKind::Warped)]
+    pub layout: LayoutKind,
+    /// Storage format the GPU will read: f32, f16 or unorm8. Default: the layout's.
+    #[arg(long)]
+    pub storage: Option<Storage>,
+}
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Fewer configurations and repeats (under a minute).
+    #[arg(long)]
+    pub quick: bool,
+    /// Folder for the CSV files and summary.md.
+    #[arg(long, default_value = "bench-results")]
+    pub out: PathBuf,
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML); default: the built-in reference scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// accurate or games202 (default: the scene's, else accurate).
+    #[arg(long)]
+    pub preset: Option<Preset>,
+    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated.
+    #[arg(long)]
+    pub geometry: Option<Geometry>,
+    /// Image width in pixels (1 up to the device's largest texture, 16384 on lavapipe).
+    #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
+    pub height: u32,
+    /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
+    #[arg(long, default_value = "shading_balls.png")]
+    pub out: PathBuf,
+    /// auto, vulkan, gl or cpu.
+    #[arg(long, default_value_t = Backend::Auto)]
+    pub backend: Backend,
+}
+
+#[derive(clap::Args)]
+pub struct ProbeArgs {
+    /// CSV output: roughness,mu,E,E_avg.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Grid side N (mu = i/(N-1), roughness = j/(N-1)).
+    #[arg(long, default_value_t = 65, allow_negative_numbers = true)]
+    pub grid: u32,
+    #[arg(long, default_value_t = Preset::Accurate)]
+    pub preset: Preset,
+    #[arg(long, default_value_t = Geometry::Schlick)]
+    pub geometry: Geometry,
+    /// vulkan, gl or auto (the probe needs a GPU).
+    #[arg(long, default_value_t = Backend::Auto)]
+    pub backend: Backend,
+}
+
+/// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
+pub const MAX_TABLE_SIDE: usize = 8192;
+
+/// `--size`: `N` or `MUxR`, each side a whole number in `2..=MAX_TABLE_SIDE`.
+pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let one = |t: &str| -> Result<usize, String> {
+        let n: usize = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{t}' is not a whole number"))?;
+        if !(2..=MAX_TABLE_SIDE).contains(&n) {
+            return Err(format!("{n} is outside 2..={MAX_TABLE_SIDE}"));
+        }
+        Ok(n)
+    };
+    match s.split_once(['x', 'X']) {
+        Some((a, b)) => Ok((one(a)?, one(b)?)),
+        None => one(s).map(|n| (n, n)),
+    }
+}
+
+/// `--width` / `--height`: a whole number >= 1 (the device's limit is checked when it is
+/// open).
+pub fn parse_side(s: &str) -> Result<u32, String> {
+    let n: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if n < 1 {
+        return Err(format!("{n}: the image size must be at least 1"));
+    }
+    u32::try_from(n).map_err(|_| format!("{n} is far beyond any device's image size"))
+}
