@@ -7,6 +7,8 @@
 
 use std::path::PathBuf;
 
+use clap::error::ErrorKind;
+
 use crate::brdf::Geometry;
 use crate::gpu::Backend;
 use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
@@ -124,4 +126,26 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
         return Err(format!("{n}: the image size must be at least 1"));
     }
     u32::try_from(n).map_err(|_| format!("{n} is far beyond any device's image size"))
+}
+
+/// What the front end prints for a clap error: `None` for `--help`, `--version` and a
+/// missing subcommand (clap prints those itself, in full); otherwise one line: clap's
+/// paragraphs but the usage block, joined, with a pointer to `--help` instead of it.
+pub fn one_line_error(e: &clap::Error) -> Option<String> {
+    if !e.use_stderr() || e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        return None;
+    }
+    let rendered = e.render().to_string();
+    let kept: Vec<String> = rendered
+        .split("\n\n")
+        .map(crate::error::one_line)
+        .filter(|p| !p.is_empty() && !p.starts_with("Usage:") && !p.starts_with("For more"))
+        .collect();
+    let line = kept.join("; ");
+    let line = if line.starts_with("error:") {
+        line
+    } else {
+        format!("error: {line}")
+    };
+    Some(format!("{line} (see --help)"))
 }

@@ -48,6 +48,20 @@ pub enum Error {
 
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// `message` on one line: its non-empty lines, trimmed, joined by ": " (by " " after a line
+/// that already ends in ':'). Messages of other crates (wgpu, clap, toml) span several
+/// lines; the front end reports one.
+pub fn one_line(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    for line in message.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if !out.is_empty() {
+            out.push_str(if out.ends_with(':') { " " } else { ": " });
+        }
+        out.push_str(line);
+    }
+    out
+}
+
 /// Parses `given` as one of `all` by each value's `name`.
 pub fn parse_named<T: Copy>(
     given: &str,

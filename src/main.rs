@@ -98,7 +98,16 @@ fn give_mesa_a_runtime_dir() {}
 
 fn main() -> ExitCode {
     give_mesa_a_runtime_dir();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match shadeballs::cli::one_line_error(&e) {
+            Some(line) => {
+                eprintln!("{line}");
+                return ExitCode::from(2);
+            }
+            None => e.exit(),
+        },
+    };
     let result = match cli.command {
         Command::Bake(args) => bake(args),
         Command::Bench(args) => {
@@ -116,7 +125,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", shadeballs::error::one_line(&format!("{e:#}")));
             ExitCode::FAILURE
         }
     }

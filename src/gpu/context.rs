@@ -8,7 +8,7 @@
 
 use std::sync::{Arc, Mutex};
 
-use crate::error::{Error, Result};
+use crate::error::{one_line, Error, Result};
 
 /// Where to render: the command line's `--backend`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -159,15 +159,4 @@ impl Gpu {
         }
         Ok(())
     }
-}
-
-/// wgpu's messages span several lines (the error, then its causes); the front end prints
-/// one line.
-pub(super) fn one_line(message: &str) -> String {
-    message
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join(": ")
 }

@@ -44,6 +44,6 @@ impl Scopes {
 /// Turns a wgpu error captured by an error scope into the library's error.
 fn gpu_error(e: wgpu::Error) -> crate::Error {
     crate::Error::Gpu {
-        message: context::one_line(&e.to_string()),
+        message: crate::error::one_line(&e.to_string()),
     }
 }

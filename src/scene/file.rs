@@ -125,14 +125,27 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene> {
         path: path.to_path_buf(),
         message,
     };
-    let file: SceneFile =
-        toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    // toml's own rendering spans several lines (a source snippet); the line and column
+    // of its span, then its message, make the one line the front end prints.
+    let file: SceneFile = toml::from_str(text).map_err(|e| {
+        let message = crate::error::one_line(e.message());
+        err(match e.span() {
+            Some(span) => at(text, span, &message),
+            None => message,
+        })
+    })?;
     build(file, text).map_err(|(span, msg)| err(at(text, span, &msg)))
 }
 
 /// "line L, column C: message" for the byte offset `span.start` of `text`.
 fn at(text: &str, span: Range<usize>, message: &str) -> String {
-    let before = &text[..span.start.min(text.len())];
+    // A span inside a multi-byte character (never seen; fuzzed in the tests) counts from
+    // that character's start.
+    let mut start = span.start.min(text.len());
+    while !text.is_char_boundary(start) {
+        start -= 1;
+    }
+    let before = &text[..start];
     let line = before.matches('\n').count() + 1;
     let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     format!("line {line}, column {column}: {message}")
