@@ -80,9 +80,10 @@ fn ok(v: f64) -> bool {
 
 /// Runs `f` on every point of a grid in parallel; returns (evaluations, failures with their
 /// first example).
-fn grid<P: Sync, F: Fn(&P) -> Vec<f64> + Sync>(points: &[P], f: F) -> (u64, Vec<String>)
+fn grid<P, F>(points: &[P], f: F) -> (u64, Vec<String>)
 where
-    P: std::fmt::Debug,
+    P: Sync + std::fmt::Debug,
+    F: Fn(&P) -> Vec<f64> + Sync,
 {
     let count = AtomicU64::new(0);
     let bad: Vec<String> = points
