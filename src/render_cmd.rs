@@ -118,15 +118,20 @@ fn check_cpu_size(w: u32, h: u32) -> Result<()> {
 
 pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
     output::check_output_path(&args.out)?;
-    let Some(mut renderer) = open(if args.backend == Backend::Cpu {
+    // The probe needs a GPU: no CPU fallback (and no warning announcing one).
+    let backend = if args.backend == Backend::Cpu {
         Backend::Vulkan
     } else {
         args.backend
-    })?
-    else {
-        anyhow::bail!(
-            "the probe runs on the GPU and no adapter was found (install mesa-vulkan-drivers)"
-        );
+    };
+    let backends = backend.wgpu_backends().unwrap_or(wgpu::Backends::VULKAN);
+    let mut renderer = match Gpu::new(backends) {
+        Ok(gpu) => Renderer::new(gpu),
+        Err(Error::NoAdapter { message, .. }) => anyhow::bail!(
+            "the probe runs on the GPU and no adapter was found ({message}); \
+             for software Vulkan install the package mesa-vulkan-drivers"
+        ),
+        Err(e) => return Err(e.into()),
     };
     let geometry = args.preset.geometry().unwrap_or(args.geometry);
     let (_, samples) = renderer.probe(geometry, args.grid)?;

@@ -290,11 +290,14 @@ fn no_adapter_is_a_clear_error_or_a_stated_fallback() {
     let mut vulkan_only = vec!["render", "--backend", "vulkan"];
     vulkan_only.extend(small);
     fails_with_one_line(&vulkan_only, &no_driver, "mesa-vulkan-drivers");
-    fails_with_one_line(
-        &["probe", "--backend", "vulkan", "--out", out],
-        &no_driver,
-        "mesa-vulkan-drivers",
-    );
+    // The probe has no CPU fallback: one error line, no warning announcing one.
+    for backend in ["vulkan", "auto"] {
+        fails_with_one_line(
+            &["probe", "--backend", backend, "--out", out],
+            &no_driver,
+            "mesa-vulkan-drivers",
+        );
+    }
     // `auto` falls back to the CPU renderer, and says so on one line.
     let mut auto = vec!["render"];
     auto.extend(small);
