@@ -2,12 +2,16 @@
 
 mod bad_input;
 mod brdf;
+mod clamp;
 mod cli;
 mod cli_bake;
+mod cli_fuzz;
 mod cli_render;
+mod extreme_scenes;
 mod fuzz;
 mod golden;
 mod gpu_eval;
+mod gpu_faults;
 mod gpu_stress;
 mod lut;
 mod pixels;
