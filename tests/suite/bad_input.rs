@@ -7,12 +7,21 @@ use std::process::Command;
 use crate::cli::temp_dir;
 
 /// Runs the binary with `envs` set: (success, stderr). As root (CI), with `as_nobody`, it
-/// runs as uid/gid 65534 through util-linux `setpriv`, so that folder permissions apply.
+/// runs as uid/gid 65534 through util-linux `setpriv`, so that folder permissions apply;
+/// from a copy in the temp folder, which that user can reach wherever the checkout is.
 pub fn run(args: &[&str], envs: &[(&str, &str)], as_nobody: bool) -> (bool, String) {
     let bin = env!("CARGO_BIN_EXE_shadeballs");
     let mut cmd = if as_nobody && is_root() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = temp_dir("nobody-bin");
+        let copy = dir.join("shadeballs");
+        std::fs::copy(bin, &copy).expect("copy the binary");
+        for p in [&dir, &copy] {
+            std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
         let mut c = Command::new("setpriv");
-        c.args(["--reuid=65534", "--regid=65534", "--clear-groups", bin]);
+        c.args(["--reuid=65534", "--regid=65534", "--clear-groups"]);
+        c.arg(copy);
         c
     } else {
         Command::new(bin)
@@ -22,6 +31,9 @@ pub fn run(args: &[&str], envs: &[(&str, &str)], as_nobody: bool) -> (bool, Stri
         .envs(envs.iter().copied())
         .output()
         .expect("run shadeballs");
+    if as_nobody && is_root() {
+        std::fs::remove_dir_all(temp_dir("nobody-bin")).unwrap();
+    }
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stderr).into_owned(),

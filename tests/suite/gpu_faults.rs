@@ -10,7 +10,8 @@ use crate::pixels::vulkan;
 
 #[test]
 fn no_adapter_is_a_clear_error_or_a_stated_fallback() {
-    let out = temp_dir("no-adapter").join("x.png");
+    let dir = temp_dir("no-adapter");
+    let out = dir.join("x.png");
     let out = out.to_str().unwrap();
     let no_driver = [
         ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
@@ -39,6 +40,7 @@ fn no_adapter_is_a_clear_error_or_a_stated_fallback() {
         "{stderr}"
     );
     assert!(image::open(out).is_ok());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
