@@ -112,12 +112,27 @@ struct MaterialFile {
 
 /// Reads and parses the scene file at `path`.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Scene {
+    use std::io::Read;
+    let err = |message: String| Error::Scene {
         path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+        message,
+    };
+    // Read at most one byte past the limit: `/dev/zero` or a stray huge file is an error,
+    // not an endless read.
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text))
+        .map_err(|e| err(e.to_string()))?;
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(err(format!(
+            "larger than {MAX_SCENE_BYTES} bytes, the limit for a scene file"
+        )));
+    }
     parse(&text, path)
 }
+
+/// Largest scene file read (`load`).
+pub const MAX_SCENE_BYTES: u64 = 1 << 24;
 
 /// Parses scene text; `path` only names the file in errors.
 pub fn parse(text: &str, path: &Path) -> Result<Scene> {

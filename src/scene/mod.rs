@@ -13,7 +13,7 @@ mod values;
 use glam::DVec3;
 
 pub use camera::{Camera, CameraBasis};
-pub use file::{load, parse, DIELECTRIC_F0};
+pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use preset::Preset;
 
 use crate::brdf::Geometry;

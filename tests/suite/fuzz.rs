@@ -181,7 +181,7 @@ fn fuzzed_scene_files_never_panic_and_are_accepted_only_when_valid() {
     );
 }
 
-/// Scene files that cannot be read: not UTF-8, a folder, missing.
+/// Scene files that cannot be read: not UTF-8, a folder, missing, endless.
 #[test]
 fn unreadable_scene_files_are_one_line_errors() {
     let dir = crate::cli::temp_dir("fuzz-load");
@@ -191,6 +191,7 @@ fn unreadable_scene_files_are_one_line_errors() {
         bad.as_path(),
         dir.as_path(),
         Path::new("/nonexistent/scene.toml"),
+        Path::new("/dev/zero"),
     ] {
         let msg = scene::load(path).unwrap_err().to_string();
         println!("{msg}");
