@@ -34,6 +34,9 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
     Probe(render_cmd::ProbeArgs),
+    /// Compare the models with the exact multiple scattering of a random walk on the
+    /// microsurface (CSV tables, PNG plots, summary.md).
+    Truth(TruthArgs),
 }
 
 #[derive(clap::Args)]
@@ -72,6 +75,36 @@ struct BenchArgs {
     /// Folder for the CSV files and summary.md.
     #[arg(long, default_value = "bench-results")]
     out: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct TruthArgs {
+    /// A few cells and slices with few paths (seconds) instead of the full study.
+    #[arg(long)]
+    quick: bool,
+    /// Folder for the CSV files, the PNG plots and summary.md.
+    #[arg(long, default_value = "truth-results")]
+    out: PathBuf,
+}
+
+fn truth(args: TruthArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let options = shadeballs::truth::TruthOptions {
+        quick: args.quick,
+        out: args.out,
+    };
+    let (summary, headline) = shadeballs::truth::run(&options)?;
+    println!("{summary}");
+    eprintln!(
+        "truth: largest albedo error against the walk: accurate {:.2e}, games202 {:.2e} \
+         (ratio {:.2}) in {:.1} s -> {}",
+        headline.accurate,
+        headline.games202,
+        headline.accurate / headline.games202,
+        start.elapsed().as_secs_f64(),
+        options.out.display()
+    );
+    Ok(())
 }
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
@@ -171,6 +204,7 @@ fn main() -> ExitCode {
         }
         Command::Render(args) => render_cmd::render(args),
         Command::Probe(args) => render_cmd::probe(args),
+        Command::Truth(args) => truth(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -11,3 +11,4 @@ mod probe;
 mod render;
 mod scene;
 mod shaders;
+mod truth;
