@@ -21,7 +21,8 @@ pub struct RenderArgs {
     /// accurate or games202 (default: the scene's, else accurate).
     #[arg(long)]
     preset: Option<Preset>,
-    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated.
+    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated
+    /// (default: the scene's; the built-in scenes use smith-correlated).
     #[arg(long)]
     geometry: Option<Geometry>,
     #[arg(long, default_value_t = 1280, value_parser = parse_side)]

@@ -5,11 +5,14 @@
 use glam::DVec3;
 use shadeballs::brdf::{f_micro, Geometry};
 use shadeballs::lut::{self, adaptive, e_reference, gauss_legendre_unit, BakeConfig};
-use shadeballs::truth::albedo::Grid;
+use shadeballs::scene::Scene;
+use shadeballs::truth::albedo::{self, FresnelKind, Grid};
+use shadeballs::truth::compare::Comparison;
 use shadeballs::truth::fresnel::{
     fresnel_conductor, gulbrandsen_ior, gulbrandsen_pair, Fresnel, Metal,
 };
 use shadeballs::truth::microsurface::Microsurface;
+use shadeballs::truth::models::ModelTables;
 use shadeballs::truth::single::{phi_fresnel, single_albedo, Rules};
 use shadeballs::truth::walk::{self, incident};
 
@@ -213,6 +216,31 @@ fn the_walk_is_deterministic_for_a_seed() {
     assert_eq!(a.multiple, b.multiple);
     assert_ne!(a.multiple, c.multiple);
     assert_eq!(a.truncated, 0);
+}
+
+#[test]
+fn accurate_albedo_error_is_at_most_a_third_of_games202() {
+    // The corners of the full study's grid (its largest errors sit at low roughness and
+    // grazing mu), with fewer paths.
+    let grid = Grid {
+        roughness: vec![0.1, 0.2, 0.6, 1.0],
+        mu: vec![0.02, 0.05, 0.3, 1.0],
+        paths: 40_000,
+    };
+    let channels = albedo::channels();
+    let cells = albedo::compute(&grid, &channels);
+    let tables = ModelTables::new();
+    let accurate = Scene::reference().effective_geometry();
+    let cmp = Comparison::new(&cells, &channels, &tables, accurate);
+    let ids = cmp.channel_ids(FresnelKind::Schlick, None);
+    let (acc, _, _) = cmp.max_error(&ids, |c, k| cmp.models(c, k)[1]);
+    let (g202, _, _) = cmp.max_error(&ids, |c, k| cmp.models(c, k)[2]);
+    println!(
+        "largest albedo error: accurate ({accurate} G) {acc:.2e}, games202 {g202:.2e}, ratio {:.2}, walk stderr <= {:.1e}",
+        acc / g202,
+        cmp.max_stderr(&ids)
+    );
+    assert!(acc <= g202 / 3.0, "{acc} {g202}");
 }
 
 /// Rows of a CSV file: the header, then every row with as many fields, numbers finite.
