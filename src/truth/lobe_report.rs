@@ -81,7 +81,7 @@ pub fn lobes_summary(slices: &[Slice], theta_o: &[f64], channels: &[Channel], k:
         c.name()
     );
     md.push_str(
-        "| roughness | theta_i | walk ms at 0 | K-C ms at 0 | walk ms peak (angle) | walk ms at +grazing | K-C ms at +grazing | walk ms at -grazing | K-C ms at -grazing | ms L1, accurate | whole lobe L1, accurate | whole lobe L1, games202 |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| roughness | theta_i | walk ms at 0 | K-C ms at 0 | walk ms peak (angle) | walk ms at +grazing | K-C ms at +grazing | walk ms at -grazing | K-C ms at -grazing | ms L1, accurate | whole lobe L1, accurate | whole lobe L1, games202 | whole lobe L1, turquin |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let zero = theta_o
         .iter()
@@ -98,7 +98,7 @@ pub fn lobes_summary(slices: &[Slice], theta_o: &[f64], channels: &[Channel], k:
             .map_or((0, 0.0), |(j, p)| (j, p.truth_ms));
         let _ = writeln!(
             md,
-            "| {} | {} | {:.4} | {:.4} | {:.4} ({}) | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.3} | {:.3} |",
+            "| {} | {} | {:.4} | {:.4} | {:.4} ({}) | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.3} | {:.3} | {:.3} |",
             s.roughness,
             s.theta_i,
             pts[zero].truth_ms,
@@ -112,6 +112,7 @@ pub fn lobes_summary(slices: &[Slice], theta_o: &[f64], channels: &[Channel], k:
             relative_l1(&pts, |p| p.accurate_ms, |p| p.truth_ms),
             relative_l1(&pts, |p| p.accurate, |p| p.truth),
             relative_l1(&pts, |p| p.games202, |p| p.truth),
+            relative_l1(&pts, |p| p.turquin, |p| p.truth),
         );
     }
     md

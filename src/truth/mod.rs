@@ -205,12 +205,15 @@ fn summary(study: &Study, cmp: &Comparison, ablation_md: &str) -> (String, Headl
     md.push_str("\n## The full conductor Fresnel (Gulbrandsen 2014 pairs)\n\n");
     md.push_str(&report::conductor_summary(study, cmp));
     md.push_str("\n## Lobe slices (plane of incidence)\n\n");
-    md.push_str(&lobe_report::lobes_summary(
-        &study.slices,
-        &sl.theta_o,
-        &study.channels,
-        0,
-    ));
+    // White, and copper's green channel (F0 = 0.17: where Fresnel matters).
+    let copper_g = study.channels.iter().position(|c| {
+        c.kind == albedo::FresnelKind::Schlick && c.material == "copper" && c.index == 1
+    });
+    for k in std::iter::once(0).chain(copper_g) {
+        let table = lobe_report::lobes_summary(&study.slices, &sl.theta_o, &study.channels, k);
+        md.push_str(&table);
+        md.push('\n');
+    }
     let headline = Headline {
         accurate,
         games202,
