@@ -97,10 +97,11 @@ fn truth(args: TruthArgs) -> anyhow::Result<()> {
     println!("{summary}");
     eprintln!(
         "truth: largest albedo error against the walk: accurate {:.2e}, games202 {:.2e} \
-         (ratio {:.2}) in {:.1} s -> {}",
+         (ratio {:.2}; walk standard error <= {:.1e}) in {:.1} s -> {}",
         headline.accurate,
         headline.games202,
-        headline.accurate / headline.games202,
+        headline.accurate / headline.games202.max(f64::MIN_POSITIVE),
+        headline.max_stderr,
         start.elapsed().as_secs_f64(),
         options.out.display()
     );

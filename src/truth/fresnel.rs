@@ -3,7 +3,7 @@
 //! complex index of refraction comes from an artist-friendly (reflectivity, edge tint)
 //! pair (Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4)).
 
-use crate::brdf::{f_avg_schlick, f_schlick, GAMES202_EDGE_TINT};
+use crate::brdf::{f_avg_schlick, f_schlick, DIV_EPSILON, GAMES202_EDGE_TINT};
 use crate::lut::adaptive;
 use crate::scene::srgb_to_linear;
 
@@ -78,7 +78,7 @@ impl Complex {
     }
     /// `|a / b|^2` without forming the quotient.
     fn ratio_norm_sqr(a: Complex, b: Complex) -> f64 {
-        a.norm_sqr() / b.norm_sqr().max(crate::brdf::DIV_EPSILON)
+        a.norm_sqr() / b.norm_sqr().max(DIV_EPSILON)
     }
 }
 
@@ -93,7 +93,7 @@ pub fn fresnel_conductor(eta: f64, k: f64, cos: f64) -> f64 {
     let n2 = n.mul(n);
     let sin2 = 1.0 - c * c;
     // 1 / n^2 = conj(n^2) / |n^2|^2
-    let inv_n2 = Complex(n2.0, -n2.1).scale(1.0 / n2.norm_sqr().max(crate::brdf::DIV_EPSILON));
+    let inv_n2 = Complex(n2.0, -n2.1).scale(1.0 / n2.norm_sqr().max(DIV_EPSILON));
     let cos_t = Complex(1.0, 0.0).sub(inv_n2.scale(sin2)).sqrt();
     let ci = Complex(c, 0.0);
     let n_cos_t = n.mul(cos_t);
@@ -121,11 +121,11 @@ pub fn gulbrandsen_ior(r: f64, g: f64) -> (f64, f64) {
 /// The inverse of [`gulbrandsen_ior`] (Gulbrandsen 2014):
 /// `r = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2)`, `g = (n_max - n) / (n_max - n_min)`.
 pub fn gulbrandsen_pair(eta: f64, k: f64) -> (f64, f64) {
-    let r = ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k);
+    let r = ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k).max(DIV_EPSILON);
     let sr = r.sqrt();
     let n_min = (1.0 - r) / (1.0 + r);
-    let n_max = (1.0 + sr) / (1.0 - sr);
-    (r, (n_max - eta) / (n_max - n_min))
+    let n_max = (1.0 + sr) / (1.0 - sr).max(DIV_EPSILON);
+    (r, (n_max - eta) / (n_max - n_min).max(DIV_EPSILON))
 }
 
 /// A material of the study: three channels, each with an artist-friendly pair.
