@@ -139,6 +139,16 @@ fn f_add_denominator(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
     return max((1.0 - f_avg) + f_avg * e_avg, vec3<f32>(DIV_EPSILON));
 }
 
+// The Fresnel scale f_add as the preset computes it (Kulla & Conty 2017, slide 26; src/brdf
+// f_add_preset; the F_ADD_FORM override picks the form): accurate = f_add_accurate of
+// Schlick's F_avg(F0); games202 = f_add_games202 of the homework's polynomial F_avg.
+fn f_add_preset(f0: vec3<f32>, e_avg: f32) -> vec3<f32> {
+    if F_ADD_FORM == F_ADD_GAMES202 {
+        return f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
+    }
+    return f_add_accurate(f_avg_schlick(f0), e_avg);
+}
+
 // The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):
 // F G D / (4 mu_i mu_o) for a Fresnel value per channel; below the horizon 0.
 fn f_micro(fresnel: vec3<f32>, mu_o: f32, mu_i: f32, n_dot_h: f32, roughness: f32) -> vec3<f32> {

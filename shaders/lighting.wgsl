@@ -23,12 +23,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let loss_avg = lut_loss_avg(roughness);
     let e_avg = 1.0 - loss_avg;
     let f_avg_ss = f_avg_schlick(f0);
-    var f_add: vec3<f32>;
-    if F_ADD_FORM == F_ADD_GAMES202 {
-        f_add = f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
-    } else {
-        f_add = f_add_accurate(f_avg_schlick(f0), e_avg);
-    }
+    let f_add = f_add_preset(f0, e_avg);
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
 
     var lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);

@@ -60,7 +60,8 @@ pub struct RenderArgs {
     /// accurate or games202 (default: the scene's, else accurate).
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated.
+    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated
+    /// (default: the scene's; the built-in scenes use smith-correlated).
     #[arg(long)]
     pub geometry: Option<Geometry>,
     /// Image width in pixels (1 up to the device's largest texture, 16384 on lavapipe).
@@ -96,6 +97,16 @@ pub struct ProbeArgs {
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
 pub const MAX_TABLE_SIDE: usize = 8192;
+
+#[derive(clap::Args)]
+pub struct TruthArgs {
+    /// A few cells and slices with few paths (seconds) instead of the full study.
+    #[arg(long)]
+    pub quick: bool,
+    /// Folder for the CSV files, the PNG plots and summary.md.
+    #[arg(long, default_value = "truth-results")]
+    pub out: PathBuf,
+}
 
 /// `--size`: `N` or `MUxR`, each side a whole number in `2..=MAX_TABLE_SIDE`.
 pub fn parse_size(s: &str) -> Result<(usize, usize), String> {

@@ -13,5 +13,6 @@ pub mod image_out;
 pub mod lut;
 pub mod output;
 pub mod scene;
+pub mod truth;
 
 pub use error::{Error, Result};

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 mod render_cmd;
 
-use shadeballs::cli::{BakeArgs, BenchArgs, ProbeArgs, RenderArgs};
+use shadeballs::cli::{BakeArgs, BenchArgs, ProbeArgs, RenderArgs, TruthArgs};
 use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout};
 
 #[derive(Parser)]
@@ -32,6 +32,30 @@ enum Command {
     Render(RenderArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
     Probe(ProbeArgs),
+    /// Compare the models with the exact multiple scattering of a random walk on the
+    /// microsurface (CSV tables, PNG plots, summary.md).
+    Truth(TruthArgs),
+}
+
+fn truth(args: TruthArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let options = shadeballs::truth::TruthOptions {
+        quick: args.quick,
+        out: args.out,
+    };
+    let (summary, headline) = shadeballs::truth::run(&options)?;
+    println!("{summary}");
+    eprintln!(
+        "truth: largest albedo error against the walk: accurate {:.2e}, games202 {:.2e} \
+         (ratio {:.2}; walk standard error <= {:.1e}) in {:.1} s -> {}",
+        headline.accurate,
+        headline.games202,
+        headline.accurate / headline.games202.max(f64::MIN_POSITIVE),
+        headline.max_stderr,
+        start.elapsed().as_secs_f64(),
+        options.out.display()
+    );
+    Ok(())
 }
 
 fn bake(args: BakeArgs) -> anyhow::Result<()> {
@@ -121,6 +145,7 @@ fn main() -> ExitCode {
         }
         Command::Render(args) => render_cmd::render(args),
         Command::Probe(args) => render_cmd::probe(args),
+        Command::Truth(args) => truth(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use super::DIV_EPSILON;
+use super::{f_avg_games202, f_avg_schlick, DIV_EPSILON};
 
 /// Which form of the Fresnel scale `f_add` a preset uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -43,4 +43,17 @@ pub fn f_add_games202(f_avg: f64, e_avg: f64) -> f64 {
 /// in `f_add`); it reaches 0 only at `F_avg = 1, E_avg = 0`, where the guard makes 0/0 a 0.
 pub fn f_add_denominator(f_avg: f64, e_avg: f64) -> f64 {
     ((1.0 - f_avg) + f_avg * e_avg).max(DIV_EPSILON)
+}
+
+/// The Fresnel scale `f_add` of one colour channel as a preset computes it (DESIGN.md
+/// section 1; Kulla & Conty 2017, slide 26): `Accurate` takes `F_avg` from Schlick's
+/// closed form for `f0` and sums the bounces with the square; `Games202` takes the
+/// homework's polynomial `F_avg` for `f0` and the channel's `edge_tint`, without the square.
+/// The renderers (`shaders/lighting.wgsl`, `src/cpu`) and the truth study call this one
+/// function, so they compare the same model.
+pub fn f_add_preset(form: FAvgForm, f0: f64, edge_tint: f64, e_avg: f64) -> f64 {
+    match form {
+        FAvgForm::Accurate => f_add_accurate(f_avg_schlick(f0), e_avg),
+        FAvgForm::Games202 => f_add_games202(f_avg_games202(f0, edge_tint), e_avg),
+    }
 }

@@ -14,7 +14,9 @@ pub use fresnel::{f_avg_games202, f_avg_schlick, f_schlick, GAMES202_EDGE_TINT};
 pub use geometry::{
     g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,
 };
-pub use kulla_conty::{f_add_accurate, f_add_denominator, f_add_games202, f_ms, FAvgForm};
+pub use kulla_conty::{
+    f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, FAvgForm,
+};
 pub use ndf::d_ggx;
 
 /// Smallest roughness the model evaluates. Roughness 0 makes GGX a delta (alpha = 0, a

@@ -4,8 +4,7 @@
 use glam::DVec3;
 
 use crate::brdf::{
-    f_add_accurate, f_add_games202, f_avg_games202, f_avg_schlick, f_micro, f_ms, f_schlick,
-    FAvgForm, Geometry, GAMES202_EDGE_TINT,
+    f_add_preset, f_avg_schlick, f_micro, f_ms, f_schlick, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
 use crate::lut::{e_avg_reference, e_reference, Tables};
 use crate::scene::{Ball, Scene};
@@ -84,18 +83,11 @@ pub fn shade(
     let loss_avg = e.loss_avg(roughness);
     let e_avg = 1.0 - loss_avg;
     let f_avg_ss = per_channel(f0, f_avg_schlick);
-    let tint = DVec3::from_array(GAMES202_EDGE_TINT);
-    let f_add = match form {
-        FAvgForm::Games202 => {
-            let f_avg = DVec3::new(
-                f_avg_games202(f0.x, tint.x),
-                f_avg_games202(f0.y, tint.y),
-                f_avg_games202(f0.z, tint.z),
-            );
-            per_channel(f_avg, |f| f_add_games202(f, e_avg))
-        }
-        FAvgForm::Accurate => per_channel(f_avg_ss, |f| f_add_accurate(f, e_avg)),
-    };
+    let f_add = DVec3::new(
+        f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
+        f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], e_avg),
+        f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], e_avg),
+    );
     let kd = b.material.diffuse * (DVec3::ONE - f_avg_ss);
 
     let mut lo = scene.environment * (f_avg_ss * e_o + ms * f_add * loss_o + kd);

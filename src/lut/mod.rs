@@ -13,7 +13,7 @@ mod reference;
 use rayon::prelude::*;
 
 pub use estimators::{Estimator, Method, PointSet};
-pub use integrand::{phi_integral, EIntegrand, MU_MIN};
+pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
     lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, Storage,
     DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,

@@ -2,7 +2,7 @@
 //!
 //! ```toml
 //! preset = "accurate"          # optional: accurate | games202
-//! geometry = "schlick"         # optional: schlick | smith | smith-correlated
+//! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! exposure = 1.0               # optional, > 0
 //! [camera]                     # optional: the reference camera
 //! position = [0, 80, 300]

@@ -107,7 +107,8 @@ pub struct Scene {
     /// Multiplies radiance before tone mapping.
     pub exposure: f64,
     pub preset: Preset,
-    /// The G the `accurate` preset uses (`games202` always uses schlick).
+    /// The G the `accurate` preset uses (`games202` always uses schlick); default
+    /// height-correlated Smith.
     pub geometry: Geometry,
 }
 
@@ -132,7 +133,8 @@ impl Scene {
             camera: Camera::reference(),
             exposure: 1.0,
             preset: Preset::Accurate,
-            geometry: Geometry::Schlick,
+            // The G closest to real multiple scattering (README, "How close to the truth").
+            geometry: Geometry::SmithCorrelated,
         }
     }
 

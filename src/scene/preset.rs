@@ -7,7 +7,8 @@ use crate::brdf::{FAvgForm, Geometry};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Preset {
     /// One consistent Fresnel: Schlick with `F0`, `F_avg = f_avg_schlick(F0)` per channel,
-    /// `f_add_accurate` (with the square); G from `--geometry` (default schlick).
+    /// `f_add_accurate` (with the square); G from `--geometry` (default smith-correlated:
+    /// each part chosen by `shadeballs truth`, README "How close to the truth").
     #[default]
     Accurate,
     /// The GAMES202 homework: schlick G, `F_avg = f_avg_games202(F0, GAMES202_EDGE_TINT)`

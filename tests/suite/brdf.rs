@@ -163,3 +163,14 @@ fn every_function_is_finite_and_non_negative_on_the_edges() {
     assert_eq!(roughness_clamped(f64::NAN), 1.0);
     assert_eq!(roughness_clamped(-3.0), ROUGHNESS_MIN);
 }
+
+#[test]
+fn f_add_preset_is_each_forms_f_add() {
+    use shadeballs::brdf::{f_add_preset, FAvgForm};
+    for (f0, tint, e_avg) in [(0.04, 0.8, 0.9), (0.5, 0.83, 0.6), (1.0, 0.7, 0.41)] {
+        let acc = f_add_preset(FAvgForm::Accurate, f0, tint, e_avg);
+        assert_eq!(acc, f_add_accurate(f_avg_schlick(f0), e_avg));
+        let hw = f_add_preset(FAvgForm::Games202, f0, tint, e_avg);
+        assert_eq!(hw, f_add_games202(f_avg_games202(f0, tint), e_avg));
+    }
+}

@@ -22,3 +22,4 @@ mod scene;
 mod scene_gen;
 mod shaders;
 mod stress;
+mod truth;

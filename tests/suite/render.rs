@@ -184,8 +184,10 @@ fn furnace_balls_vanish_with_the_term_and_darken_without() {
                 ball.roughness
             );
         } else if ball.roughness >= 0.5 {
+            // Height-correlated Smith (the default G) misses less energy than Schlick's G:
+            // at roughness 0.55 the ball is about 7/255 darker (schlick: 10/255).
             assert!(
-                bg as f64 - mean >= 8.0,
+                bg as f64 - mean >= 5.0,
                 "ball {k} (r={}) is not visibly darker: mean {mean}",
                 ball.roughness
             );

@@ -37,6 +37,7 @@ fn wgsl_mirrors_the_rust_function_names() {
         "f_add_accurate",
         "f_add_games202",
         "f_add_denominator",
+        "f_add_preset",
         "alpha_from_roughness",
         "roughness_clamped",
         "f_micro",

@@ -1,0 +1,129 @@
+//! The GGX microsurface that the random walk travels on (Heitz, Hanika, d'Eon and
+//! Dachsbacher 2016, "Multiple-Scattering Microfacet BSDFs with the Smith Model"): GGX
+//! slopes, Smith's uncorrelated-heights-and-normals assumption, and a
+//! height distribution that enters only through its CDF `C1(h)`.
+//!
+//! The walk keeps `c = C1(h)` in `[0, 1]` instead of the height itself: the paper shows the
+//! result does not depend on the height distribution, and with `c` the formulas need no
+//! `C1` or `C1^-1` (`c = 1` is above the surface). Directions are unit vectors with the
+//! macro normal +z; a ray travels along `dir` (`dir.z < 0` goes down).
+
+use glam::DVec3;
+
+use crate::brdf::{alpha_from_roughness, d_ggx, lambda_smith, DIV_EPSILON};
+
+/// An isotropic GGX microsurface of one roughness.
+#[derive(Clone, Copy, Debug)]
+pub struct Microsurface {
+    pub alpha: f64,
+}
+
+impl Microsurface {
+    /// The surface of `roughness` (clamped like everywhere else; `alpha = roughness^2`).
+    pub fn new(roughness: f64) -> Self {
+        Self {
+            alpha: alpha_from_roughness(roughness),
+        }
+    }
+
+    /// Smith's Lambda for a direction of cosine `z` to the macro normal, signed as Heitz et
+    /// al. 2016 extend it below the horizon: `Lambda(-w) = -1 - Lambda(w)`, so a
+    /// downward direction has `Lambda <= -1`. `z = +-0` gives `+-infinity`.
+    pub fn lambda(&self, z: f64) -> f64 {
+        if z >= 0.0 && !z.is_sign_negative() {
+            lambda_smith(z, self.alpha)
+        } else {
+            -1.0 - lambda_smith(-z, self.alpha)
+        }
+    }
+
+    /// Probability that a ray leaving height `c = C1(h)` along upward `dir` escapes
+    /// (Heitz et al. 2016, height-correlated masking): `G1 = c^Lambda`; 0 for a
+    /// direction at or below the horizon.
+    pub fn g1(&self, dir_z: f64, c: f64) -> f64 {
+        if dir_z <= 0.0 {
+            return 0.0;
+        }
+        c.powf(self.lambda(dir_z))
+    }
+
+    /// Height (as `C1`) of the next intersection of a ray from `c` along `dir`, given that it
+    /// hits the surface, from `u` uniform in `[0, 1)`. Inverting the non-intersection
+    /// probability `(c / c')^Lambda` (Heitz et al. 2016, the walk's height sampling): upward rays
+    /// hit with probability `1 - G1`, so `u` is scaled into `[0, 1 - G1)`; downward rays
+    /// always hit.
+    pub fn next_height(&self, dir_z: f64, c: f64, u: f64) -> f64 {
+        let lambda = self.lambda(dir_z);
+        if dir_z > 0.0 {
+            let escape = c.powf(lambda);
+            let v = u * (1.0 - escape);
+            (c / (1.0 - v).powf(1.0 / lambda)).min(1.0)
+        } else {
+            // lambda <= -1: the exponent -1/lambda is in (0, 1].
+            c * (1.0 - u).powf(-1.0 / lambda)
+        }
+    }
+
+    /// Projected area of the microsurface seen along `w` (either side of the horizon):
+    /// `(1 + Lambda(w)) w.z = (w.z + sqrt(w.z^2 + alpha^2 (1 - w.z^2))) / 2` (Heitz 2014,
+    /// "Understanding the Masking-Shadowing Function": projected area under Smith).
+    pub fn projected_area(&self, z: f64) -> f64 {
+        let z = z.clamp(-1.0, 1.0);
+        0.5 * (z + (z * z + self.alpha * self.alpha * (1.0 - z * z)).sqrt())
+    }
+
+    /// The conductor's phase function without its Fresnel factor (Heitz et al. 2016, the
+    /// microflake-like phase function of a reflecting microsurface): `p(wi, wo) = D_wi(h) / (4 wi.h) = D(h) / (4 A(wi))`, `h = normalize(wi + wo)`,
+    /// where `wi` points back along the arriving ray. Returns `(p, wi.h)`; `p = 0` where
+    /// `h` faces down or away from `wi`.
+    pub fn phase(&self, wi: DVec3, wo: DVec3) -> (f64, f64) {
+        let sum = wi + wo;
+        let len = sum.length();
+        if len <= DIV_EPSILON {
+            return (0.0, 0.0);
+        }
+        let h = sum / len;
+        let cos = wi.dot(h);
+        if h.z <= 0.0 || cos <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let area = self.projected_area(wi.z).max(DIV_EPSILON);
+        (d_ggx(h.z, self.alpha) / (4.0 * area), cos)
+    }
+
+    /// A microfacet normal drawn from the distribution of normals visible from `wi`
+    /// (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)): stretch
+    /// to `alpha = 1`, draw a uniform point on the disk, warp it onto the projected visible
+    /// hemisphere (`s = (1 + z) / 2`), lift it and unstretch. Valid for `wi` on either side
+    /// of the horizon (the visible region is then the disk minus a half ellipse).
+    pub fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
+        let a = self.alpha;
+        let vh = DVec3::new(a * wi.x, a * wi.y, wi.z).normalize();
+        let lensq = vh.x * vh.x + vh.y * vh.y;
+        let t1 = if lensq > 0.0 {
+            DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+        } else {
+            DVec3::X
+        };
+        let t2 = vh.cross(t1);
+        let (p1, p2) = disk_to_visible(u1, u2, vh.z);
+        let lift = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+        let nh = p1 * t1 + p2 * t2 + lift * vh;
+        DVec3::new(a * nh.x, a * nh.y, nh.z.max(0.0)).normalize()
+    }
+}
+
+/// A uniform point on the unit disk (`r = sqrt(u1)`, `phi = 2 pi u2`) warped onto the
+/// projected visible hemisphere of a direction with stretched cosine `z` (Heitz 2018): `p2 -> (1 - s) sqrt(1 - p1^2) + s p2`, `s = (1 + z) / 2`.
+pub fn disk_to_visible(u1: f64, u2: f64, z: f64) -> (f64, f64) {
+    let r = u1.sqrt();
+    let phi = std::f64::consts::TAU * u2;
+    let (p1, p2) = (r * phi.cos(), r * phi.sin());
+    let s = 0.5 * (1.0 + z);
+    (p1, (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2)
+}
+
+/// Mirror reflection of the ray direction `dir` about the microfacet normal `m`.
+pub fn reflect(dir: DVec3, m: DVec3) -> DVec3 {
+    dir - 2.0 * dir.dot(m) * m
+}
