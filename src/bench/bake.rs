@@ -40,7 +40,7 @@ pub fn homework_config(geometry: Geometry) -> BakeConfig {
 
 fn sample_counts(method: Method, quick: bool) -> &'static [usize] {
     match (method, quick) {
-        (Method::Quadrature, false) => &[4, 6, 8, 12, 16, 24, 32],
+        (Method::Quadrature | Method::Chebyshev, false) => &[4, 6, 8, 12, 16, 24, 32],
         (Method::Quadrature, true) => &[8, 16],
         (Method::Vndf, false) => &[64, 256, 1024, 4096],
         (Method::Cosine | Method::Ndf, false) => &[64, 256, 1024],
