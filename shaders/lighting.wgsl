@@ -20,14 +20,17 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let mu_o = max(dot(n, v), 0.0);
     let loss_o = lut_loss(mu_o, roughness);
     let e_o = 1.0 - loss_o;
-    let loss_avg = lut_loss_avg(roughness);
-    let e_avg = 1.0 - loss_avg;
     let f_avg_ss = f_avg_schlick(f0);
-    var f_add: vec3<f32>;
-    if F_ADD_FORM == F_ADD_GAMES202 {
-        f_add = f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
-    } else {
-        f_add = f_add_accurate(f_avg_schlick(f0), e_avg);
+    var loss_avg = 0.0;
+    var f_add = vec3<f32>(0.0);
+    if MS_TERM == 1u {
+        loss_avg = lut_loss_avg(roughness);
+        let e_avg = 1.0 - loss_avg;
+        if F_ADD_FORM == F_ADD_GAMES202 {
+            f_add = f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
+        } else {
+            f_add = f_add_accurate(f_avg_schlick(f0), e_avg);
+        }
     }
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
 
@@ -41,8 +44,12 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, dot(v, h));
         let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness);
-        let loss_i = lut_loss(mu_i, roughness);
-        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / PI;
+        var lobe = vec3<f32>(0.0);
+        if MS_TERM == 1u {
+            let loss_i = lut_loss(mu_i, roughness);
+            lobe = ms * f_add * f_ms(loss_o, loss_i, loss_avg);
+        }
+        let f_r = spec + lobe + kd / PI;
         lo += f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;

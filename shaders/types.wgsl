@@ -48,6 +48,10 @@ override GEOMETRY: u32;
 override F_ADD_FORM: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
+// 1 (default): the multiple-scattering term as each ball's flag says; 0: compiled out (no
+// E_avg read, no second E read per light), the same image as every flag off. For measuring
+// what the term costs (`shadeballs bench`).
+override MS_TERM: u32 = 1u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {

@@ -28,7 +28,7 @@ struct Cli {
 enum Command {
     /// Bake E(mu, roughness) and E_avg(roughness) and write them to a file.
     Bake(BakeArgs),
-    /// Measure run time against error (writes CSV and a markdown summary).
+    /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
     Bench(BenchArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(render_cmd::RenderArgs),
@@ -69,9 +69,12 @@ struct BenchArgs {
     /// Fewer configurations and repeats (under a minute).
     #[arg(long)]
     quick: bool,
-    /// Folder for the CSV files and summary.md.
+    /// Folder for the CSV files, plots (PNG) and summary.md.
     #[arg(long, default_value = "bench-results")]
     out: PathBuf,
+    /// Only the CPU sweeps (bake, read): for a machine without a GPU driver.
+    #[arg(long)]
+    cpu_only: bool,
 }
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
@@ -164,6 +167,8 @@ fn main() -> ExitCode {
             let options = shadeballs::bench::BenchOptions {
                 quick: args.quick,
                 out: args.out,
+                exe: std::env::current_exe().ok(),
+                cpu_only: args.cpu_only,
             };
             shadeballs::bench::run(&options)
                 .map(|summary| println!("{summary}"))

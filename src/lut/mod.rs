@@ -17,7 +17,7 @@ pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
 pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, MU_MIN};
 pub use layout::{
-    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, Storage,
+    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, RAxis, Storage,
     DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};

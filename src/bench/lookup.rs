@@ -1,0 +1,338 @@
+//! Reading on the GPU: what one read of the E table costs in a compute shader and what it
+//! returns, for the shader's manual bilinear read (`lut_loss`, four `textureLoad`) against
+//! the sampler's hardware filtering, per layout and storage (`shaders/bench_lookup.wgsl`).
+//!
+//! Cost: the median wall time of a dispatch (submit to idle) of `INVOCATIONS` invocations
+//! doing `reads` reads each at hashed `(mu, roughness)`, divided by the reads; the
+//! `lookup_none` row does the same loop without the read. Error: one read per invocation
+//! read back and compared with the precise reference at the same points.
+
+use super::device::{self, filterable, loss_texture};
+use super::median_ms;
+use crate::error::{Error, Result};
+use crate::gpu::{shaders, uniforms, Gpu};
+use crate::lut::accuracy::{ErrorStats, ReferencePoints};
+use crate::lut::Tables;
+
+/// Invocations of a timed dispatch.
+pub const INVOCATIONS: u32 = 1 << 16;
+
+/// How the read filters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    /// No read: the loop's own cost.
+    None,
+    /// `lut_loss`: four `textureLoad` and two lerps in f32 (the renderer's read).
+    Manual,
+    /// One `textureSampleLevel` with a linear, clamp-to-edge sampler.
+    Hardware,
+}
+
+impl Filter {
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::None => "none",
+            Filter::Manual => "manual",
+            Filter::Hardware => "hardware",
+        }
+    }
+
+    fn entry_point(self) -> &'static str {
+        match self {
+            Filter::None => "lookup_none",
+            Filter::Manual => "lookup_manual",
+            Filter::Hardware => "lookup_filtered",
+        }
+    }
+}
+
+/// PCG hash, as `pcg_hash` in `bench_lookup.wgsl`.
+pub fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+/// The first point of invocation `k`: `(mu, roughness)` as the shader draws them.
+pub fn first_point(k: u32) -> (f32, f32) {
+    let a = pcg_hash(k);
+    let b = pcg_hash(a);
+    let unit = |h: u32| (h >> 8) as f32 / 16_777_216.0;
+    (unit(a), unit(b))
+}
+
+/// One measured read: cost per read and the error of the values it returns.
+pub struct Lookup {
+    pub ns_per_read: f64,
+    /// Error of E against the reference at the first point of each invocation (`None` for
+    /// [`Filter::None`]).
+    pub error: Option<ErrorStats>,
+}
+
+/// Times `filter` reading `tables` (`reads` per invocation, median of `repeats`) and
+/// measures its error against `reference` (points from [`first_point`]).
+pub fn measure(
+    gpu: &Gpu,
+    tables: &Tables,
+    filter: Filter,
+    reads: u32,
+    repeats: usize,
+    reference: &ReferencePoints,
+) -> Result<Lookup> {
+    if filter == Filter::Hardware && !filterable(gpu, tables.layout().storage) {
+        return Err(Error::Gpu {
+            message: format!(
+                "{} cannot filter {} textures",
+                gpu.describe(),
+                tables.layout().storage
+            ),
+        });
+    }
+    let kernel = Kernel::new(gpu, tables, filter)?;
+    let (ms, _) = median_ms(repeats, || kernel.run(gpu, reads, INVOCATIONS, false));
+    let ns_per_read = ms * 1e6 / (reads as f64 * INVOCATIONS as f64);
+    let error = if filter == Filter::None {
+        None
+    } else {
+        let n = reference.points.len() as u32;
+        let values = kernel.run(gpu, 1, n, true)?;
+        Some(ErrorStats::from_errors(
+            values
+                .iter()
+                .zip(&reference.e)
+                .zip(&reference.points)
+                .map(|((&loss, &exact), &(mu, r))| ((1.0 - loss as f64 - exact).abs(), mu, r)),
+        ))
+    };
+    Ok(Lookup { ns_per_read, error })
+}
+
+/// `n` points exactly as the shader's invocations `0..n` draw their first read, in f64.
+pub fn shader_points(n: u32) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|k| {
+            let (mu, r) = first_point(k);
+            (mu as f64, r as f64)
+        })
+        .collect()
+}
+
+/// A compiled lookup pipeline with its bind groups and buffers (for up to
+/// [`INVOCATIONS`] invocations).
+struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    group0: wgpu::BindGroup,
+    group1: wgpu::BindGroup,
+    params: wgpu::Buffer,
+    out: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    }
+}
+
+fn texture(filterable: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable },
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    }
+}
+
+fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+impl Kernel {
+    fn new(gpu: &Gpu, tables: &Tables, filter: Filter) -> Result<Self> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (lut, lut_dims, lut_r) = uniforms::lut_uniforms(tables);
+        let globals = uniforms::Globals {
+            lut,
+            lut_dims,
+            lut_r,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bench globals"),
+            size: std::mem::size_of::<uniforms::Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        gpu.queue
+            .write_buffer(&globals_buffer, 0, bytemuck::bytes_of(&globals));
+        let view = loss_texture(gpu, tables);
+        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bench group 0"),
+            entries: &[
+                entry(0, buffer(wgpu::BufferBindingType::Uniform)),
+                entry(3, texture(false)),
+            ],
+        });
+        let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bench group 0"),
+            layout: &layout0,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
+        let hardware = filter == Filter::Hardware;
+        let mut entries1 = vec![entry(0, buffer(wgpu::BufferBindingType::Uniform))];
+        if hardware {
+            entries1.push(entry(1, texture(true)));
+            entries1.push(entry(
+                2,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            ));
+        }
+        entries1.push(entry(
+            3,
+            buffer(wgpu::BufferBindingType::Storage { read_only: false }),
+        ));
+        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bench group 1"),
+            entries: &entries1,
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bench lookup"),
+            bind_group_layouts: &[Some(&layout0), Some(&layout1)],
+            immediate_size: 0,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bench lookup"),
+            source: wgpu::ShaderSource::Wgsl(lookup_source().into()),
+        });
+        let constants = shaders::overrides(
+            tables.config.geometry,
+            crate::brdf::FAvgForm::Accurate,
+            false,
+        );
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bench lookup"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(filter.entry_point()),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
+            cache: None,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("bilinear, clamp to edge"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lookup params"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let size = INVOCATIONS as u64 * 4;
+        let out = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lookup out"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lookup readback"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params.as_entire_binding(),
+        }];
+        if hardware {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&view),
+            });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            });
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: out.as_entire_binding(),
+        });
+        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lookup group 1"),
+            layout: &layout1,
+            entries: &entries,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu {
+                message: e.to_string(),
+            });
+        }
+        Ok(Kernel {
+            pipeline,
+            group0,
+            group1,
+            params,
+            out,
+            readback,
+        })
+    }
+
+    /// One dispatch of `n` (at most [`INVOCATIONS`]) invocations with `reads` reads each;
+    /// waits for it and, when `read_back`, returns each invocation's sum.
+    fn run(&self, gpu: &Gpu, reads: u32, n: u32, read_back: bool) -> Result<Vec<f32>> {
+        let n = n.min(INVOCATIONS);
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::cast_slice(&[reads, n, 0, 0]));
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.group0, &[]);
+            pass.set_bind_group(1, &self.group1, &[]);
+            pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
+        }
+        let size = n as u64 * 4;
+        if read_back {
+            encoder.copy_buffer_to_buffer(&self.out, 0, &self.readback, 0, size);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        device::wait(gpu)?;
+        if !read_back {
+            return Ok(Vec::new());
+        }
+        let bytes = device::read(gpu, &self.readback, size)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}
+
+/// The lookup module: the common files and `bench_lookup.wgsl`.
+pub fn lookup_source() -> String {
+    shaders::COMMON
+        .iter()
+        .map(|(_, src)| *src)
+        .chain([include_str!("../../shaders/bench_lookup.wgsl")])
+        .collect::<Vec<_>>()
+        .join("\n")
+}
