@@ -15,7 +15,7 @@ pub const BAKE_ERROR_GOAL: f64 = 1e-4;
 pub const BAKE_TIME_GOAL_MS: f64 = 10.0;
 
 /// The label of the homework's configuration in every table.
-pub const HOMEWORK: &str = "homework (cosine 1024 random, 128x128 unorm8)";
+pub const HOMEWORK: &str = "homework (cosine 1024 random; 128x128 unorm8)";
 
 /// Repeats a measurement more often when it is fast: the median of up to 15 runs, at
 /// least one, within about a second of total run time (`quick`: a third of that).

@@ -7,7 +7,7 @@
 //! `lookup_none` row does the same loop without the read. Error: one read per invocation
 //! read back and compared with the precise reference at the same points.
 
-use super::device::{self, filterable, loss_texture};
+use super::device::{self, buffer, entry, filterable, loss_texture, texture};
 use super::median_ms;
 use crate::error::{Error, Result};
 use crate::gpu::{shaders, uniforms, Gpu};
@@ -126,31 +126,6 @@ struct Kernel {
     params: wgpu::Buffer,
     out: wgpu::Buffer,
     readback: wgpu::Buffer,
-}
-
-fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    }
-}
-
-fn texture(filterable: bool) -> wgpu::BindingType {
-    wgpu::BindingType::Texture {
-        sample_type: wgpu::TextureSampleType::Float { filterable },
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    }
-}
-
-fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
 }
 
 impl Kernel {

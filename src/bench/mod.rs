@@ -7,7 +7,7 @@
 //! rendering (`render.rs`, against the exact model of `exact.rs`), startup (`startup.rs`).
 
 mod bake;
-mod device;
+pub mod device;
 pub mod exact;
 pub mod lookup;
 pub mod plot;

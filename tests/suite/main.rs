@@ -1,5 +1,6 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
+mod bench;
 mod brdf;
 mod cli;
 mod cli_bake;
