@@ -180,6 +180,7 @@ pub fn bake_sweep(quick: bool) -> Sweep {
                     label: method.to_string(),
                     points,
                     peer: false,
+                    ..Default::default()
                 });
             }
         }
@@ -188,6 +189,7 @@ pub fn bake_sweep(quick: bool) -> Sweep {
         label: "homework (128x128)".into(),
         points: vec![hw_point],
         peer: true,
+        ..Default::default()
     });
     sweep.note = format!(
         "Goal: e_max and e_avg_max <= {BAKE_ERROR_GOAL:.0e} in <= {BAKE_TIME_GOAL_MS} ms; the default is {} with {} nodes a segment. The homework row is on its own 128x128 layout.",
@@ -247,12 +249,14 @@ fn size_sweep(quick: bool, hw_row: &[String], hw_point: (f64, f64)) -> (Table, P
             label: format!("{method} ({samples})"),
             points,
             peer: false,
+            ..Default::default()
         });
     }
     plot.series.push(Series {
         label: "homework (128x128)".into(),
         points: vec![hw_point],
         peer: true,
+        ..Default::default()
     });
     t.note = format!("Sizes {sizes:?} (N x N); quadrature and chebyshev at {} nodes a segment; a method's time grows with the texel count unless it interpolates (chebyshev).", lut::DEFAULT_SAMPLES);
     (t, plot)

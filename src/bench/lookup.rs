@@ -1,6 +1,7 @@
 //! Reading on the GPU: what one read of the E table costs in a compute shader and what it
-//! returns, for the shader's manual bilinear read (`lut_loss`, four `textureLoad`) against
-//! the sampler's hardware filtering, per layout and storage (`shaders/bench_lookup.wgsl`).
+//! returns, for the shader's manual bilinear read (`lut_loss`: one `textureLoad` of a 2x2
+//! block, three lerps) against the sampler's hardware filtering of a one-texel-per-value
+//! texture, per layout and storage (`shaders/bench_lookup.wgsl`).
 //!
 //! Cost: the median wall time of a dispatch (submit to idle) of `INVOCATIONS` invocations
 //! doing `reads` reads each at hashed `(mu, roughness)`, divided by the reads; the
@@ -22,7 +23,8 @@ pub const INVOCATIONS: u32 = 1 << 16;
 pub enum Filter {
     /// No read: the loop's own cost.
     None,
-    /// `lut_loss`: four `textureLoad` and two lerps in f32 (the renderer's read).
+    /// `lut_loss`: one `textureLoad` of a 2x2 block and three lerps in f32 (the renderer's
+    /// read).
     Manual,
     /// One `textureSampleLevel` with a linear, clamp-to-edge sampler.
     Hardware,
@@ -67,6 +69,16 @@ pub struct Lookup {
     /// Error of E against the reference at the first point of each invocation (`None` for
     /// [`Filter::None`]).
     pub error: Option<ErrorStats>,
+}
+
+/// Bytes of the E texture `filter` reads `tables` from: 2x2 blocks of f32 for the manual
+/// read, the storage format for the sampler.
+pub fn texture_bytes(tables: &Tables, filter: Filter) -> usize {
+    let l = tables.layout();
+    match filter {
+        Filter::Hardware => l.texels() * l.storage.bytes_per_texel(),
+        Filter::None | Filter::Manual => l.texels() * 16,
+    }
 }
 
 /// Times `filter` reading `tables` (`reads` per invocation, median of `repeats`) and
@@ -147,6 +159,16 @@ impl Kernel {
         });
         gpu.queue
             .write_buffer(&globals_buffer, 0, bytemuck::bytes_of(&globals));
+        // e_table: the renderer's 2x2 blocks; filtered_table: one texel each, in the storage
+        // format, for the sampler.
+        let l = tables.layout();
+        let quads = crate::gpu::resources::quad_texture(
+            device,
+            &gpu.queue,
+            l.mu_size,
+            l.r_size,
+            &tables.stored_loss,
+        );
         let view = loss_texture(gpu, tables);
         let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bench group 0"),
@@ -165,7 +187,7 @@ impl Kernel {
                 },
                 wgpu::BindGroupEntry {
                     binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&view),
+                    resource: wgpu::BindingResource::TextureView(&quads),
                 },
             ],
         });

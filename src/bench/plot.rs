@@ -29,12 +29,14 @@ const PALETTE: [[u8; 3]; 7] = [
     [120, 120, 120],
 ];
 
-/// One curve: points joined in order of x; `peer` series are drawn in black, unjoined.
-#[derive(Clone, Debug)]
+/// One curve: points joined in order of x unless `points_only`; `peer` series (the
+/// homework's) are black squares, unjoined.
+#[derive(Clone, Debug, Default)]
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub peer: bool,
+    pub points_only: bool,
 }
 
 /// A log-log plot; `goals` are dashed lines at `(label, Some(x), None)` (vertical) or
@@ -152,7 +154,11 @@ pub fn write(plot: &Plot, path: &Path) -> Result<()> {
         if !lo.is_finite() {
             return (0, 1);
         }
-        let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        // A little room above and below, so that no point sits on the frame.
+        let (a, b) = (
+            (lo.log10() - 0.1).floor() as i32,
+            (hi.log10() + 0.1).ceil() as i32,
+        );
         (a, b.max(a + 1))
     };
     let (x0, x1) = range(xs.into_iter().chain(goal_x).collect());
@@ -210,7 +216,7 @@ pub fn write(plot: &Plot, path: &Path) -> Result<()> {
             .map(|(x, y)| (px(x), py(y)))
             .collect();
         p.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if !s.peer {
+        if !s.peer && !s.points_only {
             for w in p.windows(2) {
                 c.line(w[0], w[1], 1.2, col, 0.0);
             }
@@ -226,6 +232,8 @@ pub fn write(plot: &Plot, path: &Path) -> Result<()> {
         let lx = LEFT + pw + 20.0;
         if s.peer {
             c.square(lx + 10.0, ly, 5.0, col);
+        } else if s.points_only {
+            c.disc(lx + 10.0, ly, 4.0, col);
         } else {
             c.line((lx, ly), (lx + 20.0, ly), 1.2, col, 0.0);
             c.disc(lx + 10.0, ly, 4.0, col);
@@ -233,7 +241,7 @@ pub fn write(plot: &Plot, path: &Path) -> Result<()> {
         c.text(&s.label, lx + 28.0, ly + 5.0, 14.0, ink);
     }
     let tw = c.text_width(&plot.title, 17.0);
-    c.text(&plot.title, LEFT + (pw - tw) / 2.0, 30.0, 17.0, ink);
+    c.text(&plot.title, LEFT + (pw - tw) / 2.0, 22.0, 17.0, ink);
     let xw = c.text_width(&plot.x_label, 15.0);
     c.text(
         &plot.x_label,
@@ -242,7 +250,7 @@ pub fn write(plot: &Plot, path: &Path) -> Result<()> {
         15.0,
         ink,
     );
-    c.text(&plot.y_label, 8.0, TOP - 12.0, 15.0, ink);
+    c.text(&plot.y_label, 8.0, TOP - 8.0, 15.0, ink);
     let mut png = Vec::new();
     c.img
         .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)

@@ -104,6 +104,7 @@ pub fn read_sweep(quick: bool) -> Sweep {
                 label: name,
                 points: vec![point],
                 peer: label == HOMEWORK,
+                ..Default::default()
             }),
         }
     }
@@ -184,7 +185,7 @@ pub fn lookup_sweep(gpu: &Gpu, quick: bool) -> Result<Sweep> {
                 format!("{}x{}", config.layout.mu_size, config.layout.r_size),
                 config.layout.storage.to_string(),
                 "hardware (not filterable here)".into(),
-                config.layout.bytes().to_string(),
+                (config.layout.texels() * config.layout.storage.bytes_per_texel()).to_string(),
                 "-".into(),
                 "-".into(),
                 "-".into(),
@@ -192,6 +193,7 @@ pub fn lookup_sweep(gpu: &Gpu, quick: bool) -> Result<Sweep> {
             continue;
         }
         let tables = lut::bake(&config);
+        let bytes = lookup::texture_bytes(&tables, filter);
         let m = lookup::measure(gpu, &tables, filter, reads, repeats, &reference)?;
         let (e_max, e_mean) = m
             .error
@@ -203,7 +205,7 @@ pub fn lookup_sweep(gpu: &Gpu, quick: bool) -> Result<Sweep> {
             format!("{}x{}", l.mu_size, l.r_size),
             l.storage.to_string(),
             filter.name().into(),
-            l.bytes().to_string(),
+            bytes.to_string(),
             format!("{:.3}", m.ns_per_read),
             e_max,
             e_mean,
@@ -221,12 +223,13 @@ pub fn lookup_sweep(gpu: &Gpu, quick: bool) -> Result<Sweep> {
                     label: name,
                     points: vec![point],
                     peer: label == HOMEWORK,
+                    points_only: true,
                 }),
             }
         }
     }
     t.note = format!(
-        "{} on {}: median wall time of a dispatch of {} invocations x {reads} reads at hashed (mu, roughness), per read ({repeats} runs); the 'none' row is the loop without the read. Errors: {n_points} reads read back, against the precise reference.",
+        "{} on {}: median wall time of a dispatch of {} invocations x {reads} reads at hashed (mu, roughness), per read ({repeats} runs); the 'none' row is the loop without the read. Bytes: the E texture the read fetches from (manual: the renderer's 2x2 blocks, 16 bytes a texel, values quantised to the storage; hardware: the storage format). Errors: {n_points} reads read back, against the precise reference.",
         if quick { "Quick" } else { "Full" },
         gpu.describe(),
         lookup::INVOCATIONS

@@ -59,15 +59,17 @@ pub fn exact_radiance(scene: &Scene, exact: &Tables) -> Vec<DVec3> {
 }
 
 /// Renders `scene` with `tables`, the term compiled in and out, frames alternating between
-/// the two so that both see the same machine load: (on, off), each with its median frame
-/// time over `repeats` frames and its display error against `exact` radiance.
+/// the two so that both see the same machine load: (on, off, ratio), each frame with its
+/// median time over `repeats` frames and its display error against `exact` radiance; the
+/// ratio is the median over rounds of (on / off) of the two frames of a round, which
+/// cancels the drift of a shared machine's load better than a ratio of medians.
 pub fn measure_pair(
     renderer: &mut Renderer,
     scene: &Scene,
     tables: Arc<Tables>,
     repeats: usize,
     exact: &[DVec3],
-) -> Result<(Frame, Frame)> {
+) -> Result<(Frame, Frame, f64)> {
     renderer.set_tables(tables);
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let texture = renderer
@@ -96,10 +98,11 @@ pub fn measure_pair(
     };
     let mut times = [Vec::new(), Vec::new()];
     // One warm-up frame each (pipeline creation, the driver's shader compile), then
-    // alternate.
+    // alternate, on first in even rounds and off first in odd ones.
     for round in 0..=repeats.max(1) {
-        for (k, term) in [true, false].into_iter().enumerate() {
-            renderer.set_multiple_scattering_term(term);
+        let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
+        for k in order {
+            renderer.set_multiple_scattering_term(k == 0);
             let start = Instant::now();
             renderer.render(scene, target)?;
             device::wait(renderer.gpu())?;
@@ -108,6 +111,9 @@ pub fn measure_pair(
             }
         }
     }
+    // Pairs first: the medians below sort the times.
+    let mut ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
+    let ratio = median(&mut ratios);
     let mut frames = Vec::new();
     for (k, term) in [true, false].into_iter().enumerate() {
         renderer.set_multiple_scattering_term(term);
@@ -122,7 +128,7 @@ pub fn measure_pair(
     renderer.set_multiple_scattering_term(true);
     let off = frames.pop().expect("two frames");
     let on = frames.pop().expect("two frames");
-    Ok((on, off))
+    Ok((on, off, ratio))
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -162,7 +168,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         "Rendering: frame time at 1280x720 with the term on and off against the image error (exact model on the CPU as reference)",
         &["config", "scene", "preset", "tables", "term", "frame_ms", "on_over_off", "err_max_255", "err_mean_255"],
     );
-    let repeats = if quick { 5 } else { 15 };
+    let repeats = if quick { 9 } else { 41 };
     let reference = Scene::reference();
     let games202 = Scene {
         preset: Preset::Games202,
@@ -209,21 +215,15 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     }
     let exact = exact_tables(&reference)?;
     let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
-    let mut on_series = Series {
-        label: "term on".into(),
-        points: Vec::new(),
-        peer: false,
+    let series = |label: &str, peer| Series {
+        label: label.into(),
+        peer,
+        points_only: true,
+        ..Default::default()
     };
-    let mut off_series = Series {
-        label: "term off".into(),
-        points: Vec::new(),
-        peer: false,
-    };
-    let mut peer = Series {
-        label: "homework (on)".into(),
-        points: Vec::new(),
-        peer: true,
-    };
+    let mut on_series = series("term on", false);
+    let mut off_series = series("term off", false);
+    let mut peer = series("homework (term on)", true);
     let mut goals = Vec::new();
     for (label, scene_name, scene, tables_name, config) in runs {
         let key = format!("{scene_name} {}", scene.preset);
@@ -236,8 +236,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             .expect("added above")
             .1;
         let tables = tables_for(&scene, config);
-        let (on, off) = measure_pair(renderer, &scene, tables, repeats, image)?;
-        let ratio = on.ms / off.ms;
+        let (on, off, ratio) = measure_pair(renderer, &scene, tables, repeats, image)?;
         for (frame, term) in [(&on, "on"), (&off, "off")] {
             t.push(vec![
                 label.to_string(),
@@ -277,7 +276,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         }
     }
     t.note = format!(
-        "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback). Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (src/bench/exact.rs). 'term off' compiles the term out of the shader (MS_TERM = 0): its error is what dropping the term costs.",
+        "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback); on_over_off is the median of the on/off ratio of each pair of frames. Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (src/bench/exact.rs). 'term off' compiles the term out of the shader (MS_TERM = 0): its error is what dropping the term costs.",
         if quick { "Quick" } else { "Full" },
         renderer.gpu().describe()
     );

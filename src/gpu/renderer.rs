@@ -167,7 +167,7 @@ impl Renderer {
         let queue = &self.gpu.queue;
         let globals = uniforms::globals(scene, &tables, target.width, target.height);
         queue.write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
-        let balls = uniforms::balls(scene);
+        let balls = uniforms::balls(scene, &tables);
         if !balls.is_empty() {
             queue.write_buffer(&self.resources.balls, 0, bytemuck::cast_slice(&balls));
         }

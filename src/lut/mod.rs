@@ -218,6 +218,32 @@ impl Tables {
         top + (bottom - top) * fy
     }
 
+    /// The roughness half of a read at `roughness`, done once per ball (`lut_row` in a ball's
+    /// uniforms): `[first row index, weight of the next row, alpha, 0]`, the same f32
+    /// arithmetic as [`Tables::lut_loss`].
+    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+        let l = self.layout();
+        let (sy, by) = l.scale_bias(l.r_size);
+        let (j0, _, fy) = lut_texel_span(l.r_coord(roughness), l.r_size, sy as f32, by as f32);
+        let r = roughness_coord(roughness);
+        [j0 as f32, fy, r * r, 0.0]
+    }
+
+    /// `lut_loss_row` of `shaders/lut.wgsl`: [`Tables::lut_loss`] with the roughness half
+    /// from [`Tables::lut_row`]; equal to `lut_loss(mu, roughness)`.
+    pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
+        let l = self.layout();
+        let (sx, bx) = l.scale_bias(l.mu_size);
+        let x = l.mu_axis.coord(mu, row[2]);
+        let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
+        let j0 = row[0] as usize;
+        let j1 = (j0 + 1).min(l.r_size - 1);
+        let t = |i: usize, j: usize| self.stored_loss[j * l.mu_size + i];
+        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
+        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
+        top + (bottom - top) * row[1]
+    }
+
     /// E as the shader reads it: `1 - lut_loss`.
     pub fn lut_e(&self, mu: f32, roughness: f32) -> f32 {
         1.0 - self.lut_loss(mu, roughness)

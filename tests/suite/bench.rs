@@ -248,3 +248,42 @@ fn gpu_lookup_and_term_switch() {
         "the term changes nothing: the test sees no term"
     );
 }
+
+/// The renderer's per-ball read (`lut_row` once per ball, `lut_loss_row` per pixel) and its
+/// 2x2 blocks return exactly the full read, on every layout.
+#[test]
+fn per_ball_read_equals_the_full_read() {
+    use shadeballs::lut::accuracy::random_points;
+    use shadeballs::lut::{Layout, LayoutKind, Storage};
+    for layout in [
+        Layout::default(),
+        Layout::of_kind(LayoutKind::Games202),
+        Layout::of_kind(LayoutKind::SqrtMu).with_size(16, 2),
+        Layout::default().with_size(2, 1).with_storage(Storage::F16),
+    ] {
+        let t = lut::bake(&BakeConfig {
+            layout,
+            ..BakeConfig::default()
+        });
+        let quads =
+            shadeballs::gpu::resources::loss_quads(&t.stored_loss, layout.mu_size, layout.r_size);
+        for (mu, r) in random_points(500, 5)
+            .into_iter()
+            .chain([(0.0, 0.0), (1.0, 1.0)])
+        {
+            let (mu, r) = (mu as f32, r as f32);
+            let row = t.lut_row(r);
+            assert_eq!(
+                t.lut_loss_row(mu, row),
+                t.lut_loss(mu, r),
+                "{layout:?} at ({mu}, {r})"
+            );
+            // The block at the read's first texel holds the four texels it blends.
+            let j0 = row[0] as usize;
+            let q = &quads[4 * (j0 * layout.mu_size)..][..4];
+            let j1 = (j0 + 1).min(layout.r_size - 1);
+            assert_eq!(q[0], t.stored_loss[j0 * layout.mu_size]);
+            assert_eq!(q[2], t.stored_loss[j1 * layout.mu_size]);
+        }
+    }
+}
