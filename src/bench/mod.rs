@@ -9,6 +9,7 @@
 mod bake;
 pub mod device;
 pub mod exact;
+mod kernel;
 pub mod lookup;
 pub mod plot;
 mod read;
@@ -77,7 +78,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             sweeps.push(render::render_sweep(&mut renderer, quick)?);
             drop(renderer);
             match &options.exe {
-                Some(exe) => sweeps.push(startup::startup_sweep(exe, &options.out, quick)?),
+                Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),
                 None => skipped.push("startup (no shadeballs executable given)".to_string()),
             }
         }

@@ -118,8 +118,20 @@ pub fn median(runs: &[Startup]) -> Startup {
 }
 
 /// The startup table: the process (median of `runs` runs of `exe`), and the same phases in
-/// this process with the default bake and with the homework's bake (peer).
-pub fn startup_sweep(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
+/// this process with the default bake and with the homework's bake (peer). The images go to
+/// a scratch folder under the system's temp folder, removed afterwards.
+pub fn startup_sweep(exe: &Path, quick: bool) -> Result<super::Sweep> {
+    let dir = std::env::temp_dir().join(format!("shadeballs-startup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|source| Error::Write {
+        path: dir.clone(),
+        source,
+    })?;
+    let sweep = startup_runs(exe, &dir, quick);
+    let _ = std::fs::remove_dir_all(&dir);
+    sweep
+}
+
+fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
     use super::bake::{homework_config, HOMEWORK};
     use super::table::Table;
     use super::Goal;
