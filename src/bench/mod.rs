@@ -59,6 +59,12 @@ pub struct Goal {
 /// it fails before measuring anything (naming the package to install), unless `cpu_only`.
 pub fn run(options: &BenchOptions) -> Result<String> {
     let started = Instant::now();
+    if options.out.exists() && !options.out.is_dir() {
+        return Err(Error::Invalid {
+            what: "bench output folder",
+            message: format!("'{}' exists and is not a folder", options.out.display()),
+        });
+    }
     std::fs::create_dir_all(&options.out).map_err(|source| Error::Write {
         path: options.out.clone(),
         source,
@@ -66,7 +72,15 @@ pub fn run(options: &BenchOptions) -> Result<String> {
     let gpu = if options.cpu_only {
         None
     } else {
-        Some(device::open()?)
+        Some(device::open().map_err(|e| match e {
+            Error::NoAdapter { .. } => Error::Invalid {
+                what: "bench",
+                message: format!(
+                    "{e}; `shadeballs bench --cpu-only` measures the CPU sweeps alone"
+                ),
+            },
+            e => e,
+        })?)
     };
     let quick = options.quick;
     let mut sweeps = vec![bake::bake_sweep(quick), read::read_sweep(quick)];
@@ -76,6 +90,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             sweeps.push(read::lookup_sweep(&gpu, quick)?);
             let mut renderer = crate::gpu::Renderer::new(gpu);
             sweeps.push(render::render_sweep(&mut renderer, quick)?);
+            // Release this device before the startup runs open theirs.
             drop(renderer);
             match &options.exe {
                 Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),

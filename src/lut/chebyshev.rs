@@ -13,13 +13,13 @@
 //!
 //! One exception shapes the grid: with height-correlated Smith G, E has a `mu ln mu` term
 //! at grazing (`G = 1 / (1 + L(mu_o) + L(mu_i))` couples the two near-horizon poles), a
-//! singularity at `x = 0` that caps a series in x at 1e-4 even with 33 points. The series
-//! runs in `y = sqrt(x)` instead, where the term is `y^2 ln y`. Measured with precise
-//! values at the points (48 nodes a segment), at every texel of the 64 x 64 default and
-//! the homework's 128 x 128 layout: 25 points along y and 17 along roughness interpolate E
-//! within 1.9e-7 (Schlick), 6.0e-7 (Smith), 1.4e-6 (height-correlated Smith); a series in x
-//! with 17 x 17 points, 1.9e-7, 2.2e-6 and 6.0e-4.
-//!
+//! singularity at `x = 0` that a series in x resolves only slowly (its error falls
+//! algebraically, not geometrically, with the number of points). The series runs in
+//! `y = sqrt(x)` instead, where the term is `y^2 ln y`. With precise values at the points
+//! (48 nodes a segment), 25 points along y and 17 along roughness interpolate E within
+//! 1.9e-7 (Schlick), 6.0e-7 (Smith) and 1.9e-6 (height-correlated Smith) at every texel of
+//! the 64 x 64 default and the homework's 128 x 128 layout (tests/suite/lut_chebyshev.rs).
+
 //! ## How
 //!
 //! Values at the Chebyshev-Lobatto points `s_k = cos(pi k / N)` of each axis give the

@@ -19,7 +19,7 @@ pub enum Method {
     /// Spherical Caps"): weight `G / G1(mu_o)`, bounded.
     Vndf,
     /// Gauss-Legendre over `theta_i` after the azimuth is integrated in closed form
-    /// (see `integrand.rs`); `samples` nodes in each of its (up to four) segments.
+    /// (see `integrand.rs`); `samples` nodes in each of its (up to five) segments.
     Quadrature,
     /// The quadrature at a Chebyshev grid in (warped mu, roughness), interpolated to each
     /// texel (`chebyshev.rs`): the same value at a single point, a fixed cost per table.

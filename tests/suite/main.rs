@@ -7,6 +7,7 @@ mod cli_bake;
 mod cli_render;
 mod golden;
 mod lut;
+mod lut_chebyshev;
 mod pixels;
 mod probe;
 mod render;
