@@ -201,7 +201,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             "-",
             "default",
             reference.clone(),
-            "games202 layout, chebyshev bake",
+            "games202 layout; chebyshev bake",
             layout(LayoutKind::Games202),
         ));
         runs.push((
