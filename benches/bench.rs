@@ -7,6 +7,8 @@ fn main() {
     match shadeballs::bench::run(&shadeballs::bench::BenchOptions {
         quick,
         out: out.clone(),
+        exe: Some(env!("CARGO_BIN_EXE_shadeballs").into()),
+        cpu_only: false,
     }) {
         Ok(summary) => println!("{summary}\nwritten to {}", out.display()),
         Err(e) => {

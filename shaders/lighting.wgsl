@@ -18,12 +18,17 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let f0 = b.f0_roughness.xyz;
     let ms = b.diffuse_ms.w;
     let mu_o = max(dot(n, v), 0.0);
-    let loss_o = lut_loss(mu_o, roughness);
+    let loss_o = lut_loss_row(mu_o, b.lut_row);
     let e_o = 1.0 - loss_o;
-    let loss_avg = lut_loss_avg(roughness);
-    let e_avg = 1.0 - loss_avg;
     let f_avg_ss = f_avg_schlick(f0);
-    let f_add = f_add_preset(f0, e_avg);
+    // f_add and 1 - E_avg are constant over the ball: formed once on the CPU, per preset
+    // (f_add_preset, src/gpu/uniforms.rs balls).
+    var loss_avg = 0.0;
+    var f_add = vec3<f32>(0.0);
+    if MS_TERM == 1u {
+        loss_avg = b.f_add_loss_avg.w;
+        f_add = b.f_add_loss_avg.xyz;
+    }
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
 
     var lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
@@ -36,8 +41,13 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, dot(v, h));
         let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness);
-        let loss_i = lut_loss(mu_i, roughness);
-        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / PI;
+        var lobe = vec3<f32>(0.0);
+        // ms is uniform over a ball: balls without the term skip its E read.
+        if MS_TERM == 1u && ms > 0.0 {
+            let loss_i = lut_loss_row(mu_i, b.lut_row);
+            lobe = ms * f_add * f_ms(loss_o, loss_i, loss_avg);
+        }
+        let f_r = spec + lobe + kd / PI;
         lo += f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;

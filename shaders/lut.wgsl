@@ -43,8 +43,11 @@ fn r_coord(roughness: f32) -> f32 {
     return clamp((roughness_clamped(roughness) - r_min) / (1.0 - r_min), 0.0, 1.0);
 }
 
-fn loss_texel(i: u32, j: u32) -> f32 {
-    return textureLoad(e_table, vec2<u32>(i, j), 0).r;
+// Texels (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1) of the table in one load: e_table
+// holds each texel's 2x2 block (src/gpu/resources.rs loss_quads), so a bilinear read costs
+// one fetch instead of four (README, "Measured results": the term's cost per frame).
+fn loss_quad(i: u32, j: u32) -> vec4<f32> {
+    return textureLoad(e_table, vec2<u32>(i, j), 0);
 }
 
 // Bilinear read of 1 - E(mu, roughness) (Tables::lut_loss).
@@ -53,13 +56,24 @@ fn lut_loss(mu: f32, roughness: f32) -> f32 {
     let x = mu_coord(mu, r * r);
     let sx = lut_texel_span(x, globals.lut_dims.x, globals.lut.x, globals.lut.y);
     let sy = lut_texel_span(r_coord(roughness), globals.lut_dims.y, globals.lut.z, globals.lut.w);
-    let t00 = loss_texel(sx.i0, sy.i0);
-    let t10 = loss_texel(sx.i1, sy.i0);
-    let t01 = loss_texel(sx.i0, sy.i1);
-    let t11 = loss_texel(sx.i1, sy.i1);
-    let top = t00 + (t10 - t00) * sx.f;
-    let bottom = t01 + (t11 - t01) * sx.f;
+    // (t00, t10, t01, t11): the span's i1 and j1 are i0 + 1 and j0 + 1, or i0 and j0 on an
+    // axis of one texel, where the block repeats its texel.
+    let q = loss_quad(sx.i0, sy.i0);
+    let top = q.x + (q.y - q.x) * sx.f;
+    let bottom = q.z + (q.w - q.z) * sx.f;
     return top + (bottom - top) * sy.f;
+}
+
+// lut_loss with the roughness half of the read done once per ball (Tables::lut_row):
+// row = (first row index, weight of the next row, alpha, unused). The same value as
+// lut_loss(mu, roughness) (Tables::lut_loss_row).
+fn lut_loss_row(mu: f32, row: vec4<f32>) -> f32 {
+    let x = mu_coord(mu, row.z);
+    let sx = lut_texel_span(x, globals.lut_dims.x, globals.lut.x, globals.lut.y);
+    let q = loss_quad(sx.i0, u32(row.x));
+    let top = q.x + (q.y - q.x) * sx.f;
+    let bottom = q.z + (q.w - q.z) * sx.f;
+    return top + (bottom - top) * row.y;
 }
 
 // E as the shader reads it (Tables::lut_e).

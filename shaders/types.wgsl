@@ -48,6 +48,10 @@ override GEOMETRY: u32;
 override F_ADD_FORM: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
+// 1 (default): the multiple-scattering term as each ball's flag says; 0: compiled out (no
+// second E read per light), the same image as every flag off. For measuring what the term
+// costs (`shadeballs bench`).
+override MS_TERM: u32 = 1u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {
@@ -78,6 +82,13 @@ struct Ball {
     // xyz: linear diffuse albedo (dielectric base; 0 for metals); w: 1 with the
     // multiple-scattering term, 0 without.
     diffuse_ms: vec4<f32>,
+    // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: f_add of
+    // the preset (f_add_accurate or f_add_games202 of E_avg); w: 1 - E_avg at the ball's
+    // roughness as lut_loss_avg reads it.
+    f_add_loss_avg: vec4<f32>,
+    // The roughness half of an E read at the ball's roughness (Tables::lut_row; lut_loss_row
+    // in lut.wgsl): first row index, weight of the next row, alpha, unused.
+    lut_row: vec4<f32>,
 }
 
 struct Light {

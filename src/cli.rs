@@ -47,9 +47,12 @@ pub struct BenchArgs {
     /// Fewer configurations and repeats (under a minute).
     #[arg(long)]
     pub quick: bool,
-    /// Folder for the CSV files and summary.md.
+    /// Folder for the CSV files, plots (PNG) and summary.md.
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
+    /// Only the CPU sweeps (bake, read): for a machine without a GPU driver.
+    #[arg(long)]
+    pub cpu_only: bool,
 }
 
 #[derive(clap::Args)]

@@ -26,7 +26,7 @@ struct Cli {
 enum Command {
     /// Bake E(mu, roughness) and E_avg(roughness) and write them to a file.
     Bake(BakeArgs),
-    /// Measure run time against error (writes CSV and a markdown summary).
+    /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
     Bench(BenchArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
@@ -138,6 +138,8 @@ fn main() -> ExitCode {
             let options = shadeballs::bench::BenchOptions {
                 quick: args.quick,
                 out: args.out,
+                exe: std::env::current_exe().ok(),
+                cpu_only: args.cpu_only,
             };
             shadeballs::bench::run(&options)
                 .map(|summary| println!("{summary}"))

@@ -1,25 +1,35 @@
-//! Baking (time against bake error) and reading (memory against read-path error).
+//! Baking: wall time against bake error, every estimator at a sweep of sample counts (per
+//! geometry term) and of table sizes, with the homework's configuration as the peer row.
+//! Every error is against [`ReferenceTables`], the adaptive Gauss-Kronrod reference at the
+//! same texels ([`bake_errors`]), never against another estimator.
 
-use super::median_ms;
+use super::plot::{Plot, Series};
 use super::table::{sci, Table};
+use super::{median_ms, Goal, Sweep};
 use crate::brdf::Geometry;
-use crate::lut::accuracy::{random_points, ReferencePoints, ReferenceTables};
-use crate::lut::{self, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage};
+use crate::lut::accuracy::{ErrorStats, ReferenceTables};
+use crate::lut::{self, BakeConfig, Layout, LayoutKind, Method, PointSet, Tables};
 
-/// The bake-error goal of the default bake (issue 2).
+/// The bake-error goal of the default bake (issue 2), and its time goal.
 pub const BAKE_ERROR_GOAL: f64 = 1e-4;
+pub const BAKE_TIME_GOAL_MS: f64 = 10.0;
+
+/// The label of the homework's configuration in every table.
+pub const HOMEWORK: &str = "homework (cosine 1024 random; 128x128 unorm8)";
 
 /// Repeats a measurement more often when it is fast: the median of up to 15 runs, at
-/// least one, within about a second of total run time.
-fn repeats_for(first_ms: f64) -> usize {
-    (1000.0 / first_ms.max(1e-3)).clamp(1.0, 15.0) as usize
+/// least one, within about a second of total run time (`quick`: a third of that).
+fn repeats_for(first_ms: f64, quick: bool) -> usize {
+    let budget = if quick { 300.0 } else { 1000.0 };
+    (budget / first_ms.max(1e-3)).clamp(1.0, 15.0) as usize
 }
 
-fn timed_bake(config: &BakeConfig) -> (f64, lut::Tables) {
+/// Median bake time (ms) and the tables.
+pub fn timed_bake(config: &BakeConfig, quick: bool) -> (f64, Tables) {
     let start = std::time::Instant::now();
     let tables = lut::bake(config);
     let first = start.elapsed().as_secs_f64() * 1e3;
-    match repeats_for(first) {
+    match repeats_for(first, quick) {
         // Slow enough that one run is its own median, and noise is small against it.
         1 => (first, tables),
         n => median_ms(n, || lut::bake(config)),
@@ -27,7 +37,7 @@ fn timed_bake(config: &BakeConfig) -> (f64, lut::Tables) {
 }
 
 /// The homework's configuration: cosine-weighted random sampling, 1024 samples a texel,
-/// its 128 x 128 layout.
+/// its 128 x 128 layout with 8-bit storage.
 pub fn homework_config(geometry: Geometry) -> BakeConfig {
     BakeConfig {
         geometry,
@@ -38,45 +48,110 @@ pub fn homework_config(geometry: Geometry) -> BakeConfig {
     }
 }
 
+/// Bake error of `tables` (E per texel, E_avg per row) against the precise reference of
+/// their own layout and geometry: what every bake table reports.
+pub fn bake_errors(tables: &Tables) -> (ErrorStats, ErrorStats) {
+    ReferenceTables::new(*tables.layout(), tables.config.geometry).bake_error(tables)
+}
+
 fn sample_counts(method: Method, quick: bool) -> &'static [usize] {
     match (method, quick) {
-        (Method::Quadrature, false) => &[4, 6, 8, 12, 16, 24, 32],
-        (Method::Quadrature, true) => &[8, 16],
+        (Method::Quadrature | Method::Chebyshev, false) => &[4, 6, 8, 12, 16, 20, 24, 32],
+        (Method::Quadrature | Method::Chebyshev, true) => &[8, 16, 24],
         (Method::Vndf, false) => &[64, 256, 1024, 4096],
         (Method::Cosine | Method::Ndf, false) => &[64, 256, 1024],
-        (_, true) => &[256],
+        (_, true) => &[64, 256],
     }
 }
 
-/// Every estimator at a sweep of sample counts on the default layout, per geometry term,
-/// then the homework's 128 x 128 configuration against the default method on the same
-/// layout.
-pub fn bake_sweep(quick: bool) -> Vec<Table> {
+const COLUMNS: [&str; 11] = [
+    "config",
+    "geometry",
+    "method",
+    "points",
+    "samples",
+    "size",
+    "time_ms",
+    "e_max",
+    "e_mean",
+    "e_avg_max",
+    "meets_1e-4",
+];
+
+/// One measured bake as a row of [`COLUMNS`]; returns `(time, e_max)` too.
+fn bake_row(
+    config: &BakeConfig,
+    label: &str,
+    quick: bool,
+    reference: &ReferenceTables,
+) -> (Vec<String>, (f64, f64)) {
+    let (ms, tables) = timed_bake(config, quick);
+    let (e, avg) = reference.bake_error(&tables);
+    let meets = e.max <= BAKE_ERROR_GOAL && avg.max <= BAKE_ERROR_GOAL;
+    let points = match config.method {
+        Method::Quadrature | Method::Chebyshev => "-".to_string(),
+        _ => config.points.to_string(),
+    };
+    let l = config.layout;
+    let row = vec![
+        label.to_string(),
+        config.geometry.to_string(),
+        config.method.to_string(),
+        points,
+        config.samples.to_string(),
+        format!("{}x{} {}", l.mu_size, l.r_size, l.storage),
+        format!("{ms:.3}"),
+        sci(e.max),
+        sci(e.mean),
+        sci(avg.max),
+        meets.to_string(),
+    ];
+    (row, (ms, e.max))
+}
+
+/// The homework's configuration as a row, with its own 128 x 128 reference.
+fn homework_row(quick: bool, hw_reference: &ReferenceTables) -> (Vec<String>, (f64, f64)) {
+    bake_row(
+        &homework_config(Geometry::Schlick),
+        HOMEWORK,
+        quick,
+        hw_reference,
+    )
+}
+
+/// Every estimator at a sweep of sample counts on the default layout, per geometry term;
+/// every estimator at a sweep of table sizes; the homework's 128 x 128 table against the
+/// default method.
+pub fn bake_sweep(quick: bool) -> Sweep {
+    let hw_reference =
+        ReferenceTables::new(Layout::of_kind(LayoutKind::Games202), Geometry::Schlick);
+    let (hw_row, hw_point) = homework_row(quick, &hw_reference);
     let mut sweep = Table::new(
         "bake",
-        "Baking: wall time against bake error (default layout)",
-        &[
-            "geometry",
-            "method",
-            "points",
-            "samples",
-            "size",
-            "time_ms",
-            "e_max",
-            "e_mean",
-            "e_avg_max",
-            "meets_1e-4",
-        ],
+        "Baking: wall time against bake error (default 64x64 warped layout)",
+        &COLUMNS,
     );
+    sweep.push(hw_row.clone());
     let geometries: &[Geometry] = if quick {
         &[Geometry::Schlick]
     } else {
         &Geometry::ALL
     };
+    let mut plot = Plot {
+        title: "Bake: time against max error (schlick G, 64x64)".into(),
+        x_label: "bake wall time (ms, median)".into(),
+        y_label: "max |E - E_ref|".into(),
+        goals: vec![
+            ("1e-4".into(), None, Some(BAKE_ERROR_GOAL)),
+            ("10 ms".into(), Some(BAKE_TIME_GOAL_MS), None),
+        ],
+        ..Default::default()
+    };
+    let mut goals = Vec::new();
     for &geometry in geometries {
-        let layout = Layout::default();
-        let reference = ReferenceTables::new(layout, geometry);
+        let reference = ReferenceTables::new(Layout::default(), geometry);
         for method in Method::ALL {
+            let mut points = Vec::new();
             for &samples in sample_counts(method, quick) {
                 let config = BakeConfig {
                     geometry,
@@ -84,146 +159,138 @@ pub fn bake_sweep(quick: bool) -> Vec<Table> {
                     samples,
                     ..BakeConfig::default()
                 };
-                let (ms, tables) = timed_bake(&config);
-                let (e, avg) = reference.bake_error(&tables);
-                let meets = e.max <= BAKE_ERROR_GOAL && avg.max <= BAKE_ERROR_GOAL;
-                sweep.push(vec![
-                    geometry.to_string(),
-                    method.to_string(),
-                    if method == Method::Quadrature {
-                        "-".into()
-                    } else {
-                        config.points.to_string()
-                    },
-                    samples.to_string(),
-                    format!("{}x{}", layout.mu_size, layout.r_size),
-                    format!("{ms:.3}"),
-                    sci(e.max),
-                    sci(e.mean),
-                    sci(avg.max),
-                    meets.to_string(),
-                ]);
+                let default = BakeConfig {
+                    geometry,
+                    ..BakeConfig::default()
+                };
+                let label = if config == default { "default" } else { "-" };
+                let (row, point) = bake_row(&config, label, quick, &reference);
+                if label == "default" {
+                    goals.push(Goal {
+                        what: format!("default bake ({geometry} G): max error <= 1e-4 in <= 10 ms"),
+                        figure: format!("{} ms, E max {}, E_avg max {}", row[6], row[7], row[9]),
+                        met: row[10] == "true" && point.0 <= BAKE_TIME_GOAL_MS,
+                    });
+                }
+                points.push(point);
+                sweep.push(row);
+            }
+            if geometry == Geometry::Schlick {
+                plot.series.push(Series {
+                    label: method.to_string(),
+                    points,
+                    peer: false,
+                    ..Default::default()
+                });
             }
         }
     }
+    plot.series.push(Series {
+        label: "homework (128x128)".into(),
+        points: vec![hw_point],
+        peer: true,
+        ..Default::default()
+    });
     sweep.note = format!(
-        "Goal: e_max and e_avg_max <= {BAKE_ERROR_GOAL:.0e}; the default is {} with {} nodes a segment.",
+        "Goal: e_max and e_avg_max <= {BAKE_ERROR_GOAL:.0e} in <= {BAKE_TIME_GOAL_MS} ms; the default is {} with {} nodes a segment. The homework row is on its own 128x128 layout.",
         lut::DEFAULT_METHOD,
         lut::DEFAULT_SAMPLES
     );
-    vec![sweep, homework_comparison()]
+    let (sizes, sizes_plot) = size_sweep(quick, &hw_row, hw_point);
+    let (versus, goal) = homework_comparison(quick, &hw_reference, hw_point, &hw_row);
+    goals.push(goal);
+    Sweep {
+        tables: vec![sweep, sizes, versus],
+        plots: vec![("bake".into(), plot), ("bake_sizes".into(), sizes_plot)],
+        goals,
+    }
 }
 
-/// The homework's lut-gen configuration against the default method, both on the homework's
-/// 128 x 128 layout, same run.
-fn homework_comparison() -> Table {
+/// Every estimator at its usual sample count over table sizes (schlick G, warped layout).
+fn size_sweep(quick: bool, hw_row: &[String], hw_point: (f64, f64)) -> (Table, Plot) {
+    let mut t = Table::new(
+        "bake_sizes",
+        "Baking: wall time against bake error over table sizes (schlick G, warped layout)",
+        &COLUMNS,
+    );
+    t.push(hw_row.to_vec());
+    let sizes: &[usize] = if quick {
+        &[32, 64]
+    } else {
+        &[16, 32, 64, 128, 256]
+    };
+    let mut plot = Plot {
+        title: "Bake over table sizes: time against max error (schlick G)".into(),
+        x_label: "bake wall time (ms, median)".into(),
+        y_label: "max |E - E_ref|".into(),
+        ..Default::default()
+    };
+    for method in Method::ALL {
+        let samples = match method {
+            Method::Quadrature | Method::Chebyshev => lut::DEFAULT_SAMPLES,
+            _ if quick => 256,
+            _ => 1024,
+        };
+        let mut points = Vec::new();
+        for &n in sizes {
+            let layout = Layout::default().with_size(n, n);
+            let reference = ReferenceTables::new(layout, Geometry::Schlick);
+            let config = BakeConfig {
+                method,
+                samples,
+                layout,
+                ..BakeConfig::default()
+            };
+            let (row, point) = bake_row(&config, "-", quick, &reference);
+            points.push(point);
+            t.push(row);
+        }
+        plot.series.push(Series {
+            label: format!("{method} ({samples})"),
+            points,
+            peer: false,
+            ..Default::default()
+        });
+    }
+    plot.series.push(Series {
+        label: "homework (128x128)".into(),
+        points: vec![hw_point],
+        peer: true,
+        ..Default::default()
+    });
+    t.note = format!("Sizes {sizes:?} (N x N); quadrature and chebyshev at {} nodes a segment; a method's time grows with the texel count unless it interpolates (chebyshev).", lut::DEFAULT_SAMPLES);
+    (t, plot)
+}
+
+/// The homework's configuration against the default method, both on the homework's 128 x
+/// 128 8-bit layout, same run.
+fn homework_comparison(
+    quick: bool,
+    reference: &ReferenceTables,
+    hw_point: (f64, f64),
+    hw_row: &[String],
+) -> (Table, Goal) {
     let mut t = Table::new(
         "bake_vs_homework",
         "Baking the homework's 128x128 table: its configuration against the default method",
-        &["config", "time_ms", "e_max", "e_mean", "e_avg_max"],
+        &COLUMNS,
     );
-    let homework = homework_config(Geometry::Schlick);
+    t.push(hw_row.to_vec());
     let ours = BakeConfig {
-        layout: homework.layout,
+        layout: Layout::of_kind(LayoutKind::Games202),
         ..BakeConfig::default()
     };
-    let reference = ReferenceTables::new(homework.layout, homework.geometry);
-    let mut figures = Vec::new();
-    for (name, config) in [
-        ("homework (cosine, 1024 random)", homework),
-        ("default (quadrature)", ours),
-    ] {
-        let (ms, tables) = timed_bake(&config);
-        let (e, avg) = reference.bake_error(&tables);
-        figures.push((ms, e.max));
-        t.push(vec![
-            name.into(),
-            format!("{ms:.3}"),
-            sci(e.max),
-            sci(e.mean),
-            sci(avg.max),
-        ]);
-    }
+    let (row, (ms, e_max)) = bake_row(&ours, "default method", quick, reference);
+    t.push(row);
+    let faster = hw_point.0 / ms;
+    let accurate = hw_point.1 / e_max.max(f64::MIN_POSITIVE);
     t.note = format!(
-        "Default against homework, same run: {:.0}x faster, {:.0}x more accurate (max error).",
-        figures[0].0 / figures[1].0,
-        figures[0].1 / figures[1].1.max(f64::MIN_POSITIVE)
+        "Default against homework, same run: {faster:.0}x faster, {accurate:.0}x more accurate (max E error)."
     );
-    t
-}
-
-/// Every layout, size and storage: read-path error at random `(mu, roughness)` against
-/// memory. Tables are baked with the default (accurate) method, so the error is the
-/// layout's own.
-pub fn read_sweep(quick: bool) -> Vec<Table> {
-    let mut t = Table::new(
-        "read",
-        "Reading: read-path error of a bilinear lookup against memory (schlick G)",
-        &[
-            "layout",
-            "size",
-            "storage",
-            "bytes",
-            "e_max",
-            "e_mean",
-            "e_avg_max",
-        ],
-    );
-    let n = if quick { 2_000 } else { 20_000 };
-    let geometry = Geometry::Schlick;
-    let points = ReferencePoints::new(random_points(n, 2017), geometry);
-    let rough: Vec<f64> = random_points(if quick { 50 } else { 200 }, 7)
-        .iter()
-        .map(|p| p.1)
-        .collect();
-    let avg_ref: Vec<f64> = rough
-        .iter()
-        .map(|&r| lut::e_avg_reference(r, geometry))
-        .collect();
-    let mut layouts = vec![
-        Layout::of_kind(LayoutKind::Games202),
-        Layout::of_kind(LayoutKind::Games202).with_storage(Storage::F32),
-    ];
-    let sizes: &[(usize, usize)] = if quick {
-        &[(32, 32), (64, 64)]
-    } else {
-        &[(16, 16), (32, 32), (64, 32), (48, 48), (64, 64), (128, 128)]
+    let goal = Goal {
+        what: "homework's 128x128 table: >= 100x faster and >= 100x more accurate than its configuration".into(),
+        figure: format!("{faster:.0}x faster ({:.1} ms against {:.1} ms), {accurate:.0}x more accurate ({} against {})", ms, hw_point.0, sci(e_max), sci(hw_point.1)),
+        met: faster >= 100.0 && accurate >= 100.0,
     };
-    for &(mu, r) in sizes {
-        layouts.push(Layout::default().with_size(mu, r));
-    }
-    for &(mu, r) in if quick {
-        &[(64, 64)][..]
-    } else {
-        &[(32, 32), (64, 64), (128, 128)][..]
-    } {
-        layouts.push(Layout::of_kind(LayoutKind::SqrtMu).with_size(mu, r));
-    }
-    for storage in [Storage::F16, Storage::Unorm8] {
-        layouts.push(Layout::default().with_storage(storage));
-    }
-    for layout in layouts {
-        let tables = lut::bake(&BakeConfig {
-            geometry,
-            layout,
-            ..BakeConfig::default()
-        });
-        let e = points.read_error(&tables);
-        let avg = rough
-            .iter()
-            .zip(&avg_ref)
-            .map(|(&r, &exact)| (tables.lut_e_avg(r as f32) as f64 - exact).abs())
-            .fold(0.0, f64::max);
-        t.push(vec![
-            layout.kind.to_string(),
-            format!("{}x{}", layout.mu_size, layout.r_size),
-            layout.storage.to_string(),
-            layout.bytes().to_string(),
-            sci(e.max),
-            sci(e.mean),
-            sci(avg),
-        ]);
-    }
-    t.note = format!("{n} uniformly random (mu, roughness) in [0, 1]^2 (seed 2017); goal: max <= 1e-3, mean <= 1e-4.");
-    vec![t]
+    (t, goal)
 }

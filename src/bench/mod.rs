@@ -1,13 +1,28 @@
 //! The measurement harness behind `shadeballs bench` and `cargo bench`: run time against
 //! error, each time the median of repeated runs in one process, errors always against the
-//! precise reference. Writes one CSV per sweep and a markdown summary.
+//! precise reference. Writes one CSV per sweep, log-log plots as PNG and a markdown
+//! summary that states each goal of issue 5 with its figure.
+//!
+//! Sweeps: baking (`bake.rs`), reading on the CPU and the GPU (`read.rs`, `lookup.rs`),
+//! rendering (`render.rs`, against the exact model of `exact.rs`), startup (`startup.rs`).
 
 mod bake;
+pub mod device;
+pub mod exact;
+mod kernel;
+pub mod lookup;
+pub mod plot;
+mod read;
+mod render;
+mod startup;
 mod table;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
+pub use bake::{bake_errors, homework_config, HOMEWORK};
+pub use render::{close_up, display_error};
+pub use startup::parse_phases;
 pub use table::Table;
 
 use crate::error::{Error, Result};
@@ -18,24 +33,93 @@ use crate::output::write_atomic;
 pub struct BenchOptions {
     /// Fewer configurations and repeats: under a minute, for CI.
     pub quick: bool,
-    /// Folder for the CSV files and `summary.md`.
+    /// Folder for the CSV files, plots and `summary.md`.
     pub out: PathBuf,
+    /// The `shadeballs` executable the startup sweep runs (`None`: no startup sweep).
+    pub exe: Option<PathBuf>,
+    /// Skip the GPU sweeps (lookup, render, startup) instead of failing without an adapter.
+    pub cpu_only: bool,
 }
 
-/// Runs every sweep, writes its files, and returns the markdown summary.
+/// A sweep's output: its tables, its plots (file stem, plot) and the goals it checks.
+pub struct Sweep {
+    pub tables: Vec<Table>,
+    pub plots: Vec<(String, plot::Plot)>,
+    pub goals: Vec<Goal>,
+}
+
+/// A goal of the issue with the figure measured for it.
+pub struct Goal {
+    pub what: String,
+    pub figure: String,
+    pub met: bool,
+}
+
+/// Runs every sweep, writes its files, and returns the markdown summary. Without an adapter
+/// it fails before measuring anything (naming the package to install), unless `cpu_only`.
 pub fn run(options: &BenchOptions) -> Result<String> {
+    let started = Instant::now();
+    if options.out.exists() && !options.out.is_dir() {
+        return Err(Error::Invalid {
+            what: "bench output folder",
+            message: format!("'{}' exists and is not a folder", options.out.display()),
+        });
+    }
     std::fs::create_dir_all(&options.out).map_err(|reason| Error::Write {
         path: options.out.clone(),
         reason,
     })?;
+    let gpu = if options.cpu_only {
+        None
+    } else {
+        Some(device::open().map_err(|e| match e {
+            Error::NoAdapter { .. } => Error::Invalid {
+                what: "bench",
+                message: format!(
+                    "{e}; `shadeballs bench --cpu-only` measures the CPU sweeps alone"
+                ),
+            },
+            e => e,
+        })?)
+    };
+    let quick = options.quick;
+    let mut sweeps = vec![bake::bake_sweep(quick), read::read_sweep(quick)];
+    let mut skipped = Vec::new();
+    match gpu {
+        Some(gpu) => {
+            sweeps.push(read::lookup_sweep(&gpu, quick)?);
+            let mut renderer = crate::gpu::Renderer::new(gpu);
+            sweeps.push(render::render_sweep(&mut renderer, quick)?);
+            // Release this device before the startup runs open theirs.
+            drop(renderer);
+            match &options.exe {
+                Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),
+                None => skipped.push("startup (no shadeballs executable given)".to_string()),
+            }
+        }
+        None => skipped.push("GPU lookup, rendering and startup (--cpu-only)".to_string()),
+    }
     let mut summary = String::from("# shadeballs bench\n\n");
     summary.push_str(&format!(
         "Mode: {}. Times are medians of repeated runs in one process; errors are against the \
          precise reference (adaptive Gauss-Kronrod, tolerance 1e-11).\n\n",
-        if options.quick { "quick" } else { "full" }
+        if quick { "quick" } else { "full" }
     ));
-    for sweep in [bake::bake_sweep as fn(bool) -> Vec<Table>, bake::read_sweep] {
-        for table in sweep(options.quick) {
+    summary.push_str("## Goals\n\n| goal | measured | met |\n|---|---|---|\n");
+    for g in sweeps.iter().flat_map(|s| &s.goals) {
+        summary.push_str(&format!(
+            "| {} | {} | {} |\n",
+            g.what,
+            g.figure,
+            if g.met { "yes" } else { "**no**" }
+        ));
+    }
+    for s in &skipped {
+        summary.push_str(&format!("\nNot measured: {s}.\n"));
+    }
+    summary.push('\n');
+    for sweep in &sweeps {
+        for table in &sweep.tables {
             write_atomic(
                 &options.out.join(format!("{}.csv", table.name)),
                 table.csv().as_bytes(),
@@ -43,7 +127,16 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             summary.push_str(&table.markdown());
             summary.push('\n');
         }
+        for (stem, p) in &sweep.plots {
+            let file = format!("{stem}.png");
+            plot::write(p, &options.out.join(&file))?;
+            summary.push_str(&format!("![{}]({file})\n\n", p.title));
+        }
     }
+    summary.push_str(&format!(
+        "Bench wall time: {:.1} s.\n",
+        started.elapsed().as_secs_f64()
+    ));
     write_atomic(&options.out.join("summary.md"), summary.as_bytes())?;
     Ok(summary)
 }

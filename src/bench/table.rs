@@ -28,11 +28,13 @@ impl Table {
         self.rows.push(row);
     }
 
+    /// RFC 4180 CSV: a cell with a comma, quote or line break is quoted.
     pub fn csv(&self) -> String {
         let mut s = self.columns.join(",");
         s.push('\n');
         for row in &self.rows {
-            s.push_str(&row.join(","));
+            let cells: Vec<String> = row.iter().map(|c| csv_cell(c)).collect();
+            s.push_str(&cells.join(","));
             s.push('\n');
         }
         s
@@ -49,6 +51,14 @@ impl Table {
             s.push_str(&format!("\n{}\n", self.note));
         }
         s
+    }
+}
+
+fn csv_cell(c: &str) -> String {
+    if c.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", c.replace('"', "\"\""))
+    } else {
+        c.to_string()
     }
 }
 

@@ -76,6 +76,12 @@ impl Gpu {
     /// Opens the first adapter of `backends` with the adapter's own limits (lavapipe:
     /// 16384-texel textures).
     pub fn new(backends: wgpu::Backends) -> Result<Gpu> {
+        Self::with_features(backends, wgpu::Features::empty())
+    }
+
+    /// As [`Gpu::new`], also enabling those of `wanted` the adapter offers (the bench asks
+    /// for `FLOAT32_FILTERABLE`).
+    pub fn with_features(backends: wgpu::Backends, wanted: wgpu::Features) -> Result<Gpu> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
@@ -87,6 +93,7 @@ impl Gpu {
             })?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadeballs"),
+            required_features: adapter.features() & wanted,
             required_limits: adapter.limits(),
             ..Default::default()
         }))

@@ -6,7 +6,7 @@ mod context;
 mod headless;
 mod probe;
 mod renderer;
-mod resources;
+pub mod resources;
 pub mod shaders;
 pub mod uniforms;
 

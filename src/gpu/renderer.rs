@@ -31,7 +31,8 @@ pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     )
 }
 
-type PipelineKey = (wgpu::TextureFormat, Geometry, FAvgForm);
+/// Target format, G, f_add form, multiple-scattering term compiled in.
+type PipelineKey = (wgpu::TextureFormat, Geometry, FAvgForm, bool);
 
 /// Device, shader modules, pipelines and the tables of the current geometry.
 pub struct Renderer {
@@ -41,6 +42,8 @@ pub struct Renderer {
     pub(super) pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
     pub(super) tables: Option<(Arc<Tables>, wgpu::BindGroup)>,
+    /// Whether pipelines compile the multiple-scattering term in (`MS_TERM`).
+    ms_term: bool,
 }
 
 impl Renderer {
@@ -63,11 +66,31 @@ impl Renderer {
             pipeline_layout,
             pipelines: HashMap::new(),
             tables: None,
+            ms_term: true,
         }
     }
 
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
+    }
+
+    /// Compiles the multiple-scattering term in (`true`, the default) or out of the ball
+    /// shader from now on; out, the image equals the one with every ball's flag off
+    /// (`shadeballs bench` measures what the term costs with it).
+    pub fn set_multiple_scattering_term(&mut self, on: bool) {
+        self.ms_term = on;
+    }
+
+    /// Creates, if not yet held, the pipeline that draws `scene` into `format` (otherwise
+    /// created at the first draw), so that its cost can be timed apart.
+    pub fn prepare(&mut self, scene: &Scene, format: wgpu::TextureFormat) {
+        let key = (
+            format,
+            scene.effective_geometry(),
+            scene.preset.f_avg_form(),
+            self.ms_term,
+        );
+        self.pipeline(key);
     }
 
     /// Uses `tables` (baked for their `config.geometry`) from now on.
@@ -94,11 +117,11 @@ impl Renderer {
     }
 
     fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let (format, geometry, form) = key;
+        let (format, geometry, form, term) = key;
         let device = &self.gpu.device;
         let (module, layout) = (&self.module, &self.pipeline_layout);
         self.pipelines.entry(key).or_insert_with(|| {
-            let constants = shaders::overrides(geometry, form, is_linear(format));
+            let constants = shaders::overrides_with_term(geometry, form, is_linear(format), term);
             let options = wgpu::PipelineCompilationOptions {
                 constants: &constants,
                 ..Default::default()
@@ -144,7 +167,7 @@ impl Renderer {
         let queue = &self.gpu.queue;
         let globals = uniforms::globals(scene, &tables, target.width, target.height);
         queue.write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
-        let balls = uniforms::balls(scene);
+        let balls = uniforms::balls(scene, &tables);
         if !balls.is_empty() {
             queue.write_buffer(&self.resources.balls, 0, bytemuck::cast_slice(&balls));
         }
@@ -153,7 +176,12 @@ impl Renderer {
             queue.write_buffer(&self.resources.lights, 0, bytemuck::cast_slice(&lights));
         }
         let pipeline = self
-            .pipeline((target.format, geometry, scene.preset.f_avg_form()))
+            .pipeline((
+                target.format,
+                geometry,
+                scene.preset.f_avg_form(),
+                self.ms_term,
+            ))
             .clone();
         let bind = &self.tables.as_ref().expect("tables bound above").1;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

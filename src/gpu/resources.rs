@@ -1,5 +1,6 @@
-//! GPU resources of group 0 (`shaders/bindings.wgsl`): the uniform buffers and the tables
-//! uploaded as R32Float textures, read with `textureLoad` (no filtering feature needed).
+//! GPU resources of group 0 (`shaders/bindings.wgsl`): the uniform buffers and the tables,
+//! read with `textureLoad` (no filtering feature needed): E as 2x2 blocks in `Rgba32Float`
+//! ([`loss_quads`]), E_avg as `R32Float`.
 
 use std::mem::size_of;
 
@@ -70,7 +71,8 @@ impl Resources {
         }
     }
 
-    /// Uploads `tables` (`1 - E`: mu_size x r_size, `1 - E_avg` and row roughness: r_size x 2, both R32Float)
+    /// Uploads `tables` (`1 - E`: mu_size x r_size 2x2 blocks, Rgba32Float; `1 - E_avg` and
+    /// row roughness: r_size x 2, R32Float)
     /// and binds them with the buffers.
     pub fn bind_tables(
         &self,
@@ -79,14 +81,7 @@ impl Resources {
         tables: &Tables,
     ) -> wgpu::BindGroup {
         let l = tables.layout();
-        let e = r32_texture(
-            device,
-            queue,
-            "1 - E",
-            l.mu_size as u32,
-            l.r_size as u32,
-            &tables.stored_loss,
-        );
+        let e = quad_texture(device, queue, l.mu_size, l.r_size, &tables.stored_loss);
         // Row 0: 1 - E_avg per roughness row; row 1: each row's roughness as the power-law
         // read uses it (`Layout::row_roughness`, computed from the f64 texel coordinate
         // here so the shader does not re-derive it in f32).
@@ -120,6 +115,61 @@ impl Resources {
             ],
         })
     }
+}
+
+/// A `width x height` table as 2x2 blocks: block (i, j) holds texels (i, j), (i + 1, j),
+/// (i, j + 1), (i + 1, j + 1) (clamped at the last column and row), RGBA, so that a
+/// bilinear read is one `textureLoad` (`loss_quad` in `lut.wgsl`). Four times the memory of
+/// the table: 64 KiB at the default 64 x 64.
+pub fn loss_quads(data: &[f32], width: usize, height: usize) -> Vec<f32> {
+    let t = |i: usize, j: usize| data[j.min(height - 1) * width + i.min(width - 1)];
+    (0..height)
+        .flat_map(|j| {
+            (0..width).flat_map(move |i| [t(i, j), t(i + 1, j), t(i, j + 1), t(i + 1, j + 1)])
+        })
+        .collect()
+}
+
+/// The E table as an `Rgba32Float` texture of [`loss_quads`].
+pub fn quad_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    width: usize,
+    height: usize,
+    data: &[f32],
+) -> wgpu::TextureView {
+    let quads = loss_quads(data, width, height);
+    let size = wgpu::Extent3d {
+        width: width as u32,
+        height: height as u32,
+        depth_or_array_layers: 1,
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("1 - E, 2x2 blocks"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(&quads),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(size.width * 16),
+            rows_per_image: Some(size.height),
+        },
+        size,
+    );
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 fn r32_texture(

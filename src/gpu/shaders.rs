@@ -53,11 +53,23 @@ pub fn f_add_form_id(form: FAvgForm) -> u32 {
     }
 }
 
-/// Pipeline-time constants for every override the modules declare.
+/// Pipeline-time constants for every override the modules declare without a default.
 pub fn overrides(geometry: Geometry, form: FAvgForm, linear: bool) -> [(&'static str, f64); 3] {
     [
         ("GEOMETRY", geometry_id(geometry) as f64),
         ("F_ADD_FORM", f_add_form_id(form) as f64),
         ("OUTPUT_LINEAR", if linear { 1.0 } else { 0.0 }),
     ]
+}
+
+/// [`overrides`] plus `MS_TERM` (`types.wgsl`): `false` compiles the multiple-scattering
+/// term out of the ball shader.
+pub fn overrides_with_term(
+    geometry: Geometry,
+    form: FAvgForm,
+    linear: bool,
+    term: bool,
+) -> [(&'static str, f64); 4] {
+    let [a, b, c] = overrides(geometry, form, linear);
+    [a, b, c, ("MS_TERM", if term { 1.0 } else { 0.0 })]
 }

@@ -3,6 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use crate::brdf::{f_add_preset, GAMES202_EDGE_TINT};
 use crate::lut::Tables;
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 
@@ -27,6 +28,8 @@ pub struct GpuBall {
     pub center_radius: [f32; 4],
     pub f0_roughness: [f32; 4],
     pub diffuse_ms: [f32; 4],
+    pub f_add_loss_avg: [f32; 4],
+    pub lut_row: [f32; 4],
 }
 
 #[repr(C)]
@@ -82,19 +85,34 @@ pub fn globals(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Globa
     }
 }
 
-/// The balls array (the used prefix of the uniform array).
-pub fn balls(scene: &Scene) -> Vec<GpuBall> {
+/// The balls array (the used prefix of the uniform array). Each ball carries what the
+/// multiple-scattering term needs that is constant over the ball: `1 - E_avg` at its
+/// roughness as the shader reads it (`Tables::lut_loss_avg`, the f32 arithmetic of
+/// `lut_loss_avg` in `lut.wgsl`) and `f_add` of the scene's preset from it, per channel,
+/// in f64 like the CPU renderer (`cpu::shade`); and the roughness half of every E read
+/// (`Tables::lut_row`). Done once per ball instead of once per pixel, this takes about half
+/// of what the term cost a frame on lavapipe (README, "Measured results").
+pub fn balls(scene: &Scene, tables: &Tables) -> Vec<GpuBall> {
+    let tint = GAMES202_EDGE_TINT;
     scene
         .balls
         .iter()
         .take(MAX_BALLS)
-        .map(|b| GpuBall {
-            center_radius: v4(b.center, b.radius),
-            f0_roughness: v4(b.material.f0, b.roughness),
-            diffuse_ms: v4(
-                b.material.diffuse,
-                if b.multiple_scattering { 1.0 } else { 0.0 },
-            ),
+        .map(|b| {
+            let loss_avg = tables.lut_loss_avg(b.roughness as f32);
+            let e_avg = 1.0 - loss_avg as f64;
+            let f0 = b.material.f0.to_array();
+            let f_add = |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
+            GpuBall {
+                center_radius: v4(b.center, b.radius),
+                f0_roughness: v4(b.material.f0, b.roughness),
+                diffuse_ms: v4(
+                    b.material.diffuse,
+                    if b.multiple_scattering { 1.0 } else { 0.0 },
+                ),
+                f_add_loss_avg: [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg],
+                lut_row: tables.lut_row(b.roughness as f32),
+            }
         })
         .collect()
 }

@@ -19,16 +19,20 @@ pub enum Method {
     /// Spherical Caps"): weight `G / G1(mu_o)`, bounded.
     Vndf,
     /// Gauss-Legendre over `theta_i` after the azimuth is integrated in closed form
-    /// (see `integrand.rs`); `samples` nodes in each of its (up to four) segments.
+    /// (see `integrand.rs`); `samples` nodes in each of its (up to five) segments.
     Quadrature,
+    /// The quadrature at a Chebyshev grid in (warped mu, roughness), interpolated to each
+    /// texel (`chebyshev.rs`): the same value at a single point, a fixed cost per table.
+    Chebyshev,
 }
 
 impl Method {
-    pub const ALL: [Method; 4] = [
+    pub const ALL: [Method; 5] = [
         Method::Cosine,
         Method::Ndf,
         Method::Vndf,
         Method::Quadrature,
+        Method::Chebyshev,
     ];
 
     pub fn name(self) -> &'static str {
@@ -37,6 +41,7 @@ impl Method {
             Method::Ndf => "ndf",
             Method::Vndf => "vndf",
             Method::Quadrature => "quadrature",
+            Method::Chebyshev => "chebyshev",
         }
     }
 }
@@ -148,7 +153,7 @@ pub struct Estimator {
 impl Estimator {
     pub fn new(method: Method, points: PointSet, samples: usize) -> Self {
         let samples = samples.max(1);
-        let gl = if method == Method::Quadrature {
+        let gl = if matches!(method, Method::Quadrature | Method::Chebyshev) {
             gauss_legendre_unit(samples)
         } else {
             (Vec::new(), Vec::new())
@@ -164,7 +169,7 @@ impl Estimator {
 
     /// Estimate of `E(mu, roughness)`; `seed` decorrelates random points between texels.
     pub fn e(&mut self, mu: f64, roughness: f64, geometry: Geometry, seed: u64) -> f64 {
-        if self.method == Method::Quadrature {
+        if matches!(self.method, Method::Quadrature | Method::Chebyshev) {
             return self.e_quadrature(mu, roughness, geometry);
         }
         let mu_o = mu.clamp(MU_MIN, 1.0);
@@ -178,7 +183,7 @@ impl Estimator {
                 Method::Cosine => weight_cosine(v, u, alpha, roughness, geometry),
                 Method::Ndf => weight_ndf(v, u, alpha, roughness, geometry),
                 Method::Vndf => weight_vndf(v, u, alpha, roughness, geometry),
-                Method::Quadrature => unreachable!("handled above"),
+                Method::Quadrature | Method::Chebyshev => unreachable!("handled above"),
             })
             .sum();
         self.scratch = points;

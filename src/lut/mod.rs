@@ -3,6 +3,7 @@
 //! Knows the maths; knows nothing of the GPU.
 
 pub mod accuracy;
+mod chebyshev;
 mod estimators;
 mod integrand;
 pub mod io;
@@ -12,10 +13,11 @@ mod reference;
 
 use rayon::prelude::*;
 
+pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
 pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
-    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, Storage,
+    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, RAxis, Storage,
     DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
@@ -23,10 +25,11 @@ pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
 
 use crate::brdf::Geometry;
 
-/// The default estimator and its sample count, chosen by measurement (README, "Measured
-/// results"): the fastest that keeps every texel within 1e-4 of the reference.
-pub const DEFAULT_METHOD: Method = Method::Quadrature;
-pub const DEFAULT_SAMPLES: usize = 16;
+/// The default estimator and its node count a segment, chosen by measurement (README,
+/// "Measured results"): the Chebyshev bake keeps every texel of every layout within about
+/// 1e-5 of the reference at a fixed cost of 425 quadratures a table.
+pub const DEFAULT_METHOD: Method = Method::Chebyshev;
+pub const DEFAULT_SAMPLES: usize = 24;
 
 /// Everything that changes the baked values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,13 +71,21 @@ pub struct Tables {
 /// Bakes E and E_avg for `config`, one roughness row per task on rayon's pool.
 pub fn bake(config: &BakeConfig) -> Tables {
     let layout = config.layout;
-    let rows: Vec<(Vec<f64>, Vec<f32>, f64)> = (0..layout.r_size)
-        .into_par_iter()
-        .map_init(
-            || Estimator::new(config.method, config.points, config.samples),
-            |est, j| bake_row(est, config, j),
-        )
-        .collect();
+    let rows: Vec<(Vec<f64>, Vec<f32>, f64)> = if config.method == Method::Chebyshev {
+        let surface = ChebyshevSurface::new(config.geometry, config.samples);
+        (0..layout.r_size)
+            .into_par_iter()
+            .map(|j| finish_row(&layout, j, surface.texel_row(&layout, j)))
+            .collect()
+    } else {
+        (0..layout.r_size)
+            .into_par_iter()
+            .map_init(
+                || Estimator::new(config.method, config.points, config.samples),
+                |est, j| bake_row(est, config, j),
+            )
+            .collect()
+    };
     let mut tables = Tables {
         config: *config,
         e: Vec::with_capacity(layout.texels()),
@@ -98,8 +109,6 @@ fn bake_row(est: &mut Estimator, config: &BakeConfig, j: usize) -> (Vec<f64>, Ve
     let layout = &config.layout;
     let roughness = layout.roughness_of_texel(j);
     let seed = (j * layout.mu_size) as u64;
-    // E is a reflectance: estimates outside [0, 1] (Monte Carlo noise) are clamped, as any
-    // stored table would clamp them.
     let e: Vec<f64> = (0..layout.mu_size)
         .map(|i| {
             est.e(
@@ -108,9 +117,18 @@ fn bake_row(est: &mut Estimator, config: &BakeConfig, j: usize) -> (Vec<f64>, Ve
                 config.geometry,
                 seed + i as u64,
             )
-            .clamp(0.0, 1.0)
         })
         .collect();
+    finish_row(layout, j, e)
+}
+
+/// Row `j` from its E per texel: E clamped to [0, 1], the stored `1 - E`, the row's E_avg.
+fn finish_row(layout: &Layout, j: usize, mut e: Vec<f64>) -> (Vec<f64>, Vec<f32>, f64) {
+    // E is a reflectance: estimates outside [0, 1] (Monte Carlo noise) are clamped, as any
+    // stored table would clamp them.
+    for v in &mut e {
+        *v = v.clamp(0.0, 1.0);
+    }
     let loss: Vec<f32> = e
         .iter()
         .map(|&v| layout.storage.quantize(1.0 - v))
@@ -119,42 +137,64 @@ fn bake_row(est: &mut Estimator, config: &BakeConfig, j: usize) -> (Vec<f64>, Ve
     (e, loss, e_avg)
 }
 
-/// Absolute tolerance of each texel piece of the row integral of `1 - E_avg`.
-const ROW_TOL: f64 = 1e-13;
-
 /// `1 - E_avg = 2 int_0^1 (1 - E(mu)) mu dmu` of row `j` as the shader reads it: linear in
 /// the table coordinate x between texel centres.
 ///
 /// Taking E_avg from the row as read, not from E itself, makes the lobe conserve energy by
 /// construction: with F = 1, `int f_ms mu_i dw_i` equals `1 - E_read(mu_o)` at every row,
-/// whatever the table's own error. Each piece between texel centres is integrated in mu,
-/// where the read is smooth within the piece, by the adaptive rule: Gauss-Legendre in x
-/// fails here, because the warped axis's `d mu / d x` has a pole alpha beyond `x = 1`.
+/// whatever the table's own error. Between two texel centres the read is `A + B x(mu)`,
+/// and each piece has a closed form in mu ([`piece_integral`]); Gauss-Legendre in x would
+/// fail on the warped axis, whose `d mu / d x` has a pole alpha beyond `x = 1`.
 fn row_loss_avg(layout: &Layout, loss: &[f32], j: usize) -> f64 {
     let n = layout.mu_size;
     let alpha = crate::brdf::alpha_from_roughness(layout.roughness_of_texel(j));
     let (scale, bias) = layout.scale_bias(n);
     let axis = layout.mu_axis;
-    let read = |mu: f64| {
-        let x = axis.coord_f64(mu, alpha);
-        let p = (x * scale + bias).clamp(0.0, (n - 1) as f64);
-        let i = (p.floor() as usize).min(n.saturating_sub(2));
-        let f = p - i as f64;
-        let (a, b) = (loss[i] as f64, loss[(i + 1).min(n - 1)] as f64);
-        2.0 * (a + (b - a) * f) * mu
-    };
-    // Break points in mu: the ends and every texel centre inside (0, 1).
+    // Break points in x: the ends and every texel centre inside (0, 1).
     let mut breaks: Vec<f64> = (0..n)
-        .map(|i| axis.value(layout.texel_coord(i, n), alpha))
+        .map(|i| layout.texel_coord(i, n))
         .chain([0.0, 1.0])
         .collect();
     breaks.sort_by(f64::total_cmp);
     breaks.dedup();
+    let last = n.saturating_sub(1);
     let sum: f64 = breaks
         .windows(2)
-        .map(|w| adaptive(&read, w[0], w[1], ROW_TOL))
+        .map(|w| {
+            // The read on this piece: clamped to an end texel, or between texels i, i + 1.
+            let p = 0.5 * (w[0] + w[1]) * scale + bias;
+            let (a, b) = if n < 2 || p <= 0.0 {
+                (loss[0] as f64, 0.0)
+            } else if p >= last as f64 {
+                (loss[last] as f64, 0.0)
+            } else {
+                let i = (p.floor() as usize).min(n - 2);
+                let (l0, l1) = (loss[i] as f64, loss[i + 1] as f64);
+                (l0 + (l1 - l0) * (bias - i as f64), (l1 - l0) * scale)
+            };
+            let (m0, m1) = (axis.value(w[0], alpha), axis.value(w[1], alpha));
+            piece_integral(axis, alpha, a, b, m0, m1)
+        })
         .sum();
     sum.clamp(0.0, 1.0)
+}
+
+/// `int_m0^m1 2 (a + b x(mu)) mu dmu` for the axis's `x(mu)`, in closed form:
+/// - linear, `x = mu`: `a (m1^2 - m0^2) + 2 b (m1^3 - m0^3) / 3`;
+/// - square root, `x = mu^(1/2)`: `a (m1^2 - m0^2) + 4 b (m1^(5/2) - m0^(5/2)) / 5`;
+/// - warped, `x = (1 + al) (1 - al / (mu + al))`: with `c = a + b (1 + al)`,
+///   `c (m1^2 - m0^2) - 2 b (1 + al) al ((m1 - m0) - al ln((m1 + al) / (m0 + al)))`.
+pub fn piece_integral(axis: MuAxis, alpha: f64, a: f64, b: f64, m0: f64, m1: f64) -> f64 {
+    let sq = m1 * m1 - m0 * m0;
+    match axis {
+        MuAxis::Linear => a * sq + 2.0 * b * (m1 * m1 * m1 - m0 * m0 * m0) / 3.0,
+        MuAxis::Sqrt => a * sq + 0.8 * b * (m1 * m1 * m1.sqrt() - m0 * m0 * m0.sqrt()),
+        MuAxis::Warped => {
+            let k = 1.0 + alpha;
+            let log = ((m1 - m0) / (m0 + alpha)).ln_1p();
+            (a + b * k) * sq - 2.0 * b * k * alpha * ((m1 - m0) - alpha * log)
+        }
+    }
 }
 
 impl Tables {
@@ -176,6 +216,32 @@ impl Tables {
         let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
         let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
         top + (bottom - top) * fy
+    }
+
+    /// The roughness half of a read at `roughness`, done once per ball (`lut_row` in a ball's
+    /// uniforms): `[first row index, weight of the next row, alpha, 0]`, the same f32
+    /// arithmetic as [`Tables::lut_loss`].
+    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+        let l = self.layout();
+        let (sy, by) = l.scale_bias(l.r_size);
+        let (j0, _, fy) = lut_texel_span(l.r_coord(roughness), l.r_size, sy as f32, by as f32);
+        let r = roughness_coord(roughness);
+        [j0 as f32, fy, r * r, 0.0]
+    }
+
+    /// `lut_loss_row` of `shaders/lut.wgsl`: [`Tables::lut_loss`] with the roughness half
+    /// from [`Tables::lut_row`]; equal to `lut_loss(mu, roughness)`.
+    pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
+        let l = self.layout();
+        let (sx, bx) = l.scale_bias(l.mu_size);
+        let x = l.mu_axis.coord(mu, row[2]);
+        let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
+        let j0 = row[0] as usize;
+        let j1 = (j0 + 1).min(l.r_size - 1);
+        let t = |i: usize, j: usize| self.stored_loss[j * l.mu_size + i];
+        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
+        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
+        top + (bottom - top) * row[1]
     }
 
     /// E as the shader reads it: `1 - lut_loss`.

@@ -118,9 +118,9 @@ pub struct Headline {
 /// Runs the study, writes every file into `options.out`, returns the markdown summary
 /// and the headline numbers.
 pub fn run(options: &TruthOptions) -> Result<(String, Headline)> {
-    std::fs::create_dir_all(&options.out).map_err(|source| Error::Write {
+    std::fs::create_dir_all(&options.out).map_err(|reason| Error::Write {
         path: options.out.clone(),
-        source,
+        reason,
     })?;
     let study = Study::run(options.quick);
     write_all(&study, &options.out)

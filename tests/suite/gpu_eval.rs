@@ -179,8 +179,9 @@ pub fn evaluate(
     out
 }
 
-/// Group 0 as `bindings.wgsl` declares it, for the table reads: the table uniforms and the
-/// two R32Float textures, laid out as `src/gpu/resources.rs` uploads them.
+/// Group 0 as `bindings.wgsl` declares it, for the table reads: the table uniforms, the E
+/// table in 2x2 blocks and the R32Float E_avg rows, laid out as `src/gpu/resources.rs`
+/// uploads them.
 fn table_group(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -225,7 +226,14 @@ fn table_group(
             )
             .create_view(&Default::default())
     };
-    let e = texture(l.mu_size, l.r_size, &tables.stored_loss);
+    // E as the renderer uploads it: 2x2 blocks, one load per bilinear read.
+    let e = shadeballs::gpu::resources::quad_texture(
+        device,
+        queue,
+        l.mu_size,
+        l.r_size,
+        &tables.stored_loss,
+    );
     let e_avg = texture(l.r_size, 2, &avg);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("eval tables"),

@@ -1,6 +1,7 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
 mod bad_input;
+mod bench;
 mod brdf;
 mod clamp;
 mod cli;
@@ -14,6 +15,7 @@ mod gpu_eval;
 mod gpu_faults;
 mod gpu_stress;
 mod lut;
+mod lut_chebyshev;
 mod pixels;
 mod probe;
 mod props;

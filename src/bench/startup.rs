@@ -1,0 +1,195 @@
+//! Startup: process start to the first PNG written, split into device, bake, pipeline,
+//! render (draw and readback) and encode (PNG encoding and write).
+//!
+//! The process row runs `shadeballs render` as a child process, as a user does, and takes
+//! the wall time from spawn to exit in this process and the phase split from the line the
+//! child prints (`render_cmd.rs`). The in-process rows run the same phases in this process
+//! with a fresh device each time, for the default bake and for the homework's bake (its
+//! lut-gen run at startup: the peer row).
+
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+use super::device;
+use crate::error::{Error, Result};
+use crate::gpu::Renderer;
+use crate::image_out::write_png;
+use crate::lut::{self, BakeConfig};
+use crate::scene::Scene;
+
+/// Phase names, in order, as `shadeballs render` prints them.
+pub const PHASES: [&str; 5] = ["device", "bake", "pipeline", "render", "encode"];
+
+/// One startup: the total and each phase, in ms.
+#[derive(Clone, Debug)]
+pub struct Startup {
+    pub total_ms: f64,
+    pub phases_ms: [f64; 5],
+}
+
+/// Reads "device 45.4 ms, bake 1.5 ms, ..." from `shadeballs render`'s report line.
+pub fn parse_phases(line: &str) -> Option<[f64; 5]> {
+    let mut out = [f64::NAN; 5];
+    for (k, name) in PHASES.iter().enumerate() {
+        let at = line.find(&format!("{name} "))? + name.len() + 1;
+        let rest = &line[at..];
+        let end = rest.find(" ms")?;
+        out[k] = rest[..end].trim().parse().ok()?;
+    }
+    Some(out)
+}
+
+/// Runs `exe render --out DIR/startup.png` once.
+pub fn process(exe: &Path, dir: &Path) -> Result<Startup> {
+    let out = dir.join("startup.png");
+    let start = Instant::now();
+    let result = Command::new(exe)
+        .args(["render", "--out"])
+        .arg(&out)
+        .output()
+        .map_err(|e| Error::Invalid {
+            what: "startup run",
+            message: format!("cannot run '{}': {e}", exe.display()),
+        })?;
+    let total_ms = start.elapsed().as_secs_f64() * 1e3;
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    let line = stderr.lines().find(|l| l.starts_with("rendered "));
+    match (result.status.success(), line.and_then(parse_phases)) {
+        (true, Some(phases_ms)) => Ok(Startup {
+            total_ms,
+            phases_ms,
+        }),
+        _ => Err(Error::Invalid {
+            what: "startup run",
+            message: format!(
+                "'{} render' failed or printed no timing line: {}",
+                exe.display(),
+                stderr.trim()
+            ),
+        }),
+    }
+}
+
+/// The same phases in this process: a fresh device, `bake`, the pipeline, one frame of the
+/// default scene with readback, and the PNG written to `dir`.
+pub fn in_process(bake: &BakeConfig, dir: &Path) -> Result<Startup> {
+    let scene = Scene::reference();
+    let (w, h) = (1280, 720);
+    let start = Instant::now();
+    let mut marks = [0.0; 5];
+    let mut last = start;
+    let mut mark = |k: usize| {
+        let now = Instant::now();
+        marks[k] = (now - last).as_secs_f64() * 1e3;
+        last = now;
+    };
+    let mut renderer = Renderer::new(device::open()?);
+    mark(0);
+    renderer.set_tables(std::sync::Arc::new(lut::bake(bake)));
+    mark(1);
+    renderer.prepare(&scene, wgpu::TextureFormat::Rgba8Unorm);
+    mark(2);
+    let image = renderer.render_ldr(&scene, w, h)?;
+    mark(3);
+    write_png(&dir.join("startup-in-process.png"), w, h, image.rgba)?;
+    mark(4);
+    Ok(Startup {
+        total_ms: start.elapsed().as_secs_f64() * 1e3,
+        phases_ms: marks,
+    })
+}
+
+/// Per-column medians of `runs`.
+pub fn median(runs: &[Startup]) -> Startup {
+    let med = |f: &dyn Fn(&Startup) -> f64| {
+        let mut v: Vec<f64> = runs.iter().map(f).collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    let mut phases_ms = [0.0; 5];
+    for (k, p) in phases_ms.iter_mut().enumerate() {
+        *p = med(&|s: &Startup| s.phases_ms[k]);
+    }
+    Startup {
+        total_ms: med(&|s: &Startup| s.total_ms),
+        phases_ms,
+    }
+}
+
+/// The startup table: the process (median of `runs` runs of `exe`), and the same phases in
+/// this process with the default bake and with the homework's bake (peer). The images go to
+/// a scratch folder under the system's temp folder, removed afterwards.
+pub fn startup_sweep(exe: &Path, quick: bool) -> Result<super::Sweep> {
+    let dir = std::env::temp_dir().join(format!("shadeballs-startup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|reason| Error::Write {
+        path: dir.clone(),
+        reason,
+    })?;
+    let sweep = startup_runs(exe, &dir, quick);
+    let _ = std::fs::remove_dir_all(&dir);
+    sweep
+}
+
+fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
+    use super::bake::{homework_config, HOMEWORK};
+    use super::table::Table;
+    use super::Goal;
+    let runs = if quick { 3 } else { 7 };
+    let mut columns = vec!["config", "how", "total_ms"];
+    columns.extend(PHASES.iter().map(|p| match *p {
+        "device" => "device_ms",
+        "bake" => "bake_ms",
+        "pipeline" => "pipeline_ms",
+        "render" => "render_ms",
+        _ => "encode_ms",
+    }));
+    columns.push("bake_share");
+    let mut t = Table::new(
+        "startup",
+        "Startup: process start to the first PNG written (default scene, 1280x720)",
+        &columns,
+    );
+    let row = |label: &str, how: &str, s: &Startup| {
+        let mut r = vec![
+            label.to_string(),
+            how.to_string(),
+            format!("{:.1}", s.total_ms),
+        ];
+        r.extend(s.phases_ms.iter().map(|p| format!("{p:.1}")));
+        r.push(format!("{:.1}%", 100.0 * s.phases_ms[1] / s.total_ms));
+        r
+    };
+    let process_runs = (0..runs)
+        .map(|_| process(exe, dir))
+        .collect::<Result<Vec<_>>>()?;
+    let worst = process_runs.iter().map(|s| s.total_ms).fold(0.0, f64::max);
+    let p = median(&process_runs);
+    let hw = (0..runs)
+        .map(|_| in_process(&homework_config(crate::brdf::Geometry::Schlick), dir))
+        .collect::<Result<Vec<_>>>()?;
+    t.push(row(HOMEWORK, "in process", &median(&hw)));
+    t.push(row("default", "process (shadeballs render)", &p));
+    let ours = (0..runs)
+        .map(|_| in_process(&BakeConfig::default(), dir))
+        .collect::<Result<Vec<_>>>()?;
+    t.push(row("-", "in process", &median(&ours)));
+    t.note = format!(
+        "Medians of {runs} runs each. 'process': `shadeballs render` spawned by the bench, total = spawn to exit as this process sees it (its slowest run: {worst:.0} ms), phases as the child reports them (a new shader compiles on the first run after a build; Mesa's disk cache serves later runs). 'in process': the same phases with a fresh device per run."
+    );
+    let goal = Goal {
+        what: "startup to the first PNG <= 1 s, the bake a small share".into(),
+        figure: format!(
+            "{:.0} ms (bake {:.1} ms, {:.1}%)",
+            p.total_ms,
+            p.phases_ms[1],
+            100.0 * p.phases_ms[1] / p.total_ms
+        ),
+        met: p.total_ms <= 1000.0 && p.phases_ms[1] <= 0.1 * p.total_ms,
+    };
+    Ok(super::Sweep {
+        tables: vec![t],
+        plots: Vec::new(),
+        goals: vec![goal],
+    })
+}
