@@ -139,43 +139,38 @@ pub fn quad_texture(
     data: &[f32],
 ) -> wgpu::TextureView {
     let quads = loss_quads(data, width, height);
-    let size = wgpu::Extent3d {
-        width: width as u32,
-        height: height as u32,
-        depth_or_array_layers: 1,
-    };
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("1 - E, 2x2 blocks"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: &texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(&quads),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(size.width * 16),
-            rows_per_image: Some(size.height),
-        },
-        size,
-    );
-    texture.create_view(&wgpu::TextureViewDescriptor::default())
+    let format = wgpu::TextureFormat::Rgba32Float;
+    let (width, height) = (width as u32, height as u32);
+    f32_texture(
+        device,
+        queue,
+        "1 - E, 2x2 blocks",
+        format,
+        width,
+        height,
+        &quads,
+    )
 }
 
 fn r32_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     label: &str,
+    width: u32,
+    height: u32,
+    data: &[f32],
+) -> wgpu::TextureView {
+    let format = wgpu::TextureFormat::R32Float;
+    f32_texture(device, queue, label, format, width, height, data)
+}
+
+/// A sampled `width x height` texture of an f32 `format` (R32Float, Rgba32Float) holding
+/// `data`, rows packed.
+fn f32_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    format: wgpu::TextureFormat,
     width: u32,
     height: u32,
     data: &[f32],
@@ -191,10 +186,11 @@ fn r32_texture(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
+    let bytes_per_texel = format.block_copy_size(None).unwrap_or(4);
     queue.write_texture(
         wgpu::TexelCopyTextureInfo {
             texture: &texture,
@@ -205,7 +201,7 @@ fn r32_texture(
         bytemuck::cast_slice(data),
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(width * 4),
+            bytes_per_row: Some(width * bytes_per_texel),
             rows_per_image: Some(height),
         },
         size,
