@@ -3,6 +3,7 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use super::resources::Resources;
 use super::{shaders, uniforms, Gpu};
@@ -11,7 +12,9 @@ use crate::error::Result;
 use crate::lut::{self, BakeConfig, Tables};
 use crate::scene::Scene;
 
-/// Where to draw: a view of a texture of `format`, `width x height` pixels.
+/// Where to draw: a view of a texture of `format`; the image is `width x height` pixels at
+/// its top-left corner (the whole texture for a headless render, the scene area left of
+/// the viewer's panel in a window; the rest of the texture is cleared only).
 /// Float formats receive linear radiance (for EXR); others the tone-mapped value.
 #[derive(Clone, Copy)]
 pub struct Target<'a> {
@@ -44,6 +47,10 @@ pub struct Renderer {
     pub(super) tables: Option<(Arc<Tables>, wgpu::BindGroup)>,
     /// Whether pipelines compile the multiple-scattering term in (`MS_TERM`).
     ms_term: bool,
+    /// How tables are baked; its `geometry` is replaced by the scene's.
+    bake_config: BakeConfig,
+    /// Wall time of the latest bake, if any.
+    last_bake: Option<Duration>,
 }
 
 impl Renderer {
@@ -67,6 +74,8 @@ impl Renderer {
             pipelines: HashMap::new(),
             tables: None,
             ms_term: true,
+            bake_config: BakeConfig::default(),
+            last_bake: None,
         }
     }
 
@@ -93,23 +102,42 @@ impl Renderer {
         self.pipeline(key);
     }
 
-    /// Uses `tables` (baked for their `config.geometry`) from now on.
+    /// Bakes with `config` (layout, estimator, samples; its geometry is ignored) from the
+    /// next draw on; the held tables are kept if they already match.
+    pub fn set_bake_config(&mut self, config: BakeConfig) {
+        self.bake_config = config;
+    }
+
+    /// The bake settings in use (`geometry` is the last one baked for).
+    pub fn bake_config(&self) -> BakeConfig {
+        self.bake_config
+    }
+
+    /// Wall time of the latest bake this renderer did itself, if any.
+    pub fn last_bake_time(&self) -> Option<Duration> {
+        self.last_bake
+    }
+
+    /// Uses `tables` (baked for their `config.geometry`) from now on, and bakes with their
+    /// config when the geometry changes.
     pub fn set_tables(&mut self, tables: Arc<Tables>) {
+        self.bake_config = tables.config;
         let bind = self
             .resources
             .bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
         self.tables = Some((tables, bind));
     }
 
-    /// The tables for `geometry`, baked (default layout and estimator) if not yet held.
+    /// The tables for `geometry`, baked with the bake config (default: layout and
+    /// estimator of [`BakeConfig::default`]) if not yet held.
     pub fn tables_for(&mut self, geometry: Geometry) -> Arc<Tables> {
+        self.bake_config.geometry = geometry;
         match &self.tables {
-            Some((t, _)) if t.config.geometry == geometry => t.clone(),
+            Some((t, _)) if t.config == self.bake_config => t.clone(),
             _ => {
-                let tables = Arc::new(lut::bake(&BakeConfig {
-                    geometry,
-                    ..Default::default()
-                }));
+                let start = Instant::now();
+                let tables = Arc::new(lut::bake(&self.bake_config));
+                self.last_bake = Some(start.elapsed());
                 self.set_tables(tables.clone());
                 tables
             }
@@ -197,6 +225,10 @@ impl Renderer {
             })],
             ..Default::default()
         });
+        // The image's rectangle: the whole target headless, the scene area in a window.
+        let (w, h) = (target.width as f32, target.height as f32);
+        pass.set_viewport(0.0, 0.0, w, h, 0.0, 1.0);
+        pass.set_scissor_rect(0, 0, target.width, target.height);
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.draw(0..3, 0..1);
