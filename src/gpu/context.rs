@@ -85,12 +85,28 @@ impl Gpu {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
-        let adapter =
-            pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-                .map_err(|e| Error::NoAdapter {
+        Self::open(&instance, backends, None, wanted)
+    }
+
+    /// Opens the first adapter of `instance` (created for `backends`; one that can present
+    /// to `surface`, if given: the viewer's window) with the adapter's own limits and those
+    /// of `wanted` it offers.
+    pub fn open(
+        instance: &wgpu::Instance,
+        backends: wgpu::Backends,
+        surface: Option<&wgpu::Surface<'_>>,
+        wanted: wgpu::Features,
+    ) -> Result<Gpu> {
+        let options = wgpu::RequestAdapterOptions {
+            compatible_surface: surface,
+            ..Default::default()
+        };
+        let adapter = pollster::block_on(instance.request_adapter(&options)).map_err(|e| {
+            Error::NoAdapter {
                 backends: format!("{backends:?}"),
                 message: e.to_string(),
-            })?;
+            }
+        })?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadeballs"),
             required_features: adapter.features() & wanted,

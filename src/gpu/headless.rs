@@ -1,6 +1,6 @@
-//! Rendering without a window: into a texture, copied to a buffer (rows padded to 256
-//! bytes), mapped and returned.
+//! Rendering without a window: into a texture, read back ([`Readback`]) and returned.
 
+use super::readback::Readback;
 use super::renderer::{Renderer, Target};
 use crate::error::{Error, Result};
 use crate::scene::Scene;
@@ -67,31 +67,16 @@ impl Renderer {
     ) -> Result<Vec<u8>> {
         self.gpu.check_size(width, height)?;
         self.gpu.check()?;
-        let texel = format.block_copy_size(None).unwrap_or(4);
-        let row = width * texel;
-        let padded =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let bytes = padded as u64 * height as u64;
-        let max = self.gpu.device.limits().max_buffer_size;
-        if bytes > max {
-            return Err(Error::Invalid {
-                what: "image size",
-                message: format!(
-                    "{width}x{height} in {format:?} needs a {bytes}-byte read-back buffer; \
-                     this device allows {max} (use a smaller size or a .png)"
-                ),
-            });
-        }
         let device = self.gpu.device.clone();
+        let readback = Readback::new(&device, format, (width, height))?;
         let scopes = super::Scopes::push(&device);
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("frame"),
-            size,
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -100,12 +85,6 @@ impl Renderer {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
         let mut encoder = device.create_command_encoder(&Default::default());
         self.encode(
             scene,
@@ -117,64 +96,13 @@ impl Renderer {
             },
             &mut encoder,
         );
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(height),
-                },
-            },
-            size,
-        );
+        readback.record(&mut encoder, &texture);
         self.gpu.queue.submit([encoder.finish()]);
         scopes.pop()?;
         self.gpu.check()?;
         // A lost device fails the read; its own message says why, so it goes first.
-        let data = read_buffer(&device, &buffer);
+        let data = readback.read(&device);
         self.gpu.check()?;
-        let data = data?;
-        let mut out = Vec::with_capacity((row * height) as usize);
-        for y in 0..height as usize {
-            let start = y * padded as usize;
-            out.extend_from_slice(&data[start..start + row as usize]);
-        }
-        Ok(out)
+        data
     }
-}
-
-/// Maps `buffer` for reading, waits, and copies its contents out.
-pub(super) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::Gpu {
-            message: format!("waiting for the GPU: {e}"),
-        })?;
-    // The wait above runs the callback; one that never ran means the device failed.
-    let mapped = rx.try_recv().map_err(|_| Error::Gpu {
-        message: "the read-back did not complete (the device failed)".to_string(),
-    })?;
-    mapped.map_err(|e| Error::Gpu {
-        message: format!("mapping the readback buffer: {e}"),
-    })?;
-    let data = buffer
-        .slice(..)
-        .get_mapped_range()
-        .map_err(|e| Error::Gpu {
-            message: format!("mapping the readback buffer: {e}"),
-        })?
-        .to_vec();
-    buffer.unmap();
-    Ok(data)
 }

@@ -5,6 +5,7 @@
 mod context;
 mod headless;
 mod probe;
+pub mod readback;
 mod renderer;
 pub mod resources;
 pub mod shaders;

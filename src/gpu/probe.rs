@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::headless::read_buffer;
+use super::readback::read_buffer;
 use super::renderer::Renderer;
 use super::shaders;
 use crate::brdf::{FAvgForm, Geometry};
