@@ -1,5 +1,5 @@
-//! The command line's flags: what `shadeballs bake`, `bench`, `render` and `probe` accept,
-//! and the parsers of their values. The binary (`src/main.rs`) only adds the subcommand
+//! The command line's flags: what `shadeballs bake`, `bench`, `render`, `probe`, `truth`
+//! and `view` accept, and the parsers of their values. The binary (`src/main.rs`) only adds the subcommand
 //! names around these; they live in the library so that tests parse argv in-process with
 //! exactly the binary's rules (`clap::Args::augment_args` and `FromArgMatches`), and fuzz
 //! them without starting a process per case. Values are checked here, so a bad flag is one
@@ -94,6 +94,38 @@ pub struct ProbeArgs {
     #[arg(long, default_value_t = Geometry::Schlick)]
     pub geometry: Geometry,
     /// vulkan, gl or auto (the probe needs a GPU).
+    #[arg(long, default_value_t = Backend::Auto)]
+    pub backend: Backend,
+}
+
+/// Flags of `shadeballs view`.
+#[derive(clap::Args)]
+pub struct ViewArgs {
+    /// Scene file (TOML); default: the reference scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// accurate or games202 (overrides the scene file's).
+    #[arg(long)]
+    pub preset: Option<Preset>,
+    /// G for the accurate preset (overrides the scene file's).
+    #[arg(long)]
+    pub geometry: Option<Geometry>,
+    /// Window width in pixels (the panel takes 300 points on the right).
+    #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
+    pub width: u32,
+    /// Window height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
+    pub height: u32,
+    /// Draw this many frames back to back, print their median times and exit.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000), allow_negative_numbers = true)]
+    pub frames: Option<u32>,
+    /// With --frames: save the window's last frame to this PNG.
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Turn the camera a little every frame (to measure frame times while orbiting).
+    #[arg(long)]
+    pub orbit: bool,
+    /// vulkan, gl or auto (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
 }

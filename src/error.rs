@@ -41,6 +41,10 @@ pub enum Error {
     #[error("no GPU adapter for {backends}: {message} (for software Vulkan install the package mesa-vulkan-drivers, or use --backend cpu)")]
     NoAdapter { backends: String, message: String },
 
+    /// No window could be opened (no display server, or it refused).
+    #[error("cannot open a window: {message} (without a display, `shadeballs render` draws the same scene to a PNG)")]
+    Display { message: String },
+
     /// The GPU device reported an error (validation, out of memory, lost device).
     #[error("GPU error: {message}")]
     Gpu { message: String },

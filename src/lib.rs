@@ -14,5 +14,6 @@ pub mod lut;
 pub mod output;
 pub mod scene;
 pub mod truth;
+pub mod viewer;
 
 pub use error::{Error, Result};

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 mod render_cmd;
 
-use shadeballs::cli::{BakeArgs, BenchArgs, ProbeArgs, RenderArgs, TruthArgs};
+use shadeballs::cli::{BakeArgs, BenchArgs, ProbeArgs, RenderArgs, TruthArgs, ViewArgs};
 use shadeballs::lut::{self, io::write_tables, BakeConfig, Layout};
 
 #[derive(Parser)]
@@ -35,6 +35,8 @@ enum Command {
     /// Compare the models with the exact multiple scattering of a random walk on the
     /// microsurface (CSV tables, PNG plots, summary.md).
     Truth(TruthArgs),
+    /// Open a window showing the shading balls, with a panel to change them live.
+    View(ViewArgs),
 }
 
 fn truth(args: TruthArgs) -> anyhow::Result<()> {
@@ -148,6 +150,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render_cmd::render(args),
         Command::Probe(args) => render_cmd::probe(args),
         Command::Truth(args) => truth(args),
+        Command::View(args) => render_cmd::view(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use shadeballs::cli::{ProbeArgs, RenderArgs};
+use shadeballs::cli::{ProbeArgs, RenderArgs, ViewArgs};
 use shadeballs::error::{Error, Result};
 use shadeballs::gpu::{Backend, Gpu, Renderer};
 use shadeballs::image_out::{image_kind, write_exr, write_png, ImageKind};
@@ -26,17 +26,27 @@ fn open(backend: Backend) -> Result<Option<Renderer>> {
     }
 }
 
+/// The scene file's scene (or the reference scene), with the command line's overrides.
+fn load_scene(
+    path: Option<&std::path::Path>,
+    preset: Option<scene::Preset>,
+    geometry: Option<shadeballs::brdf::Geometry>,
+) -> Result<Scene> {
+    let mut scene = match path {
+        Some(path) => scene::load(path)?,
+        None => Scene::reference(),
+    };
+    scene.preset = preset.unwrap_or(scene.preset);
+    scene.geometry = geometry.unwrap_or(scene.geometry);
+    Ok(scene)
+}
+
 pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     output::check_output_path(&args.out)?;
-    let mut scene = match &args.scene {
-        Some(path) => scene::load(path)?,
-        None => Scene::reference(),
-    };
-    scene.preset = args.preset.unwrap_or(scene.preset);
-    scene.geometry = args.geometry.unwrap_or(scene.geometry);
+    let scene = load_scene(args.scene.as_deref(), args.preset, args.geometry)?;
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
     let renderer = open(args.backend)?;
@@ -153,5 +163,42 @@ pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
         renderer.gpu().describe(),
         args.out.display()
     );
+    Ok(())
+}
+
+pub fn view(args: ViewArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.screenshot {
+        output::check_output_path(path)?;
+        if image_kind(path)? != ImageKind::Png {
+            anyhow::bail!("--screenshot '{}' must be a .png", path.display());
+        }
+    }
+    let scene = load_scene(args.scene.as_deref(), args.preset, args.geometry)?;
+    let report = shadeballs::viewer::run(shadeballs::viewer::ViewOptions {
+        scene,
+        backend: args.backend,
+        size: (args.width, args.height),
+        frames: args.frames,
+        screenshot: args.screenshot,
+        orbit: args.orbit,
+    })?;
+    if args.frames.is_some() {
+        let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+        let fps = report
+            .interval_ms
+            .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
+        eprintln!(
+            "viewed {} frames at {}x{} (scene area {}x{}) on {}: median frame interval {} \
+             ({fps} fps), median draw {}",
+            report.frames,
+            report.window.0,
+            report.window.1,
+            report.scene.0,
+            report.scene.1,
+            report.adapter,
+            ms(report.interval_ms),
+            ms(report.draw_ms),
+        );
+    }
     Ok(())
 }

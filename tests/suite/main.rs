@@ -25,3 +25,4 @@ mod scene_gen;
 mod shaders;
 mod stress;
 mod truth;
+mod viewer;

@@ -1,0 +1,414 @@
+//! The interactive viewer (`shadeballs view`): a winit window showing the scene the headless
+//! renderer draws, through the same [`crate::gpu::Renderer::encode`], with an egui panel
+//! on the right to change it live.
+//!
+//! [`App`] is winit's application (events, keys, mouse); [`state::State`] holds the GPU
+//! resources; [`edit`] and [`orbit`] are the pure scene edits the controls make. Nothing is
+//! drawn while nothing changes (winit waits for events), except in `--frames` mode, which
+//! draws the given number of frames back to back, saves the window and exits.
+
+pub mod edit;
+pub mod orbit;
+mod panel;
+mod state;
+
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use crate::error::{Error, Result};
+use crate::gpu::Backend;
+use crate::image_out::write_png;
+use crate::scene::Scene;
+use panel::{Controls, Stats};
+use state::{Frame, Overlay, State};
+
+/// Camera turn per frame in `--orbit` mode, radians (a full turn in about 300 frames).
+pub const ORBIT_STEP: f64 = 0.02;
+/// Frames the panel's median frame time is taken over.
+const FRAME_WINDOW: usize = 31;
+
+/// What `shadeballs view` was asked for.
+pub struct ViewOptions {
+    pub scene: Scene,
+    pub backend: Backend,
+    /// The window's inner size in pixels.
+    pub size: (u32, u32),
+    /// Draw this many frames, save `screenshot` if given, and exit.
+    pub frames: Option<u32>,
+    pub screenshot: Option<PathBuf>,
+    /// Turn the camera by [`ORBIT_STEP`] every frame (to measure frame times while orbiting).
+    pub orbit: bool,
+}
+
+/// What a `--frames` run measured.
+pub struct Report {
+    pub frames: u32,
+    pub window: (u32, u32),
+    /// The scene area: the top-left `width x height` of the window.
+    pub scene: (u32, u32),
+    pub adapter: String,
+    /// Median wall time between the starts of consecutive frames (what the user sees).
+    pub interval_ms: Option<f64>,
+    /// Median wall time of drawing a frame (acquire, encode, GPU, present).
+    pub draw_ms: Option<f64>,
+}
+
+/// Opens the window and runs until it is closed (or `--frames` are drawn).
+pub fn run(options: ViewOptions) -> Result<Report> {
+    let Some(backends) = options.backend.wgpu_backends() else {
+        return Err(Error::Invalid {
+            what: "backend",
+            message: "the viewer draws with the GPU; `shadeballs render --backend cpu` \
+                      renders with the CPU reference renderer"
+                .into(),
+        });
+    };
+    let event_loop = EventLoop::new().map_err(display_error)?;
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let mut app = App::new(options, backends, event_loop.owned_display_handle());
+    event_loop.run_app(&mut app).map_err(display_error)?;
+    app.finish()
+}
+
+struct App {
+    options: ViewOptions,
+    backends: wgpu::Backends,
+    display: OwnedDisplayHandle,
+    state: Option<State>,
+    egui_ctx: egui::Context,
+    egui_winit: Option<egui_winit::State>,
+    scene: Scene,
+    controls: Controls,
+    /// The camera's distance to its target at start (zoom limits are relative to it).
+    home_distance: f64,
+    cursor: (f64, f64),
+    /// Where the left button went down in the scene area, while it is held.
+    drag: Option<(f64, f64)>,
+    scene_width: u32,
+    frames_drawn: u32,
+    draw_ms: VecDeque<f64>,
+    intervals_ms: Vec<f64>,
+    all_draw_ms: Vec<f64>,
+    last_start: Option<Instant>,
+    /// Where the next frame's pixels go (key S, or the last `--frames` frame).
+    screenshot: Option<PathBuf>,
+    error: Option<Error>,
+}
+
+impl App {
+    fn new(options: ViewOptions, backends: wgpu::Backends, display: OwnedDisplayHandle) -> Self {
+        let scene = options.scene.clone();
+        let home_distance = (scene.camera.position - scene.camera.target).length();
+        App {
+            controls: Controls::new(&scene, &crate::lut::BakeConfig::default().layout),
+            options,
+            backends,
+            display,
+            state: None,
+            egui_ctx: egui::Context::default(),
+            egui_winit: None,
+            scene,
+            home_distance,
+            cursor: (0.0, 0.0),
+            drag: None,
+            scene_width: 1,
+            frames_drawn: 0,
+            draw_ms: VecDeque::new(),
+            intervals_ms: Vec::new(),
+            all_draw_ms: Vec::new(),
+            last_start: None,
+            screenshot: None,
+            error: None,
+        }
+    }
+
+    fn finish(self) -> Result<Report> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        let state = self.state.as_ref();
+        Ok(Report {
+            frames: self.frames_drawn,
+            window: state.map_or((0, 0), State::size),
+            scene: (self.scene_width, state.map_or(0, |s| s.size().1)),
+            adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
+            interval_ms: median(&self.intervals_ms),
+            draw_ms: median(&self.all_draw_ms),
+        })
+    }
+
+    /// Stops the event loop with `e` as the run's result.
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        self.error.get_or_insert(e);
+        event_loop.exit();
+    }
+
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let (w, h) = self.options.size;
+        let attributes = Window::default_attributes()
+            .with_title("shadeballs")
+            .with_inner_size(winit::dpi::PhysicalSize::new(w, h));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(display_error)?,
+        );
+        let mut desc = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+            self.display.clone(),
+        ));
+        desc.backends = self.backends;
+        let instance = wgpu::Instance::new(desc);
+        let state = State::new(instance, self.backends, window.clone())?;
+        let max_side = state
+            .renderer
+            .gpu()
+            .device
+            .limits()
+            .max_texture_dimension_2d;
+        self.egui_winit = Some(egui_winit::State::new(
+            self.egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(max_side as usize),
+        ));
+        self.state = Some(state);
+        window.request_redraw();
+        Ok(())
+    }
+
+    fn request_redraw(&self) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+
+    /// Keys that act on the scene (egui has not taken the keyboard).
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode) {
+        match code {
+            KeyCode::Escape => event_loop.exit(),
+            KeyCode::KeyM => edit::toggle_term(&mut self.scene),
+            KeyCode::KeyF => {
+                let on = !edit::is_furnace(&self.scene);
+                edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lights);
+            }
+            KeyCode::KeyS => self.screenshot = Some(default_screenshot_path()),
+            _ => return,
+        }
+        self.request_redraw();
+    }
+
+    fn pointer(&mut self, event: &WindowEvent) {
+        match *event {
+            WindowEvent::CursorMoved { position, .. } => {
+                let (x, y) = (position.x, position.y);
+                if let Some((px, py)) = self.drag {
+                    let (dx, dy) = (x - px, y - py);
+                    self.scene.camera = orbit::orbit(
+                        &self.scene.camera,
+                        -dx * orbit::RADIANS_PER_PIXEL,
+                        dy * orbit::RADIANS_PER_PIXEL,
+                    );
+                    self.drag = Some((x, y));
+                    self.request_redraw();
+                }
+                self.cursor = (x, y);
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                let in_scene = self.cursor.0 < self.scene_width as f64;
+                self.drag = (state == ElementState::Pressed && in_scene).then_some(self.cursor);
+            }
+            WindowEvent::MouseWheel { delta, .. } if self.cursor.0 < self.scene_width as f64 => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y as f64,
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                self.scene.camera = orbit::zoom(&self.scene.camera, lines, self.home_distance);
+                self.request_redraw();
+            }
+            _ => {}
+        }
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let (Some(state), Some(egui_winit)) = (&mut self.state, &mut self.egui_winit) else {
+            return;
+        };
+        let start = Instant::now();
+        if self.options.orbit {
+            self.scene.camera = orbit::orbit(&self.scene.camera, ORBIT_STEP, 0.0);
+        }
+        // The panel: edits the scene and the bake settings; reports the last frames.
+        let stats = Stats {
+            frame_ms: median(self.draw_ms.make_contiguous()),
+            bake_ms: state
+                .renderer
+                .last_bake_time()
+                .map(|d| d.as_secs_f64() * 1e3),
+            adapter: state.renderer.gpu().describe(),
+            scene_size: (self.scene_width, state.size().1),
+        };
+        let input = egui_winit.take_egui_input(&state.window);
+        let (scene, controls) = (&mut self.scene, &mut self.controls);
+        let mut free_width = 0.0;
+        let output = self.egui_ctx.run_ui(input, |ui| {
+            panel::show(ui, scene, controls, &stats);
+            free_width = ui.available_rect_before_wrap().max.x;
+        });
+        egui_winit.handle_platform_output(&state.window, output.platform_output);
+        let ppp = output.pixels_per_point;
+        let (width, height) = state.size();
+        self.scene_width = ((free_width * ppp).floor() as u32).clamp(1, width.max(1));
+        let mut bake = state.renderer.bake_config();
+        bake.layout = self.controls.table_layout();
+        state.renderer.set_bake_config(bake);
+        let overlay = Overlay {
+            primitives: self.egui_ctx.tessellate(output.shapes, ppp),
+            textures: output.textures_delta,
+            pixels_per_point: ppp,
+        };
+        let last = self.options.frames == Some(self.frames_drawn + 1);
+        if last && self.screenshot.is_none() {
+            self.screenshot = self.options.screenshot.clone();
+        }
+        let capture = self.screenshot.is_some();
+        match state.draw(&self.scene, self.scene_width, &overlay, capture) {
+            Ok(Frame::Shown(pixels)) => {
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                if let Some(previous) = self.last_start {
+                    self.intervals_ms
+                        .push((start - previous).as_secs_f64() * 1e3);
+                }
+                self.last_start = Some(start);
+                self.draw_ms.push_back(ms);
+                self.all_draw_ms.push(ms);
+                if self.draw_ms.len() > FRAME_WINDOW {
+                    self.draw_ms.pop_front();
+                }
+                self.frames_drawn += 1;
+                if let (Some(path), Some(rgba)) = (self.screenshot.take(), pixels) {
+                    match write_png(&path, width, height, rgba) {
+                        Ok(()) => eprintln!(
+                            "screenshot {width}x{height} (scene area {}x{height} at the \
+                             top left) -> {}",
+                            self.scene_width,
+                            path.display()
+                        ),
+                        Err(e) => return self.fail(event_loop, e),
+                    }
+                }
+                if last {
+                    event_loop.exit();
+                }
+            }
+            Ok(Frame::Skipped) => {}
+            Ok(Frame::Retry) => self.request_redraw(),
+            Err(e) => self.fail(event_loop, e),
+        }
+        // Interactive: a frame was drawn because something changed; egui may ask for
+        // another (an animation) now or later.
+        let delay = output
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .map_or(Duration::MAX, |v| v.repaint_delay);
+        if delay.is_zero() {
+            self.request_redraw();
+        } else if let Some(when) = Instant::now().checked_add(delay) {
+            event_loop.set_control_flow(ControlFlow::WaitUntil(when));
+        }
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_none() {
+            if let Err(e) = self.open(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(state) = &mut self.state else {
+            return;
+        };
+        let response = match &mut self.egui_winit {
+            Some(egui_winit) => egui_winit.on_window_event(&state.window, &event),
+            None => return,
+        };
+        if response.repaint {
+            state.window.request_redraw();
+        }
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                state.resize(size.width, size.height);
+                state.window.request_redraw();
+            }
+            WindowEvent::ScaleFactorChanged { .. } => state.window.request_redraw(),
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::KeyboardInput { event, .. }
+                if !response.consumed
+                    && !self.egui_ctx.egui_wants_keyboard_input()
+                    && event.state == ElementState::Pressed
+                    && !event.repeat =>
+            {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.key(event_loop, code);
+                }
+            }
+            ref pointer if !response.consumed => self.pointer(pointer),
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        // `--frames`: draw back to back until done.
+        if self.options.frames.is_some_and(|n| self.frames_drawn < n) {
+            self.request_redraw();
+        }
+    }
+}
+
+/// winit's error without the "os error at <its source file>:<line>: " it starts with.
+fn display_error(e: impl std::fmt::Display) -> Error {
+    let message = e.to_string();
+    let message = match message.strip_prefix("os error at ") {
+        Some(rest) => rest
+            .split_once(": ")
+            .map_or(rest, |(_, cause)| cause)
+            .to_string(),
+        None => message,
+    };
+    Error::Display { message }
+}
+
+/// `shadeballs-<seconds since 1970>.png` in the working folder.
+fn default_screenshot_path() -> PathBuf {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    PathBuf::from(format!("shadeballs-{secs}.png"))
+}
+
+fn median(values: &[f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}

@@ -1,0 +1,226 @@
+//! The side panel: every live setting, and what the last frame cost. Each control edits the
+//! viewer's [`Scene`] through [`super::edit`] or the bake settings; the viewer compares
+//! before and after to know what to redo.
+
+use crate::brdf::Geometry;
+use crate::lut::{Layout, LayoutKind};
+use crate::scene::{Light, Preset, Scene, MAX_MAGNITUDE};
+
+use super::edit::{self, Grid, LightControl, MaterialChoice, MAX_BALLS_PER_ROW};
+
+/// The panel's width in points (egui's logical pixels).
+pub const PANEL_WIDTH: f32 = 300.0;
+/// Largest table side the panel offers (the bake grows as the square).
+pub const MAX_PANEL_TABLE_SIDE: usize = 512;
+
+/// The panel's own state: choices that are not fields of the scene.
+pub struct Controls {
+    pub material: MaterialChoice,
+    /// `None` while the balls are the scene's own; a grid once the user asks for one.
+    pub grid: Option<Grid>,
+    pub light: LightControl,
+    /// The scene's lights while the furnace is on.
+    pub saved_lights: Vec<Light>,
+    pub layout: LayoutKind,
+    pub table_size: (usize, usize),
+}
+
+impl Controls {
+    pub fn new(scene: &Scene, layout: &Layout) -> Self {
+        Controls {
+            material: MaterialChoice::AsScene,
+            grid: None,
+            light: LightControl::of(scene),
+            saved_lights: Vec::new(),
+            layout: layout.kind,
+            table_size: (layout.mu_size, layout.r_size),
+        }
+    }
+
+    /// The table layout these controls ask for.
+    pub fn table_layout(&self) -> Layout {
+        Layout::of_kind(self.layout).with_size(self.table_size.0, self.table_size.1)
+    }
+}
+
+/// What the panel reports.
+pub struct Stats {
+    /// Median wall time of recent frames, milliseconds.
+    pub frame_ms: Option<f64>,
+    /// The latest bake's wall time, milliseconds.
+    pub bake_ms: Option<f64>,
+    pub adapter: String,
+    /// The scene area in pixels.
+    pub scene_size: (u32, u32),
+}
+
+/// Shows the panel on the right of `ui`.
+pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats: &Stats) {
+    egui::Panel::right("settings")
+        .exact_size(PANEL_WIDTH)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                report(ui, stats);
+                ui.separator();
+                model(ui, scene, controls);
+                ui.separator();
+                balls(ui, scene, controls);
+                ui.separator();
+                lighting(ui, scene, controls);
+                ui.separator();
+                ui.label("Drag: orbit · wheel: zoom · M: term on all · F: furnace · S: screenshot · Esc: quit");
+            });
+        });
+}
+
+fn report(ui: &mut egui::Ui, stats: &Stats) {
+    ui.heading("shadeballs");
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+    ui.label(format!("frame {} (median)", ms(stats.frame_ms)));
+    ui.label(format!("bake {}", ms(stats.bake_ms)));
+    ui.label(format!(
+        "scene {}x{} on {}",
+        stats.scene_size.0, stats.scene_size.1, stats.adapter
+    ));
+}
+
+fn model(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
+    combo(ui, "preset", &mut scene.preset, &Preset::ALL, |p| p.name());
+    let forced = scene.preset.geometry();
+    ui.add_enabled_ui(forced.is_none(), |ui| {
+        combo(
+            ui,
+            "geometry term",
+            &mut scene.geometry,
+            &Geometry::ALL,
+            |g| g.name(),
+        );
+    });
+    if let Some(g) = forced {
+        ui.label(format!("({} forces {} G)", scene.preset.name(), g.name()));
+    }
+    combo(
+        ui,
+        "table layout",
+        &mut controls.layout,
+        &LayoutKind::ALL,
+        |k| k.name(),
+    );
+    ui.horizontal(|ui| {
+        let range = 2..=MAX_PANEL_TABLE_SIDE;
+        ui.label("table");
+        ui.add(egui::DragValue::new(&mut controls.table_size.0).range(range.clone()));
+        ui.label("mu x");
+        ui.add(egui::DragValue::new(&mut controls.table_size.1).range(range));
+        ui.label("roughness");
+    });
+}
+
+fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
+    let mut grid = controls.grid.unwrap_or(Grid::REFERENCE);
+    let mut changed = ui
+        .add(egui::Slider::new(&mut grid.per_row, 1..=MAX_BALLS_PER_ROW).text("balls per row"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut grid.low, 0.0..=1.0).text("roughness from"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut grid.high, 0.0..=1.0).text("roughness to"))
+        .changed();
+    if changed {
+        let material = controls
+            .material
+            .material()
+            .or(scene.balls.first().map(|b| b.material))
+            .unwrap_or(crate::scene::Material::metal_srgb(
+                crate::scene::REFERENCE_ALBEDO_SRGB,
+            ));
+        scene.balls = grid.balls(material);
+        controls.grid = Some(grid);
+    }
+    for (i, row) in edit::rows(scene).iter().enumerate() {
+        let mut on = edit::row_has_term(scene, row);
+        if ui
+            .checkbox(&mut on, format!("row {}: multiple-scattering term", i + 1))
+            .changed()
+        {
+            edit::set_row_term(scene, row, on);
+        }
+    }
+    let before = controls.material;
+    egui::ComboBox::from_label("material")
+        .selected_text(controls.material.name())
+        .show_ui(ui, |ui| {
+            for choice in MaterialChoice::all() {
+                let selected =
+                    std::mem::discriminant(&choice) == std::mem::discriminant(&controls.material);
+                if ui.selectable_label(selected, choice.name()).clicked() && !selected {
+                    controls.material = choice;
+                }
+            }
+        });
+    if let MaterialChoice::Custom(f0) = &mut controls.material {
+        let mut rgb = f0.map(|c| c as f32);
+        ui.horizontal(|ui| {
+            ui.label("F0 (linear)");
+            if ui.color_edit_button_rgb(&mut rgb).changed() {
+                *f0 = rgb.map(f64::from);
+            }
+        });
+    }
+    if controls.material != before {
+        if let Some(material) = controls.material.material() {
+            edit::set_material(scene, material);
+        }
+    }
+}
+
+fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
+    let mut furnace = edit::is_furnace(scene);
+    if ui
+        .checkbox(
+            &mut furnace,
+            "furnace (uniform white environment, lights off)",
+        )
+        .changed()
+    {
+        edit::set_furnace(scene, furnace, &mut controls.saved_lights);
+    }
+    ui.add_enabled_ui(!furnace, |ui| {
+        let light = &mut controls.light;
+        let mut changed = ui
+            .add(egui::Slider::new(&mut light.azimuth_deg, -180.0..=180.0).text("light azimuth"))
+            .changed();
+        changed |= ui
+            .add(egui::Slider::new(&mut light.elevation_deg, -90.0..=90.0).text("light elevation"))
+            .changed();
+        changed |= ui
+            .add(egui::Slider::new(&mut light.intensity, 0.0..=20.0).text("light intensity"))
+            .changed();
+        if changed {
+            scene.lights = light.lights();
+        }
+    });
+    ui.add(
+        egui::Slider::new(&mut scene.exposure, 1e-3..=1e3)
+            .logarithmic(true)
+            .text("exposure"),
+    );
+    scene.exposure = scene.exposure.clamp(f64::MIN_POSITIVE, MAX_MAGNITUDE);
+}
+
+fn combo<T: PartialEq + Copy>(
+    ui: &mut egui::Ui,
+    label: &str,
+    value: &mut T,
+    all: &[T],
+    name: fn(T) -> &'static str,
+) {
+    egui::ComboBox::from_label(label)
+        .selected_text(name(*value))
+        .show_ui(ui, |ui| {
+            for &choice in all {
+                ui.selectable_value(value, choice, name(choice));
+            }
+        });
+}
