@@ -182,23 +182,22 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
         screenshot: args.screenshot,
         orbit: args.orbit,
     })?;
-    if args.frames.is_some() {
-        let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
-        let fps = report
-            .interval_ms
-            .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
-        eprintln!(
-            "viewed {} frames at {}x{} (scene area {}x{}) on {}: median frame interval {} \
-             ({fps} fps), median draw {}",
-            report.frames,
-            report.window.0,
-            report.window.1,
-            report.scene.0,
-            report.scene.1,
-            report.adapter,
-            ms(report.interval_ms),
-            ms(report.draw_ms),
-        );
-    }
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+    let fps = report
+        .interval_ms
+        .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
+    eprintln!(
+        "viewed {} frames ({} shading the balls) at {}x{} (scene area {}x{}) on {}: median \
+         frame interval {} ({fps} fps), median draw {}",
+        report.frames,
+        report.scene_draws,
+        report.window.0,
+        report.window.1,
+        report.scene.0,
+        report.scene.1,
+        report.adapter,
+        ms(report.interval_ms),
+        ms(report.draw_ms),
+    );
     Ok(())
 }

@@ -51,6 +51,8 @@ pub struct ViewOptions {
 /// What a `--frames` run measured.
 pub struct Report {
     pub frames: u32,
+    /// How many of the frames shaded the balls (the others redrew only the panel).
+    pub scene_draws: u64,
     pub window: (u32, u32),
     /// The scene area: the top-left `width x height` of the window.
     pub scene: (u32, u32),
@@ -137,6 +139,7 @@ impl App {
         let state = self.state.as_ref();
         Ok(Report {
             frames: self.frames_drawn,
+            scene_draws: state.map_or(0, State::scene_draws),
             window: state.map_or((0, 0), State::size),
             scene: (self.scene_width, state.map_or(0, |s| s.size().1)),
             adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
@@ -349,7 +352,9 @@ impl ApplicationHandler for App {
             Some(egui_winit) => egui_winit.on_window_event(&state.window, &event),
             None => return,
         };
-        if response.repaint {
+        // egui asks to repaint after every event, the redraw itself included: that one
+        // must not schedule another, or the window redraws forever.
+        if response.repaint && event != WindowEvent::RedrawRequested {
             state.window.request_redraw();
         }
         match event {

@@ -165,8 +165,9 @@ fn window_scene_area_equals_the_headless_render() {
 }
 
 /// Key M, a resize and an unmap/map (the minimise of a window manager; X11 has no 0x0
-/// window) while frames are drawn: the viewer goes on, and its last frame is the resized
-/// window showing the scene with the term on every ball.
+/// window) while frames are drawn, at a fractional DPI scale (1.5: the panel's 300 points
+/// are 450 pixels): the viewer goes on, and its last frame is the resized window showing
+/// the scene with the term on every ball.
 #[test]
 fn keys_resize_and_unmap_through_the_window_system() {
     let x = Xvfb::start();
@@ -176,6 +177,7 @@ fn keys_resize_and_unmap_through_the_window_system() {
         &x,
         &["--frames", "120", "--screenshot", shot.to_str().unwrap()],
     )
+    .env("WINIT_X11_SCALE_FACTOR", "1.5")
     .spawn()
     .unwrap();
     let events = std::panic::catch_unwind(|| {
@@ -197,6 +199,7 @@ fn keys_resize_and_unmap_through_the_window_system() {
     assert!(out.status.success(), "viewer failed: {stderr}");
     let image = image::open(&shot).unwrap();
     assert_eq!((image.width(), image.height()), (960, 540), "{stderr}");
+    assert_eq!(scene_area(&stderr), (960 - 450, 540), "{stderr}");
     let mut scene = Scene::reference();
     edit::toggle_term(&mut scene);
     assert!(scene.balls.iter().all(|b| b.multiple_scattering));
@@ -205,6 +208,58 @@ fn keys_resize_and_unmap_through_the_window_system() {
         &stderr,
         &scene,
         "resized window (M pressed) vs headless",
+    );
+}
+
+/// The number after `key` in the viewer's report ("viewed 12 frames (1 shading ...").
+fn reported(stderr: &str, key: &str) -> u64 {
+    let at = stderr
+        .find(key)
+        .unwrap_or_else(|| panic!("no '{key}' in: {stderr}"));
+    stderr[at + key.len()..]
+        .split(|c: char| !c.is_ascii_digit())
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// Interactive: nothing is drawn while nothing happens, hovering the panel redraws only the
+/// panel, and a drag in the scene area orbits (shades the balls again); Esc quits.
+#[test]
+fn idle_draws_nothing_and_only_the_scene_area_orbits() {
+    let x = Xvfb::start();
+    let child = viewer(&x, &[]).spawn().unwrap();
+    let events = std::panic::catch_unwind(|| {
+        let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
+        let id = id.lines().next().unwrap().to_string();
+        // Idle for 1.5 s: at 20-60 frames a second, continuous redrawing would show.
+        std::thread::sleep(Duration::from_millis(1500));
+        for (px, py) in [(1100, 200), (1150, 300), (1200, 400)] {
+            let (px, py) = (px.to_string(), py.to_string());
+            x.xdotool(&["mousemove", "--window", &id, &px, &py]);
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        x.xdotool(&["mousemove", "--window", &id, "300", "300", "mousedown", "1"]);
+        x.xdotool(&["mousemove", "--window", &id, "360", "320", "mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
+    });
+    let out = wait(child, Duration::from_secs(60));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        events.is_ok(),
+        "sending the events failed; the viewer said: {stderr}"
+    );
+    assert!(out.status.success(), "viewer failed: {stderr}");
+    let frames = reported(&stderr, "viewed ");
+    let shaded = reported(&stderr, "frames (");
+    // First frame, the drag's one or two, and egui's own follow-ups per event (hover,
+    // focus, key): well under what 1.5 s of continuous drawing would give.
+    assert!(frames <= 30, "{frames} frames while idle: {stderr}");
+    assert!(
+        (2..=3).contains(&shaded),
+        "balls shaded {shaded} times: {stderr}"
     );
 }
 
