@@ -365,18 +365,24 @@ impl ApplicationHandler for App {
             }
             WindowEvent::ScaleFactorChanged { .. } => state.window.request_redraw(),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
-            WindowEvent::KeyboardInput { event, .. }
-                if !response.consumed
-                    && !self.egui_ctx.egui_wants_keyboard_input()
-                    && event.state == ElementState::Pressed
-                    && !event.repeat =>
+            // Synthetic presses are winit's report of keys already held when the window
+            // gains focus (after a map, say): not a press of the user's.
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic: false,
+                ..
+            } if !response.consumed
+                && !self.egui_ctx.egui_wants_keyboard_input()
+                && event.state == ElementState::Pressed
+                && !event.repeat =>
             {
                 if let PhysicalKey::Code(code) = event.physical_key {
                     self.key(event_loop, code);
                 }
             }
-            ref pointer if !response.consumed => self.pointer(pointer),
-            _ => {}
+            // Not egui's `consumed`: that reflects where the pointer was at the last frame;
+            // `pointer` itself keeps to the scene area.
+            ref pointer => self.pointer(pointer),
         }
     }
 

@@ -183,9 +183,9 @@ fn keys_resize_and_unmap_through_the_window_system() {
     let events = std::panic::catch_unwind(|| {
         let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
         let id = id.lines().next().unwrap().to_string();
-        x.xdotool(&["windowfocus", "--sync", &id]);
-        x.xdotool(&["key", "--window", &id, "m"]);
         x.xdotool(&["windowsize", "--sync", &id, "960", "540"]);
+        // XTEST input to the focused window, as a real keyboard's (not a sent event).
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "m"]);
         x.xdotool(&["windowunmap", "--sync", &id]);
         std::thread::sleep(Duration::from_millis(300));
         x.xdotool(&["windowmap", "--sync", &id]);
@@ -229,7 +229,8 @@ fn reported(stderr: &str, key: &str) -> u64 {
 #[test]
 fn idle_draws_nothing_and_only_the_scene_area_orbits() {
     let x = Xvfb::start();
-    let child = viewer(&x, &[]).spawn().unwrap();
+    let dir = temp_dir("view-idle");
+    let child = viewer(&x, &[]).current_dir(&dir).spawn().unwrap();
     let events = std::panic::catch_unwind(|| {
         let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
         let id = id.lines().next().unwrap().to_string();
@@ -242,6 +243,8 @@ fn idle_draws_nothing_and_only_the_scene_area_orbits() {
         }
         x.xdotool(&["mousemove", "--window", &id, "300", "300", "mousedown", "1"]);
         x.xdotool(&["mousemove", "--window", &id, "360", "320", "mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "s"]);
         std::thread::sleep(Duration::from_millis(300));
         x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
     });
