@@ -187,10 +187,11 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
         .interval_ms
         .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
     eprintln!(
-        "viewed {} frames ({} shading the balls) at {}x{} (scene area {}x{}) on {}: median \
-         frame interval {} ({fps} fps), median draw {}",
+        "viewed {} frames ({} shading the balls, {} drawing the panel) at {}x{} (scene area \
+         {}x{}) on {}: median frame interval {} ({fps} fps), median draw {}",
         report.frames,
         report.scene_draws,
+        report.panel_draws,
         report.window.0,
         report.window.1,
         report.scene.0,

@@ -7,6 +7,7 @@
 //! drawn while nothing changes (winit waits for events), except in `--frames` mode, which
 //! draws the given number of frames back to back, saves the window and exits.
 
+mod compose;
 pub mod edit;
 pub mod orbit;
 mod panel;
@@ -27,13 +28,16 @@ use crate::error::{Error, Result};
 use crate::gpu::Backend;
 use crate::image_out::write_png;
 use crate::scene::Scene;
+use compose::Overlay;
 use panel::{Controls, Stats};
-use state::{Frame, Overlay, State};
+use state::{Frame, State};
 
 /// Camera turn per frame in `--orbit` mode, radians (a full turn in about 300 frames).
 pub const ORBIT_STEP: f64 = 0.02;
 /// Frames the panel's median frame time is taken over.
 const FRAME_WINDOW: usize = 31;
+/// How often the panel's figures are updated (each update draws the panel again).
+const STATS_PERIOD: Duration = Duration::from_millis(500);
 
 /// What `shadeballs view` was asked for.
 pub struct ViewOptions {
@@ -51,8 +55,10 @@ pub struct ViewOptions {
 /// What a `--frames` run measured.
 pub struct Report {
     pub frames: u32,
-    /// How many of the frames shaded the balls (the others redrew only the panel).
+    /// How many of the frames shaded the balls, and drew the panel (the others reused
+    /// the last image of it).
     pub scene_draws: u64,
+    pub panel_draws: u64,
     pub window: (u32, u32),
     /// The scene area: the top-left `width x height` of the window.
     pub scene: (u32, u32),
@@ -100,6 +106,11 @@ struct App {
     intervals_ms: Vec<f64>,
     all_draw_ms: Vec<f64>,
     last_start: Option<Instant>,
+    /// The figures the panel shows, and when they were taken.
+    stats: Option<(Instant, Stats)>,
+    /// egui's shapes and scale of the last frame (the panel is drawn again only when they
+    /// change).
+    last_shapes: (Vec<egui::epaint::ClippedShape>, f32),
     /// Where the next frame's pixels go (key S, or the last `--frames` frame).
     screenshot: Option<PathBuf>,
     error: Option<Error>,
@@ -127,6 +138,8 @@ impl App {
             intervals_ms: Vec::new(),
             all_draw_ms: Vec::new(),
             last_start: None,
+            stats: None,
+            last_shapes: (Vec::new(), 0.0),
             screenshot: None,
             error: None,
         }
@@ -139,7 +152,8 @@ impl App {
         let state = self.state.as_ref();
         Ok(Report {
             frames: self.frames_drawn,
-            scene_draws: state.map_or(0, State::scene_draws),
+            scene_draws: state.map_or(0, |s| s.draws().0),
+            panel_draws: state.map_or(0, |s| s.draws().1),
             window: state.map_or((0, 0), State::size),
             scene: (self.scene_width, state.map_or(0, |s| s.size().1)),
             adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
@@ -255,20 +269,29 @@ impl App {
             self.scene.camera = orbit::orbit(&self.scene.camera, ORBIT_STEP, 0.0);
         }
         // The panel: edits the scene and the bake settings; reports the last frames.
-        let stats = Stats {
-            frame_ms: median(self.draw_ms.make_contiguous()),
-            bake_ms: state
-                .renderer
-                .last_bake_time()
-                .map(|d| d.as_secs_f64() * 1e3),
-            adapter: state.renderer.gpu().describe(),
-            scene_size: (self.scene_width, state.size().1),
-        };
+        let bake_ms = state
+            .renderer
+            .last_bake_time()
+            .map(|d| d.as_secs_f64() * 1e3);
+        let scene_size = (self.scene_width, state.size().1);
+        let fresh = self.stats.as_ref().is_some_and(|(at, s)| {
+            at.elapsed() < STATS_PERIOD && s.bake_ms == bake_ms && s.scene_size == scene_size
+        });
+        if !fresh {
+            let stats = Stats {
+                frame_ms: median(self.draw_ms.make_contiguous()),
+                bake_ms,
+                adapter: state.renderer.gpu().describe(),
+                scene_size,
+            };
+            self.stats = Some((start, stats));
+        }
+        let stats = &self.stats.as_ref().expect("set above").1;
         let input = egui_winit.take_egui_input(&state.window);
         let (scene, controls) = (&mut self.scene, &mut self.controls);
         let mut free_width = 0.0;
         let output = self.egui_ctx.run_ui(input, |ui| {
-            panel::show(ui, scene, controls, &stats);
+            panel::show(ui, scene, controls, stats);
             free_width = ui.available_rect_before_wrap().max.x;
         });
         egui_winit.handle_platform_output(&state.window, output.platform_output);
@@ -278,10 +301,24 @@ impl App {
         let mut bake = state.renderer.bake_config();
         bake.layout = self.controls.table_layout();
         state.renderer.set_bake_config(bake);
+        // Left edge of what egui drew, in pixels: right of the scene area unless a popup
+        // reaches over it.
+        let left = output
+            .shapes
+            .iter()
+            .map(|s| s.shape.visual_bounding_rect().intersect(s.clip_rect).min.x)
+            .filter(|x| x.is_finite())
+            .fold(f32::INFINITY, f32::min);
+        let changed = output.shapes != self.last_shapes.0
+            || ppp != self.last_shapes.1
+            || !output.textures_delta.is_empty();
+        self.last_shapes = (output.shapes.clone(), ppp);
         let overlay = Overlay {
             primitives: self.egui_ctx.tessellate(output.shapes, ppp),
             textures: output.textures_delta,
             pixels_per_point: ppp,
+            changed,
+            panel_only: left * ppp >= self.scene_width as f32 - 1.0,
         };
         let last = self.options.frames == Some(self.frames_drawn + 1);
         if last && self.screenshot.is_none() {

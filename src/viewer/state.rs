@@ -1,8 +1,7 @@
-//! The window's GPU state: the surface, the ball renderer and egui's renderer. One frame is
-//! the scene image (the balls shaded by [`Renderer::encode`], the headless path, only when
-//! the scene, the bake settings or the size changed) copied into the window, then the panel
-//! on top; a surface that is outdated, lost, occluded or zero-sized skips the frame or is
-//! rebuilt, never panics.
+//! The window's GPU state: the surface, the ball renderer and egui's renderer. A frame is
+//! the frame image of [`Layers`] (the balls and the panel, each redone only when it
+//! changed) copied into the window; a surface that is outdated, lost, occluded or
+//! zero-sized skips the frame or is rebuilt, never panics.
 
 use std::sync::Arc;
 
@@ -10,16 +9,10 @@ use winit::window::Window;
 
 use crate::error::{Error, Result};
 use crate::gpu::readback::Readback;
-use crate::gpu::{Gpu, Renderer, Target};
-use crate::lut::BakeConfig;
+use crate::gpu::{Gpu, Renderer};
 use crate::scene::Scene;
 
-/// What the panel drew this frame, in egui's terms.
-pub struct Overlay {
-    pub primitives: Vec<egui::ClippedPrimitive>,
-    pub textures: egui::TexturesDelta,
-    pub pixels_per_point: f32,
-}
+use super::compose::{self, Layers, Overlay};
 
 /// How a frame went.
 pub enum Frame {
@@ -38,11 +31,7 @@ pub struct State {
     config: wgpu::SurfaceConfiguration,
     pub renderer: Renderer,
     egui: egui_wgpu::Renderer,
-    /// The scene as last shaded, the size of the window (copied under the panel each
-    /// frame), and what it holds.
-    scene_image: Option<wgpu::Texture>,
-    scene_key: Option<SceneKey>,
-    scene_draws: u64,
+    layers: Layers,
     /// The surface said it no longer fits: reconfigure before the next frame.
     stale: bool,
 }
@@ -80,9 +69,7 @@ impl State {
             config,
             renderer: Renderer::new(gpu),
             egui,
-            scene_image: None,
-            scene_key: None,
-            scene_draws: 0,
+            layers: Layers::default(),
             stale: false,
         })
     }
@@ -166,11 +153,23 @@ impl State {
             }
         }
         let mut encoder = device.create_command_encoder(&Default::default());
-        let scene_width = scene_width.clamp(1, width);
-        self.update_scene(scene, scene_width, &mut encoder);
-        self.compose(overlay, &frame.texture, &mut encoder);
+        let frame_image = self.layers.update(
+            &mut self.renderer,
+            &mut self.egui,
+            self.config.format,
+            (width, height),
+            scene,
+            scene_width.clamp(1, width),
+            overlay,
+            &mut encoder,
+        );
+        compose::copy(&mut encoder, frame_image, &frame.texture, (width, height));
         let readback = match capture {
-            true => Some(self.capture(overlay, &frame.texture, &mut encoder)?),
+            true => {
+                let readback = Readback::new(&device, self.config.format, (width, height))?;
+                readback.record(&mut encoder, frame_image);
+                Some(readback)
+            }
             false => None,
         };
         queue.submit([encoder.finish()]);
@@ -186,161 +185,10 @@ impl State {
         Ok(Frame::Shown(image))
     }
 
-    /// How many times the balls were shaded (frames that only redraw the panel reuse the
-    /// last image of the scene).
-    pub fn scene_draws(&self) -> u64 {
-        self.scene_draws
-    }
-
-    /// Shades the scene into the window-sized scene image, unless it already holds this
-    /// scene with these bake settings at this size.
-    fn update_scene(
-        &mut self,
-        scene: &Scene,
-        scene_width: u32,
-        encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let (width, height) = self.size();
-        let key = SceneKey {
-            scene: scene.clone(),
-            bake: self.renderer.bake_config(),
-            size: (scene_width, width, height),
-        };
-        let fits = self.scene_image.as_ref().is_some_and(|t| {
-            (t.width(), t.height()) == (width, height) && t.format() == self.config.format
-        });
-        if !fits {
-            self.scene_image = Some(self.renderer.gpu().device.create_texture(
-                &wgpu::TextureDescriptor {
-                    label: Some("scene image"),
-                    size: extent(width, height),
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: self.config.format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                },
-            ));
-            self.scene_key = None;
-        }
-        if self.scene_key.as_ref() == Some(&key) {
-            return;
-        }
-        let texture = self.scene_image.as_ref().expect("created above");
-        let view = texture.create_view(&Default::default());
-        let target = Target {
-            view: &view,
-            format: self.config.format,
-            width: scene_width,
-            height,
-        };
-        self.renderer.encode(scene, target, encoder);
-        // The tables may have been re-baked for this scene: key on the settings now held.
-        self.scene_key = Some(SceneKey {
-            bake: self.renderer.bake_config(),
-            ..key
-        });
-        self.scene_draws += 1;
-    }
-
-    /// The scene image copied into `texture`, then the panel drawn over it.
-    fn compose(
-        &mut self,
-        overlay: &Overlay,
-        texture: &wgpu::Texture,
-        encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let (width, height) = self.size();
-        let scene_image = self.scene_image.as_ref().expect("updated before composing");
-        encoder.copy_texture_to_texture(
-            scene_image.as_image_copy(),
-            texture.as_image_copy(),
-            extent(width, height),
-        );
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [width, height],
-            pixels_per_point: overlay.pixels_per_point,
-        };
-        let gpu = self.renderer.gpu();
-        let extra = self.egui.update_buffers(
-            &gpu.device,
-            &gpu.queue,
-            encoder,
-            &overlay.primitives,
-            &screen,
-        );
-        // egui paints no callbacks here, so there are no extra command buffers to submit.
-        debug_assert!(extra.is_empty());
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.config.format),
-            ..Default::default()
-        });
-        let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("panel"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        self.egui
-            .render(&mut pass.forget_lifetime(), &overlay.primitives, &screen);
-    }
-
-    /// Records the read of the window's image: straight from the surface texture where the
-    /// surface allows copies, else from the same frame composed again into an offscreen
-    /// texture (wgpu keeps it alive until the submitted copy is done).
-    fn capture(
-        &mut self,
-        overlay: &Overlay,
-        surface_texture: &wgpu::Texture,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> Result<Readback> {
-        let device = self.renderer.gpu().device.clone();
-        let size = self.size();
-        let readback = Readback::new(&device, self.config.format, size)?;
-        if self.config.usage.contains(wgpu::TextureUsages::COPY_SRC) {
-            readback.record(encoder, surface_texture);
-            return Ok(readback);
-        }
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("screenshot"),
-            size: extent(size.0, size.1),
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: self.config.format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        self.compose(overlay, &texture, encoder);
-        readback.record(encoder, &texture);
-        Ok(readback)
-    }
-}
-
-/// What the scene image holds: a scene, drawn with these bake settings, `scene width`
-/// columns of a `width x height` window.
-#[derive(PartialEq)]
-struct SceneKey {
-    scene: Scene,
-    bake: BakeConfig,
-    size: (u32, u32, u32),
-}
-
-fn extent(width: u32, height: u32) -> wgpu::Extent3d {
-    wgpu::Extent3d {
-        width,
-        height,
-        depth_or_array_layers: 1,
+    /// How many times the balls were shaded, and the panel drawn (frames that change
+    /// only one of them reuse the other).
+    pub fn draws(&self) -> (u64, u64) {
+        (self.layers.scene_draws, self.layers.panel_draws)
     }
 }
 
@@ -370,16 +218,13 @@ fn surface_config(
                 caps.formats
             ),
         })?;
-    // The scene image is copied in each frame.
+    // The frame image is copied in.
     if !caps.usages.contains(wgpu::TextureUsages::COPY_DST) {
         return Err(Error::Gpu {
             message: "the window's surface cannot be copied into".into(),
         });
     }
-    let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST;
-    if caps.usages.contains(wgpu::TextureUsages::COPY_SRC) {
-        usage |= wgpu::TextureUsages::COPY_SRC;
-    }
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST;
     Ok(wgpu::SurfaceConfiguration {
         usage,
         format,

@@ -165,21 +165,19 @@ fn window_scene_area_equals_the_headless_render() {
 }
 
 /// Key M, a resize and an unmap/map (the minimise of a window manager; X11 has no 0x0
-/// window) while frames are drawn, at a fractional DPI scale (1.5: the panel's 300 points
-/// are 450 pixels): the viewer goes on, and its last frame is the resized window showing
-/// the scene with the term on every ball.
+/// window) at a fractional DPI scale (1.5: the panel's 300 points are 450 pixels), then
+/// key S: the viewer goes on, and its screenshot is the resized window showing the scene
+/// with the term on every ball. Interactive, so no frame count can run out before the
+/// events arrive.
 #[test]
 fn keys_resize_and_unmap_through_the_window_system() {
     let x = Xvfb::start();
     let dir = temp_dir("view-events");
-    let shot = dir.join("events.png");
-    let child = viewer(
-        &x,
-        &["--frames", "120", "--screenshot", shot.to_str().unwrap()],
-    )
-    .env("WINIT_X11_SCALE_FACTOR", "1.5")
-    .spawn()
-    .unwrap();
+    let child = viewer(&x, &[])
+        .current_dir(&dir)
+        .env("WINIT_X11_SCALE_FACTOR", "1.5")
+        .spawn()
+        .unwrap();
     let events = std::panic::catch_unwind(|| {
         let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
         let id = id.lines().next().unwrap().to_string();
@@ -189,26 +187,43 @@ fn keys_resize_and_unmap_through_the_window_system() {
         x.xdotool(&["windowunmap", "--sync", &id]);
         std::thread::sleep(Duration::from_millis(300));
         x.xdotool(&["windowmap", "--sync", &id]);
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "s"]);
+        let start = Instant::now();
+        while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
     });
-    let out = wait(child, Duration::from_secs(120));
+    let out = wait(child, Duration::from_secs(60));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         events.is_ok(),
         "sending the events failed; the viewer said: {stderr}"
     );
     assert!(out.status.success(), "viewer failed: {stderr}");
-    let image = image::open(&shot).unwrap();
+    let shots = pngs(&dir);
+    assert_eq!(shots.len(), 1, "{shots:?}: {stderr}");
+    let image = image::open(&shots[0]).unwrap();
     assert_eq!((image.width(), image.height()), (960, 540), "{stderr}");
     assert_eq!(scene_area(&stderr), (960 - 450, 540), "{stderr}");
     let mut scene = Scene::reference();
     edit::toggle_term(&mut scene);
     assert!(scene.balls.iter().all(|b| b.multiple_scattering));
     assert_scene_matches(
-        &shot,
+        &shots[0],
         &stderr,
         &scene,
         "resized window (M pressed) vs headless",
     );
+}
+
+/// The PNG files in `dir`.
+fn pngs(dir: &Path) -> Vec<std::path::PathBuf> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect()
 }
 
 /// The number after `key` in the viewer's report ("viewed 12 frames (1 shading ...").

@@ -1,0 +1,201 @@
+//! A window frame from two cached images, so that a frame redoes only what changed:
+//!
+//! - the *scene image*: the balls shaded by [`Renderer::encode`] (the headless path) into
+//!   the scene area of a window-sized texture, black beyond it; shaded again only when the
+//!   scene, the bake settings or the size change;
+//! - the *frame image*: the scene image with the panel drawn over it by egui; the panel is
+//!   drawn again only when egui's output changes or reaches over the scene area (a popup);
+//!   otherwise a new scene image is copied into its scene area alone.
+//!
+//! The frame image is copied into the window, and screenshots are read from it.
+
+use crate::gpu::{Renderer, Target};
+use crate::lut::BakeConfig;
+use crate::scene::Scene;
+
+/// What the panel drew this frame, in egui's terms.
+pub struct Overlay {
+    pub primitives: Vec<egui::ClippedPrimitive>,
+    pub textures: egui::TexturesDelta,
+    pub pixels_per_point: f32,
+    /// Whether egui's shapes differ from the previous frame's.
+    pub changed: bool,
+    /// Whether everything egui drew lies right of the scene area.
+    pub panel_only: bool,
+}
+
+/// What the scene image holds: a scene, drawn with these bake settings, `scene width`
+/// columns of a `width x height` window.
+#[derive(PartialEq)]
+struct SceneKey {
+    scene: Scene,
+    bake: BakeConfig,
+    size: (u32, u32, u32),
+}
+
+#[derive(Default)]
+pub struct Layers {
+    scene_image: Option<wgpu::Texture>,
+    scene_key: Option<SceneKey>,
+    frame_image: Option<wgpu::Texture>,
+    /// Whether the frame image's panel is egui's latest output.
+    panel_current: bool,
+    /// How many times the balls were shaded, and the panel drawn.
+    pub scene_draws: u64,
+    pub panel_draws: u64,
+}
+
+impl Layers {
+    /// Records on `encoder` what brings the frame image up to date with `scene`, drawn in
+    /// its `scene_width` left columns, and `overlay`; returns the frame image.
+    #[allow(clippy::too_many_arguments)]
+    pub fn update(
+        &mut self,
+        renderer: &mut Renderer,
+        egui: &mut egui_wgpu::Renderer,
+        format: wgpu::TextureFormat,
+        (width, height): (u32, u32),
+        scene: &Scene,
+        scene_width: u32,
+        overlay: &Overlay,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> &wgpu::Texture {
+        let fits = |t: &Option<wgpu::Texture>| {
+            t.as_ref()
+                .is_some_and(|t| (t.width(), t.height()) == (width, height) && t.format() == format)
+        };
+        if !fits(&self.scene_image) || !fits(&self.frame_image) {
+            let device = &renderer.gpu().device;
+            self.scene_image = Some(image(device, "scene image", format, width, height));
+            self.frame_image = Some(image(device, "frame image", format, width, height));
+            self.scene_key = None;
+            self.panel_current = false;
+        }
+        let key = SceneKey {
+            scene: scene.clone(),
+            bake: renderer.bake_config(),
+            size: (scene_width, width, height),
+        };
+        let scene_changed = self.scene_key.as_ref() != Some(&key);
+        let (scene_image, frame_image) = (
+            self.scene_image.as_ref().expect("created above"),
+            self.frame_image.as_ref().expect("created above"),
+        );
+        if scene_changed {
+            let view = scene_image.create_view(&Default::default());
+            let target = Target {
+                view: &view,
+                format,
+                width: scene_width,
+                height,
+            };
+            renderer.encode(scene, target, encoder);
+            // The tables may have been re-baked for this scene: key on the settings held now.
+            self.scene_key = Some(SceneKey {
+                bake: renderer.bake_config(),
+                ..key
+            });
+            self.scene_draws += 1;
+        }
+        let redraw_panel = !self.panel_current || overlay.changed || !overlay.panel_only;
+        if redraw_panel {
+            copy(encoder, scene_image, frame_image, (width, height));
+            draw_panel(
+                renderer,
+                egui,
+                overlay,
+                frame_image,
+                (width, height),
+                encoder,
+            );
+            self.panel_current = overlay.panel_only;
+            self.panel_draws += 1;
+        } else if scene_changed {
+            copy(encoder, scene_image, frame_image, (scene_width, height));
+        }
+        frame_image
+    }
+}
+
+/// egui's output over `texture`.
+fn draw_panel(
+    renderer: &Renderer,
+    egui: &mut egui_wgpu::Renderer,
+    overlay: &Overlay,
+    texture: &wgpu::Texture,
+    (width, height): (u32, u32),
+    encoder: &mut wgpu::CommandEncoder,
+) {
+    let screen = egui_wgpu::ScreenDescriptor {
+        size_in_pixels: [width, height],
+        pixels_per_point: overlay.pixels_per_point,
+    };
+    let gpu = renderer.gpu();
+    let extra = egui.update_buffers(
+        &gpu.device,
+        &gpu.queue,
+        encoder,
+        &overlay.primitives,
+        &screen,
+    );
+    // egui paints no callbacks here, so there are no extra command buffers to submit.
+    debug_assert!(extra.is_empty());
+    let view = texture.create_view(&Default::default());
+    let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("panel"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        ..Default::default()
+    });
+    egui.render(&mut pass.forget_lifetime(), &overlay.primitives, &screen);
+}
+
+/// Copies the top-left `width x height` of `from` into `to`.
+pub fn copy(
+    encoder: &mut wgpu::CommandEncoder,
+    from: &wgpu::Texture,
+    to: &wgpu::Texture,
+    (width, height): (u32, u32),
+) {
+    encoder.copy_texture_to_texture(
+        from.as_image_copy(),
+        to.as_image_copy(),
+        extent(width, height),
+    );
+}
+
+fn image(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: extent(width, height),
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+fn extent(width: u32, height: u32) -> wgpu::Extent3d {
+    wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    }
+}
