@@ -2,40 +2,38 @@
 //! renderer draws, through the same [`crate::gpu::Renderer::encode`], with an egui panel
 //! on the right to change it live.
 //!
-//! [`App`] is winit's application (events, keys, mouse); [`state::State`] holds the GPU
-//! resources; [`edit`] and [`orbit`] are the pure scene edits the controls make. Nothing is
-//! drawn while nothing changes (winit waits for events), except in `--frames` mode, which
+//! [`App`] is winit's application (its events, keys and mouse in `events`); `state::State`
+//! holds the GPU resources and `compose` the cached images a frame is made of; [`edit`] and
+//! [`orbit`] are the pure scene edits the controls make. Nothing is drawn while nothing
+//! changes (winit waits for events), except in `--frames` mode, which
 //! draws the given number of frames back to back, saves the window and exits.
 
+mod clock;
 mod compose;
 pub mod edit;
+mod events;
 pub mod orbit;
 mod panel;
 mod state;
 
-use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
-use winit::keyboard::{KeyCode, PhysicalKey};
-use winit::window::{Window, WindowId};
+use winit::window::Window;
 
 use crate::error::{Error, Result};
 use crate::gpu::Backend;
 use crate::image_out::write_png;
 use crate::scene::Scene;
+use clock::FrameClock;
 use compose::Overlay;
 use panel::{Controls, Stats};
 use state::{Frame, State};
 
 /// Camera turn per frame in `--orbit` mode, radians (a full turn in about 300 frames).
 pub const ORBIT_STEP: f64 = 0.02;
-/// Frames the panel's median frame time is taken over.
-const FRAME_WINDOW: usize = 31;
 /// How often the panel's figures are updated (each update draws the panel again).
 const STATS_PERIOD: Duration = Duration::from_millis(500);
 
@@ -102,10 +100,7 @@ struct App {
     drag: Option<(f64, f64)>,
     scene_width: u32,
     frames_drawn: u32,
-    draw_ms: VecDeque<f64>,
-    intervals_ms: Vec<f64>,
-    all_draw_ms: Vec<f64>,
-    last_start: Option<Instant>,
+    clock: FrameClock,
     /// The figures the panel shows, and when they were taken.
     stats: Option<(Instant, Stats)>,
     /// egui's shapes and scale of the last frame (the panel is drawn again only when they
@@ -134,10 +129,7 @@ impl App {
             drag: None,
             scene_width: 1,
             frames_drawn: 0,
-            draw_ms: VecDeque::new(),
-            intervals_ms: Vec::new(),
-            all_draw_ms: Vec::new(),
-            last_start: None,
+            clock: FrameClock::default(),
             stats: None,
             last_shapes: (Vec::new(), 0.0),
             screenshot: None,
@@ -157,8 +149,8 @@ impl App {
             window: state.map_or((0, 0), State::size),
             scene: (self.scene_width, state.map_or(0, |s| s.size().1)),
             adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
-            interval_ms: median(&self.intervals_ms),
-            draw_ms: median(&self.all_draw_ms),
+            interval_ms: self.clock.interval_ms(),
+            draw_ms: self.clock.draw_ms(),
         })
     }
 
@@ -209,57 +201,6 @@ impl App {
         }
     }
 
-    /// Keys that act on the scene (egui has not taken the keyboard).
-    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode) {
-        match code {
-            KeyCode::Escape => event_loop.exit(),
-            KeyCode::KeyM => edit::toggle_term(&mut self.scene),
-            KeyCode::KeyF => {
-                let on = !edit::is_furnace(&self.scene);
-                edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lights);
-            }
-            KeyCode::KeyS => self.screenshot = Some(default_screenshot_path()),
-            _ => return,
-        }
-        self.request_redraw();
-    }
-
-    fn pointer(&mut self, event: &WindowEvent) {
-        match *event {
-            WindowEvent::CursorMoved { position, .. } => {
-                let (x, y) = (position.x, position.y);
-                if let Some((px, py)) = self.drag {
-                    let (dx, dy) = (x - px, y - py);
-                    self.scene.camera = orbit::orbit(
-                        &self.scene.camera,
-                        -dx * orbit::RADIANS_PER_PIXEL,
-                        dy * orbit::RADIANS_PER_PIXEL,
-                    );
-                    self.drag = Some((x, y));
-                    self.request_redraw();
-                }
-                self.cursor = (x, y);
-            }
-            WindowEvent::MouseInput {
-                state,
-                button: MouseButton::Left,
-                ..
-            } => {
-                let in_scene = self.cursor.0 < self.scene_width as f64;
-                self.drag = (state == ElementState::Pressed && in_scene).then_some(self.cursor);
-            }
-            WindowEvent::MouseWheel { delta, .. } if self.cursor.0 < self.scene_width as f64 => {
-                let lines = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => y as f64,
-                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
-                };
-                self.scene.camera = orbit::zoom(&self.scene.camera, lines, self.home_distance);
-                self.request_redraw();
-            }
-            _ => {}
-        }
-    }
-
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         let (Some(state), Some(egui_winit)) = (&mut self.state, &mut self.egui_winit) else {
             return;
@@ -279,7 +220,7 @@ impl App {
         });
         if !fresh {
             let stats = Stats {
-                frame_ms: median(self.draw_ms.make_contiguous()),
+                frame_ms: self.clock.recent_draw_ms(),
                 bake_ms,
                 adapter: state.renderer.gpu().describe(),
                 scene_size,
@@ -327,17 +268,7 @@ impl App {
         let capture = self.screenshot.is_some();
         match state.draw(&self.scene, self.scene_width, &overlay, capture) {
             Ok(Frame::Shown(pixels)) => {
-                let ms = start.elapsed().as_secs_f64() * 1e3;
-                if let Some(previous) = self.last_start {
-                    self.intervals_ms
-                        .push((start - previous).as_secs_f64() * 1e3);
-                }
-                self.last_start = Some(start);
-                self.draw_ms.push_back(ms);
-                self.all_draw_ms.push(ms);
-                if self.draw_ms.len() > FRAME_WINDOW {
-                    self.draw_ms.pop_front();
-                }
+                self.clock.shown(start);
                 self.frames_drawn += 1;
                 if let (Some(path), Some(rgba)) = (self.screenshot.take(), pixels) {
                     match write_png(&path, width, height, rgba) {
@@ -372,65 +303,6 @@ impl App {
     }
 }
 
-impl ApplicationHandler for App {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.state.is_none() {
-            if let Err(e) = self.open(event_loop) {
-                self.fail(event_loop, e);
-            }
-        }
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
-        let Some(state) = &mut self.state else {
-            return;
-        };
-        let response = match &mut self.egui_winit {
-            Some(egui_winit) => egui_winit.on_window_event(&state.window, &event),
-            None => return,
-        };
-        // egui asks to repaint after every event, the redraw itself included: that one
-        // must not schedule another, or the window redraws forever.
-        if response.repaint && event != WindowEvent::RedrawRequested {
-            state.window.request_redraw();
-        }
-        match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => {
-                state.resize(size.width, size.height);
-                state.window.request_redraw();
-            }
-            WindowEvent::ScaleFactorChanged { .. } => state.window.request_redraw(),
-            WindowEvent::RedrawRequested => self.redraw(event_loop),
-            // Synthetic presses are winit's report of keys already held when the window
-            // gains focus (after a map, say): not a press of the user's.
-            WindowEvent::KeyboardInput {
-                event,
-                is_synthetic: false,
-                ..
-            } if !response.consumed
-                && !self.egui_ctx.egui_wants_keyboard_input()
-                && event.state == ElementState::Pressed
-                && !event.repeat =>
-            {
-                if let PhysicalKey::Code(code) = event.physical_key {
-                    self.key(event_loop, code);
-                }
-            }
-            // Not egui's `consumed`: that reflects where the pointer was at the last frame;
-            // `pointer` itself keeps to the scene area.
-            ref pointer => self.pointer(pointer),
-        }
-    }
-
-    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
-        // `--frames`: draw back to back until done.
-        if self.options.frames.is_some_and(|n| self.frames_drawn < n) {
-            self.request_redraw();
-        }
-    }
-}
-
 /// winit's error without the "os error at <its source file>:<line>: " it starts with.
 fn display_error(e: impl std::fmt::Display) -> Error {
     let message = e.to_string();
@@ -442,21 +314,4 @@ fn display_error(e: impl std::fmt::Display) -> Error {
         None => message,
     };
     Error::Display { message }
-}
-
-/// `shadeballs-<seconds since 1970>.png` in the working folder.
-fn default_screenshot_path() -> PathBuf {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    PathBuf::from(format!("shadeballs-{secs}.png"))
-}
-
-fn median(values: &[f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
 }

@@ -1,0 +1,131 @@
+//! winit's events: the window's lifecycle, keys, and the mouse's orbit and zoom.
+
+use std::path::PathBuf;
+
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::WindowId;
+
+use super::{edit, orbit, App};
+
+impl App {
+    /// Keys that act on the scene (egui has not taken the keyboard).
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode) {
+        match code {
+            KeyCode::Escape => event_loop.exit(),
+            KeyCode::KeyM => edit::toggle_term(&mut self.scene),
+            KeyCode::KeyF => {
+                let on = !edit::is_furnace(&self.scene);
+                edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lights);
+            }
+            KeyCode::KeyS => self.screenshot = Some(default_screenshot_path()),
+            _ => return,
+        }
+        self.request_redraw();
+    }
+
+    fn pointer(&mut self, event: &WindowEvent) {
+        match *event {
+            WindowEvent::CursorMoved { position, .. } => {
+                let (x, y) = (position.x, position.y);
+                if let Some((px, py)) = self.drag {
+                    let (dx, dy) = (x - px, y - py);
+                    self.scene.camera = orbit::orbit(
+                        &self.scene.camera,
+                        -dx * orbit::RADIANS_PER_PIXEL,
+                        dy * orbit::RADIANS_PER_PIXEL,
+                    );
+                    self.drag = Some((x, y));
+                    self.request_redraw();
+                }
+                self.cursor = (x, y);
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                let in_scene = self.cursor.0 < self.scene_width as f64;
+                self.drag = (state == ElementState::Pressed && in_scene).then_some(self.cursor);
+            }
+            WindowEvent::MouseWheel { delta, .. } if self.cursor.0 < self.scene_width as f64 => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y as f64,
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                self.scene.camera = orbit::zoom(&self.scene.camera, lines, self.home_distance);
+                self.request_redraw();
+            }
+            _ => {}
+        }
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_none() {
+            if let Err(e) = self.open(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(state) = &mut self.state else {
+            return;
+        };
+        let response = match &mut self.egui_winit {
+            Some(egui_winit) => egui_winit.on_window_event(&state.window, &event),
+            None => return,
+        };
+        // egui asks to repaint after every event, the redraw itself included: that one
+        // must not schedule another, or the window redraws forever.
+        if response.repaint && event != WindowEvent::RedrawRequested {
+            state.window.request_redraw();
+        }
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                state.resize(size.width, size.height);
+                state.window.request_redraw();
+            }
+            WindowEvent::ScaleFactorChanged { .. } => state.window.request_redraw(),
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            // Synthetic presses are winit's report of keys already held when the window
+            // gains focus (after a map, say): not a press of the user's.
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic: false,
+                ..
+            } if !response.consumed
+                && !self.egui_ctx.egui_wants_keyboard_input()
+                && event.state == ElementState::Pressed
+                && !event.repeat =>
+            {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.key(event_loop, code);
+                }
+            }
+            // Not egui's `consumed`: that reflects where the pointer was at the last frame;
+            // `pointer` itself keeps to the scene area.
+            ref pointer => self.pointer(pointer),
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        // `--frames`: draw back to back until done.
+        if self.options.frames.is_some_and(|n| self.frames_drawn < n) {
+            self.request_redraw();
+        }
+    }
+}
+
+/// `shadeballs-<seconds since 1970>.png` in the working folder.
+fn default_screenshot_path() -> PathBuf {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    PathBuf::from(format!("shadeballs-{secs}.png"))
+}
