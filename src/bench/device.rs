@@ -96,26 +96,7 @@ pub fn loss_texture(gpu: &Gpu, tables: &Tables) -> wgpu::TextureView {
 /// Maps the first `size` bytes of `buffer` (MAP_READ, its copy already waited for) and
 /// copies them out.
 pub fn read(gpu: &Gpu, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
-    let slice = buffer.slice(..size);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    wait(gpu)?;
-    let mapped = rx.recv().map_err(|e| Error::Gpu {
-        message: format!("readback: {e}"),
-    })?;
-    mapped.map_err(|e| Error::Gpu {
-        message: format!("mapping a readback buffer: {e}"),
-    })?;
-    let data = slice
-        .get_mapped_range()
-        .map_err(|e| Error::Gpu {
-            message: format!("mapping a readback buffer: {e}"),
-        })?
-        .to_vec();
-    buffer.unmap();
-    Ok(data)
+    crate::gpu::readback::read_prefix(&gpu.device, buffer, size)
 }
 
 /// A compute-stage bind group layout entry.

@@ -93,8 +93,14 @@ impl Readback {
 
 /// Maps `buffer` for reading, waits, and copies its contents out.
 pub fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+    read_prefix(device, buffer, buffer.size())
+}
+
+/// As [`read_buffer`], the first `len` bytes only.
+pub fn read_prefix(device: &wgpu::Device, buffer: &wgpu::Buffer, len: u64) -> Result<Vec<u8>> {
+    let slice = buffer.slice(..len);
     let (tx, rx) = std::sync::mpsc::channel();
-    buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+    slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
     device
@@ -109,8 +115,7 @@ pub fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u
     mapped.map_err(|e| Error::Gpu {
         message: format!("mapping the readback buffer: {e}"),
     })?;
-    let data = buffer
-        .slice(..)
+    let data = slice
         .get_mapped_range()
         .map_err(|e| Error::Gpu {
             message: format!("mapping the readback buffer: {e}"),

@@ -161,14 +161,8 @@ pub fn evaluate(
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
         queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        readback
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |m| tx.send(m).unwrap());
-        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
-        rx.recv().unwrap().unwrap();
-        let values: Vec<f32> =
-            bytemuck::pod_collect_to_vec(&readback.slice(..).get_mapped_range().unwrap());
+        let bytes = shadeballs::gpu::readback::read_buffer(device, &readback).unwrap();
+        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
         out.extend(values.chunks_exact(STRIDE_OUT).map(|v| {
             let mut row = [0.0; 19];
             row.copy_from_slice(&v[..19]);
