@@ -7,7 +7,8 @@
 //!   drawn again only when egui's output changes or reaches over the scene area (a popup);
 //!   otherwise a new scene image is copied into its scene area alone.
 //!
-//! The frame image is copied into the window, and screenshots are read from it.
+//! The frame image is copied (or, where the surface forbids copies, drawn) into the window,
+//! and screenshots are read from it.
 
 use crate::gpu::{Renderer, Target};
 use crate::lut::BakeConfig;
@@ -187,7 +188,8 @@ fn image(
         format,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::COPY_DST,
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
 }

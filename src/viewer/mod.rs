@@ -8,6 +8,7 @@
 //! changes (winit waits for events), except in `--frames` mode, which
 //! draws the given number of frames back to back, saves the window and exits.
 
+pub mod blit;
 mod clock;
 mod compose;
 pub mod edit;

@@ -12,6 +12,7 @@ use crate::gpu::readback::Readback;
 use crate::gpu::{Gpu, Renderer};
 use crate::scene::Scene;
 
+use super::blit::Blit;
 use super::compose::{self, Layers, Overlay};
 
 /// How a frame went.
@@ -32,6 +33,8 @@ pub struct State {
     pub renderer: Renderer,
     egui: egui_wgpu::Renderer,
     layers: Layers,
+    /// The draw that puts the frame image into a surface that cannot be copied into.
+    blit: Option<Blit>,
     /// The surface said it no longer fits: reconfigure before the next frame.
     stale: bool,
 }
@@ -54,6 +57,8 @@ impl State {
         if config.width > 0 && config.height > 0 {
             surface.configure(&gpu.device, &config);
         }
+        let blit = (!config.usage.contains(wgpu::TextureUsages::COPY_DST))
+            .then(|| Blit::new(&gpu.device, config.format));
         let egui = egui_wgpu::Renderer::new(
             &gpu.device,
             config.format,
@@ -70,6 +75,7 @@ impl State {
             renderer: Renderer::new(gpu),
             egui,
             layers: Layers::default(),
+            blit,
             stale: false,
         })
     }
@@ -163,7 +169,13 @@ impl State {
             overlay,
             &mut encoder,
         );
-        compose::copy(&mut encoder, frame_image, &frame.texture, (width, height));
+        match &self.blit {
+            None => compose::copy(&mut encoder, frame_image, &frame.texture, (width, height)),
+            Some(blit) => {
+                let view = frame.texture.create_view(&Default::default());
+                blit.encode(&device, &mut encoder, frame_image, &view);
+            }
+        }
         let readback = match capture {
             true => {
                 let readback = Readback::new(&device, self.config.format, (width, height))?;
@@ -218,13 +230,9 @@ fn surface_config(
                 caps.formats
             ),
         })?;
-    // The frame image is copied in.
-    if !caps.usages.contains(wgpu::TextureUsages::COPY_DST) {
-        return Err(Error::Gpu {
-            message: "the window's surface cannot be copied into".into(),
-        });
-    }
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST;
+    // The frame image is copied in where the surface allows it, else drawn ([`Blit`]).
+    let usage =
+        wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
     Ok(wgpu::SurfaceConfiguration {
         usage,
         format,

@@ -17,6 +17,7 @@ fn validate(name: &str, source: &str) {
 fn modules_parse_and_validate() {
     validate("balls module", &shaders::balls_source());
     validate("probe module", &shaders::probe_source());
+    validate("viewer blit", include_str!("../../shaders/blit.wgsl"));
 }
 
 #[test]

@@ -146,22 +146,23 @@ fn viewer(x: &Xvfb, args: &[&str]) -> Command {
     c
 }
 
+/// On Vulkan (the frame image copied into the window) and on GL (drawn into it: GL
+/// surfaces cannot be copied into).
 #[test]
 fn window_scene_area_equals_the_headless_render() {
     let x = Xvfb::start();
     let dir = temp_dir("view-shot");
-    let shot = dir.join("view.png");
-    let out = viewer(
-        &x,
-        &["--frames", "3", "--screenshot", shot.to_str().unwrap()],
-    )
-    .output()
-    .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "viewer failed: {stderr}");
-    let image = image::open(&shot).unwrap();
-    assert_eq!((image.width(), image.height()), (1280, 720), "{stderr}");
-    assert_scene_matches(&shot, &stderr, &Scene::reference(), "window vs headless");
+    for backend in ["vulkan", "gl"] {
+        let shot = dir.join(format!("view-{backend}.png"));
+        let args = ["--frames", "3", "--backend", backend, "--screenshot"];
+        let out = viewer(&x, &args).arg(&shot).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "viewer on {backend} failed: {stderr}");
+        let image = image::open(&shot).unwrap();
+        assert_eq!((image.width(), image.height()), (1280, 720), "{stderr}");
+        let what = format!("window on {backend} vs headless on Vulkan");
+        assert_scene_matches(&shot, &stderr, &Scene::reference(), &what);
+    }
 }
 
 /// Key M, a resize and an unmap/map (the minimise of a window manager; X11 has no 0x0
@@ -381,5 +382,57 @@ fn term_rows_furnace_and_materials_edit_the_scene() {
     assert_eq!(
         MaterialChoice::Copper.material().unwrap(),
         Scene::reference().balls[0].material
+    );
+}
+
+/// The blit that stands in for a copy where the window cannot be copied into (GL) gives the
+/// window the frame image's exact bytes.
+#[test]
+fn blit_is_an_exact_copy() {
+    use shadeballs::gpu::readback::Readback;
+    use shadeballs::viewer::blit::Blit;
+    let r = vulkan();
+    let (device, queue) = (&r.gpu().device, &r.gpu().queue);
+    let format = wgpu::TextureFormat::Bgra8Unorm;
+    let (w, h) = (67u32, 45u32);
+    let texture = |usage| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: None,
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let from = texture(wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
+    let to = texture(wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC);
+    // Every byte value, in a pattern that differs per texel and channel.
+    let bytes: Vec<u8> = (0..w * h * 4).map(|i| (i * 37 % 256) as u8).collect();
+    queue.write_texture(
+        from.as_image_copy(),
+        &bytes,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * w),
+            rows_per_image: Some(h),
+        },
+        from.size(),
+    );
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let view = to.create_view(&Default::default());
+    Blit::new(device, format).encode(device, &mut encoder, &from, &view);
+    let readback = Readback::new(device, format, (w, h)).unwrap();
+    readback.record(&mut encoder, &to);
+    queue.submit([encoder.finish()]);
+    assert!(
+        readback.read(device).unwrap() == bytes,
+        "the blit changed the bytes"
     );
 }
