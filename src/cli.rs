@@ -79,6 +79,9 @@ pub struct RenderArgs {
     /// auto, vulkan, gl or cpu.
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(clap::Args)]

@@ -44,7 +44,10 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let device = match renderer {
         Some(mut renderer) => {
             renderer.gpu().check_size(w, h)?;
-            renderer.tables_for(geometry);
+            let plan = renderer.plan_for(&scene);
+            if args.verbose {
+                eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
+            }
             phases.mark("bake");
             match kind {
                 ImageKind::Png => {
@@ -66,6 +69,9 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
         }
         None => {
             check_cpu_size(w, h)?;
+            if args.verbose {
+                eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
+            }
             let tables = lut::bake(&BakeConfig {
                 geometry,
                 ..Default::default()

@@ -126,7 +126,11 @@ impl Renderer {
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &self.tables.as_ref().expect("tables bound above").1, &[]);
+            pass.set_bind_group(
+                0,
+                &self.bound.as_ref().expect("tables bound above").bind,
+                &[],
+            );
             pass.set_bind_group(1, &group1, &[]);
             pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
         }
