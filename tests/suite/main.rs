@@ -17,6 +17,8 @@ mod gpu_stress;
 mod lut;
 mod lut_chebyshev;
 mod pixels;
+mod plan;
+mod planned;
 mod probe;
 mod props;
 mod render;
