@@ -93,6 +93,16 @@ pub fn plan_sweep(quick: bool) -> Sweep {
         ]);
     }
     let plan = Plan::new(&scene, config, DrawOptions::default());
+    // What re-planning costs a frame when nothing changed (the viewer plans every redraw).
+    let (plan_ms, _) = median_ms(repeats, || {
+        (0..1000)
+            .map(|_| {
+                Plan::new(&scene, config, DrawOptions::default())
+                    .rows()
+                    .len()
+            })
+            .sum::<usize>()
+    });
     let roughness = plan.rows().to_vec();
     let (scene_ms, rows) = rows_ms(&keys(&config, &roughness), repeats);
     let (rows_max, rows_mean) =
@@ -117,7 +127,8 @@ pub fn plan_sweep(quick: bool) -> Sweep {
         sci(full_mean),
     ]);
     t.note = format!(
-        "Medians of {repeats} bakes each, rows from nothing (no cache), rayon on every core. Errors against the precise reference at the scene's roughness values: max on the probe's grid (mu = i/64, `shadeballs probe`), mean at 400 random mu. Largest k measured whose rows bake no slower than the table: {largest_cheaper}; the plan's threshold MAX_PLANNED_ROWS = {MAX_PLANNED_ROWS}."
+        "Medians of {repeats} bakes each, rows from nothing (no cache), rayon on every core. Errors against the precise reference at the scene's roughness values: max on the probe's grid (mu = i/64, `shadeballs probe`), mean at 400 random mu. Largest k measured whose rows bake no slower than the table: {largest_cheaper}; the plan's threshold MAX_PLANNED_ROWS = {MAX_PLANNED_ROWS}. Planning the default scene (`Plan::new`, what the renderer redoes every frame): {:.2} us.",
+        plan_ms
     );
     let goals = vec![
         Goal {
