@@ -99,6 +99,11 @@ pub struct ProbeArgs {
     /// vulkan, gl or auto (the probe needs a GPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Probe along this scene's own rows (one per roughness its plan bakes; mu = i/(N-1))
+    /// instead of the N x N grid of the 2-D table; `--preset` and `--geometry` then come
+    /// from the scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
 }
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).

@@ -3,6 +3,7 @@
 //! windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod context;
+mod draw;
 mod headless;
 mod probe;
 mod renderer;

@@ -24,6 +24,8 @@ pub const VS_BALL: &str = "vs_ball";
 pub const FS_BALL: &str = "fs_ball";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
+/// Entry point of the probe along a scene's own rows.
+pub const PROBE_ROWS: &str = "probe_rows_main";
 
 fn concat(parts: &[&str]) -> String {
     let common = COMMON.iter().map(|(_, src)| *src);

@@ -150,3 +150,30 @@ fn no_term_scene_equals_the_plain_shader() {
     let d = compare(&planned, &plain, W);
     assert_eq!(d.pixels, d.equal, "{}", d.report("no term vs plain"));
 }
+
+/// The probe along the default scene's rows (the shader's `lut_loss_row`, on the GPU)
+/// returns exactly the CPU model of the read, and is within 2e-4 of the precise reference
+/// at the scene's roughness values (the bound); a scene that reads no rows has none.
+#[test]
+fn probe_along_the_scenes_rows() {
+    let mut r = vulkan();
+    let scene = Scene::reference();
+    let (rows, samples) = r.probe_rows(&scene, 65).unwrap().expect("rows planned");
+    assert_eq!(samples.len(), 65 * 5);
+    let g = scene.effective_geometry();
+    let mut worst: f64 = 0.0;
+    for s in &samples {
+        let cpu = 1.0 - rows.lut_loss(s.mu, s.roughness);
+        assert_eq!(
+            s.e, cpu,
+            "GPU and CPU reads differ at ({}, {})",
+            s.mu, s.roughness
+        );
+        assert_eq!(s.e_avg, 1.0 - rows.lut_loss_avg(s.roughness));
+        let exact = shadeballs::lut::e_reference(s.mu as f64, s.roughness as f64, g);
+        worst = worst.max((s.e as f64 - exact).abs());
+    }
+    println!("probe along the default scene's rows: max E error {worst:.2e}");
+    assert!(worst <= 2e-4, "{worst:e}");
+    assert!(r.probe_rows(&no_term_scene(), 65).unwrap().is_none());
+}
