@@ -89,6 +89,13 @@ fn runs(quick: bool) -> Vec<Run> {
             "-",
             "default",
             reference.clone(),
+            "games202 layout rows; chebyshev bake; quads",
+            Setup::Planned(layout(LayoutKind::Games202), quads),
+        ));
+        runs.push((
+            "-",
+            "default",
+            reference.clone(),
             "sqrt-mu 64x64 2-D table; quads",
             table(&reference, layout(LayoutKind::SqrtMu), quads),
         ));
