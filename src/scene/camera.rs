@@ -79,8 +79,8 @@ impl CameraBasis {
 
     /// The screen-space bounds of the sphere `(center, radius)` as NDC `[x0, y0, x1, y1]`
     /// (x right, y up, clipped to `[-1, 1]`), widened by `pad_px` pixels of a `w x h` image;
-    /// `None` when the sphere is entirely off screen. The whole screen when the sphere is
-    /// not entirely in front of the eye (camera inside, beside or behind it).
+    /// `None` when the sphere is entirely off screen or behind the eye. The whole screen
+    /// when the sphere is not entirely in front of the eye (the camera inside or beside it).
     ///
     /// Exact for a pinhole: the range of `x / z` over a sphere of centre `(cx, cz)` (camera
     /// frame) ends at the planes `x = t z` tangent to it, where the centre's distance to the
@@ -98,6 +98,10 @@ impl CameraBasis {
         let (sx, sy) = (self.right.length(), self.up.length());
         let p = center - self.origin;
         let cz = p.dot(self.forward);
+        // Entirely behind the eye: no primary ray (direction . forward > 0) reaches it.
+        if cz <= -radius {
+            return None;
+        }
         let a = cz * cz - radius * radius;
         // In front with a margin (relative to the distance): otherwise the whole screen.
         if cz <= radius || a <= 1e-9 * cz * cz || sx <= 0.0 || sy <= 0.0 {

@@ -2,6 +2,7 @@
 
 mod bad_input;
 mod bench;
+mod bounds;
 mod brdf;
 mod clamp;
 mod cli;
