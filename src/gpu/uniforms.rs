@@ -153,10 +153,18 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
         .iter()
         .take(MAX_BALLS)
         .map(|b| {
-            let loss_avg = tables.loss_avg(b.roughness as f32);
-            let e_avg = 1.0 - loss_avg as f64;
-            let f0 = b.material.f0.to_array();
-            let f_add = |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
+            // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
+            // shader multiplies them by the ball's zero flag or compiles them out).
+            let f_add_loss_avg = if b.multiple_scattering {
+                let loss_avg = tables.loss_avg(b.roughness as f32);
+                let e_avg = 1.0 - loss_avg as f64;
+                let f0 = b.material.f0.to_array();
+                let f_add =
+                    |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
+                [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg]
+            } else {
+                [0.0; 4]
+            };
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
@@ -164,7 +172,7 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
                     b.material.diffuse,
                     if b.multiple_scattering { 1.0 } else { 0.0 },
                 ),
-                f_add_loss_avg: [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg],
+                f_add_loss_avg,
                 lut_row: tables.lut_row(b.roughness as f32),
             }
         })
