@@ -1,7 +1,7 @@
-//! Rendering: frame time at 1280 x 720 on the adapter in use, with the multiple-scattering
-//! term compiled in and out, per preset and table configuration, against the image error
-//! relative to the CPU reference renderer evaluating the exact model (precise E and E_avg,
-//! [`super::exact`]).
+//! Rendering: how a frame at 1280 x 720 is timed on the adapter in use, with the
+//! multiple-scattering term compiled in and out (or two draw options alternating), and its
+//! image error relative to the CPU reference renderer evaluating the exact model (precise
+//! E and E_avg, [`super::exact`]); the sweep itself is `render_sweep.rs`.
 //!
 //! Frame time: the median wall time of encoding, submitting and waiting for one frame into
 //! a 1280 x 720 `Rgba8Unorm` texture (no readback), after a warm-up frame, frames with and
@@ -54,7 +54,7 @@ pub fn exact_radiance(scene: &Scene, exact: &Tables) -> Vec<DVec3> {
     cpu::render_radiance(scene, exact, WIDTH, HEIGHT)
 }
 
-/// Renders `scene` with `tables`, the term compiled in and out, frames alternating between
+/// Renders `scene` as `setup` says, the term compiled in and out, frames alternating between
 /// the two so that both see the same machine load: (on, off, ratio), each frame with its
 /// median time over `repeats` frames and its display error against `exact` radiance; the
 /// ratio is the median over rounds of (on / off) of the two frames of a round, which

@@ -7,6 +7,8 @@ use super::{shaders, uniforms};
 use crate::scene::Scene;
 
 impl Renderer {
+    /// The pipeline of `key`, created on first use: the variant's override constants, the
+    /// per-ball entry points with their instance buffer, or the full-screen ones.
     pub(super) fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
         let (format, geometry, form, per_ball, variant) = key;
         let device = &self.gpu.device;

@@ -19,7 +19,8 @@ pub use super::draw::QUAD_PAD_PX;
 
 /// Where to draw: a view of a texture of `format`; the image is `width x height` pixels at
 /// its top-left corner (the whole texture for a headless render, the scene area left of
-/// the viewer's panel in a window; the rest of the texture is cleared only).
+/// the viewer's panel in a window; the rest of the texture is cleared only, to the
+/// scene's background colour: the planned draw clears the whole attachment with it).
 /// Float formats receive linear radiance (for EXR); others the tone-mapped value.
 #[derive(Clone, Copy)]
 pub struct Target<'a> {
