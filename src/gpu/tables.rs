@@ -2,7 +2,9 @@
 //! cache keyed by every input that changes their values (`lut::RowKey`), so the viewer,
 //! which re-plans on every change, bakes only the rows it has not baked before; the 2-D
 //! table is kept for its config. A plan that needs nothing keeps whatever is bound (its
-//! pipelines never read it) or binds 1 x 1 placeholders.
+//! pipelines never read it) or binds 1 x 1 placeholders. The last few bind groups are kept
+//! too, so that switching back and forth (a caller asking for the 2-D table between
+//! planned frames) uploads nothing.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -17,6 +19,9 @@ use crate::scene::{Plan, TablePlan};
 /// Most rows the memory cache keeps (about 0.8 KB each at 64 texels): past it, the rows
 /// not bound are dropped.
 pub const MAX_CACHED_ROWS: usize = 4096;
+
+/// Bind groups kept besides the bound one (their textures stay alive with them).
+const MAX_KEPT_BINDS: usize = 4;
 
 /// What is bound: the read it gives and its bind group.
 pub(super) struct Bound {
@@ -39,6 +44,8 @@ pub(super) struct TableCache {
     pub rows: HashMap<RowKey, Arc<Row>>,
     /// The latest 2-D table (baked here or given by `set_tables`).
     pub full: Option<Arc<Tables>>,
+    /// Recently bound tables, oldest first.
+    pub binds: Vec<Bound>,
 }
 
 impl Renderer {
@@ -47,9 +54,9 @@ impl Renderer {
     pub(super) fn ensure_tables(&mut self, plan: &Plan) {
         match &plan.tables {
             TablePlan::None => {
-                if self.bound.is_none() {
+                if self.bound.is_none() && !self.reuse(&BoundKey::Placeholder) {
                     let bind = self.resources.bind_none(&self.gpu.device, &self.gpu.queue);
-                    self.bound = Some(Bound {
+                    self.replace_bound(Bound {
                         what: BoundKey::Placeholder,
                         read: BoundTables::None,
                         bind,
@@ -64,7 +71,7 @@ impl Renderer {
                     .iter()
                     .map(|&r| RowKey::new(&plan.bake, r))
                     .collect();
-                if !matches!(&self.bound, Some(b) if b.what == BoundKey::Rows(keys.clone())) {
+                if !self.reuse(&BoundKey::Rows(keys.clone())) {
                     self.bind_rows(keys);
                 }
             }
@@ -94,11 +101,36 @@ impl Renderer {
         let bind = self
             .resources
             .bind_rows(&self.gpu.device, &self.gpu.queue, &set);
-        self.bound = Some(Bound {
+        self.replace_bound(Bound {
             what: BoundKey::Rows(keys),
             read: BoundTables::Rows(set),
             bind,
         });
+    }
+
+    /// Makes the bind group of `what` the bound one if it is bound or kept; whether it was.
+    fn reuse(&mut self, what: &BoundKey) -> bool {
+        if matches!(&self.bound, Some(b) if b.what == *what) {
+            return true;
+        }
+        match self.cache.binds.iter().position(|b| b.what == *what) {
+            Some(i) => {
+                let kept = self.cache.binds.remove(i);
+                self.replace_bound(kept);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Binds `next`, keeping the one it replaces among the last few.
+    fn replace_bound(&mut self, next: Bound) {
+        if let Some(previous) = self.bound.replace(next) {
+            self.cache.binds.push(previous);
+            if self.cache.binds.len() > MAX_KEPT_BINDS {
+                self.cache.binds.remove(0);
+            }
+        }
     }
 
     /// The 2-D table for `config`, baked if not held, and bound.
@@ -113,11 +145,11 @@ impl Renderer {
                 t
             }
         };
-        if !matches!(&self.bound, Some(b) if b.what == BoundKey::Full(config)) {
+        if !self.reuse(&BoundKey::Full(config)) {
             let bind = self
                 .resources
                 .bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
-            self.bound = Some(Bound {
+            self.replace_bound(Bound {
                 what: BoundKey::Full(config),
                 read: BoundTables::Full(tables.clone()),
                 bind,
@@ -139,6 +171,12 @@ impl Renderer {
         self.bake_config = tables.config;
         self.cache.full = Some(tables.clone());
         self.pinned = true;
+        // Other tables of the same config may hold other values: bind these anew.
+        let what = BoundKey::Full(tables.config);
+        self.cache.binds.retain(|b| b.what != what);
+        if matches!(&self.bound, Some(b) if b.what == what) {
+            self.bound = None;
+        }
         self.full_table(tables.config);
     }
 

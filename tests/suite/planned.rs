@@ -127,6 +127,20 @@ fn bakes_only_new_rows() {
     r.plan_for(&Scene::reference());
     assert_eq!(r.last_bake_time(), Some(Duration::ZERO));
     assert_eq!(r.cached_rows(), 6);
+    // Asking for the 2-D table between planned frames rebinds the same rows (kept).
+    let BoundTables::Rows(before) = r.bound_tables() else {
+        panic!("rows expected")
+    };
+    r.tables_for(Scene::reference().effective_geometry());
+    assert!(matches!(r.bound_tables(), BoundTables::Full(_)));
+    r.plan_for(&Scene::reference());
+    let BoundTables::Rows(after) = r.bound_tables() else {
+        panic!("rows expected")
+    };
+    assert!(
+        std::sync::Arc::ptr_eq(&before, &after),
+        "the rows were bound anew"
+    );
     // Another bake config is another key.
     r.set_bake_config(BakeConfig {
         samples: 16,
