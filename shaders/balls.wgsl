@@ -1,11 +1,14 @@
 // balls.wgsl: the entry points of the ball renderer.
 //
-// One full-screen triangle; the fragment shader casts the pixel's primary ray and
-// intersects every ball analytically (exact spheres, no tessellation). Chosen over
-// per-ball screen-space quads because it is one draw with no vertex data, resolves
-// overlapping balls by the nearest hit without a depth buffer, and paints the background
-// in the same pass; its cost (every pixel tests every ball) is small for the tens of balls
-// a shading-ball scene holds.
+// Each pixel casts its primary ray and intersects every ball analytically (exact spheres,
+// no tessellation); the nearest hit wins, so overlapping balls need no depth buffer. Two
+// ways to cover the pixels:
+// - vs_ball / fs_ball (the planned renderer, src/gpu/renderer.rs): one quad per ball over
+//   its screen-space bounds (CameraBasis::sphere_bounds), instanced per shader variant; a
+//   fragment shades only where its own ball is the nearest hit and discards elsewhere;
+//   the background is the render pass's clear. Only the pixels a ball covers are shaded.
+// - vs_main / fs_main: one full-screen triangle that also paints the background (the
+//   design before planning, kept for comparison in `shadeballs bench`).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -49,12 +52,24 @@ fn intersect_sphere(o: vec3<f32>, d: vec3<f32>, center: vec3<f32>, r: f32) -> f3
     return -1.0;
 }
 
-// Linear radiance seen through pixel position `frag` (pixel centres at +0.5).
-fn radiance_at(frag: vec2<f32>) -> vec3<f32> {
+// The primary ray through pixel position `frag` (pixel centres at +0.5): origin, unit
+// direction.
+fn primary_ray(frag: vec2<f32>) -> array<vec3<f32>, 2> {
     let ndc_x = 2.0 * frag.x / globals.size.x - 1.0;
     let ndc_y = 1.0 - 2.0 * frag.y / globals.size.y;
     let o = globals.cam_origin.xyz;
     let d = normalize(globals.cam_forward.xyz + ndc_x * globals.cam_right.xyz + ndc_y * globals.cam_up.xyz);
+    return array<vec3<f32>, 2>(o, d);
+}
+
+struct Hit {
+    // Distance along the ray, or -1 for no hit.
+    t: f32,
+    ball: u32,
+}
+
+// The nearest ball along the ray (lowest index on a tie).
+fn nearest_hit(o: vec3<f32>, d: vec3<f32>) -> Hit {
     var best_t = -1.0;
     var best = 0u;
     for (var k = 0u; k < min(globals.counts.x, MAX_BALLS); k++) {
@@ -64,12 +79,32 @@ fn radiance_at(frag: vec2<f32>) -> vec3<f32> {
             best = k;
         }
     }
-    if best_t < 0.0 {
+    return Hit(best_t, best);
+}
+
+// Radiance leaving the hit ball towards the eye.
+fn shade_hit(o: vec3<f32>, d: vec3<f32>, hit: Hit) -> vec3<f32> {
+    let b = balls[hit.ball];
+    let n = surface_normal(o + hit.t * d - b.center_radius.xyz, d);
+    return shade(b, n, -d);
+}
+
+// Linear radiance seen through pixel position `frag`, background included.
+fn radiance_at(frag: vec2<f32>) -> vec3<f32> {
+    let ray = primary_ray(frag);
+    let hit = nearest_hit(ray[0], ray[1]);
+    if hit.t < 0.0 {
         return globals.environment.xyz;
     }
-    let b = balls[best];
-    let n = surface_normal(o + best_t * d - b.center_radius.xyz, d);
-    return shade(b, n, -d);
+    return shade_hit(ray[0], ray[1], hit);
+}
+
+// The target's value of linear radiance: itself on a float target, else tone-mapped.
+fn output_value(radiance: vec3<f32>) -> vec4<f32> {
+    if OUTPUT_LINEAR == 1u {
+        return vec4<f32>(radiance, 1.0);
+    }
+    return vec4<f32>(tone_map(radiance, globals.environment.w), 1.0);
 }
 
 // The unit normal along p (hit point minus centre), or facing the eye when |p| is at most
@@ -85,9 +120,36 @@ fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
 
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
-    let radiance = radiance_at(in.position.xy);
-    if OUTPUT_LINEAR == 1u {
-        return vec4<f32>(radiance, 1.0);
+    return output_value(radiance_at(in.position.xy));
+}
+
+struct BallOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) ball: u32,
+}
+
+// One corner of ball `ball`'s quad per vertex (two triangles, vertices 0..6): `rect` is its
+// bounds in NDC, [x0, y0, x1, y1] (src/gpu/renderer.rs, one instance per ball).
+@vertex
+fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @location(1) ball: u32) -> BallOut {
+    // Corners (0,0) (1,0) (0,1) (0,1) (1,0) (1,1), as 2-bit codes x + 2y packed in a u32.
+    let i = (3492u >> (2u * index)) & 3u;
+    let cx = f32(i & 1u);
+    let cy = f32((i >> 1u) & 1u);
+    var out: BallOut;
+    out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
+    out.ball = ball;
+    return out;
+}
+
+// The pixel's radiance if its nearest hit is this quad's ball; discarded otherwise (another
+// ball's quad or the clear covers it).
+@fragment
+fn fs_ball(in: BallOut) -> @location(0) vec4<f32> {
+    let ray = primary_ray(in.position.xy);
+    let hit = nearest_hit(ray[0], ray[1]);
+    if hit.t < 0.0 || hit.ball != in.ball {
+        discard;
     }
-    return vec4<f32>(tone_map(radiance, globals.environment.w), 1.0);
+    return output_value(shade_hit(ray[0], ray[1], hit));
 }

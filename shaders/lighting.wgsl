@@ -16,22 +16,32 @@
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
-    let ms = b.diffuse_ms.w;
+    let ms = term_weight(b);
     let mu_o = max(dot(n, v), 0.0);
-    let loss_o = lut_loss_row(mu_o, b.lut_row);
+    // E(mu_o) is read for the term and for the environment's part, not otherwise.
+    var loss_o = 0.0;
+    if MS_TERM != 0u || HAS_ENVIRONMENT == 1u {
+        loss_o = lut_loss_row(mu_o, b.lut_row);
+    }
     let e_o = 1.0 - loss_o;
     let f_avg_ss = f_avg_schlick(f0);
     // f_add and 1 - E_avg are constant over the ball: formed once on the CPU, per preset
     // (f_add_preset, src/gpu/uniforms.rs balls).
     var loss_avg = 0.0;
     var f_add = vec3<f32>(0.0);
-    if MS_TERM == 1u {
+    if MS_TERM != 0u {
         loss_avg = b.f_add_loss_avg.w;
         f_add = b.f_add_loss_avg.xyz;
     }
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
 
-    var lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    var lo = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    }
+    if HAS_LIGHTS == 0u {
+        return lo;
+    }
     for (var k = 0u; k < min(globals.counts.y, MAX_LIGHTS); k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
@@ -42,8 +52,9 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         let fresnel = f_schlick(f0, dot(v, h));
         let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness);
         var lobe = vec3<f32>(0.0);
-        // ms is uniform over a ball: balls without the term skip its E read.
-        if MS_TERM == 1u && ms > 0.0 {
+        // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
+        // its E read.
+        if MS_TERM == 2u || (MS_TERM == 1u && ms > 0.0) {
             let loss_i = lut_loss_row(mu_i, b.lut_row);
             lobe = ms * f_add * f_ms(loss_o, loss_i, loss_avg);
         }
@@ -51,6 +62,18 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         lo += f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
+}
+
+// The weight of ball b's multiple-scattering term under MS_TERM: 1 compiled in, the ball's
+// flag under a branch, 0 compiled out.
+fn term_weight(b: Ball) -> f32 {
+    if MS_TERM == 2u {
+        return 1.0;
+    }
+    if MS_TERM == 1u {
+        return b.diffuse_ms.w;
+    }
+    return 0.0;
 }
 
 // Display transform (DESIGN.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.

@@ -48,10 +48,15 @@ override GEOMETRY: u32;
 override F_ADD_FORM: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
-// 1 (default): the multiple-scattering term as each ball's flag says; 0: compiled out (no
-// second E read per light), the same image as every flag off. For measuring what the term
-// costs (`shadeballs bench`).
+// The multiple-scattering term (src/scene/plan.rs TermMode): 0: compiled out (no E read
+// for it), the same image as every flag off; 1 (default): a branch on each ball's flag (one
+// pipeline for every ball); 2: compiled in for every ball the pipeline draws (the planned
+// renderer draws the balls with the term with it, those without with 0).
 override MS_TERM: u32 = 1u;
+// 1 (default): the uniform environment's part of the shading; 0: compiled out (the scene
+// has none). Likewise the directional lights' loop.
+override HAS_ENVIRONMENT: u32 = 1u;
+override HAS_LIGHTS: u32 = 1u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {

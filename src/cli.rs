@@ -79,6 +79,9 @@ pub struct RenderArgs {
     /// auto, vulkan, gl or cpu.
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(clap::Args)]
@@ -96,6 +99,11 @@ pub struct ProbeArgs {
     /// vulkan, gl or auto (the probe needs a GPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Probe along this scene's own rows (one per roughness its plan bakes; mu = i/(N-1))
+    /// instead of the N x N grid of the 2-D table; `--preset` and `--geometry` then come
+    /// from the scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
 }
 
 /// Flags of `shadeballs view`.

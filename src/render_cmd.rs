@@ -54,7 +54,10 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let device = match renderer {
         Some(mut renderer) => {
             renderer.gpu().check_size(w, h)?;
-            renderer.tables_for(geometry);
+            let plan = renderer.plan_for(&scene);
+            if args.verbose {
+                eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
+            }
             phases.mark("bake");
             match kind {
                 ImageKind::Png => {
@@ -76,6 +79,9 @@ pub fn render(args: RenderArgs) -> anyhow::Result<()> {
         }
         None => {
             check_cpu_size(w, h)?;
+            if args.verbose {
+                eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
+            }
             let tables = lut::bake(&BakeConfig {
                 geometry,
                 ..Default::default()
@@ -148,17 +154,36 @@ pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
         ),
         Err(e) => return Err(e.into()),
     };
-    let geometry = args.preset.geometry().unwrap_or(args.geometry);
-    let (_, samples) = renderer.probe(geometry, args.grid)?;
+    let (geometry, samples, what) = match &args.scene {
+        Some(path) => {
+            let scene = scene::load(path)?;
+            let geometry = scene.effective_geometry();
+            let Some((rows, samples)) = renderer.probe_rows(&scene, args.grid)? else {
+                anyhow::bail!(
+                    "{}: the scene's plan bakes no rows (no ball reads E, or more roughness \
+                     values than rows are planned for); probe without --scene",
+                    path.display()
+                );
+            };
+            (
+                geometry,
+                samples,
+                format!("{}x{} rows", args.grid, rows.rows.len()),
+            )
+        }
+        None => {
+            let geometry = args.preset.geometry().unwrap_or(args.geometry);
+            let (_, samples) = renderer.probe(geometry, args.grid)?;
+            (geometry, samples, format!("{}x{}", args.grid, args.grid))
+        }
+    };
     let mut csv = String::from("roughness,mu,E,E_avg\n");
     for s in &samples {
         let _ = writeln!(csv, "{},{},{},{}", s.roughness, s.mu, s.e, s.e_avg);
     }
     output::write_atomic(&args.out, csv.as_bytes())?;
     eprintln!(
-        "probed {}x{} ({} G) on {} -> {}",
-        args.grid,
-        args.grid,
+        "probed {what} ({} G) on {} -> {}",
         geometry,
         renderer.gpu().describe(),
         args.out.display()

@@ -4,16 +4,19 @@
 //! summary that states each goal of issue 5 with its figure.
 //!
 //! Sweeps: baking (`bake.rs`), reading on the CPU and the GPU (`read.rs`, `lookup.rs`),
-//! rendering (`render.rs`, against the exact model of `exact.rs`), startup (`startup.rs`).
+//! planning (`plan.rs`: a scene's rows against the table), rendering (`render.rs`,
+//! `render_sweep.rs`, against the exact model of `exact.rs`), startup (`startup.rs`).
 
 mod bake;
 pub mod device;
 pub mod exact;
 mod kernel;
 pub mod lookup;
+mod plan;
 pub mod plot;
 mod read;
 mod render;
+mod render_sweep;
 mod startup;
 mod table;
 
@@ -22,6 +25,7 @@ use std::time::Instant;
 
 pub use bake::{bake_errors, homework_config, HOMEWORK};
 pub use render::{close_up, display_error};
+pub use render_sweep::no_term;
 pub use startup::parse_phases;
 pub use table::Table;
 
@@ -83,13 +87,17 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         })?)
     };
     let quick = options.quick;
-    let mut sweeps = vec![bake::bake_sweep(quick), read::read_sweep(quick)];
+    let mut sweeps = vec![
+        bake::bake_sweep(quick),
+        plan::plan_sweep(quick),
+        read::read_sweep(quick),
+    ];
     let mut skipped = Vec::new();
     match gpu {
         Some(gpu) => {
             sweeps.push(read::lookup_sweep(&gpu, quick)?);
             let mut renderer = crate::gpu::Renderer::new(gpu);
-            sweeps.push(render::render_sweep(&mut renderer, quick)?);
+            sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
             // Release this device before the startup runs open theirs.
             drop(renderer);
             match &options.exe {

@@ -1,7 +1,7 @@
-//! Rendering: frame time at 1280 x 720 on the adapter in use, with the multiple-scattering
-//! term compiled in and out, per preset and table configuration, against the image error
-//! relative to the CPU reference renderer evaluating the exact model (precise E and E_avg,
-//! [`super::exact`]).
+//! Rendering: how a frame at 1280 x 720 is timed on the adapter in use, with the
+//! multiple-scattering term compiled in and out (or two draw options alternating), and its
+//! image error relative to the CPU reference renderer evaluating the exact model (precise
+//! E and E_avg, [`super::exact`]); the sweep itself is `render_sweep.rs`.
 //!
 //! Frame time: the median wall time of encoding, submitting and waiting for one frame into
 //! a 1280 x 720 `Rgba8Unorm` texture (no readback), after a warm-up frame, frames with and
@@ -16,15 +16,11 @@ use std::time::Instant;
 use glam::DVec3;
 
 use super::device;
-use super::exact::exact_tables;
-use super::plot::{Plot, Series};
-use super::table::Table;
-use super::{Goal, Sweep};
 use crate::cpu;
 use crate::error::Result;
 use crate::gpu::{Renderer, Target};
 use crate::lut::{self, BakeConfig, Tables};
-use crate::scene::Scene;
+use crate::scene::{DrawOptions, Scene};
 
 pub const WIDTH: u32 = 1280;
 pub const HEIGHT: u32 = 720;
@@ -58,7 +54,7 @@ pub fn exact_radiance(scene: &Scene, exact: &Tables) -> Vec<DVec3> {
     cpu::render_radiance(scene, exact, WIDTH, HEIGHT)
 }
 
-/// Renders `scene` with `tables`, the term compiled in and out, frames alternating between
+/// Renders `scene` as `setup` says, the term compiled in and out, frames alternating between
 /// the two so that both see the same machine load: (on, off, ratio), each frame with its
 /// median time over `repeats` frames and its display error against `exact` radiance; the
 /// ratio is the median over rounds of (on / off) of the two frames of a round, which
@@ -66,33 +62,15 @@ pub fn exact_radiance(scene: &Scene, exact: &Tables) -> Vec<DVec3> {
 pub fn measure_pair(
     renderer: &mut Renderer,
     scene: &Scene,
-    tables: Arc<Tables>,
+    setup: Setup,
     repeats: usize,
     exact: &[DVec3],
 ) -> Result<(Frame, Frame, f64)> {
-    renderer.set_tables(tables);
-    let format = wgpu::TextureFormat::Rgba8Unorm;
-    let texture = renderer
-        .gpu()
-        .device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("bench frame"),
-            size: wgpu::Extent3d {
-                width: WIDTH,
-                height: HEIGHT,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
-    let view = texture.create_view(&Default::default());
+    setup.apply(renderer);
+    let (_texture, view) = bench_target(renderer);
     let target = Target {
         view: &view,
-        format,
+        format: FORMAT,
         width: WIDTH,
         height: HEIGHT,
     };
@@ -131,6 +109,88 @@ pub fn measure_pair(
     Ok((on, off, ratio))
 }
 
+/// How a measured run gets its tables and draws.
+#[derive(Clone)]
+pub enum Setup {
+    /// These tables whatever the plan (`Renderer::set_tables`), drawn with these options.
+    Table(Arc<Tables>, DrawOptions),
+    /// Planned with this bake config and these options.
+    Planned(BakeConfig, DrawOptions),
+}
+
+impl Setup {
+    pub fn apply(&self, renderer: &mut Renderer) {
+        match self {
+            Setup::Table(t, o) => {
+                renderer.set_draw_options(*o);
+                renderer.set_tables(t.clone());
+            }
+            Setup::Planned(c, o) => {
+                renderer.set_draw_options(*o);
+                renderer.set_bake_config(*c);
+            }
+        }
+    }
+}
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// The 1280 x 720 frame the bench draws into, and its view.
+fn bench_target(renderer: &Renderer) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = renderer
+        .gpu()
+        .device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("bench frame"),
+            size: wgpu::Extent3d {
+                width: WIDTH,
+                height: HEIGHT,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}
+
+/// Frame times of `scene` drawn with options `a` and `b` in alternating frames (same
+/// tables): (median a, median b, median over pairs of a / b).
+pub fn measure_alternating(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    options: [DrawOptions; 2],
+    repeats: usize,
+) -> Result<(f64, f64, f64)> {
+    let (_texture, view) = bench_target(renderer);
+    let target = Target {
+        view: &view,
+        format: FORMAT,
+        width: WIDTH,
+        height: HEIGHT,
+    };
+    let mut times = [Vec::new(), Vec::new()];
+    for round in 0..=repeats.max(1) {
+        let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
+        for k in order {
+            renderer.set_draw_options(options[k]);
+            let start = Instant::now();
+            renderer.render(scene, target)?;
+            device::wait(renderer.gpu())?;
+            if round > 0 {
+                times[k].push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    let mut ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
+    let ratio = median(&mut ratios);
+    Ok((median(&mut times[0]), median(&mut times[1]), ratio))
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
@@ -155,141 +215,4 @@ pub fn close_up() -> Scene {
     scene.camera.position = centre + DVec3::new(0.0, 0.0, 60.0);
     scene.camera.target = centre;
     scene
-}
-
-/// Frame time with the term on and off per scene, preset and tables, against the image
-/// error of each (the homework's preset and bake as the peer row).
-pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
-    use super::bake::{homework_config, HOMEWORK};
-    use crate::lut::{Layout, LayoutKind};
-    use crate::scene::Preset;
-    let mut t = Table::new(
-        "render",
-        "Rendering: frame time at 1280x720 with the term on and off against the image error (exact model on the CPU as reference)",
-        &["config", "scene", "preset", "tables", "term", "frame_ms", "on_over_off", "err_max_255", "err_mean_255"],
-    );
-    let repeats = if quick { 9 } else { 41 };
-    let reference = Scene::reference();
-    let games202 = Scene {
-        preset: Preset::Games202,
-        ..Scene::reference()
-    };
-    let default_tables = BakeConfig::default();
-    let mut runs: Vec<(&str, &str, Scene, &str, BakeConfig)> = vec![
-        (
-            HOMEWORK,
-            "default",
-            games202.clone(),
-            "homework",
-            homework_config(crate::brdf::Geometry::Schlick),
-        ),
-        (
-            "default",
-            "default",
-            reference.clone(),
-            "default",
-            default_tables,
-        ),
-        ("-", "default", games202.clone(), "default", default_tables),
-    ];
-    if !quick {
-        let layout = |kind| BakeConfig {
-            layout: Layout::of_kind(kind),
-            ..BakeConfig::default()
-        };
-        runs.push((
-            "-",
-            "default",
-            reference.clone(),
-            "games202 layout; chebyshev bake",
-            layout(LayoutKind::Games202),
-        ));
-        runs.push((
-            "-",
-            "default",
-            reference.clone(),
-            "sqrt-mu 64x64",
-            layout(LayoutKind::SqrtMu),
-        ));
-        runs.push(("-", "close-up", close_up(), "default", default_tables));
-    }
-    let exact = exact_tables(&reference)?;
-    let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
-    let series = |label: &str, peer| Series {
-        label: label.into(),
-        peer,
-        points_only: true,
-        ..Default::default()
-    };
-    let mut on_series = series("term on", false);
-    let mut off_series = series("term off", false);
-    let mut peer = series("homework (term on)", true);
-    let mut goals = Vec::new();
-    for (label, scene_name, scene, tables_name, config) in runs {
-        let key = format!("{scene_name} {}", scene.preset);
-        if !exact_images.iter().any(|(k, _)| *k == key) {
-            exact_images.push((key.clone(), exact_radiance(&scene, &exact)));
-        }
-        let image = &exact_images
-            .iter()
-            .find(|(k, _)| *k == key)
-            .expect("added above")
-            .1;
-        let tables = tables_for(&scene, config);
-        let (on, off, ratio) = measure_pair(renderer, &scene, tables, repeats, image)?;
-        for (frame, term) in [(&on, "on"), (&off, "off")] {
-            t.push(vec![
-                label.to_string(),
-                scene_name.to_string(),
-                scene.preset.to_string(),
-                tables_name.to_string(),
-                term.to_string(),
-                format!("{:.2}", frame.ms),
-                if term == "on" {
-                    format!("{ratio:.3}")
-                } else {
-                    "-".into()
-                },
-                format!("{:.2}", frame.max_255),
-                format!("{:.4}", frame.mean_255),
-            ]);
-        }
-        if label == HOMEWORK {
-            peer.points.push((on.ms, on.mean_255));
-        } else {
-            on_series.points.push((on.ms, on.mean_255));
-            off_series.points.push((off.ms, off.mean_255));
-        }
-        if label == "default" {
-            goals.push(Goal {
-                what:
-                    "term's cost: frame time with the term on <= 1.10x with it off (default scene)"
-                        .into(),
-                figure: format!(
-                    "{:.1} ms on, {:.1} ms off: {ratio:.3}x ({})",
-                    on.ms,
-                    off.ms,
-                    renderer.gpu().describe()
-                ),
-                met: ratio <= 1.10,
-            });
-        }
-    }
-    t.note = format!(
-        "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback); on_over_off is the median of the on/off ratio of each pair of frames. Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (src/bench/exact.rs). 'term off' compiles the term out of the shader (MS_TERM = 0): its error is what dropping the term costs.",
-        if quick { "Quick" } else { "Full" },
-        renderer.gpu().describe()
-    );
-    let plot = Plot {
-        title: "Render 1280x720: frame time against image error".into(),
-        x_label: "frame time (ms, median)".into(),
-        y_label: "mean display error (1/255)".into(),
-        series: vec![on_series, off_series, peer],
-        goals: Vec::new(),
-    };
-    Ok(Sweep {
-        tables: vec![t],
-        plots: vec![("render".into(), plot)],
-        goals,
-    })
 }

@@ -6,13 +6,15 @@ use glam::DVec3;
 use crate::brdf::{
     f_add_preset, f_avg_schlick, f_micro, f_ms, f_schlick, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
-use crate::lut::{e_avg_reference, e_reference, Tables};
+use crate::lut::{e_avg_reference, e_reference, RowSet, Tables};
 use crate::scene::{Ball, Scene};
 
 /// Where the CPU renderer takes E and E_avg from.
 pub enum TableRead<'a> {
     /// The shader's read of the same tables (`Tables::lut_e`, f32): the default.
     Lut(&'a Tables),
+    /// The shader's read of a scene's own rows (`RowSet::lut_loss`, f32), each ball its row.
+    Rows(&'a RowSet),
     /// The precise reference (slow: for spot checks of a few pixels' worth).
     Reference(Geometry),
 }
@@ -22,6 +24,7 @@ impl TableRead<'_> {
     fn loss(&self, mu: f64, roughness: f64) -> f64 {
         match self {
             TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
+            TableRead::Rows(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
             TableRead::Reference(g) => 1.0 - e_reference(mu.clamp(0.0, 1.0), roughness, *g),
         }
     }
@@ -29,6 +32,7 @@ impl TableRead<'_> {
     fn loss_avg(&self, roughness: f64) -> f64 {
         match self {
             TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
+            TableRead::Rows(t) => t.lut_loss_avg(roughness as f32) as f64,
             TableRead::Reference(g) => 1.0 - e_avg_reference(roughness, *g),
         }
     }

@@ -3,18 +3,22 @@
 //! windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod context;
+mod draw;
 mod headless;
 mod probe;
 pub mod readback;
 mod renderer;
 pub mod resources;
 pub mod shaders;
+mod tables;
 pub mod uniforms;
 
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target};
+pub use renderer::{is_linear, Renderer, Target, QUAD_PAD_PX};
+pub use tables::MAX_CACHED_ROWS;
+pub use uniforms::BoundTables;
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by
 /// [`Scopes::pop`] instead of reaching the uncaptured-error handler.

@@ -1,14 +1,17 @@
-//! The table probe: what the shader's `lut_e` / `lut_e_avg` return on an N x N grid,
-//! computed on the GPU by `shaders/probe.wgsl` (the same WGSL functions the renderer uses).
+//! The table probe: what the shader's `lut_e` / `lut_e_avg` return on an N x N grid, or
+//! what `lut_loss_row` returns along a scene's own rows, computed on the GPU by
+//! `shaders/probe.wgsl` (the same WGSL functions the renderer uses).
 
 use std::sync::Arc;
 
 use super::readback::read_buffer;
 use super::renderer::Renderer;
 use super::shaders;
+use super::uniforms::BoundTables;
 use crate::brdf::{FAvgForm, Geometry};
 use crate::error::{Error, Result};
-use crate::lut::Tables;
+use crate::lut::{RowSet, Tables};
+use crate::scene::Scene;
 
 /// Largest probe grid side (N^2 / 64 workgroups must fit one dispatch dimension, 65535).
 pub const MAX_PROBE_GRID: u32 = 1024;
@@ -26,17 +29,71 @@ impl Renderer {
     /// Evaluates the tables for `geometry` (baked if needed) on the GPU; row-major,
     /// row = roughness. Returns the tables read, for comparison.
     pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
-        if !(2..=MAX_PROBE_GRID).contains(&n) {
-            return Err(Error::Invalid {
-                what: "probe grid",
-                message: format!("{n} is outside 2..={MAX_PROBE_GRID}"),
-            });
-        }
+        check_grid(n)?;
         self.gpu.check()?;
         let tables = self.tables_for(geometry);
+        let read = super::uniforms::BoundTables::Full(tables.clone());
+        let values = self.dispatch(&read, geometry, [n, 0, 0, 0], n * n, shaders::PROBE_MAIN)?;
+        let last = (n - 1) as f32;
+        let samples = (0..n * n)
+            .map(|k| ProbeSample {
+                roughness: (k / n) as f32 / last,
+                mu: (k % n) as f32 / last,
+                e: values[2 * k as usize],
+                e_avg: values[2 * k as usize + 1],
+            })
+            .collect();
+        Ok((tables, samples))
+    }
+
+    /// Evaluates the rows `scene`'s plan reads, as its balls read them (`lut_loss_row` at
+    /// each row's roughness with no weight on the next row), at `mu = i / (N - 1)`; row-major,
+    /// row = the plan's rows in order. Returns the rows read (`None` when the plan reads no
+    /// rows: no term, or the 2-D table).
+    pub fn probe_rows(
+        &mut self,
+        scene: &Scene,
+        n: u32,
+    ) -> Result<Option<(Arc<RowSet>, Vec<ProbeSample>)>> {
+        check_grid(n)?;
+        self.gpu.check()?;
+        let plan = self.plan_for(scene);
+        let (geometry, planned_rows) = (plan.geometry, !plan.rows().is_empty());
+        let read = self.bound_tables();
+        if !planned_rows {
+            // What is bound then is an earlier scene's (kept: this plan reads nothing).
+            return Ok(None);
+        }
+        let BoundTables::Rows(rows) = &read else {
+            return Ok(None);
+        };
+        let k = rows.rows.len() as u32;
+        let values = self.dispatch(&read, geometry, [n, k, 0, 0], n * k, shaders::PROBE_ROWS)?;
+        let last = (n - 1) as f32;
+        let samples = (0..n * k)
+            .map(|s| ProbeSample {
+                roughness: rows.rows[(s / n) as usize].key.roughness(),
+                mu: (s % n) as f32 / last,
+                e: values[2 * s as usize],
+                e_avg: values[2 * s as usize + 1],
+            })
+            .collect();
+        Ok(Some((rows.clone(), samples)))
+    }
+
+    /// Runs `entry` of the probe module over `count` samples with the bound tables (`read`
+    /// gives their uniforms) and the grid uniform `grid`: two f32 per sample.
+    fn dispatch(
+        &mut self,
+        read: &BoundTables,
+        geometry: Geometry,
+        grid_value: [u32; 4],
+        count: u32,
+        entry_point: &str,
+    ) -> Result<Vec<f32>> {
         let device = self.gpu.device.clone();
         let scopes = super::Scopes::push(&device);
-        let (lut, lut_dims, lut_r) = super::uniforms::lut_uniforms(&tables);
+        let (lut, lut_dims, lut_r) = read.uniforms();
         let globals = super::uniforms::Globals {
             lut,
             lut_dims,
@@ -47,7 +104,7 @@ impl Renderer {
             .queue
             .write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
 
-        let count = (n * n) as u64;
+        let count = count as u64;
         let grid = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe grid"),
             size: 16,
@@ -56,7 +113,7 @@ impl Renderer {
         });
         self.gpu
             .queue
-            .write_buffer(&grid, 0, bytemuck::cast_slice(&[n, 0, 0, 0]));
+            .write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
         let out_size = count * 8;
         let out = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe out"),
@@ -115,7 +172,7 @@ impl Renderer {
             label: Some("probe"),
             layout: Some(&layout),
             module: &module,
-            entry_point: Some(shaders::PROBE_MAIN),
+            entry_point: Some(entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &constants,
                 ..Default::default()
@@ -126,7 +183,11 @@ impl Renderer {
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &self.tables.as_ref().expect("tables bound above").1, &[]);
+            pass.set_bind_group(
+                0,
+                &self.bound.as_ref().expect("tables bound above").bind,
+                &[],
+            );
             pass.set_bind_group(1, &group1, &[]);
             pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
         }
@@ -136,16 +197,16 @@ impl Renderer {
         self.gpu.check()?;
         let values = read_buffer(&device, &readback);
         self.gpu.check()?;
-        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&values?);
-        let last = (n - 1) as f32;
-        let samples = (0..n * n)
-            .map(|k| ProbeSample {
-                roughness: (k / n) as f32 / last,
-                mu: (k % n) as f32 / last,
-                e: values[2 * k as usize],
-                e_avg: values[2 * k as usize + 1],
-            })
-            .collect();
-        Ok((tables, samples))
+        Ok(bytemuck::pod_collect_to_vec(&values?))
     }
+}
+
+fn check_grid(n: u32) -> Result<()> {
+    if !(2..=MAX_PROBE_GRID).contains(&n) {
+        return Err(Error::Invalid {
+            what: "probe grid",
+            message: format!("{n} is outside 2..={MAX_PROBE_GRID}"),
+        });
+    }
+    Ok(())
 }

@@ -5,7 +5,7 @@
 use std::mem::size_of;
 
 use super::uniforms::{Globals, GpuBall, GpuLight};
-use crate::lut::Tables;
+use crate::lut::{RowSet, Tables};
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
 /// Buffers and the layout of group 0; the bind group follows the tables.
@@ -14,6 +14,25 @@ pub struct Resources {
     pub globals: wgpu::Buffer,
     pub balls: wgpu::Buffer,
     pub lights: wgpu::Buffer,
+    /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
+    pub instances: wgpu::Buffer,
+}
+
+/// One ball's quad (`vs_ball` in `balls.wgsl`): its bounds in NDC and its index.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BallInstance {
+    pub rect: [f32; 4],
+    pub ball: u32,
+}
+
+impl BallInstance {
+    /// The vertex layout of [`BallInstance`], one per instance.
+    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+        array_stride: size_of::<BallInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Uint32],
+    };
 }
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -68,6 +87,12 @@ impl Resources {
             globals: uniform_buffer(device, "globals", size_of::<Globals>()),
             balls: uniform_buffer(device, "balls", size_of::<GpuBall>() * MAX_BALLS),
             lights: uniform_buffer(device, "lights", size_of::<GpuLight>() * MAX_LIGHTS),
+            instances: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("ball quads"),
+                size: (size_of::<BallInstance>() * MAX_BALLS) as u64,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         }
     }
 
@@ -81,13 +106,54 @@ impl Resources {
         tables: &Tables,
     ) -> wgpu::BindGroup {
         let l = tables.layout();
-        let e = quad_texture(device, queue, l.mu_size, l.r_size, &tables.stored_loss);
         // Row 0: 1 - E_avg per roughness row; row 1: each row's roughness as the power-law
         // read uses it (`Layout::row_roughness`, computed from the f64 texel coordinate
         // here so the shader does not re-derive it in f32).
         let mut e_avg_rows = tables.stored_loss_avg.clone();
         e_avg_rows.extend((0..l.r_size).map(|j| l.row_roughness(j)));
-        let e_avg = r32_texture(device, queue, "1 - E_avg", l.r_size as u32, 2, &e_avg_rows);
+        self.bind(
+            device,
+            queue,
+            &tables.stored_loss,
+            l.mu_size,
+            l.r_size,
+            &e_avg_rows,
+        )
+    }
+
+    /// Uploads a scene's rows as a `mu_size x rows` table (the same 2x2 blocks; a ball reads
+    /// its row with a zero weight on the next), with each row's `1 - E_avg` and roughness
+    /// in the E_avg texture (the renderer passes them per ball; the probe does not read rows).
+    pub fn bind_rows(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        rows: &RowSet,
+    ) -> wgpu::BindGroup {
+        let n = rows.rows.len();
+        let mut e_avg_rows: Vec<f32> = rows.rows.iter().map(|r| r.loss_avg).collect();
+        e_avg_rows.extend(rows.rows.iter().map(|r| r.key.roughness()));
+        let mu_size = rows.layout().mu_size;
+        self.bind(device, queue, &rows.stored_loss(), mu_size, n, &e_avg_rows)
+    }
+
+    /// No tables: 1 x 1 placeholders, which the planned pipelines of such a scene never read
+    /// (the term and the environment compiled out).
+    pub fn bind_none(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::BindGroup {
+        self.bind(device, queue, &[0.0], 1, 1, &[0.0, 0.0])
+    }
+
+    fn bind(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        loss: &[f32],
+        mu_size: usize,
+        r_size: usize,
+        e_avg_rows: &[f32],
+    ) -> wgpu::BindGroup {
+        let e = quad_texture(device, queue, mu_size, r_size, loss);
+        let e_avg = r32_texture(device, queue, "1 - E_avg", r_size as u32, 2, e_avg_rows);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("group 0"),
             layout: &self.layout,

@@ -3,6 +3,7 @@
 //! table reads, then the entry points.
 
 use crate::brdf::{FAvgForm, Geometry};
+use crate::scene::Variant;
 
 /// `shaders/*.wgsl`, in concatenation order, by file name.
 pub const COMMON: [(&str, &str); 4] = [
@@ -18,8 +19,13 @@ const PROBE: &str = include_str!("../../shaders/probe.wgsl");
 /// Entry points of the ball renderer module.
 pub const VS_MAIN: &str = "vs_main";
 pub const FS_MAIN: &str = "fs_main";
+/// Entry points of the per-ball draw (one quad per ball over its screen-space bounds).
+pub const VS_BALL: &str = "vs_ball";
+pub const FS_BALL: &str = "fs_ball";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
+/// Entry point of the probe along a scene's own rows.
+pub const PROBE_ROWS: &str = "probe_rows_main";
 
 fn concat(parts: &[&str]) -> String {
     let common = COMMON.iter().map(|(_, src)| *src);
@@ -62,14 +68,22 @@ pub fn overrides(geometry: Geometry, form: FAvgForm, linear: bool) -> [(&'static
     ]
 }
 
-/// [`overrides`] plus `MS_TERM` (`types.wgsl`): `false` compiles the multiple-scattering
-/// term out of the ball shader.
-pub fn overrides_with_term(
+/// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
+/// ([`crate::scene::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`.
+pub fn overrides_for(
     geometry: Geometry,
     form: FAvgForm,
     linear: bool,
-    term: bool,
-) -> [(&'static str, f64); 4] {
+    variant: Variant,
+) -> [(&'static str, f64); 6] {
     let [a, b, c] = overrides(geometry, form, linear);
-    [a, b, c, ("MS_TERM", if term { 1.0 } else { 0.0 })]
+    let flag = |on: bool| if on { 1.0 } else { 0.0 };
+    [
+        a,
+        b,
+        c,
+        ("MS_TERM", variant.term as u32 as f64),
+        ("HAS_ENVIRONMENT", flag(variant.environment)),
+        ("HAS_LIGHTS", flag(variant.lights)),
+    ]
 }

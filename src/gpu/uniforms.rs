@@ -3,9 +3,62 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use std::sync::Arc;
+
 use crate::brdf::{f_add_preset, GAMES202_EDGE_TINT};
-use crate::lut::Tables;
+use crate::lut::{RowSet, Tables};
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
+
+/// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
+#[derive(Clone, Debug)]
+pub enum BoundTables {
+    None,
+    Rows(Arc<RowSet>),
+    Full(Arc<Tables>),
+}
+
+impl BoundTables {
+    /// The table-read uniforms ([`lut_uniforms`]); rows: their mu axis, no roughness axis
+    /// (each ball names its row).
+    pub fn uniforms(&self) -> ([f32; 4], [u32; 4], [f32; 4]) {
+        match self {
+            BoundTables::None => ([0.0; 4], [1, 1, 0, 0], [0.0; 4]),
+            BoundTables::Full(t) => lut_uniforms(t),
+            BoundTables::Rows(rows) => {
+                let l = rows.layout();
+                let (sx, bx) = l.scale_bias(l.mu_size);
+                (
+                    [sx as f32, bx as f32, 0.0, 0.0],
+                    [
+                        l.mu_size as u32,
+                        rows.rows.len() as u32,
+                        l.mu_axis.id(),
+                        l.e_avg_read.id(),
+                    ],
+                    [0.0; 4],
+                )
+            }
+        }
+    }
+
+    /// A ball's `lut_row` (the roughness half of its E reads).
+    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+        match self {
+            BoundTables::None => [0.0; 4],
+            BoundTables::Full(t) => t.lut_row(roughness),
+            BoundTables::Rows(rows) => rows.lut_row(roughness),
+        }
+    }
+
+    /// A ball's `1 - E_avg` as read: between rows of the 2-D table, or its own row's.
+    pub fn loss_avg(&self, roughness: f32) -> f32 {
+        match self {
+            BoundTables::None => 0.0,
+            BoundTables::Full(t) => t.lut_loss_avg(roughness),
+            BoundTables::Rows(rows) => rows.lut_loss_avg(roughness),
+        }
+    }
+}
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -63,9 +116,9 @@ pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
 }
 
 /// Globals for rendering `scene` at `width x height` with `tables`.
-pub fn globals(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Globals {
+pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
-    let (lut, lut_dims, lut_r) = lut_uniforms(tables);
+    let (lut, lut_dims, lut_r) = tables.uniforms();
     Globals {
         cam_origin: v4(basis.origin, 1.0),
         cam_forward: v4(basis.forward, 0.0),
@@ -88,21 +141,30 @@ pub fn globals(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Globa
 /// The balls array (the used prefix of the uniform array). Each ball carries what the
 /// multiple-scattering term needs that is constant over the ball: `1 - E_avg` at its
 /// roughness as the shader reads it (`Tables::lut_loss_avg`, the f32 arithmetic of
-/// `lut_loss_avg` in `lut.wgsl`) and `f_add` of the scene's preset from it, per channel,
-/// in f64 like the CPU renderer (`cpu::shade`); and the roughness half of every E read
-/// (`Tables::lut_row`). Done once per ball instead of once per pixel, this takes about half
-/// of what the term cost a frame on lavapipe (README, "Measured results").
-pub fn balls(scene: &Scene, tables: &Tables) -> Vec<GpuBall> {
+/// `lut_loss_avg` in `lut.wgsl`, or its own row's, `RowSet::lut_loss_avg`) and `f_add` of
+/// the scene's preset from it, per channel, in f64 like the CPU renderer (`cpu::shade`);
+/// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
+/// per ball instead of once per pixel, this takes about half of what the term cost a frame
+/// on lavapipe (README, "Measured results").
+pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
     scene
         .balls
         .iter()
         .take(MAX_BALLS)
         .map(|b| {
-            let loss_avg = tables.lut_loss_avg(b.roughness as f32);
-            let e_avg = 1.0 - loss_avg as f64;
-            let f0 = b.material.f0.to_array();
-            let f_add = |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
+            // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
+            // shader multiplies them by the ball's zero flag or compiles them out).
+            let f_add_loss_avg = if b.multiple_scattering {
+                let loss_avg = tables.loss_avg(b.roughness as f32);
+                let e_avg = 1.0 - loss_avg as f64;
+                let f0 = b.material.f0.to_array();
+                let f_add =
+                    |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
+                [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg]
+            } else {
+                [0.0; 4]
+            };
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
@@ -110,7 +172,7 @@ pub fn balls(scene: &Scene, tables: &Tables) -> Vec<GpuBall> {
                     b.material.diffuse,
                     if b.multiple_scattering { 1.0 } else { 0.0 },
                 ),
-                f_add_loss_avg: [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg],
+                f_add_loss_avg,
                 lut_row: tables.lut_row(b.roughness as f32),
             }
         })

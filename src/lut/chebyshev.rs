@@ -89,6 +89,23 @@ fn clenshaw(a: &[f64], s: f64) -> f64 {
     a[0] + s * b1 - b2
 }
 
+/// The series in `y = sqrt(x)` of E along one row at `roughness` alone: the quadrature
+/// (`samples` nodes a segment) at `n` Chebyshev points of that row and nothing across
+/// roughness, so the row carries no interpolation error in roughness (a scene's own rows,
+/// `rows.rs`). Evaluate with [`ChebyshevSurface::e_in_row`].
+pub fn exact_row(geometry: Geometry, samples: usize, roughness: f64, n: usize) -> Vec<f64> {
+    let n = n.max(2);
+    let alpha = alpha_from_roughness(roughness);
+    let mut est = Estimator::new(Method::Quadrature, PointSet::Sobol, samples);
+    let values: Vec<f64> = (0..n)
+        .map(|k| {
+            let y = node(k, n);
+            est.e(MuAxis::Warped.value(y * y, alpha), roughness, geometry, 0)
+        })
+        .collect();
+    coefficients(&values)
+}
+
 impl ChebyshevSurface {
     /// Quadrature (`samples` Gauss-Legendre nodes a segment) at the default grid of
     /// Chebyshev points, in parallel on rayon's pool.

@@ -10,6 +10,7 @@ pub mod io;
 mod layout;
 mod quadrature;
 mod reference;
+pub mod rows;
 
 use rayon::prelude::*;
 
@@ -22,6 +23,7 @@ pub use layout::{
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
+pub use rows::{bake_rows, Row, RowKey, RowSet};
 
 use crate::brdf::Geometry;
 
@@ -123,7 +125,17 @@ fn bake_row(est: &mut Estimator, config: &BakeConfig, j: usize) -> (Vec<f64>, Ve
 }
 
 /// Row `j` from its E per texel: E clamped to [0, 1], the stored `1 - E`, the row's E_avg.
-fn finish_row(layout: &Layout, j: usize, mut e: Vec<f64>) -> (Vec<f64>, Vec<f32>, f64) {
+fn finish_row(layout: &Layout, j: usize, e: Vec<f64>) -> (Vec<f64>, Vec<f32>, f64) {
+    let alpha = crate::brdf::alpha_from_roughness(layout.roughness_of_texel(j));
+    finish_row_at(layout, alpha, e)
+}
+
+/// [`finish_row`] of a row at `alpha`.
+pub(crate) fn finish_row_at(
+    layout: &Layout,
+    alpha: f64,
+    mut e: Vec<f64>,
+) -> (Vec<f64>, Vec<f32>, f64) {
     // E is a reflectance: estimates outside [0, 1] (Monte Carlo noise) are clamped, as any
     // stored table would clamp them.
     for v in &mut e {
@@ -133,11 +145,11 @@ fn finish_row(layout: &Layout, j: usize, mut e: Vec<f64>) -> (Vec<f64>, Vec<f32>
         .iter()
         .map(|&v| layout.storage.quantize(1.0 - v))
         .collect();
-    let e_avg = 1.0 - row_loss_avg(layout, &loss, j);
+    let e_avg = 1.0 - row_loss_avg_at(layout, &loss, alpha);
     (e, loss, e_avg)
 }
 
-/// `1 - E_avg = 2 int_0^1 (1 - E(mu)) mu dmu` of row `j` as the shader reads it: linear in
+/// `1 - E_avg = 2 int_0^1 (1 - E(mu)) mu dmu` of a row at `alpha` as the shader reads it: linear in
 /// the table coordinate x between texel centres.
 ///
 /// Taking E_avg from the row as read, not from E itself, makes the lobe conserve energy by
@@ -145,9 +157,8 @@ fn finish_row(layout: &Layout, j: usize, mut e: Vec<f64>) -> (Vec<f64>, Vec<f32>
 /// whatever the table's own error. Between two texel centres the read is `A + B x(mu)`,
 /// and each piece has a closed form in mu ([`piece_integral`]); Gauss-Legendre in x would
 /// fail on the warped axis, whose `d mu / d x` has a pole alpha beyond `x = 1`.
-fn row_loss_avg(layout: &Layout, loss: &[f32], j: usize) -> f64 {
+fn row_loss_avg_at(layout: &Layout, loss: &[f32], alpha: f64) -> f64 {
     let n = layout.mu_size;
-    let alpha = crate::brdf::alpha_from_roughness(layout.roughness_of_texel(j));
     let (scale, bias) = layout.scale_bias(n);
     let axis = layout.mu_axis;
     // Break points in x: the ends and every texel centre inside (0, 1).

@@ -76,4 +76,49 @@ impl CameraBasis {
         let ndc_y = 1.0 - 2.0 * (py as f64 + 0.5) / height as f64;
         (self.forward + ndc_x * self.right + ndc_y * self.up).normalize()
     }
+
+    /// The screen-space bounds of the sphere `(center, radius)` as NDC `[x0, y0, x1, y1]`
+    /// (x right, y up, clipped to `[-1, 1]`), widened by `pad_px` pixels of a `w x h` image;
+    /// `None` when the sphere is entirely off screen or behind the eye. The whole screen
+    /// when the sphere is not entirely in front of the eye (the camera inside or beside it).
+    ///
+    /// Exact for a pinhole: the range of `x / z` over a sphere of centre `(cx, cz)` (camera
+    /// frame) ends at the planes `x = t z` tangent to it, where the centre's distance to the
+    /// plane is the radius: `(cx - t cz)^2 = r^2 (1 + t^2)`, whose two roots are
+    /// `(cx cz +- r sqrt(cx^2 + cz^2 - r^2)) / (cz^2 - r^2)`; likewise in y.
+    pub fn sphere_bounds(
+        &self,
+        center: DVec3,
+        radius: f64,
+        w: u32,
+        h: u32,
+        pad_px: f64,
+    ) -> Option<[f64; 4]> {
+        let full = [-1.0, -1.0, 1.0, 1.0];
+        let (sx, sy) = (self.right.length(), self.up.length());
+        let p = center - self.origin;
+        let cz = p.dot(self.forward);
+        // Entirely behind the eye: no primary ray (direction . forward > 0) reaches it.
+        if cz <= -radius {
+            return None;
+        }
+        let a = cz * cz - radius * radius;
+        // In front with a margin (relative to the distance): otherwise the whole screen.
+        if cz <= radius || a <= 1e-9 * cz * cz || sx <= 0.0 || sy <= 0.0 {
+            return Some(full);
+        }
+        let range = |c: f64, scale: f64, px: u32| {
+            let root = radius * (c * c + a).sqrt();
+            let pad = 2.0 * pad_px / px.max(1) as f64;
+            let lo = (c * cz - root) / a / scale - pad;
+            let hi = (c * cz + root) / a / scale + pad;
+            (lo.max(-1.0), hi.min(1.0))
+        };
+        let (x0, x1) = range(p.dot(self.right) / sx, sx, w);
+        let (y0, y1) = range(p.dot(self.up) / sy, sy, h);
+        if !(x0 < x1 && y0 < y1) {
+            return None;
+        }
+        Some([x0, y0, x1, y1])
+    }
 }

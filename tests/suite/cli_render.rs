@@ -95,4 +95,20 @@ fn probe_writes_the_grid_as_csv() {
         .all(|r| r.len() == 4 && r[2..].iter().all(|v| (0.0..=1.0).contains(v))));
     let (ok, stderr) = shadeballs(&["probe", "--out", out.to_str().unwrap(), "--grid", "1"]);
     assert!(!ok && stderr.contains("probe grid"), "{stderr}");
+    // Along the default scene's own rows: 9 mu a row, its five roughness values.
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/reference.toml");
+    let args = [
+        "probe",
+        "--out",
+        out.to_str().unwrap(),
+        "--grid",
+        "9",
+        "--scene",
+        scene,
+    ];
+    let (ok, stderr) = shadeballs(&args);
+    assert!(ok && stderr.contains("9x5 rows"), "{stderr}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 45);
+    assert!(csv.lines().nth(1).unwrap().starts_with("0.15,0,"), "{csv}");
 }

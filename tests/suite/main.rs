@@ -2,6 +2,7 @@
 
 mod bad_input;
 mod bench;
+mod bounds;
 mod brdf;
 mod clamp;
 mod cli;
@@ -17,6 +18,8 @@ mod gpu_stress;
 mod lut;
 mod lut_chebyshev;
 mod pixels;
+mod plan;
+mod planned;
 mod probe;
 mod props;
 mod render;

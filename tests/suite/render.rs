@@ -1,7 +1,7 @@
 //! GPU against the CPU reference renderer (DESIGN.md section 5), and the white furnace.
 use glam::DVec3;
 use shadeballs::cpu;
-use shadeballs::gpu::Renderer;
+use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::scene::{Preset, Scene};
 
 use crate::pixels::{compare, renderer, vulkan, Diff};
@@ -9,12 +9,21 @@ use crate::pixels::{compare, renderer, vulkan, Diff};
 const W: u32 = 1280;
 const H: u32 = 720;
 
-/// Renders `scene` on the GPU and on the CPU from the same tables; returns both RGBA8.
+/// Renders `scene` on the GPU and on the CPU from the same tables (the rows or the 2-D
+/// table its plan bound); returns both RGBA8. (`planned.rs` compares planned renders with
+/// the 2-D table's.)
 fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
     let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
-    let tables = r.tables_for(scene.effective_geometry());
-    let cpu = cpu::to_rgba8(&cpu::render_radiance(scene, &tables, w, h), scene.exposure);
-    (gpu, cpu)
+    let radiance = match r.bound_tables() {
+        BoundTables::Rows(rows) => {
+            cpu::render_radiance_with(scene, &cpu::TableRead::Rows(&rows), w, h)
+        }
+        _ => {
+            let tables = r.tables_for(scene.effective_geometry());
+            cpu::render_radiance(scene, &tables, w, h)
+        }
+    };
+    (gpu, cpu::to_rgba8(&radiance, scene.exposure))
 }
 
 /// The bound of the issue: >= 99.9 % of pixels within 1/255, >= 99.99 % within 3/255.

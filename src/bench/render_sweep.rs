@@ -1,0 +1,271 @@
+//! The render sweep: frame time with the term on and off per scene, preset, tables and
+//! draw (the design before planning against the planned renderer, same run), against the
+//! image error of each; per-variant pipelines against one pipeline with a branch, and a
+//! scene without the term against the plain shader, each in alternating frames.
+
+use glam::DVec3;
+
+use super::bake::{homework_config, HOMEWORK};
+use super::exact::exact_tables;
+use super::plot::{Plot, Series};
+use super::render::{
+    close_up, exact_radiance, measure_alternating, measure_pair, tables_for, Setup,
+};
+use super::table::Table;
+use super::{Goal, Sweep};
+use crate::error::Result;
+use crate::gpu::Renderer;
+use crate::lut::{BakeConfig, Layout, LayoutKind};
+use crate::scene::{DrawOptions, Preset, Scene};
+
+/// The default scene with every ball's term off.
+pub fn no_term() -> Scene {
+    let mut s = Scene::reference();
+    for b in &mut s.balls {
+        b.multiple_scattering = false;
+    }
+    s
+}
+
+const BEFORE: &str = "2-D table; full-screen triangle; one pipeline with a branch";
+const PLANNED: &str = "planned: rows; quads; a pipeline per variant";
+
+/// One measured configuration: label, scene name, scene, tables/draw name, setup.
+type Run = (&'static str, &'static str, Scene, &'static str, Setup);
+
+fn runs(quick: bool) -> Vec<Run> {
+    let reference = Scene::reference();
+    let games202 = Scene {
+        preset: Preset::Games202,
+        ..Scene::reference()
+    };
+    let config = BakeConfig::default();
+    let table = |scene: &Scene, c: BakeConfig, o| Setup::Table(tables_for(scene, c), o);
+    let before = DrawOptions::unplanned();
+    let planned = Setup::Planned(config, DrawOptions::default());
+    let mut runs: Vec<Run> = vec![
+        (
+            HOMEWORK,
+            "default",
+            games202.clone(),
+            "homework table; full-screen triangle",
+            table(
+                &games202,
+                homework_config(crate::brdf::Geometry::Schlick),
+                before,
+            ),
+        ),
+        (
+            "before",
+            "default",
+            reference.clone(),
+            BEFORE,
+            table(&reference, config, before),
+        ),
+        (
+            "default",
+            "default",
+            reference.clone(),
+            PLANNED,
+            planned.clone(),
+        ),
+        ("-", "default", games202.clone(), PLANNED, planned.clone()),
+        ("no term", "no term", no_term(), PLANNED, planned.clone()),
+    ];
+    if !quick {
+        let layout = |kind| BakeConfig {
+            layout: Layout::of_kind(kind),
+            ..BakeConfig::default()
+        };
+        let quads = DrawOptions::default();
+        runs.push((
+            "-",
+            "default",
+            reference.clone(),
+            "games202 layout 2-D table; chebyshev bake; quads",
+            table(&reference, layout(LayoutKind::Games202), quads),
+        ));
+        runs.push((
+            "-",
+            "default",
+            reference.clone(),
+            "games202 layout rows; chebyshev bake; quads",
+            Setup::Planned(layout(LayoutKind::Games202), quads),
+        ));
+        runs.push((
+            "-",
+            "default",
+            reference.clone(),
+            "sqrt-mu 64x64 2-D table; quads",
+            table(&reference, layout(LayoutKind::SqrtMu), quads),
+        ));
+        let close = close_up();
+        runs.push((
+            "-",
+            "close-up",
+            close.clone(),
+            BEFORE,
+            table(&close, config, before),
+        ));
+        runs.push(("-", "close-up", close, PLANNED, planned));
+    }
+    runs
+}
+
+/// Frame time with the term on and off per run, against the image error of each (the
+/// homework's preset and bake as the peer row), then the two alternating comparisons.
+pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
+    let mut t = Table::new(
+        "render",
+        "Rendering: frame time at 1280x720 with the term on and off against the image error (exact model on the CPU as reference)",
+        &["config", "scene", "preset", "tables and draw", "term", "frame_ms", "on_over_off", "err_max_255", "err_mean_255"],
+    );
+    let repeats = if quick { 9 } else { 41 };
+    let exact = exact_tables(&Scene::reference())?;
+    let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
+    let series = |label: &str, peer| Series {
+        label: label.into(),
+        peer,
+        points_only: true,
+        ..Default::default()
+    };
+    let mut on_series = series("term on", false);
+    let mut off_series = series("term off", false);
+    let mut peer = series("homework (term on)", true);
+    let mut goals = Vec::new();
+    // The 'before' run's term on, off and ratio.
+    let mut before = [f64::NAN; 3];
+    for (label, scene_name, scene, tables_name, setup) in runs(quick) {
+        let key = format!("{scene_name} {}", scene.preset);
+        if !exact_images.iter().any(|(k, _)| *k == key) {
+            exact_images.push((key.clone(), exact_radiance(&scene, &exact)));
+        }
+        let image = &exact_images
+            .iter()
+            .find(|(k, _)| *k == key)
+            .expect("added above")
+            .1;
+        let (on, off, ratio) = measure_pair(renderer, &scene, setup, repeats, image)?;
+        for (frame, term) in [(&on, "on"), (&off, "off")] {
+            t.push(vec![
+                label.to_string(),
+                scene_name.to_string(),
+                scene.preset.to_string(),
+                tables_name.to_string(),
+                term.to_string(),
+                format!("{:.2}", frame.ms),
+                if term == "on" {
+                    format!("{ratio:.3}")
+                } else {
+                    "-".into()
+                },
+                format!("{:.2}", frame.max_255),
+                format!("{:.4}", frame.mean_255),
+            ]);
+        }
+        match label {
+            HOMEWORK => peer.points.push((on.ms, on.mean_255)),
+            _ => {
+                on_series.points.push((on.ms, on.mean_255));
+                off_series.points.push((off.ms, off.mean_255));
+            }
+        }
+        match label {
+            "before" => before = [on.ms, off.ms, ratio],
+            "default" => {
+                goals.push(Goal {
+                    what: "term's cost: frame time with the term on <= 1.10x with it off (default scene, planned renderer)".into(),
+                    figure: format!(
+                        "{:.1} ms on, {:.1} ms off: {ratio:.3}x, the term adds {:.1} ms; before planning (same run): {:.1} ms on, {:.1} ms off: {:.3}x, adds {:.1} ms ({})",
+                        on.ms,
+                        off.ms,
+                        on.ms - off.ms,
+                        before[0],
+                        before[1],
+                        before[2],
+                        before[0] - before[1],
+                        renderer.gpu().describe()
+                    ),
+                    met: ratio <= 1.10,
+                });
+            }
+            "no term" => {
+                // Planned from a fresh plan: what the renderer baked for it.
+                renderer.plan_for(&Scene::reference());
+                renderer.plan_for(&scene);
+                let bake = renderer.last_bake_time().unwrap_or_default();
+                goals.push(Goal {
+                    what: "scene without the term: zero bake time, frame time equal to the plain shader's (term compiled out)".into(),
+                    figure: format!(
+                        "bake {:.3} ms; {:.2} ms planned against {:.2} ms plain: {ratio:.3}x (alternating frames)",
+                        bake.as_secs_f64() * 1e3,
+                        on.ms,
+                        off.ms
+                    ),
+                    met: bake.is_zero() && (ratio - 1.0).abs() <= 0.02,
+                });
+            }
+            _ => {}
+        }
+    }
+    let variants = variants_against_branch(renderer, repeats * 2, &mut t)?;
+    goals.push(variants);
+    t.note = format!(
+        "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback); on_over_off is the median of the on/off ratio of each pair of frames. 'before': the design before planning (one full-screen triangle shading every pixel, the background included, one pipeline branching on each ball's flag, the 2-D table); 'planned': the scene's own rows, a quad per ball over its screen-space bounds, the background a clear, a pipeline per variant. Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (src/bench/exact.rs). 'term off' compiles the term out of every pipeline (MS_TERM = 0): its error is what dropping the term costs; for the scene without the term, 'on' is its plan and 'off' the plain shader.",
+        if quick { "Quick" } else { "Full" },
+        renderer.gpu().describe()
+    );
+    let plot = Plot {
+        title: "Render 1280x720: frame time against image error".into(),
+        x_label: "frame time (ms, median)".into(),
+        y_label: "mean display error (1/255)".into(),
+        series: vec![on_series, off_series, peer],
+        goals: Vec::new(),
+    };
+    Ok(Sweep {
+        tables: vec![t],
+        plots: vec![("render".into(), plot)],
+        goals,
+    })
+}
+
+/// Per-variant pipelines against one pipeline with a branch, default scene, the same rows,
+/// in alternating frames; two rows of `t` and the goal.
+fn variants_against_branch(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Result<Goal> {
+    let scene = Scene::reference();
+    renderer.set_bake_config(BakeConfig::default());
+    let variants = DrawOptions::default();
+    let branch = DrawOptions {
+        variants: false,
+        ..variants
+    };
+    let (v_ms, b_ms, ratio) = measure_alternating(renderer, &scene, [variants, branch], repeats)?;
+    renderer.set_draw_options(DrawOptions::default());
+    for (name, ms, r) in [
+        (
+            "planned; a pipeline per variant",
+            v_ms,
+            format!("{ratio:.3}"),
+        ),
+        ("planned; one pipeline with a branch", b_ms, "-".into()),
+    ] {
+        t.push(vec![
+            "variants vs branch".into(),
+            "default".into(),
+            "accurate".into(),
+            name.into(),
+            "on".into(),
+            format!("{ms:.2}"),
+            r,
+            "-".into(),
+            "-".into(),
+        ]);
+    }
+    Ok(Goal {
+        what: "default scene: per-variant pipelines no slower than one pipeline with a branch".into(),
+        figure: format!(
+            "{v_ms:.2} ms against {b_ms:.2} ms: {ratio:.3}x (median of {repeats} alternating pairs; on_over_off column of the 'variants vs branch' row)"
+        ),
+        met: ratio <= 1.0,
+    })
+}

@@ -1,0 +1,187 @@
+//! A scene's own rows: one row of E along mu per roughness the scene uses, baked at that
+//! roughness exactly, instead of a 2-D table read between rows.
+//!
+//! ## Why
+//!
+//! A shading-ball scene holds a few roughness values (the default scene five). A 2-D table
+//! answers every roughness by blending two rows, and its error is largest between rows
+//! (README, "Measured results": 1.1e-4 at 64 x 64). A row baked at the ball's own roughness
+//! leaves only the read along mu: the shader reads it with the same `lut_loss_row` and a
+//! row weight of 0, and the ball's `1 - E_avg` is that row's integral as read, so the lobe
+//! restores exactly the energy the read E misses (`row_loss_avg_at` in `mod.rs`). Each
+//! row costs the quadrature at [`CHEBYSHEV_MU_NODES`] points (Chebyshev bake) or one
+//! estimate a texel (the other methods), so a few rows cost less than the 2-D table's 425
+//! quadratures; past a count measured by `shadeballs bench` the 2-D table is cheaper
+//! (`scene::plan::MAX_PLANNED_ROWS`).
+//!
+//! Rows are keyed by everything that changes their values ([`RowKey`]), so a cache can hand
+//! out a row baked once to any scene that needs it again.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES};
+use super::estimators::{Estimator, Method};
+use super::layout::{lut_texel_span, roughness_coord, Layout};
+use super::{finish_row_at, BakeConfig};
+use crate::brdf::alpha_from_roughness;
+
+/// Everything that changes a row's values: the bake settings, the layout's mu axis, size
+/// and storage (its roughness axis normalised away), and the row's roughness (the f32 the
+/// shader reads at, clamped, as bits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RowKey {
+    pub config: BakeConfig,
+    pub roughness_bits: u32,
+}
+
+impl RowKey {
+    /// The key of the row at `roughness` (clamped like every read) baked with `config`.
+    pub fn new(config: &BakeConfig, roughness: f32) -> Self {
+        let mut config = *config;
+        config.layout.r_size = 1;
+        RowKey {
+            config,
+            roughness_bits: roughness_coord(roughness).to_bits(),
+        }
+    }
+
+    /// The row's roughness (clamped).
+    pub fn roughness(&self) -> f32 {
+        f32::from_bits(self.roughness_bits)
+    }
+}
+
+/// One baked row.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub key: RowKey,
+    /// E per texel (f64), `layout.mu_size` of them.
+    pub e: Vec<f64>,
+    /// `1 - E` after the layout's storage quantisation: what the shader reads.
+    pub stored_loss: Vec<f32>,
+    /// `2 int_0^1 E(mu) mu dmu` of the row as the shader reads it.
+    pub e_avg: f64,
+    /// `1 - e_avg` in f32: a per-ball uniform, never stored in the table's format.
+    pub loss_avg: f32,
+}
+
+/// Bakes the row of `key`.
+pub fn bake_row(key: &RowKey) -> Row {
+    let config = &key.config;
+    let layout = &config.layout;
+    let roughness = key.roughness() as f64;
+    let alpha = alpha_from_roughness(roughness);
+    let mu_of = |i: usize| {
+        layout
+            .mu_axis
+            .value(layout.texel_coord(i, layout.mu_size), alpha)
+    };
+    let e: Vec<f64> = if config.method == Method::Chebyshev {
+        let series = super::chebyshev::exact_row(
+            config.geometry,
+            config.samples,
+            roughness,
+            CHEBYSHEV_MU_NODES,
+        );
+        (0..layout.mu_size)
+            .map(|i| ChebyshevSurface::e_in_row(&series, mu_of(i), roughness))
+            .collect()
+    } else {
+        let mut est = Estimator::new(config.method, config.points, config.samples);
+        let seed = key.roughness_bits as u64 * layout.mu_size as u64;
+        (0..layout.mu_size)
+            .map(|i| est.e(mu_of(i), roughness, config.geometry, seed + i as u64))
+            .collect()
+    };
+    let (e, stored_loss, e_avg) = finish_row_at(layout, alpha, e);
+    Row {
+        key: *key,
+        e,
+        stored_loss,
+        e_avg,
+        loss_avg: (1.0 - e_avg) as f32,
+    }
+}
+
+/// Bakes the rows of `keys`, one task a row on rayon's pool.
+pub fn bake_rows(keys: &[RowKey]) -> Vec<Row> {
+    keys.par_iter().map(bake_row).collect()
+}
+
+/// The rows a scene reads, in order: row `j` of the GPU's E texture.
+#[derive(Clone, Debug)]
+pub struct RowSet {
+    /// The bake settings; `layout.r_size` is the number of rows.
+    pub config: BakeConfig,
+    pub rows: Vec<Arc<Row>>,
+}
+
+impl RowSet {
+    /// The set of `rows` (at least one), all baked with one config.
+    pub fn new(rows: Vec<Arc<Row>>) -> Self {
+        let mut config = rows.first().map(|r| r.key.config).unwrap_or_default();
+        config.layout.r_size = rows.len().max(1);
+        RowSet { config, rows }
+    }
+
+    pub fn layout(&self) -> &Layout {
+        &self.config.layout
+    }
+
+    /// The rows' stored `1 - E`, row after row (a `mu_size x rows` table).
+    pub fn stored_loss(&self) -> Vec<f32> {
+        self.rows
+            .iter()
+            .flat_map(|r| r.stored_loss.iter().copied())
+            .collect()
+    }
+
+    /// The index of the row nearest `roughness` (clamped; the exact row when the set holds
+    /// it, as a planned set does for every ball it was planned for).
+    pub fn index_of(&self, roughness: f32) -> usize {
+        let r = roughness_coord(roughness);
+        self.rows
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                let da = (a.1.key.roughness() - r).abs();
+                let db = (b.1.key.roughness() - r).abs();
+                da.total_cmp(&db)
+            })
+            .map_or(0, |(j, _)| j)
+    }
+
+    /// A ball's row for `lut_loss_row` (`Tables::lut_row`'s form): `[row index, 0 (no
+    /// weight on the next row), alpha, 0]`, alpha in f32 as `Tables::lut_row` forms it.
+    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+        let r = roughness_coord(roughness);
+        [self.index_of(roughness) as f32, 0.0, r * r, 0.0]
+    }
+
+    /// `lut_loss_row` of `shaders/lut.wgsl` on these rows: the f32 arithmetic of
+    /// `Tables::lut_loss_row`, the next row weighted by `row[1]` (0 from [`RowSet::lut_row`]).
+    pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
+        let l = self.layout();
+        let (sx, bx) = l.scale_bias(l.mu_size);
+        let x = l.mu_axis.coord(mu, row[2]);
+        let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
+        let j0 = (row[0] as usize).min(self.rows.len() - 1);
+        let j1 = (j0 + 1).min(self.rows.len() - 1);
+        let t = |i: usize, j: usize| self.rows[j].stored_loss[i];
+        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
+        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
+        top + (bottom - top) * row[1]
+    }
+
+    /// `1 - E` as a ball at `roughness` reads it.
+    pub fn lut_loss(&self, mu: f32, roughness: f32) -> f32 {
+        self.lut_loss_row(mu, self.lut_row(roughness))
+    }
+
+    /// `1 - E_avg` of the ball's row (a per-ball uniform).
+    pub fn lut_loss_avg(&self, roughness: f32) -> f32 {
+        self.rows[self.index_of(roughness)].loss_avg
+    }
+}

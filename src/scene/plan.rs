@@ -1,0 +1,255 @@
+//! The plan: what a scene needs baked, compiled and drawn, made from the scene before any
+//! work starts (DESIGN.md section 7: scene -> plan -> tables -> renderer).
+//!
+//! - Tables: none when no ball reads E (no ball with the term and no environment, whose
+//!   single-scattering part reads E(mu_o)); one exact row per distinct roughness read when
+//!   there are at most [`MAX_PLANNED_ROWS`] (no error from reading between rows); the 2-D
+//!   table past that. Each row once, however many balls share it.
+//! - Shader variants: the balls with the term and those without are drawn by two
+//!   pipelines, the term compiled in and out, instead of one pipeline branching on a
+//!   per-ball flag; a scene without lights or without an environment compiles that part
+//!   out.
+//!
+//! Planning is a pass over the balls (a sort of at most [`super::MAX_BALLS`] values): cheap
+//! enough to redo on every frame of the viewer, which re-bakes only when the plan's rows
+//! change.
+
+use std::fmt;
+
+use super::{Scene, MAX_BALLS, MAX_LIGHTS};
+use crate::brdf::Geometry;
+use crate::lut::{roughness_coord, BakeConfig, Method};
+
+/// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
+/// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
+/// row costs 25 quadratures and the table 425; 16 rows baked faster than the table in each
+/// of three runs, 24 and 32 in only one (README, "Planning").
+pub const MAX_PLANNED_ROWS: usize = 16;
+
+/// How the renderer chooses its tables.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TablePolicy {
+    /// Rows up to [`MAX_PLANNED_ROWS`], the 2-D table past it (the default).
+    #[default]
+    Auto,
+    /// Always the 2-D table (the design before planning; for comparison).
+    Full,
+    /// Always rows, however many.
+    Rows,
+}
+
+/// What the renderer does besides the tables: how it draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DrawOptions {
+    pub tables: TablePolicy,
+    /// Each ball drawn over its screen-space bounds, the background a clear (`true`), or one
+    /// full-screen triangle that paints the background too (`false`, the earlier design).
+    pub per_ball: bool,
+    /// One pipeline per shader variant (`true`), or one pipeline branching on each ball's
+    /// flag (`false`, for comparison).
+    pub variants: bool,
+    /// The term compiled in where balls use it (`true`), or out of every pipeline.
+    pub term: bool,
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        DrawOptions {
+            tables: TablePolicy::Auto,
+            per_ball: true,
+            variants: true,
+            term: true,
+        }
+    }
+}
+
+impl DrawOptions {
+    /// The design before planning: a full table, one full-screen pipeline with a branch.
+    pub fn unplanned() -> Self {
+        DrawOptions {
+            tables: TablePolicy::Full,
+            per_ball: false,
+            variants: false,
+            term: true,
+        }
+    }
+}
+
+/// The tables a scene needs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TablePlan {
+    /// Nothing reads E: bake nothing, bind no tables.
+    None,
+    /// One exact row per roughness (clamped, f32, ascending, distinct).
+    Rows(Vec<f32>),
+    /// The 2-D table.
+    Full,
+}
+
+/// How a pipeline treats the multiple-scattering term (`MS_TERM` in `types.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum TermMode {
+    /// Compiled out.
+    Out = 0,
+    /// A branch on each ball's flag (one pipeline for every ball).
+    Branch = 1,
+    /// Compiled in for every ball the pipeline draws.
+    In = 2,
+}
+
+/// One shader variant: the pipeline-time constants that depend on the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Variant {
+    pub term: TermMode,
+    /// The environment's part compiled in.
+    pub environment: bool,
+    /// The directional lights' loop compiled in.
+    pub lights: bool,
+}
+
+/// The plan of one scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub geometry: Geometry,
+    /// The bake settings (geometry = the scene's).
+    pub bake: BakeConfig,
+    pub tables: TablePlan,
+    /// The variants drawn, each with the indices of its balls (in the scene's order).
+    pub draws: Vec<(Variant, Vec<usize>)>,
+    pub per_ball: bool,
+}
+
+impl Plan {
+    /// The plan of `scene` under `options`, tables baked with `bake` (its geometry replaced
+    /// by the scene's).
+    pub fn new(scene: &Scene, bake: BakeConfig, options: DrawOptions) -> Self {
+        let geometry = scene.effective_geometry();
+        let bake = BakeConfig { geometry, ..bake };
+        let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
+        let environment = scene.environment != glam::DVec3::ZERO;
+        let lights = !scene.lights.is_empty() && MAX_LIGHTS > 0;
+        let uses_term = |b: &super::Ball| options.term && b.multiple_scattering;
+        // Balls that read E: with the term (its lobe), or all of them under an environment
+        // (its single-scattering part reads E(mu_o)).
+        let mut roughness: Vec<f32> = balls
+            .iter()
+            .filter(|b| uses_term(b) || environment)
+            .map(|b| roughness_coord(b.roughness as f32))
+            .collect();
+        roughness.sort_by(f32::total_cmp);
+        roughness.dedup();
+        let tables = if roughness.is_empty() {
+            TablePlan::None
+        } else {
+            match options.tables {
+                TablePolicy::Full => TablePlan::Full,
+                TablePolicy::Rows => TablePlan::Rows(roughness),
+                TablePolicy::Auto if roughness.len() <= MAX_PLANNED_ROWS => {
+                    TablePlan::Rows(roughness)
+                }
+                TablePolicy::Auto => TablePlan::Full,
+            }
+        };
+        let variant = |term| Variant {
+            term,
+            environment: !options.per_ball || environment,
+            lights: !options.per_ball || lights,
+        };
+        let all: Vec<usize> = (0..balls.len()).collect();
+        let draws = if !options.term {
+            vec![(variant(TermMode::Out), all)]
+        } else if !options.variants || !options.per_ball {
+            // One full-screen triangle is one pipeline: it branches.
+            vec![(variant(TermMode::Branch), all)]
+        } else {
+            let (with, without): (Vec<usize>, Vec<usize>) =
+                all.into_iter().partition(|&k| balls[k].multiple_scattering);
+            [
+                (variant(TermMode::In), with),
+                (variant(TermMode::Out), without),
+            ]
+            .into_iter()
+            .filter(|(_, balls)| !balls.is_empty())
+            .collect()
+        };
+        Plan {
+            geometry,
+            bake,
+            tables,
+            draws,
+            per_ball: options.per_ball,
+        }
+    }
+
+    /// The variants (pipelines per target format) the plan draws with.
+    pub fn variants(&self) -> Vec<Variant> {
+        self.draws.iter().map(|(v, _)| *v).collect()
+    }
+
+    /// The rows planned (empty unless [`TablePlan::Rows`]).
+    pub fn rows(&self) -> &[f32] {
+        match &self.tables {
+            TablePlan::Rows(r) => r,
+            _ => &[],
+        }
+    }
+}
+
+impl fmt::Display for Variant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let term = match self.term {
+            TermMode::Out => "term out",
+            TermMode::Branch => "term by per-ball branch",
+            TermMode::In => "term in",
+        };
+        let part = |on: bool, name: &str| format!("{}{name}", if on { "" } else { "no " });
+        write!(
+            f,
+            "{term}, {}, {}",
+            part(self.lights, "lights"),
+            part(self.environment, "environment")
+        )
+    }
+}
+
+impl fmt::Display for Plan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let bake = &self.bake;
+        let method = match bake.method {
+            Method::Chebyshev => format!("chebyshev, {} nodes a segment", bake.samples),
+            m => format!("{m}, {} samples", bake.samples),
+        };
+        let l = &bake.layout;
+        match &self.tables {
+            TablePlan::None => writeln!(f, "tables: none (no ball reads E): nothing baked")?,
+            TablePlan::Rows(r) => {
+                let list: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
+                writeln!(
+                    f,
+                    "tables: {} exact rows of {} texels along mu ({} layout, {}), at roughness {} ({} G, {method})",
+                    r.len(),
+                    l.mu_size,
+                    l.kind,
+                    l.storage,
+                    list.join(", "),
+                    self.geometry
+                )?
+            }
+            TablePlan::Full => writeln!(
+                f,
+                "tables: the {}x{} table ({} layout, {}; {} G, {method})",
+                l.mu_size, l.r_size, l.kind, l.storage, self.geometry
+            )?,
+        }
+        let how = if self.per_ball {
+            "each ball over its screen-space bounds, background cleared"
+        } else {
+            "one full-screen triangle"
+        };
+        write!(f, "draw: {how}; pipelines:")?;
+        for (v, balls) in &self.draws {
+            write!(f, "\n  {v}: {} balls", balls.len())?;
+        }
+        Ok(())
+    }
+}
