@@ -36,6 +36,11 @@ impl FrameClock {
         median(self.recent_draw_ms.make_contiguous())
     }
 
+    /// Whether the recent frames fill their window (until then each frame moves the median).
+    pub fn settled(&self) -> bool {
+        self.recent_draw_ms.len() >= RECENT
+    }
+
     /// Median draw time of every frame, milliseconds.
     pub fn draw_ms(&self) -> Option<f64> {
         median(&self.draw_ms)

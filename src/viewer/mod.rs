@@ -216,14 +216,16 @@ impl App {
             .last_bake_time()
             .map(|d| d.as_secs_f64() * 1e3);
         let scene_size = (self.scene_width, state.size().1);
-        let fresh = self.stats.as_ref().is_some_and(|(at, s)| {
-            at.elapsed() < STATS_PERIOD && s.bake_ms == bake_ms && s.scene_size == scene_size
-        });
+        let fresh = self.clock.settled()
+            && self.stats.as_ref().is_some_and(|(at, s)| {
+                at.elapsed() < STATS_PERIOD && s.bake_ms == bake_ms && s.scene_size == scene_size
+            });
         if !fresh {
             let stats = Stats {
                 frame_ms: self.clock.recent_draw_ms(),
                 bake_ms,
                 adapter: state.renderer.gpu().describe(),
+                plan: plan_summary(&state.renderer),
                 scene_size,
             };
             self.stats = Some((start, stats));
@@ -315,4 +317,23 @@ fn display_error(e: impl std::fmt::Display) -> Error {
         None => message,
     };
     Error::Display { message }
+}
+
+/// The plan in a few words: what is baked and bound, and the rows kept in memory.
+fn plan_summary(renderer: &crate::gpu::Renderer) -> String {
+    use crate::scene::TablePlan;
+    let Some(plan) = renderer.plan() else {
+        return "tables: not planned yet".into();
+    };
+    let layout = &plan.bake.layout;
+    let tables = match &plan.tables {
+        TablePlan::None => "tables: none (no ball reads E)".to_string(),
+        TablePlan::Rows(rows) => format!(
+            "tables: {} exact rows of {} along mu",
+            rows.len(),
+            layout.mu_size
+        ),
+        TablePlan::Full => format!("tables: {}x{} table", layout.mu_size, layout.r_size),
+    };
+    format!("{tables}; {} rows cached", renderer.cached_rows())
 }

@@ -50,6 +50,8 @@ pub struct Stats {
     /// The latest bake's wall time, milliseconds.
     pub bake_ms: Option<f64>,
     pub adapter: String,
+    /// What the plan baked and binds (one line), and the rows held in the cache.
+    pub plan: String,
     /// The scene area in pixels.
     pub scene_size: (u32, u32),
 }
@@ -77,7 +79,8 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
     ui.heading("shadeballs");
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
     ui.label(format!("frame {} (median)", ms(stats.frame_ms)));
-    ui.label(format!("bake {}", ms(stats.bake_ms)));
+    ui.label(format!("bake {} (latest change)", ms(stats.bake_ms)));
+    ui.label(&stats.plan);
     ui.label(format!(
         "scene {}x{} on {}",
         stats.scene_size.0, stats.scene_size.1, stats.adapter
