@@ -120,6 +120,12 @@ fn model(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
 }
 
 fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
+    if controls.grid.is_none() {
+        ui.label(format!(
+            "the scene's own {} balls; a grid replaces them once these move",
+            scene.balls.len()
+        ));
+    }
     let mut grid = controls.grid.unwrap_or(Grid::REFERENCE);
     let mut changed = ui
         .add(egui::Slider::new(&mut grid.per_row, 1..=MAX_BALLS_PER_ROW).text("balls per row"))
@@ -207,7 +213,9 @@ fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
     ui.add(
         egui::Slider::new(&mut scene.exposure, 1e-3..=1e3)
             .logarithmic(true)
-            .text("exposure"),
+            .text("exposure")
+            // A scene file's exposure beyond the slider's range stays as it is.
+            .clamping(egui::SliderClamping::Edits),
     );
     scene.exposure = scene.exposure.clamp(f64::MIN_POSITIVE, MAX_MAGNITUDE);
 }
