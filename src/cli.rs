@@ -55,8 +55,9 @@ pub struct BenchArgs {
     pub cpu_only: bool,
 }
 
+/// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
-pub struct RenderArgs {
+pub struct SceneArgs {
     /// Scene file (TOML); default: the built-in reference scene.
     #[arg(long)]
     pub scene: Option<PathBuf>,
@@ -67,6 +68,25 @@ pub struct RenderArgs {
     /// (default: the scene's; the built-in scenes use smith-correlated).
     #[arg(long)]
     pub geometry: Option<Geometry>,
+}
+
+impl SceneArgs {
+    /// The scene file's scene (or the reference scene), with the overrides applied.
+    pub fn load(&self) -> crate::Result<crate::scene::Scene> {
+        let mut scene = match &self.scene {
+            Some(path) => crate::scene::load(path)?,
+            None => crate::scene::Scene::reference(),
+        };
+        scene.preset = self.preset.unwrap_or(scene.preset);
+        scene.geometry = self.geometry.unwrap_or(scene.geometry);
+        Ok(scene)
+    }
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Image width in pixels (1 up to the device's largest texture, 16384 on lavapipe).
     #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
     pub width: u32,
@@ -109,15 +129,8 @@ pub struct ProbeArgs {
 /// Flags of `shadeballs view`.
 #[derive(clap::Args)]
 pub struct ViewArgs {
-    /// Scene file (TOML); default: the reference scene.
-    #[arg(long)]
-    pub scene: Option<PathBuf>,
-    /// accurate or games202 (overrides the scene file's).
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// G for the accurate preset (overrides the scene file's).
-    #[arg(long)]
-    pub geometry: Option<Geometry>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Window width in pixels (the panel takes 300 points on the right).
     #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
     pub width: u32,

@@ -9,7 +9,7 @@ use shadeballs::error::{Error, Result};
 use shadeballs::gpu::{Backend, Gpu, Renderer};
 use shadeballs::image_out::{image_kind, write_exr, write_png, ImageKind};
 use shadeballs::lut::{self, BakeConfig};
-use shadeballs::scene::{self, Scene};
+use shadeballs::scene;
 use shadeballs::{cpu, output};
 
 fn open(backend: Backend) -> Result<Option<Renderer>> {
@@ -26,27 +26,12 @@ fn open(backend: Backend) -> Result<Option<Renderer>> {
     }
 }
 
-/// The scene file's scene (or the reference scene), with the command line's overrides.
-fn load_scene(
-    path: Option<&std::path::Path>,
-    preset: Option<scene::Preset>,
-    geometry: Option<shadeballs::brdf::Geometry>,
-) -> Result<Scene> {
-    let mut scene = match path {
-        Some(path) => scene::load(path)?,
-        None => Scene::reference(),
-    };
-    scene.preset = preset.unwrap_or(scene.preset);
-    scene.geometry = geometry.unwrap_or(scene.geometry);
-    Ok(scene)
-}
-
 pub fn render(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     output::check_output_path(&args.out)?;
-    let scene = load_scene(args.scene.as_deref(), args.preset, args.geometry)?;
+    let scene = args.scene.load()?;
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
     let renderer = open(args.backend)?;
@@ -198,7 +183,7 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
             anyhow::bail!("--screenshot '{}' must be a .png", path.display());
         }
     }
-    let scene = load_scene(args.scene.as_deref(), args.preset, args.geometry)?;
+    let scene = args.scene.load()?;
     let report = shadeballs::viewer::run(shadeballs::viewer::ViewOptions {
         scene,
         backend: args.backend,

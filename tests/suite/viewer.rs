@@ -179,29 +179,19 @@ fn keys_resize_and_unmap_through_the_window_system() {
         .env("WINIT_X11_SCALE_FACTOR", "1.5")
         .spawn()
         .unwrap();
-    let events = std::panic::catch_unwind(|| {
-        let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
-        let id = id.lines().next().unwrap().to_string();
-        x.xdotool(&["windowsize", "--sync", &id, "960", "540"]);
+    let stderr = drive(&x, child, |id| {
+        x.xdotool(&["windowsize", "--sync", id, "960", "540"]);
         // XTEST input to the focused window, as a real keyboard's (not a sent event).
-        x.xdotool(&["windowfocus", "--sync", &id, "key", "m"]);
-        x.xdotool(&["windowunmap", "--sync", &id]);
+        x.xdotool(&["windowfocus", "--sync", id, "key", "m"]);
+        x.xdotool(&["windowunmap", "--sync", id]);
         std::thread::sleep(Duration::from_millis(300));
-        x.xdotool(&["windowmap", "--sync", &id]);
-        x.xdotool(&["windowfocus", "--sync", &id, "key", "s"]);
+        x.xdotool(&["windowmap", "--sync", id]);
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
         let start = Instant::now();
         while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
             std::thread::sleep(Duration::from_millis(100));
         }
-        x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
     });
-    let out = wait(child, Duration::from_secs(60));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        events.is_ok(),
-        "sending the events failed; the viewer said: {stderr}"
-    );
-    assert!(out.status.success(), "viewer failed: {stderr}");
     let shots = pngs(&dir);
     assert_eq!(shots.len(), 1, "{shots:?}: {stderr}");
     let image = image::open(&shots[0]).unwrap();
@@ -216,6 +206,25 @@ fn keys_resize_and_unmap_through_the_window_system() {
         &scene,
         "resized window (M pressed) vs headless",
     );
+}
+
+/// Finds the viewer's window, runs `events` on it (given its id), presses Esc and waits for
+/// the viewer to exit; returns what it printed, failing with it if anything went wrong.
+fn drive(x: &Xvfb, child: Child, events: impl FnOnce(&str)) -> String {
+    let sent = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
+        let id = id.lines().next().unwrap().to_string();
+        events(&id);
+        x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
+    }));
+    let out = wait(child, Duration::from_secs(60));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        sent.is_ok(),
+        "sending the events failed; the viewer said: {stderr}"
+    );
+    assert!(out.status.success(), "viewer failed: {stderr}");
+    stderr
 }
 
 /// The PNG files in `dir`.
@@ -247,30 +256,20 @@ fn idle_draws_nothing_and_only_the_scene_area_orbits() {
     let x = Xvfb::start();
     let dir = temp_dir("view-idle");
     let child = viewer(&x, &[]).current_dir(&dir).spawn().unwrap();
-    let events = std::panic::catch_unwind(|| {
-        let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
-        let id = id.lines().next().unwrap().to_string();
+    let stderr = drive(&x, child, |id| {
         // Idle for 1.5 s: at 20-60 frames a second, continuous redrawing would show.
         std::thread::sleep(Duration::from_millis(1500));
         for (px, py) in [(1100, 200), (1150, 300), (1200, 400)] {
             let (px, py) = (px.to_string(), py.to_string());
-            x.xdotool(&["mousemove", "--window", &id, &px, &py]);
+            x.xdotool(&["mousemove", "--window", id, &px, &py]);
             std::thread::sleep(Duration::from_millis(100));
         }
-        x.xdotool(&["mousemove", "--window", &id, "300", "300", "mousedown", "1"]);
-        x.xdotool(&["mousemove", "--window", &id, "360", "320", "mouseup", "1"]);
+        x.xdotool(&["mousemove", "--window", id, "300", "300", "mousedown", "1"]);
+        x.xdotool(&["mousemove", "--window", id, "360", "320", "mouseup", "1"]);
         std::thread::sleep(Duration::from_millis(300));
-        x.xdotool(&["windowfocus", "--sync", &id, "key", "s"]);
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
         std::thread::sleep(Duration::from_millis(300));
-        x.xdotool(&["windowfocus", "--sync", &id, "key", "Escape"]);
     });
-    let out = wait(child, Duration::from_secs(60));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        events.is_ok(),
-        "sending the events failed; the viewer said: {stderr}"
-    );
-    assert!(out.status.success(), "viewer failed: {stderr}");
     let frames = reported(&stderr, "viewed ");
     let shaded = reported(&stderr, "frames (");
     // First frame, the drag's one or two, and egui's own follow-ups per event (hover,
