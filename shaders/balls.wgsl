@@ -20,8 +20,8 @@ struct VsOut {
 // the vertex stage and handed to the fragment stage as a flat varying, never read from the
 // uniform buffer by the fragment stage itself: lavapipe (Mesa 22.3) inlines uniform-buffer
 // values that decide a loop's exit into the fragment shader and compiles that shader again
-// each time the pipeline is bound (about 2 ms a bind at 1280x720, Mesa's disk cache warm),
-// which made every frame that switched pipelines pay a compile (README, "The term's cost").
+// each time the pipeline is bound (about 2 ms a bind with Mesa's disk cache answering), so
+// every frame that bound the term's pipeline paid a compile (README, "The term's cost").
 fn loop_counts() -> vec2<u32> {
     return min(globals.counts.xy, vec2<u32>(MAX_BALLS, MAX_LIGHTS));
 }
