@@ -12,6 +12,18 @@
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
+    // globals.counts.xy (balls, lights), passed through the vertex stage: see loop_counts.
+    @location(1) @interpolate(flat) counts: vec2<u32>,
+}
+
+// The ball and light counts the fragment loops run to, clamped to the array sizes. Read in
+// the vertex stage and handed to the fragment stage as a flat varying, never read from the
+// uniform buffer by the fragment stage itself: lavapipe (Mesa 22.3) inlines uniform-buffer
+// values that decide a loop's exit into the fragment shader and compiles that shader again
+// each time the pipeline is bound (about 2 ms a bind with Mesa's disk cache answering), so
+// every frame that bound the term's pipeline paid a compile (README, "The term's cost").
+fn loop_counts() -> vec2<u32> {
+    return min(globals.counts.xy, vec2<u32>(MAX_BALLS, MAX_LIGHTS));
 }
 
 // The triangle (-1,-1), (3,-1), (-1,3) covers the whole viewport.
@@ -21,6 +33,7 @@ fn vs_main(@builtin(vertex_index) index: u32) -> VsOut {
     let y = f32(index & 2u) * 2.0 - 1.0;
     var out: VsOut;
     out.position = vec4<f32>(x, y, 0.0, 1.0);
+    out.counts = loop_counts();
     return out;
 }
 
@@ -68,11 +81,11 @@ struct Hit {
     ball: u32,
 }
 
-// The nearest ball along the ray (lowest index on a tie).
-fn nearest_hit(o: vec3<f32>, d: vec3<f32>) -> Hit {
+// The nearest of the first `n_balls` balls along the ray (lowest index on a tie).
+fn nearest_hit(o: vec3<f32>, d: vec3<f32>, n_balls: u32) -> Hit {
     var best_t = -1.0;
     var best = 0u;
-    for (var k = 0u; k < min(globals.counts.x, MAX_BALLS); k++) {
+    for (var k = 0u; k < n_balls; k++) {
         let t = intersect_sphere(o, d, balls[k].center_radius.xyz, balls[k].center_radius.w);
         if t > 0.0 && (best_t < 0.0 || t < best_t) {
             best_t = t;
@@ -82,21 +95,22 @@ fn nearest_hit(o: vec3<f32>, d: vec3<f32>) -> Hit {
     return Hit(best_t, best);
 }
 
-// Radiance leaving the hit ball towards the eye.
-fn shade_hit(o: vec3<f32>, d: vec3<f32>, hit: Hit) -> vec3<f32> {
+// Radiance leaving the hit ball towards the eye, lit by the first `n_lights` lights.
+fn shade_hit(o: vec3<f32>, d: vec3<f32>, hit: Hit, n_lights: u32) -> vec3<f32> {
     let b = balls[hit.ball];
     let n = surface_normal(o + hit.t * d - b.center_radius.xyz, d);
-    return shade(b, n, -d);
+    return shade(b, n, -d, n_lights);
 }
 
-// Linear radiance seen through pixel position `frag`, background included.
-fn radiance_at(frag: vec2<f32>) -> vec3<f32> {
+// Linear radiance seen through pixel position `frag`, background included; `counts` from
+// loop_counts.
+fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
     let ray = primary_ray(frag);
-    let hit = nearest_hit(ray[0], ray[1]);
+    let hit = nearest_hit(ray[0], ray[1], counts.x);
     if hit.t < 0.0 {
         return globals.environment.xyz;
     }
-    return shade_hit(ray[0], ray[1], hit);
+    return shade_hit(ray[0], ray[1], hit, counts.y);
 }
 
 // The target's value of linear radiance: itself on a float target, else tone-mapped.
@@ -120,12 +134,14 @@ fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
 
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
-    return output_value(radiance_at(in.position.xy));
+    return output_value(radiance_at(in.position.xy, in.counts));
 }
 
 struct BallOut {
     @builtin(position) position: vec4<f32>,
     @location(0) @interpolate(flat) ball: u32,
+    // loop_counts(), as in VsOut.
+    @location(1) @interpolate(flat) counts: vec2<u32>,
 }
 
 // One corner of ball `ball`'s quad per vertex (two triangles, vertices 0..6): `rect` is its
@@ -139,6 +155,7 @@ fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @loc
     var out: BallOut;
     out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
     out.ball = ball;
+    out.counts = loop_counts();
     return out;
 }
 
@@ -147,9 +164,9 @@ fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @loc
 @fragment
 fn fs_ball(in: BallOut) -> @location(0) vec4<f32> {
     let ray = primary_ray(in.position.xy);
-    let hit = nearest_hit(ray[0], ray[1]);
+    let hit = nearest_hit(ray[0], ray[1], in.counts.x);
     if hit.t < 0.0 || hit.ball != in.ball {
         discard;
     }
-    return output_value(shade_hit(ray[0], ray[1], hit));
+    return output_value(shade_hit(ray[0], ray[1], hit, in.counts.y));
 }

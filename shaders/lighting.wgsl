@@ -1,7 +1,9 @@
 // lighting.wgsl: outgoing radiance at a ball's surface point and the display transform.
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
 
-// Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye).
+// Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
+// the first `n_lights` lights (a count the caller passes in, not read here from the uniform
+// buffer: balls.wgsl loop_counts says why).
 //
 // Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
 // + ms f_add f_ms + diffuse / pi; Lo += f_r L mu_i.
@@ -13,7 +15,7 @@
 // cosine-weighted average. That is exact when F is constant (F0 = 1, the furnace, where it
 // gives E(mu_o) and Lo = L_env exactly with the term on) and otherwise an approximation
 // of the split-sum kind (Karis 2013 keeps a second table for the (1 - F0) part instead).
-fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let ms = term_weight(b);
@@ -42,7 +44,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     if HAS_LIGHTS == 0u {
         return lo;
     }
-    for (var k = 0u; k < min(globals.counts.y, MAX_LIGHTS); k++) {
+    for (var k = 0u; k < n_lights; k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
         if mu_i <= 0.0 || mu_o <= 0.0 {

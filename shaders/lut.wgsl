@@ -11,29 +11,28 @@ struct LutSpan {
 }
 
 // The two texels and the weight of the second for a read at coordinate x on an axis of n
-// texels: p = clamp(x scale + bias, 0, n - 1) (src/lut layout.rs, texel-centre convention).
+// texels: p = clamp(x scale + bias, 0, n - 1) (src/lut layout.rs, texel-centre convention);
+// (0, 0, 0) on an axis of one texel. Written with select, not an if on n: lavapipe inlines
+// uniform values that decide an if and compiles the shader again at every pipeline bind
+// (balls.wgsl loop_counts). For n >= 2 the max(.., 0) is exact (p >= 0), so the values are
+// those of the branch in src/lut lut_texel_span.
 fn lut_texel_span(x: f32, n: u32, scale: f32, bias: f32) -> LutSpan {
-    if n <= 1u {
-        return LutSpan(0u, 0u, 0.0);
-    }
-    let last = f32(n - 1u);
+    let single = n <= 1u;
+    let last = f32(max(n, 1u) - 1u);
     let p = clamp(x * scale + bias, 0.0, last);
-    let i0 = min(floor(p), last - 1.0);
+    let i0 = max(min(floor(p), last - 1.0), 0.0);
     let i = u32(i0);
-    return LutSpan(i, i + 1u, p - i0);
+    return LutSpan(i, i + select(1u, 0u, single), p - i0);
 }
 
-// The table coordinate of mu for a read at alpha (MuAxis::coord).
+// The table coordinate of mu for a read at alpha (MuAxis::coord). Every axis is computed
+// and one selected (no if on the uniform axis id: see lut_texel_span); alpha >= 4e-4 (the
+// roughness clamp), so the warp's division is finite whichever axis is read.
 fn mu_coord(mu_in: f32, alpha: f32) -> f32 {
     let mu = clamp(mu_in, 0.0, 1.0);
     let axis = globals.lut_dims.z;
-    if axis == MU_AXIS_SQRT {
-        return sqrt(mu);
-    }
-    if axis == MU_AXIS_WARPED {
-        return mu * (1.0 + alpha) / (mu + alpha);
-    }
-    return mu;
+    let warped = mu * (1.0 + alpha) / (mu + alpha);
+    return select(select(mu, warped, axis == MU_AXIS_WARPED), sqrt(mu), axis == MU_AXIS_SQRT);
 }
 
 // The roughness axis coordinate (Layout::r_coord): the clamped roughness mapped from

@@ -35,10 +35,14 @@ impl BallInstance {
     };
 }
 
+/// A uniform buffer, visible to the vertex stage too: the ball renderer's vertex shaders read
+/// the loop counts from `globals` for the fragment stage (`loop_counts` in `balls.wgsl`).
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+        visibility: wgpu::ShaderStages::VERTEX
+            | wgpu::ShaderStages::FRAGMENT
+            | wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
             has_dynamic_offset: false,

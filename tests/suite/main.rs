@@ -28,4 +28,5 @@ mod scene_gen;
 mod shaders;
 mod stress;
 mod truth;
+mod uniform_flow;
 mod viewer;
