@@ -9,6 +9,7 @@ fn main() {
         out: out.clone(),
         exe: Some(env!("CARGO_BIN_EXE_shadeballs").into()),
         cpu_only: false,
+        only: Vec::new(),
     }) {
         Ok(summary) => println!("{summary}\nwritten to {}", out.display()),
         Err(e) => {

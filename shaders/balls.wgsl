@@ -95,10 +95,10 @@ fn nearest_hit(o: vec3<f32>, d: vec3<f32>, n_balls: u32) -> Hit {
     return Hit(best_t, best);
 }
 
-// Radiance leaving the hit ball towards the eye, lit by the first `n_lights` lights.
-fn shade_hit(o: vec3<f32>, d: vec3<f32>, hit: Hit, n_lights: u32) -> vec3<f32> {
-    let b = balls[hit.ball];
-    let n = surface_normal(o + hit.t * d - b.center_radius.xyz, d);
+// Radiance leaving ball b, hit at distance t along the ray, towards the eye, lit by the
+// first `n_lights` lights.
+fn shade_hit(o: vec3<f32>, d: vec3<f32>, t: f32, b: Ball, n_lights: u32) -> vec3<f32> {
+    let n = surface_normal(o + t * d - b.center_radius.xyz, d);
     return shade(b, n, -d, n_lights);
 }
 
@@ -110,7 +110,7 @@ fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
     if hit.t < 0.0 {
         return globals.environment.xyz;
     }
-    return shade_hit(ray[0], ray[1], hit, counts.y);
+    return shade_hit(ray[0], ray[1], hit.t, balls[hit.ball], counts.y);
 }
 
 // The target's value of linear radiance: itself on a float target, else tone-mapped.
@@ -142,6 +142,20 @@ struct BallOut {
     @location(0) @interpolate(flat) ball: u32,
     // loop_counts(), as in VsOut.
     @location(1) @interpolate(flat) counts: vec2<u32>,
+    // The members of balls[ball], read once per vertex and handed on as flat varyings: a
+    // fragment shades only its own ball, so it reads no per-ball uniform. On lavapipe a
+    // uniform read at a per-pixel index is a gather that costs about what a table read does;
+    // a flat varying is a broadcast (README, "The term's cost").
+    @location(2) @interpolate(flat) center_radius: vec4<f32>,
+    @location(3) @interpolate(flat) f0_roughness: vec4<f32>,
+    @location(4) @interpolate(flat) diffuse_ms: vec4<f32>,
+    @location(5) @interpolate(flat) f_add_ms_norm: vec4<f32>,
+    @location(6) @interpolate(flat) lut_row: vec4<f32>,
+}
+
+// The ball a BallOut carries.
+fn ball_of(in: BallOut) -> Ball {
+    return Ball(in.center_radius, in.f0_roughness, in.diffuse_ms, in.f_add_ms_norm, in.lut_row);
 }
 
 // One corner of ball `ball`'s quad per vertex (two triangles, vertices 0..6): `rect` is its
@@ -156,6 +170,12 @@ fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @loc
     out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
     out.ball = ball;
     out.counts = loop_counts();
+    let b = balls[min(ball, MAX_BALLS - 1u)];
+    out.center_radius = b.center_radius;
+    out.f0_roughness = b.f0_roughness;
+    out.diffuse_ms = b.diffuse_ms;
+    out.f_add_ms_norm = b.f_add_ms_norm;
+    out.lut_row = b.lut_row;
     return out;
 }
 
@@ -168,5 +188,5 @@ fn fs_ball(in: BallOut) -> @location(0) vec4<f32> {
     if hit.t < 0.0 || hit.ball != in.ball {
         discard;
     }
-    return output_value(shade_hit(ray[0], ray[1], hit, in.counts.y));
+    return output_value(shade_hit(ray[0], ray[1], hit.t, ball_of(in), in.counts.y));
 }

@@ -115,9 +115,11 @@ fn f_avg_games202(r: vec3<f32>, g: vec3<f32>) -> vec3<f32> {
 
 // The energy-compensation lobe (Kulla & Conty 2017, slide 18):
 // f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)), from the losses 1 - E as the
-// tables store them.
-fn f_ms(loss_o: f32, loss_i: f32, loss_avg: f32) -> f32 {
-    return loss_o * loss_i / max(PI * loss_avg, DIV_EPSILON);
+// tables store them and the normalisation 1 / (pi (1 - E_avg)), constant over a ball and
+// formed once per ball on the CPU (src/brdf f_ms_norm; src/gpu/uniforms.rs balls), not
+// divided per pixel.
+fn f_ms(loss_o: f32, loss_i: f32, norm: f32) -> f32 {
+    return loss_o * loss_i * norm;
 }
 
 // Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,

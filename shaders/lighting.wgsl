@@ -27,13 +27,13 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     }
     let e_o = 1.0 - loss_o;
     let f_avg_ss = f_avg_schlick(f0);
-    // f_add and 1 - E_avg are constant over the ball: formed once on the CPU, per preset
-    // (f_add_preset, src/gpu/uniforms.rs balls).
-    var loss_avg = 0.0;
+    // f_add and the lobe's normalisation are constant over the ball: formed once on the
+    // CPU, per preset (f_add_preset, f_ms_norm; src/gpu/uniforms.rs balls).
+    var norm = 0.0;
     var f_add = vec3<f32>(0.0);
     if MS_TERM != 0u {
-        loss_avg = b.f_add_loss_avg.w;
-        f_add = b.f_add_loss_avg.xyz;
+        norm = b.f_add_ms_norm.w;
+        f_add = b.f_add_ms_norm.xyz;
     }
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
 
@@ -58,7 +58,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         // its E read.
         if MS_TERM == 2u || (MS_TERM == 1u && ms > 0.0) {
             let loss_i = lut_loss_row(mu_i, b.lut_row);
-            lobe = ms * f_add * f_ms(loss_o, loss_i, loss_avg);
+            lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
         }
         let f_r = spec + lobe + kd / PI;
         lo += f_r * lights[k].radiance.xyz * mu_i;

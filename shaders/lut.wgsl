@@ -25,14 +25,18 @@ fn lut_texel_span(x: f32, n: u32, scale: f32, bias: f32) -> LutSpan {
     return LutSpan(i, i + select(1u, 0u, single), p - i0);
 }
 
-// The table coordinate of mu for a read at alpha (MuAxis::coord). Every axis is computed
-// and one selected (no if on the uniform axis id: see lut_texel_span); alpha >= 4e-4 (the
-// roughness clamp), so the warp's division is finite whichever axis is read.
+// The table coordinate of mu for a read at alpha (MuAxis::coord), on the MU_AXIS axis
+// (folded at pipeline creation); alpha >= 4e-4 (the roughness clamp), so the warp's
+// division is finite.
 fn mu_coord(mu_in: f32, alpha: f32) -> f32 {
     let mu = clamp(mu_in, 0.0, 1.0);
-    let axis = globals.lut_dims.z;
-    let warped = mu * (1.0 + alpha) / (mu + alpha);
-    return select(select(mu, warped, axis == MU_AXIS_WARPED), sqrt(mu), axis == MU_AXIS_SQRT);
+    if MU_AXIS == MU_AXIS_WARPED {
+        return mu * (1.0 + alpha) / (mu + alpha);
+    }
+    if MU_AXIS == MU_AXIS_SQRT {
+        return sqrt(mu);
+    }
+    return mu;
 }
 
 // The roughness axis coordinate (Layout::r_coord): the clamped roughness mapped from

@@ -30,7 +30,7 @@ const GEOMETRY_SMITH_CORRELATED: u32 = 2u;
 const F_ADD_ACCURATE: u32 = 0u;
 const F_ADD_GAMES202: u32 = 1u;
 
-// Values of globals.lut_dims.z (src/lut MuAxis::id).
+// Values of MU_AXIS (src/lut MuAxis::id).
 const MU_AXIS_LINEAR: u32 = 0u;
 const MU_AXIS_SQRT: u32 = 1u;
 const MU_AXIS_WARPED: u32 = 2u;
@@ -46,6 +46,10 @@ const LOSS_AVG_MIN: f32 = 1e-20;
 // no uniform branches on them.
 override GEOMETRY: u32;
 override F_ADD_FORM: u32;
+// The mu axis of the tables the pipeline reads (MU_AXIS_*): a pipeline-time choice, so the
+// read computes its own axis only (a select over all three cost about 1% of a frame with the
+// term, README "The term's cost").
+override MU_AXIS: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
 // The multiple-scattering term (src/scene/plan.rs TermMode): 0: compiled out (no E read
@@ -73,7 +77,7 @@ struct Globals {
     counts: vec4<u32>,
     // E table read: mu scale, mu bias, roughness scale, roughness bias (Layout::scale_bias).
     lut: vec4<f32>,
-    // mu_size, r_size, mu axis id, E_avg read id.
+    // mu_size, r_size, unused (the mu axis is the MU_AXIS override), E_avg read id.
     lut_dims: vec4<u32>,
     // x: r_min, the roughness of the first row (Layout::r_axis); yzw unused.
     lut_r: vec4<f32>,
@@ -88,9 +92,9 @@ struct Ball {
     // multiple-scattering term, 0 without.
     diffuse_ms: vec4<f32>,
     // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: f_add of
-    // the preset (f_add_accurate or f_add_games202 of E_avg); w: 1 - E_avg at the ball's
-    // roughness as lut_loss_avg reads it.
-    f_add_loss_avg: vec4<f32>,
+    // the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm of 1 - E_avg at
+    // the ball's roughness as lut_loss_avg reads it.
+    f_add_ms_norm: vec4<f32>,
     // The roughness half of an E read at the ball's roughness (Tables::lut_row; lut_loss_row
     // in lut.wgsl): first row index, weight of the next row, alpha, unused.
     lut_row: vec4<f32>,

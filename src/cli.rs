@@ -50,9 +50,13 @@ pub struct BenchArgs {
     /// Folder for the CSV files, plots (PNG) and summary.md.
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
-    /// Only the CPU sweeps (bake, read): for a machine without a GPU driver.
+    /// Only the CPU sweeps (bake, plan, read): for a machine without a GPU driver.
     #[arg(long)]
     pub cpu_only: bool,
+    /// Only these sweeps, comma-separated: bake, plan, read, lookup, render, startup
+    /// (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<crate::bench::SweepKind>,
 }
 
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).

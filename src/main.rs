@@ -142,6 +142,7 @@ fn main() -> ExitCode {
                 out: args.out,
                 exe: std::env::current_exe().ok(),
                 cpu_only: args.cpu_only,
+                only: args.only,
             };
             shadeballs::bench::run(&options)
                 .map(|summary| println!("{summary}"))

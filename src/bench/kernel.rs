@@ -99,6 +99,7 @@ impl Kernel {
             tables.config.geometry,
             crate::brdf::FAvgForm::Accurate,
             false,
+            tables.layout().mu_axis,
         );
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("bench lookup"),

@@ -43,7 +43,59 @@ pub struct BenchOptions {
     pub exe: Option<PathBuf>,
     /// Skip the GPU sweeps (lookup, render, startup) instead of failing without an adapter.
     pub cpu_only: bool,
+    /// The sweeps to run; empty: all of them.
+    pub only: Vec<SweepKind>,
 }
+
+impl BenchOptions {
+    /// Whether `kind` is among the sweeps to run.
+    pub fn wants(&self, kind: SweepKind) -> bool {
+        self.only.is_empty() || self.only.contains(&kind)
+    }
+}
+
+/// One sweep of the harness, as `shadeballs bench --only` names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepKind {
+    Bake,
+    Plan,
+    Read,
+    Lookup,
+    Render,
+    Startup,
+}
+
+impl SweepKind {
+    pub const ALL: [SweepKind; 6] = [
+        SweepKind::Bake,
+        SweepKind::Plan,
+        SweepKind::Read,
+        SweepKind::Lookup,
+        SweepKind::Render,
+        SweepKind::Startup,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepKind::Bake => "bake",
+            SweepKind::Plan => "plan",
+            SweepKind::Read => "read",
+            SweepKind::Lookup => "lookup",
+            SweepKind::Render => "render",
+            SweepKind::Startup => "startup",
+        }
+    }
+
+    /// Whether the sweep needs an adapter.
+    pub fn needs_gpu(self) -> bool {
+        matches!(
+            self,
+            SweepKind::Lookup | SweepKind::Render | SweepKind::Startup
+        )
+    }
+}
+
+crate::named_enum!(SweepKind, "sweep");
 
 /// A sweep's output: its tables, its plots (file stem, plot) and the goals it checks.
 pub struct Sweep {
@@ -73,7 +125,10 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         path: options.out.clone(),
         reason,
     })?;
-    let gpu = if options.cpu_only {
+    let gpu_wanted = SweepKind::ALL
+        .iter()
+        .any(|&k| k.needs_gpu() && options.wants(k));
+    let gpu = if options.cpu_only || !gpu_wanted {
         None
     } else {
         Some(device::open().map_err(|e| match e {
@@ -87,25 +142,48 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         })?)
     };
     let quick = options.quick;
-    let mut sweeps = vec![
-        bake::bake_sweep(quick),
-        plan::plan_sweep(quick),
-        read::read_sweep(quick),
-    ];
+    let mut sweeps = Vec::new();
+    if options.wants(SweepKind::Bake) {
+        sweeps.push(bake::bake_sweep(quick));
+    }
+    if options.wants(SweepKind::Plan) {
+        sweeps.push(plan::plan_sweep(quick));
+    }
+    if options.wants(SweepKind::Read) {
+        sweeps.push(read::read_sweep(quick));
+    }
     let mut skipped = Vec::new();
     match gpu {
         Some(gpu) => {
-            sweeps.push(read::lookup_sweep(&gpu, quick)?);
-            let mut renderer = crate::gpu::Renderer::new(gpu);
-            sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
-            // Release this device before the startup runs open theirs.
-            drop(renderer);
-            match &options.exe {
-                Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),
-                None => skipped.push("startup (no shadeballs executable given)".to_string()),
+            if options.wants(SweepKind::Lookup) {
+                sweeps.push(read::lookup_sweep(&gpu, quick)?);
+            }
+            if options.wants(SweepKind::Render) {
+                let mut renderer = crate::gpu::Renderer::new(gpu);
+                sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
+            } else {
+                drop(gpu);
+            }
+            // The device is released above, before the startup runs open theirs.
+            if options.wants(SweepKind::Startup) {
+                match &options.exe {
+                    Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),
+                    None => skipped.push("startup (no shadeballs executable given)".to_string()),
+                }
             }
         }
-        None => skipped.push("GPU lookup, rendering and startup (--cpu-only)".to_string()),
+        None if options.cpu_only => {
+            skipped.push("GPU lookup, rendering and startup (--cpu-only)".to_string())
+        }
+        None => {}
+    }
+    let unselected: Vec<&str> = SweepKind::ALL
+        .iter()
+        .filter(|&&k| !options.wants(k))
+        .map(|k| k.name())
+        .collect();
+    if !unselected.is_empty() {
+        skipped.push(format!("{} (not in --only)", unselected.join(", ")));
     }
     let mut summary = String::from("# shadeballs bench\n\n");
     summary.push_str(&format!(

@@ -18,11 +18,19 @@ pub enum FAvgForm {
 /// `f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg))`.
 /// With `F = 1` its cosine-weighted integral over `mu_i` is exactly `1 - E(mu_o)`.
 ///
-/// The arguments are the energies single scattering misses, `loss = 1 - E` and
-/// `loss_avg = 1 - E_avg`, as the tables store them: at low roughness `1 - E_avg` falls to
-/// 1e-6 (Smith G), where `1 - E` formed from an f32 E would keep a few per cent of it.
-pub fn f_ms(loss_o: f64, loss_i: f64, loss_avg: f64) -> f64 {
-    loss_o * loss_i / (PI * loss_avg).max(DIV_EPSILON)
+/// The arguments are the energies single scattering misses, `loss = 1 - E`, as the tables
+/// store them (at low roughness `1 - E_avg` falls to 1e-6 with Smith G, where `1 - E` formed
+/// from an f32 E would keep a few per cent of it), and the normalisation
+/// [`f_ms_norm`]`(1 - E_avg)`, constant over a ball: the shader receives it per ball rather
+/// than dividing per pixel.
+pub fn f_ms(loss_o: f64, loss_i: f64, norm: f64) -> f64 {
+    loss_o * loss_i * norm
+}
+
+/// The lobe's normalisation `1 / (pi (1 - E_avg))` from `loss_avg = 1 - E_avg` (the
+/// denominator of [`f_ms`]).
+pub fn f_ms_norm(loss_avg: f64) -> f64 {
+    1.0 / (PI * loss_avg).max(DIV_EPSILON)
 }
 
 /// Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,

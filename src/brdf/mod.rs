@@ -15,7 +15,7 @@ pub use geometry::{
     g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,
 };
 pub use kulla_conty::{
-    f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, FAvgForm,
+    f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
 };
 pub use ndf::d_ggx;
 

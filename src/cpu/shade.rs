@@ -4,7 +4,8 @@
 use glam::DVec3;
 
 use crate::brdf::{
-    f_add_preset, f_avg_schlick, f_micro, f_ms, f_schlick, FAvgForm, Geometry, GAMES202_EDGE_TINT,
+    f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, FAvgForm, Geometry,
+    GAMES202_EDGE_TINT,
 };
 use crate::lut::{e_avg_reference, e_reference, RowSet, Tables};
 use crate::scene::{Ball, Scene};
@@ -86,6 +87,7 @@ pub fn shade(
     let e_o = 1.0 - loss_o;
     let loss_avg = e.loss_avg(roughness);
     let e_avg = 1.0 - loss_avg;
+    let norm = f_ms_norm(loss_avg);
     let f_avg_ss = per_channel(f0, f_avg_schlick);
     let f_add = DVec3::new(
         f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
@@ -115,7 +117,7 @@ pub fn shade(
             )
         });
         let loss_i = e.loss(mu_i, roughness);
-        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, loss_avg) + kd / std::f64::consts::PI;
+        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, norm) + kd / std::f64::consts::PI;
         lo += f_r * light.radiance * mu_i;
     }
     lo

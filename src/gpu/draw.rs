@@ -10,11 +10,12 @@ impl Renderer {
     /// The pipeline of `key`, created on first use: the variant's override constants, the
     /// per-ball entry points with their instance buffer, or the full-screen ones.
     pub(super) fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let (format, geometry, form, per_ball, variant) = key;
+        let (format, geometry, form, mu_axis, per_ball, variant) = key;
         let device = &self.gpu.device;
         let (module, layout) = (&self.module, &self.pipeline_layout);
         self.pipelines.entry(key).or_insert_with(|| {
-            let constants = shaders::overrides_for(geometry, form, is_linear(format), variant);
+            let linear = is_linear(format);
+            let constants = shaders::overrides_for(geometry, form, linear, mu_axis, variant);
             let options = wgpu::PipelineCompilationOptions {
                 constants: &constants,
                 ..Default::default()
@@ -100,6 +101,7 @@ impl Renderer {
                 target.format,
                 plan.geometry,
                 scene.preset.f_avg_form(),
+                read.mu_axis(),
                 plan.per_ball,
                 *variant,
             );

@@ -167,7 +167,7 @@ impl Renderer {
             label: Some("probe"),
             source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
         });
-        let constants = shaders::overrides(geometry, FAvgForm::Accurate, false);
+        let constants = shaders::overrides(geometry, FAvgForm::Accurate, false, read.mu_axis());
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("probe"),
             layout: Some(&layout),

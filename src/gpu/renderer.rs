@@ -12,7 +12,7 @@ use super::tables::{Bound, TableCache};
 use super::{shaders, Gpu};
 use crate::brdf::{FAvgForm, Geometry};
 use crate::error::Result;
-use crate::lut::BakeConfig;
+use crate::lut::{BakeConfig, MuAxis};
 use crate::scene::{DrawOptions, Plan, Scene, TablePolicy, Variant};
 
 pub use super::draw::QUAD_PAD_PX;
@@ -40,8 +40,16 @@ pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     )
 }
 
-/// Target format, G, f_add form, per-ball quads (or the full-screen triangle), variant.
-pub(super) type PipelineKey = (wgpu::TextureFormat, Geometry, FAvgForm, bool, Variant);
+/// Target format, G, f_add form, the tables' mu axis, per-ball quads (or the full-screen
+/// triangle), variant.
+pub(super) type PipelineKey = (
+    wgpu::TextureFormat,
+    Geometry,
+    FAvgForm,
+    MuAxis,
+    bool,
+    Variant,
+);
 
 /// Device, shader module, pipelines, the plan of the latest scene and its tables.
 pub struct Renderer {
@@ -154,6 +162,7 @@ impl Renderer {
                 format,
                 plan.geometry,
                 scene.preset.f_avg_form(),
+                plan.bake.layout.mu_axis,
                 plan.per_ball,
                 variant,
             ));

@@ -3,6 +3,7 @@
 //! table reads, then the entry points.
 
 use crate::brdf::{FAvgForm, Geometry};
+use crate::lut::MuAxis;
 use crate::scene::Variant;
 
 /// `shaders/*.wgsl`, in concatenation order, by file name.
@@ -59,12 +60,19 @@ pub fn f_add_form_id(form: FAvgForm) -> u32 {
     }
 }
 
-/// Pipeline-time constants for every override the modules declare without a default.
-pub fn overrides(geometry: Geometry, form: FAvgForm, linear: bool) -> [(&'static str, f64); 3] {
+/// Pipeline-time constants for every override the modules declare without a default;
+/// `mu_axis` is that of the tables the pipeline reads (`MU_AXIS`, [`MuAxis::id`]).
+pub fn overrides(
+    geometry: Geometry,
+    form: FAvgForm,
+    linear: bool,
+    mu_axis: MuAxis,
+) -> [(&'static str, f64); 4] {
     [
         ("GEOMETRY", geometry_id(geometry) as f64),
         ("F_ADD_FORM", f_add_form_id(form) as f64),
         ("OUTPUT_LINEAR", if linear { 1.0 } else { 0.0 }),
+        ("MU_AXIS", mu_axis.id() as f64),
     ]
 }
 
@@ -74,14 +82,16 @@ pub fn overrides_for(
     geometry: Geometry,
     form: FAvgForm,
     linear: bool,
+    mu_axis: MuAxis,
     variant: Variant,
-) -> [(&'static str, f64); 6] {
-    let [a, b, c] = overrides(geometry, form, linear);
+) -> [(&'static str, f64); 7] {
+    let [a, b, c, d] = overrides(geometry, form, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
         a,
         b,
         c,
+        d,
         ("MS_TERM", variant.term as u32 as f64),
         ("HAS_ENVIRONMENT", flag(variant.environment)),
         ("HAS_LIGHTS", flag(variant.lights)),

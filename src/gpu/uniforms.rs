@@ -5,8 +5,8 @@ use bytemuck::{Pod, Zeroable};
 
 use std::sync::Arc;
 
-use crate::brdf::{f_add_preset, GAMES202_EDGE_TINT};
-use crate::lut::{RowSet, Tables};
+use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
+use crate::lut::{Layout, MuAxis, RowSet, Tables};
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
@@ -32,12 +32,22 @@ impl BoundTables {
                     [
                         l.mu_size as u32,
                         rows.rows.len() as u32,
-                        l.mu_axis.id(),
+                        0,
                         l.e_avg_read.id(),
                     ],
                     [0.0; 4],
                 )
             }
+        }
+    }
+
+    /// The mu axis of the bound tables (the pipelines' `MU_AXIS`); with none bound nothing
+    /// reads it, and the default layout's is returned.
+    pub fn mu_axis(&self) -> MuAxis {
+        match self {
+            BoundTables::None => Layout::default().mu_axis,
+            BoundTables::Full(t) => t.layout().mu_axis,
+            BoundTables::Rows(rows) => rows.layout().mu_axis,
         }
     }
 
@@ -81,7 +91,7 @@ pub struct GpuBall {
     pub center_radius: [f32; 4],
     pub f0_roughness: [f32; 4],
     pub diffuse_ms: [f32; 4],
-    pub f_add_loss_avg: [f32; 4],
+    pub f_add_ms_norm: [f32; 4],
     pub lut_row: [f32; 4],
 }
 
@@ -96,8 +106,8 @@ fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
 
-/// The table-read uniforms of `tables`: `Layout::scale_bias` per axis; sizes, mu axis id
-/// and E_avg read id (`E_AVG_READ_*` in `types.wgsl`); `r_min` of the roughness axis.
+/// The table-read uniforms of `tables`: `Layout::scale_bias` per axis; sizes, 0 (unused:
+/// the mu axis is the pipelines' `MU_AXIS` override) and E_avg read id (`E_AVG_READ_*` in `types.wgsl`); `r_min` of the roughness axis.
 pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
     let l = tables.layout();
     let (sx, bx) = l.scale_bias(l.mu_size);
@@ -105,12 +115,7 @@ pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
     let e_avg_read = l.e_avg_read.id();
     (
         [sx as f32, bx as f32, sy as f32, by as f32],
-        [
-            l.mu_size as u32,
-            l.r_size as u32,
-            l.mu_axis.id(),
-            e_avg_read,
-        ],
+        [l.mu_size as u32, l.r_size as u32, 0, e_avg_read],
         [l.r_axis.r_min() as f32, 0.0, 0.0, 0.0],
     )
 }
@@ -142,7 +147,8 @@ pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> 
 /// multiple-scattering term needs that is constant over the ball: `1 - E_avg` at its
 /// roughness as the shader reads it (`Tables::lut_loss_avg`, the f32 arithmetic of
 /// `lut_loss_avg` in `lut.wgsl`, or its own row's, `RowSet::lut_loss_avg`) and `f_add` of
-/// the scene's preset from it, per channel, in f64 like the CPU renderer (`cpu::shade`);
+/// the scene's preset from it, per channel, in f64 like the CPU renderer (`cpu::shade`),
+/// with the lobe's normalisation `f_ms_norm` of it (no division per pixel);
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
 /// on lavapipe (README, "Measured results").
@@ -155,13 +161,14 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
         .map(|b| {
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
-            let f_add_loss_avg = if b.multiple_scattering {
+            let f_add_ms_norm = if b.multiple_scattering {
                 let loss_avg = tables.loss_avg(b.roughness as f32);
                 let e_avg = 1.0 - loss_avg as f64;
                 let f0 = b.material.f0.to_array();
                 let f_add =
                     |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
-                [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, loss_avg]
+                let norm = f_ms_norm(loss_avg as f64) as f32;
+                [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, norm]
             } else {
                 [0.0; 4]
             };
@@ -172,7 +179,7 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
                     b.material.diffuse,
                     if b.multiple_scattering { 1.0 } else { 0.0 },
                 ),
-                f_add_loss_avg,
+                f_add_ms_norm,
                 lut_row: tables.lut_row(b.roughness as f32),
             }
         })

@@ -8,7 +8,7 @@ use super::albedo::{Channel, FresnelKind};
 use super::microsurface::Microsurface;
 use super::models::{preset_f_add, turquin_scale, ModelTables};
 use super::walk::{self, incident};
-use crate::brdf::{f_micro, f_ms, FAvgForm, Geometry, DIV_EPSILON};
+use crate::brdf::{f_micro, f_ms, f_ms_norm, FAvgForm, Geometry, DIV_EPSILON};
 
 /// Which slices and how many paths each.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,7 +141,8 @@ fn models_at(
     let kc_ms = |g: Geometry, form: FAvgForm| {
         let loss_avg = tables.loss_avg(g, r);
         let f_add = preset_f_add(form, ch.data.f0, ch.index, 1.0 - loss_avg);
-        f_add * f_ms(tables.loss(g, mu_o, r), tables.loss(g, mu_i, r), loss_avg)
+        let norm = f_ms_norm(loss_avg);
+        f_add * f_ms(tables.loss(g, mu_o, r), tables.loss(g, mu_i, r), norm)
     };
     let sc = Geometry::SmithCorrelated;
     let accurate_ms = kc_ms(accurate, FAvgForm::Accurate);

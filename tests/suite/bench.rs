@@ -100,6 +100,33 @@ fn quick_bench_writes_well_formed_csv_markdown_and_png() {
 }
 
 #[test]
+fn bench_only_runs_the_named_sweeps() {
+    let dir = temp_dir("bench-only");
+    let out = dir.to_str().unwrap();
+    let (ok, stderr) = shadeballs(&["bench", "--quick", "--only", "plan", "--out", out]);
+    assert!(ok, "bench --only plan failed: {stderr}");
+    assert!(dir.join("plan.csv").is_file());
+    for other in ["bake", "read", "lookup", "render", "startup"] {
+        assert!(
+            !dir.join(format!("{other}.csv")).exists(),
+            "--only plan wrote {other}.csv"
+        );
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("Not measured: bake, read, lookup, render, startup (not in --only)"),
+        "{summary}"
+    );
+    // An unknown sweep is a one-line error naming the choices, before anything runs.
+    let (ok, stderr) = shadeballs(&["bench", "--only", "plan,nope", "--out", out]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("nope") && stderr.contains("bake, plan, read, lookup, render, startup"),
+        "{stderr}"
+    );
+}
+
+#[test]
 fn bake_errors_are_against_the_precise_reference() {
     let tables = lut::bake(&BakeConfig::default());
     let l = *tables.layout();

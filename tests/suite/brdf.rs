@@ -116,7 +116,7 @@ fn lobe_restores_the_lost_energy_exactly() {
     let loss_avg = adaptive(&|mu: f64| 2.0 * loss(mu) * mu, 0.0, 1.0, 1e-14);
     for mu_o in [0.0, 0.3, 1.0] {
         let lobe = adaptive(
-            &|mu_i: f64| 2.0 * PI * f_ms(loss(mu_o), loss(mu_i), loss_avg) * mu_i,
+            &|mu_i: f64| 2.0 * PI * f_ms(loss(mu_o), loss(mu_i), f_ms_norm(loss_avg)) * mu_i,
             0.0,
             1.0,
             1e-14,
@@ -139,7 +139,11 @@ fn every_function_is_finite_and_non_negative_on_the_edges() {
                     g_smith(a, b, r),
                     g_smith_correlated(a, b, r),
                     f_schlick(b.clamp(0.0, 1.0), a),
-                    f_ms(a.clamp(0.0, 1.0), b.clamp(0.0, 1.0), r.clamp(0.0, 1.0)),
+                    f_ms(
+                        a.clamp(0.0, 1.0),
+                        b.clamp(0.0, 1.0),
+                        f_ms_norm(r.clamp(0.0, 1.0)),
+                    ),
                     f_add_accurate(a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
                     f_add_games202(a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
                     f_micro(

@@ -46,7 +46,13 @@ fn the_roughness_clamp_and_its_effect_on_energy() {
             .iter()
             .zip(&e)
             .map(|(&mu, &e)| {
-                (e + f_ms(tables.lut_loss(mu as f32, 0.0) as f64, 1.0, loss_avg) * lost - 1.0).abs()
+                (e + f_ms(
+                    tables.lut_loss(mu as f32, 0.0) as f64,
+                    1.0,
+                    f_ms_norm(loss_avg),
+                ) * lost
+                    - 1.0)
+                    .abs()
             })
             .fold(0.0, f64::max);
         let steps: Vec<String> = [0.05, 0.1, 0.2]

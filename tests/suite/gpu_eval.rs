@@ -80,7 +80,9 @@ fn eval_main(@builtin(global_invocation_id) id: vec3<u32>) {
     eval_out[o + 17u] = lut_loss_avg(eval_in[i + 12u]);
     // The lighting.wgsl combination for one light: f_micro + f_add f_ms, tables read.
     let loss_avg = lut_loss_avg(r);
-    let lobe = f_ms(lut_loss(mu_o, r), lut_loss(mu_i, r), loss_avg);
+    // The normalisation as src/brdf f_ms_norm forms it (per ball on the CPU in the renderer).
+    let norm = 1.0 / max(PI * loss_avg, DIV_EPSILON);
+    let lobe = f_ms(lut_loss(mu_o, r), lut_loss(mu_i, r), norm);
     eval_out[o + 18u] = spec + (f_add_accurate(f_avg_schlick(f0), 1.0 - loss_avg) * lobe).x;
 }
 "#;
@@ -103,7 +105,7 @@ pub fn evaluate(
         label: Some("eval"),
         source: wgpu::ShaderSource::Wgsl(source.into()),
     });
-    let constants = shaders::overrides(geometry, FAvgForm::Accurate, true);
+    let constants = shaders::overrides(geometry, FAvgForm::Accurate, true, tables.layout().mu_axis);
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("eval"),
         layout: None,
@@ -262,7 +264,7 @@ pub fn cpu(tables: &Tables, geometry: Geometry, x: &[f32]) -> [f64; 19] {
     let lobe = brdf::f_ms(
         tables.lut_loss(x[0], rf) as f64,
         tables.lut_loss(x[1], rf) as f64,
-        loss_avg,
+        brdf::f_ms_norm(loss_avg),
     );
     [
         brdf::roughness_clamped(r),

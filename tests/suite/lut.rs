@@ -206,7 +206,7 @@ fn default_read_path_meets_its_goal() {
 fn furnace_is_white_with_the_tables_read_as_the_shader_reads_them() {
     // With F = 1, int f_micro mu_i dw_i = E(mu_o) exactly (the reference), and the lobe,
     // f_ms of the tables' reads, integrates over the hemisphere (no azimuth dependence) to
-    // 2 pi int_0^1 f_ms(loss(mu_o), loss(mu_i), loss_avg) mu_i dmu_i.
+    // 2 pi int_0^1 f_ms(loss(mu_o), loss(mu_i), f_ms_norm(loss_avg)) mu_i dmu_i.
     for g in Geometry::ALL {
         let tables = bake(&BakeConfig {
             geometry: g,
@@ -224,7 +224,11 @@ fn furnace_is_white_with_the_tables_read_as_the_shader_reads_them() {
             );
             for i in 0..32 {
                 let mu_o = i as f64 / 31.0;
-                let lobe = f_ms(tables.lut_loss(mu_o as f32, r) as f64, 1.0, loss_avg) * lost;
+                let lobe = f_ms(
+                    tables.lut_loss(mu_o as f32, r) as f64,
+                    1.0,
+                    f_ms_norm(loss_avg),
+                ) * lost;
                 let total = e_reference(mu_o, r as f64, g) + lobe;
                 if (total - 1.0).abs() > worst.0 {
                     worst = ((total - 1.0).abs(), mu_o, r as f64);

@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
-use shadeballs::brdf::{f_ms, FAvgForm, Geometry, ROUGHNESS_MIN};
+use shadeballs::brdf::{f_ms, f_ms_norm, FAvgForm, Geometry, ROUGHNESS_MIN};
 use shadeballs::cpu::{shade, TableRead};
 use shadeballs::lut::{adaptive, bake, e_reference, BakeConfig, Tables};
 use shadeballs::scene::{Ball, Light, Material, MaterialKind, Scene};
@@ -216,7 +216,7 @@ fn compensated_brdf_with_f_equal_1_keeps_the_furnace_at_random_points() {
                         * f_ms(
                             t.lut_loss(mu_o as f32, r) as f64,
                             t.lut_loss(mu as f32, r) as f64,
-                            loss_avg,
+                            f_ms_norm(loss_avg),
                         )
                         * mu
                 },

@@ -168,7 +168,9 @@ fn every_brdf_function_is_finite_and_non_negative_on_the_edge_grid() {
     let losses = cartesian3(&unit, &unit, &unit);
     total += report(
         "f_ms (loss_o x loss_i x loss_avg)",
-        grid(&losses, |&[a, b, c]| vec![f_ms(f(a), f(b), f(c))]),
+        grid(&losses, |&[a, b, c]| {
+            vec![f_ms(f(a), f(b), f_ms_norm(f(c)))]
+        }),
     );
     let g = cartesian3(&cos, &cos, &rough);
     total += report(
