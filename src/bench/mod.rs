@@ -172,7 +172,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
                 }
             }
         }
-        None if options.cpu_only => {
+        None if options.cpu_only && gpu_wanted => {
             skipped.push("GPU lookup, rendering and startup (--cpu-only)".to_string())
         }
         None => {}

@@ -107,7 +107,8 @@ fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
 }
 
 /// The table-read uniforms of `tables`: `Layout::scale_bias` per axis; sizes, 0 (unused:
-/// the mu axis is the pipelines' `MU_AXIS` override) and E_avg read id (`E_AVG_READ_*` in `types.wgsl`); `r_min` of the roughness axis.
+/// the mu axis is the pipelines' `MU_AXIS` override) and E_avg read id (`E_AVG_READ_*` in
+/// `types.wgsl`); `r_min` of the roughness axis.
 pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
     let l = tables.layout();
     let (sx, bx) = l.scale_bias(l.mu_size);
