@@ -93,7 +93,7 @@ struct Ball {
     diffuse_ms: vec4<f32>,
     // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: f_add of
     // the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm of 1 - E_avg at
-    // the ball's roughness as lut_loss_avg reads it.
+    // the ball's roughness as read: lut_loss_avg of the 2-D table, or its own row's.
     f_add_ms_norm: vec4<f32>,
     // The roughness half of an E read at the ball's roughness (Tables::lut_row; lut_loss_row
     // in lut.wgsl): first row index, weight of the next row, alpha, unused.

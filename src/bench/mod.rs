@@ -236,6 +236,12 @@ pub fn median_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
         last = f();
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], last)
+    (median(&mut times), last)
+}
+
+/// The median of `v` (the upper of the two middle values for an even count; NaN when
+/// empty), sorting it.
+pub fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }

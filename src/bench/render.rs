@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::device;
+use super::{device, median};
 use crate::cpu;
 use crate::error::Result;
 use crate::gpu::{Renderer, Target};
@@ -67,31 +67,9 @@ pub fn measure_pair(
     exact: &[DVec3],
 ) -> Result<(Frame, Frame, f64)> {
     setup.apply(renderer);
-    let (_texture, view) = bench_target(renderer);
-    let target = Target {
-        view: &view,
-        format: FORMAT,
-        width: WIDTH,
-        height: HEIGHT,
-    };
-    let mut times = [Vec::new(), Vec::new()];
-    // One warm-up frame each (pipeline creation, the driver's shader compile), then
-    // alternate, on first in even rounds and off first in odd ones.
-    for round in 0..=repeats.max(1) {
-        let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
-        for k in order {
-            renderer.set_multiple_scattering_term(k == 0);
-            let start = Instant::now();
-            renderer.render(scene, target)?;
-            device::wait(renderer.gpu())?;
-            if round > 0 {
-                times[k].push(start.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-    }
-    // Pairs first: the medians below sort the times.
-    let mut ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
-    let ratio = median(&mut ratios);
+    let (mut times, ratio) = alternate(renderer, scene, repeats, |r, k| {
+        r.set_multiple_scattering_term(k == 0)
+    })?;
     let mut frames = Vec::new();
     for (k, term) in [true, false].into_iter().enumerate() {
         renderer.set_multiple_scattering_term(term);
@@ -166,6 +144,22 @@ pub fn measure_alternating(
     options: [DrawOptions; 2],
     repeats: usize,
 ) -> Result<(f64, f64, f64)> {
+    let (mut times, ratio) = alternate(renderer, scene, repeats, |r, k| {
+        r.set_draw_options(options[k])
+    })?;
+    Ok((median(&mut times[0]), median(&mut times[1]), ratio))
+}
+
+/// Frames of `scene` into the bench's target with the two settings `set(renderer, k)`
+/// makes (k = 0, 1) alternating, `repeats` of each after one warm-up frame each (pipeline
+/// creation, the driver's shader compile), 0 first in even rounds and 1 first in odd ones:
+/// the times (ms) per setting, and the median over rounds of the ratio time 0 / time 1.
+fn alternate(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    repeats: usize,
+    mut set: impl FnMut(&mut Renderer, usize),
+) -> Result<([Vec<f64>; 2], f64)> {
     let (_texture, view) = bench_target(renderer);
     let target = Target {
         view: &view,
@@ -177,7 +171,7 @@ pub fn measure_alternating(
     for round in 0..=repeats.max(1) {
         let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
         for k in order {
-            renderer.set_draw_options(options[k]);
+            set(renderer, k);
             let start = Instant::now();
             renderer.render(scene, target)?;
             device::wait(renderer.gpu())?;
@@ -187,13 +181,7 @@ pub fn measure_alternating(
         }
     }
     let mut ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
-    let ratio = median(&mut ratios);
-    Ok((median(&mut times[0]), median(&mut times[1]), ratio))
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    Ok((times, median(&mut ratios)))
 }
 
 /// Tables for a render configuration: `config` with the scene's geometry.

@@ -102,11 +102,7 @@ pub fn in_process(bake: &BakeConfig, dir: &Path) -> Result<Startup> {
 
 /// Per-column medians of `runs`.
 pub fn median(runs: &[Startup]) -> Startup {
-    let med = |f: &dyn Fn(&Startup) -> f64| {
-        let mut v: Vec<f64> = runs.iter().map(f).collect();
-        v.sort_by(f64::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-    };
+    let med = |f: &dyn Fn(&Startup) -> f64| super::median(&mut runs.iter().map(f).collect::<Vec<_>>());
     let mut phases_ms = [0.0; 5];
     for (k, p) in phases_ms.iter_mut().enumerate() {
         *p = med(&|s: &Startup| s.phases_ms[k]);

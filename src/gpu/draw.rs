@@ -1,7 +1,7 @@
 //! Recording a frame: the pipelines per shader variant, each ball's quad over its
 //! screen-space bounds, the background as the render pass's clear.
 
-use super::renderer::{is_linear, PipelineKey, Renderer, Target};
+use super::renderer::{is_linear, pipeline_key, PipelineKey, Renderer, Target};
 use super::resources::BallInstance;
 use super::{shaders, uniforms};
 use crate::scene::Scene;
@@ -97,14 +97,7 @@ impl Renderer {
                     })
                 }));
             }
-            let key = (
-                target.format,
-                plan.geometry,
-                scene.preset.f_avg_form(),
-                read.mu_axis(),
-                plan.per_ball,
-                *variant,
-            );
+            let key = pipeline_key(&plan, scene, target.format, *variant);
             draws.push((self.pipeline(key).clone(), start..quads.len() as u32));
         }
         if !quads.is_empty() {

@@ -49,7 +49,7 @@ impl Renderer {
     /// Evaluates the rows `scene`'s plan reads, as its balls read them (`lut_loss_row` at
     /// each row's roughness with no weight on the next row), at `mu = i / (N - 1)`; row-major,
     /// row = the plan's rows in order. Returns the rows read (`None` when the plan reads no
-    /// rows: no term, or the 2-D table).
+    /// rows: no ball reads E (no term, no environment), or the 2-D table).
     pub fn probe_rows(
         &mut self,
         scene: &Scene,

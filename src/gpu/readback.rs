@@ -82,7 +82,7 @@ impl Readback {
     /// bytes, row-major, row 0 at the top, without padding.
     pub fn read(self, device: &wgpu::Device) -> Result<Vec<u8>> {
         let data = read_buffer(device, &self.buffer)?;
-        let mut out = Vec::with_capacity((self.row * self.height) as usize);
+        let mut out = Vec::with_capacity(self.row as usize * self.height as usize);
         for y in 0..self.height as usize {
             let start = y * self.padded as usize;
             out.extend_from_slice(&data[start..start + self.row as usize]);

@@ -51,6 +51,25 @@ pub(super) type PipelineKey = (
     Variant,
 );
 
+/// The pipeline that draws `variant` of `plan` (of `scene`) into `format`. The mu axis is
+/// the plan's bake layout's: the tables it binds are baked with it (or, pinned by
+/// `set_tables`, set it), and with no tables nothing reads the axis.
+pub(super) fn pipeline_key(
+    plan: &Plan,
+    scene: &Scene,
+    format: wgpu::TextureFormat,
+    variant: Variant,
+) -> PipelineKey {
+    (
+        format,
+        plan.geometry,
+        scene.preset.f_avg_form(),
+        plan.bake.layout.mu_axis,
+        plan.per_ball,
+        variant,
+    )
+}
+
 /// Device, shader module, pipelines, the plan of the latest scene and its tables.
 pub struct Renderer {
     pub(super) gpu: Gpu,
@@ -158,14 +177,7 @@ impl Renderer {
     pub fn prepare(&mut self, scene: &Scene, format: wgpu::TextureFormat) {
         let plan = self.make_plan(scene);
         for variant in plan.variants() {
-            self.pipeline((
-                format,
-                plan.geometry,
-                scene.preset.f_avg_form(),
-                plan.bake.layout.mu_axis,
-                plan.per_ball,
-                variant,
-            ));
+            self.pipeline(pipeline_key(&plan, scene, format, variant));
         }
     }
 

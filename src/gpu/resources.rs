@@ -127,7 +127,8 @@ impl Resources {
 
     /// Uploads a scene's rows as a `mu_size x rows` table (the same 2x2 blocks; a ball reads
     /// its row with a zero weight on the next), with each row's `1 - E_avg` and roughness
-    /// in the E_avg texture (the renderer passes them per ball; the probe does not read rows).
+    /// in the E_avg texture (the renderer passes them per ball; the probe's `probe_rows_main`
+    /// reads them).
     pub fn bind_rows(
         &self,
         device: &wgpu::Device,

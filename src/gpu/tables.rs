@@ -133,8 +133,18 @@ impl Renderer {
         }
     }
 
-    /// The 2-D table for `config`, baked if not held, and bound.
+    /// The 2-D table for `config`, baked if neither held nor kept bound, and bound.
     pub(super) fn full_table(&mut self, config: BakeConfig) -> Arc<Tables> {
+        if self.reuse(&BoundKey::Full(config)) {
+            if let Some(Bound {
+                read: BoundTables::Full(t),
+                ..
+            }) = &self.bound
+            {
+                self.cache.full = Some(t.clone());
+                return t.clone();
+            }
+        }
         let tables = match &self.cache.full {
             Some(t) if t.config == config => t.clone(),
             _ => {

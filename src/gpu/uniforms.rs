@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use std::sync::Arc;
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
-use crate::lut::{Layout, MuAxis, RowSet, Tables};
+use crate::lut::{roughness_coord, Layout, MuAxis, RowSet, Tables};
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
@@ -51,10 +51,15 @@ impl BoundTables {
         }
     }
 
-    /// A ball's `lut_row` (the roughness half of its E reads).
+    /// A ball's `lut_row` (the roughness half of its E reads). With no tables bound the
+    /// read (of a 1 x 1 placeholder) still runs where a pipeline branches on the ball's
+    /// flag, so alpha is the ball's own, keeping the warped axis's division away from 0 / 0.
     pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
         match self {
-            BoundTables::None => [0.0; 4],
+            BoundTables::None => {
+                let r = roughness_coord(roughness);
+                [0.0, 0.0, r * r, 0.0]
+            }
             BoundTables::Full(t) => t.lut_row(roughness),
             BoundTables::Rows(rows) => rows.lut_row(roughness),
         }

@@ -27,9 +27,10 @@ use super::layout::{lut_texel_span, roughness_coord, Layout};
 use super::{finish_row_at, BakeConfig};
 use crate::brdf::alpha_from_roughness;
 
-/// Everything that changes a row's values: the bake settings, the layout's mu axis, size
-/// and storage (its roughness axis normalised away), and the row's roughness (the f32 the
-/// shader reads at, clamped, as bits).
+/// Everything that changes a row's values: the bake settings (the layout's `r_size`
+/// normalised away; its other fields are kept, so two layouts that differ only along
+/// roughness bake their rows twice, never read a stale one), and the row's roughness (the
+/// f32 the shader reads at, clamped, as bits).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct RowKey {
     pub config: BakeConfig,
@@ -124,6 +125,12 @@ impl RowSet {
         let mut config = rows.first().map(|r| r.key.config).unwrap_or_default();
         config.layout.r_size = rows.len().max(1);
         RowSet { config, rows }
+    }
+
+    /// The rows of `config` at each of `roughness`, baked from nothing (no cache).
+    pub fn bake(config: &BakeConfig, roughness: &[f32]) -> Self {
+        let keys: Vec<RowKey> = roughness.iter().map(|&r| RowKey::new(config, r)).collect();
+        RowSet::new(bake_rows(&keys).into_iter().map(Arc::new).collect())
     }
 
     pub fn layout(&self) -> &Layout {

@@ -69,6 +69,11 @@ impl Camera {
     }
 }
 
+/// The relative margin by which `cz^2 - r^2` must be positive (the sphere wholly in front
+/// of the eye's plane, `cz` its centre's depth) for [`CameraBasis::sphere_bounds`] to bound
+/// it tighter than the screen; it keeps the bounds' division by `cz^2 - r^2` away from 0.
+const IN_FRONT_MARGIN: f64 = 1e-9;
+
 impl CameraBasis {
     /// The unit direction of the primary ray through the centre of pixel `(px, py)`.
     pub fn ray(&self, px: u32, py: u32, width: u32, height: u32) -> DVec3 {
@@ -103,8 +108,9 @@ impl CameraBasis {
             return None;
         }
         let a = cz * cz - radius * radius;
-        // In front with a margin (relative to the distance): otherwise the whole screen.
-        if cz <= radius || a <= 1e-9 * cz * cz || sx <= 0.0 || sy <= 0.0 {
+        // In front with a margin (relative to the distance; it also keeps the division by
+        // `a` below finite): otherwise the whole screen.
+        if cz <= radius || a <= IN_FRONT_MARGIN * cz * cz || sx <= 0.0 || sy <= 0.0 {
             return Some(full);
         }
         let range = |c: f64, scale: f64, px: u32| {

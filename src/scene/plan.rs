@@ -16,14 +16,14 @@
 
 use std::fmt;
 
-use super::{Scene, MAX_BALLS, MAX_LIGHTS};
+use super::{Scene, MAX_BALLS};
 use crate::brdf::Geometry;
 use crate::lut::{roughness_coord, BakeConfig, Method};
 
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
 /// row costs 25 quadratures and the table 425; 16 rows baked faster than the table in each
-/// of three runs, 24 and 32 in only one (README, "Planning").
+/// of five runs, 24 in one and 32 in none (README, "Planning").
 pub const MAX_PLANNED_ROWS: usize = 16;
 
 /// How the renderer chooses its tables.
@@ -127,7 +127,7 @@ impl Plan {
         let bake = BakeConfig { geometry, ..bake };
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
-        let lights = !scene.lights.is_empty() && MAX_LIGHTS > 0;
+        let lights = !scene.lights.is_empty();
         let uses_term = |b: &super::Ball| options.term && b.multiple_scattering;
         // Balls that read E: with the term (its lobe), or all of them under an environment
         // (its single-scattering part reads E(mu_o)).

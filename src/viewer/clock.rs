@@ -53,10 +53,5 @@ impl FrameClock {
 }
 
 fn median(values: &[f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
+    (!values.is_empty()).then(|| crate::bench::median(&mut values.to_vec()))
 }

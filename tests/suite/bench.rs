@@ -29,7 +29,11 @@ fn numeric(column: &str) -> bool {
     column.ends_with("_ms")
         || column.starts_with("e_")
         || column.starts_with("err_")
-        || matches!(column, "bytes" | "ns_per_read" | "samples" | "on_over_off")
+        || column.ends_with("_err")
+        || matches!(
+            column,
+            "bytes" | "ns_per_read" | "samples" | "on_over_off" | "rows" | "rows_over_table"
+        )
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The plan (`scene::plan`): which rows are baked and which pipelines exist, per case of
 //! issue 7, and the rows' read against the precise reference. CPU only.
 use glam::DVec3;
+use shadeballs::bench::no_term;
 use shadeballs::lut::{self, accuracy::random_points, BakeConfig, RowKey, RowSet};
 use shadeballs::scene::{
     DrawOptions, Plan, Scene, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS,
@@ -8,15 +9,6 @@ use shadeballs::scene::{
 
 pub fn plan(scene: &Scene) -> Plan {
     Plan::new(scene, BakeConfig::default(), DrawOptions::default())
-}
-
-/// The default scene without its term and its environment.
-pub fn no_term_scene() -> Scene {
-    let mut s = Scene::reference();
-    for b in &mut s.balls {
-        b.multiple_scattering = false;
-    }
-    s
 }
 
 /// `n` balls with the term, roughness `i / n` apart (all distinct after the clamp).
@@ -65,7 +57,7 @@ fn default_scene_bakes_one_row_per_roughness_and_two_pipelines() {
 
 #[test]
 fn no_term_no_environment_bakes_nothing_and_draws_the_plain_variant() {
-    let p = plan(&no_term_scene());
+    let p = plan(&no_term());
     assert_eq!(p.tables, TablePlan::None);
     assert_eq!(p.draws, vec![(variant(TermMode::Out), (0..10).collect())]);
     assert!(p.to_string().contains("nothing baked"));
@@ -81,7 +73,7 @@ fn no_term_no_environment_bakes_nothing_and_draws_the_plain_variant() {
 
 #[test]
 fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in() {
-    let mut s = no_term_scene();
+    let mut s = no_term();
     s.environment = DVec3::splat(0.5);
     s.lights.clear();
     let p = plan(&s);
@@ -164,13 +156,7 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
         ..BakeConfig::default()
     };
     let p = Plan::new(&scene, config, DrawOptions::default());
-    let keys: Vec<RowKey> = p.rows().iter().map(|&r| RowKey::new(&config, r)).collect();
-    let rows = RowSet::new(
-        lut::bake_rows(&keys)
-            .into_iter()
-            .map(std::sync::Arc::new)
-            .collect(),
-    );
+    let rows = RowSet::bake(&config, p.rows());
     let full = lut::bake(&config);
     let errors = |mu: f64, r: f32| {
         let exact = lut::e_reference(mu, r as f64, config.geometry);
@@ -198,7 +184,8 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
         // The ball's E_avg is its row's integral as read.
         let row = &rows.rows[rows.index_of(r)];
         assert_eq!(rows.lut_loss_avg(r), row.loss_avg);
-        assert!((row.e_avg - lut::e_avg_reference(r as f64, config.geometry)).abs() < 1e-3);
+        // The default bake's goal (issue 5: 1e-4; the 2-D table's E_avg is within 3.6e-5).
+        assert!((row.e_avg - lut::e_avg_reference(r as f64, config.geometry)).abs() < 1e-4);
     }
     let (mean_rows, mean_full) = (sum_rows / n, sum_full / n);
     println!(
@@ -214,7 +201,9 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
 }
 
 /// A row baked alone equals the 2-D bake's row at the same roughness within the Chebyshev
-/// series' own error, on every method's path (Chebyshev and per-texel quadrature).
+/// series' own error, on every method's path (Chebyshev and per-texel quadrature): each
+/// bake is within 7.2e-7 of the precise E (README, "Baking"), so two of them within 2e-6
+/// of each other.
 #[test]
 fn a_row_equals_the_table_row_at_its_roughness() {
     for method in [lut::Method::Chebyshev, lut::Method::Quadrature] {

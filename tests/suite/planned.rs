@@ -9,17 +9,12 @@ use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::lut::BakeConfig;
 use shadeballs::scene::{DrawOptions, Scene, TablePolicy, MAX_PLANNED_ROWS};
 
-use crate::pixels::{compare, vulkan, Diff};
-use crate::plan::{no_term_scene, scene_with_roughness};
+use crate::pixels::{assert_close, compare, vulkan, Diff};
+use crate::plan::scene_with_roughness;
+use shadeballs::bench::no_term;
 
 const W: u32 = 640;
 const H: u32 = 360;
-
-fn assert_close(d: &Diff, what: &str) {
-    let report = d.report(what);
-    println!("{report}");
-    assert!(d.frac_1() >= 0.999 && d.frac_3() >= 0.9999, "{report}");
-}
 
 /// The CPU renders of `scene`: from the 2-D table, and from the rows the GPU bound.
 fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
@@ -50,7 +45,7 @@ fn planned_renders_match_the_full_table_render() {
     let mut r = vulkan();
     for (name, scene) in [
         ("default", Scene::reference()),
-        ("no term", no_term_scene()),
+        ("no term", no_term()),
         ("environment", environment_scene()),
         (
             "past the threshold",
@@ -101,7 +96,7 @@ fn quads_and_variants_equal_the_full_screen_branch() {
 #[test]
 fn bakes_only_new_rows() {
     let mut r = vulkan();
-    r.plan_for(&no_term_scene());
+    r.plan_for(&no_term());
     assert!(matches!(r.bound_tables(), BoundTables::None));
     assert_eq!(r.last_bake_time(), Some(Duration::ZERO));
     assert_eq!(r.cached_rows(), 0);
@@ -154,7 +149,7 @@ fn bakes_only_new_rows() {
 #[test]
 fn no_term_scene_equals_the_plain_shader() {
     let mut r = vulkan();
-    let scene = no_term_scene();
+    let scene = no_term();
     let planned = r.render_ldr(&scene, W, H).unwrap().rgba;
     r.set_draw_options(DrawOptions {
         term: false,
@@ -189,5 +184,5 @@ fn probe_along_the_scenes_rows() {
     }
     println!("probe along the default scene's rows: max E error {worst:.2e}");
     assert!(worst <= 2e-4, "{worst:e}");
-    assert!(r.probe_rows(&no_term_scene(), 65).unwrap().is_none());
+    assert!(r.probe_rows(&no_term(), 65).unwrap().is_none());
 }

@@ -4,7 +4,7 @@ use shadeballs::cpu;
 use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::scene::{Preset, Scene};
 
-use crate::pixels::{compare, renderer, vulkan, Diff};
+use crate::pixels::{assert_close, compare, renderer, vulkan, Diff};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -24,13 +24,6 @@ fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
         }
     };
     (gpu, cpu::to_rgba8(&radiance, scene.exposure))
-}
-
-/// The bound of the issue: >= 99.9 % of pixels within 1/255, >= 99.99 % within 3/255.
-fn assert_close(d: &Diff, what: &str) {
-    let report = d.report(what);
-    println!("{report}");
-    assert!(d.frac_1() >= 0.999 && d.frac_3() >= 0.9999, "{report}");
 }
 
 fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {

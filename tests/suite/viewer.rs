@@ -12,7 +12,7 @@ use shadeballs::viewer::edit::{self, Grid, LightControl, MaterialChoice};
 use shadeballs::viewer::orbit;
 
 use crate::cli::temp_dir;
-use crate::pixels::{compare, vulkan};
+use crate::pixels::{assert_close, compare, vulkan};
 
 /// A private X server, killed when dropped.
 struct Xvfb {
@@ -133,10 +133,7 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
     let area = scene_area(stderr);
     let window = crop(image.as_raw(), image.width(), area);
     let headless = vulkan().render_ldr(scene, area.0, area.1).unwrap().rgba;
-    let d = compare(&window, &headless, area.0);
-    let report = d.report(what);
-    println!("{report}");
-    assert!(d.frac_1() >= 0.999 && d.frac_3() >= 0.9999, "{report}");
+    assert_close(&compare(&window, &headless, area.0), what);
 }
 
 fn viewer(x: &Xvfb, args: &[&str]) -> Command {
