@@ -147,8 +147,9 @@ pub struct ViewArgs {
     /// With --frames: save the window's last frame to this PNG.
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
-    /// Turn the camera a little every frame (to measure frame times while orbiting).
-    #[arg(long)]
+    /// With --frames: turn the camera a little every frame (to measure frame times while
+    /// orbiting).
+    #[arg(long, requires = "frames")]
     pub orbit: bool,
     /// vulkan, gl or auto (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto)]

@@ -2,7 +2,6 @@
 //! sets the threshold past which the plan takes the table (`scene::MAX_PLANNED_ROWS`), and
 //! what they read at the scene's roughness values against the precise reference.
 
-
 use super::median_ms;
 use super::table::{sci, Table};
 use super::{Goal, Sweep};

@@ -102,7 +102,8 @@ pub fn in_process(bake: &BakeConfig, dir: &Path) -> Result<Startup> {
 
 /// Per-column medians of `runs`.
 pub fn median(runs: &[Startup]) -> Startup {
-    let med = |f: &dyn Fn(&Startup) -> f64| super::median(&mut runs.iter().map(f).collect::<Vec<_>>());
+    let med =
+        |f: &dyn Fn(&Startup) -> f64| super::median(&mut runs.iter().map(f).collect::<Vec<_>>());
     let mut phases_ms = [0.0; 5];
     for (k, p) in phases_ms.iter_mut().enumerate() {
         *p = med(&|s: &Startup| s.phases_ms[k]);

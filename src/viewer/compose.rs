@@ -1,8 +1,8 @@
 //! A window frame from two cached images, so that a frame redoes only what changed:
 //!
 //! - the *scene image*: the balls shaded by [`Renderer::encode`] (the headless path) into
-//!   the scene area of a window-sized texture, black beyond it; shaded again only when the
-//!   scene, the bake settings or the size change;
+//!   the scene area of a window-sized texture, the background's colour beyond it; shaded
+//!   again only when the scene, the bake settings or the size change;
 //! - the *frame image*: the scene image with the panel drawn over it by egui; the panel is
 //!   drawn again only when egui's output changes or reaches over the scene area (a popup);
 //!   otherwise a new scene image is copied into its scene area alone.
@@ -13,6 +13,12 @@
 use crate::gpu::{Renderer, Target};
 use crate::lut::BakeConfig;
 use crate::scene::Scene;
+
+/// Whether `t` is an image of `size` in `format`.
+fn fits(t: &Option<wgpu::Texture>, size: (u32, u32), format: wgpu::TextureFormat) -> bool {
+    t.as_ref()
+        .is_some_and(|t| (t.width(), t.height()) == size && t.format() == format)
+}
 
 /// What the panel drew this frame, in egui's terms.
 pub struct Overlay {
@@ -47,6 +53,11 @@ pub struct Layers {
 }
 
 impl Layers {
+    /// Whether the frame image is `size` in `format` and holds egui's latest panel.
+    pub fn panel_is_current(&self, size: (u32, u32), format: wgpu::TextureFormat) -> bool {
+        self.panel_current && fits(&self.frame_image, size, format)
+    }
+
     /// Records on `encoder` what brings the frame image up to date with `scene`, drawn in
     /// its `scene_width` left columns, and `overlay`; returns the frame image.
     #[allow(clippy::too_many_arguments)]
@@ -61,11 +72,8 @@ impl Layers {
         overlay: &Overlay,
         encoder: &mut wgpu::CommandEncoder,
     ) -> &wgpu::Texture {
-        let fits = |t: &Option<wgpu::Texture>| {
-            t.as_ref()
-                .is_some_and(|t| (t.width(), t.height()) == (width, height) && t.format() == format)
-        };
-        if !fits(&self.scene_image) || !fits(&self.frame_image) {
+        let size = (width, height);
+        if !fits(&self.scene_image, size, format) || !fits(&self.frame_image, size, format) {
             let device = &renderer.gpu().device;
             self.scene_image = Some(image(device, "scene image", format, width, height));
             self.frame_image = Some(image(device, "frame image", format, width, height));

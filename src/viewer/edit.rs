@@ -79,6 +79,16 @@ pub fn set_material(scene: &mut Scene, material: Material) {
     }
 }
 
+/// "As in the scene": ball `i` gets `originals[i]`, the material the scene file gave it
+/// (the first of them for balls past its count, a grid's); no change with none.
+pub fn restore_materials(scene: &mut Scene, originals: &[Material]) {
+    for (i, ball) in scene.balls.iter_mut().enumerate() {
+        if let Some(m) = originals.get(i).or(originals.first()) {
+            ball.material = *m;
+        }
+    }
+}
+
 /// Rows of balls: indices grouped by the height of their centres, top row first.
 pub fn rows(scene: &Scene) -> Vec<Vec<usize>> {
     let mut heights: Vec<f64> = scene.balls.iter().map(|b| b.center.y).collect();
@@ -218,22 +228,25 @@ impl LightControl {
 /// The white furnace's environment radiance.
 const FURNACE_RADIANCE: DVec3 = DVec3::ONE;
 
+/// The lighting the furnace replaced: the lights and the environment radiance.
+pub type SavedLighting = (Vec<Light>, DVec3);
+
 /// Key F and the panel's furnace box: a uniform white environment with the lights off, or
-/// back to no environment with the lights of `saved` (which holds them while it is on).
-pub fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Vec<Light>) {
+/// back to the lighting in `saved` (which holds it while the furnace is on; no lights and
+/// no environment when nothing was saved, as for a scene file that is the furnace).
+pub fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Option<SavedLighting>) {
     if on == is_furnace(scene) {
         return;
     }
     if on {
-        *saved = std::mem::take(&mut scene.lights);
+        *saved = Some((std::mem::take(&mut scene.lights), scene.environment));
         scene.environment = FURNACE_RADIANCE;
     } else {
-        scene.lights = std::mem::take(saved);
-        scene.environment = DVec3::ZERO;
+        (scene.lights, scene.environment) = saved.take().unwrap_or_default();
     }
 }
 
-/// Whether the scene has a (non-black) uniform environment.
+/// Whether the scene is the white furnace: the furnace's environment and no lights.
 pub fn is_furnace(scene: &Scene) -> bool {
-    scene.environment != DVec3::ZERO
+    scene.environment == FURNACE_RADIANCE && scene.lights.is_empty()
 }

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::ActiveEventLoop;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, StartCause, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
@@ -18,7 +18,7 @@ impl App {
             KeyCode::KeyM => edit::toggle_term(&mut self.scene),
             KeyCode::KeyF => {
                 let on = !edit::is_furnace(&self.scene);
-                edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lights);
+                edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lighting);
             }
             KeyCode::KeyS => self.screenshot = Some(default_screenshot_path()),
             _ => return,
@@ -111,6 +111,15 @@ impl ApplicationHandler for App {
             // Not egui's `consumed`: that reflects where the pointer was at the last frame;
             // `pointer` itself keeps to the scene area.
             ref pointer => self.pointer(pointer),
+        }
+    }
+
+    fn new_events(&mut self, event_loop: &ActiveEventLoop, cause: StartCause) {
+        // egui's deadline (a blinking cursor, a tooltip's delay): redraw, then wait again
+        // until something asks (a `WaitUntil` left in place would wake at once forever).
+        if let StartCause::ResumeTimeReached { .. } = cause {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            self.request_redraw();
         }
     }
 

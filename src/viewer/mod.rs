@@ -257,12 +257,19 @@ impl App {
             || ppp != self.last_shapes.1
             || !output.textures_delta.is_empty();
         self.last_shapes = (output.shapes.clone(), ppp);
+        let panel_only = left * ppp >= self.scene_width as f32 - 1.0;
+        // Tessellated only when the frame image's panel is redrawn (compose.rs).
+        let primitives = if changed || !panel_only || !state.panel_is_current() {
+            self.egui_ctx.tessellate(output.shapes, ppp)
+        } else {
+            Vec::new()
+        };
         let overlay = Overlay {
-            primitives: self.egui_ctx.tessellate(output.shapes, ppp),
+            primitives,
             textures: output.textures_delta,
             pixels_per_point: ppp,
             changed,
-            panel_only: left * ppp >= self.scene_width as f32 - 1.0,
+            panel_only,
         };
         let last = self.options.frames == Some(self.frames_drawn + 1);
         if last && self.screenshot.is_none() {
@@ -281,15 +288,21 @@ impl App {
                             self.scene_width,
                             path.display()
                         ),
-                        Err(e) => return self.fail(event_loop, e),
+                        // `--screenshot` is what the run was for; S in a window is not.
+                        Err(e) if self.options.frames.is_some() => return self.fail(event_loop, e),
+                        Err(e) => eprintln!("error: {e}"),
                     }
                 }
                 if last {
                     event_loop.exit();
                 }
             }
-            Ok(Frame::Skipped) => {}
-            Ok(Frame::Retry) => self.request_redraw(),
+            // Not shown: the next frame must draw the panel whatever egui says then.
+            Ok(Frame::Skipped) => self.last_shapes = (Vec::new(), 0.0),
+            Ok(Frame::Retry) => {
+                self.last_shapes = (Vec::new(), 0.0);
+                self.request_redraw();
+            }
             Err(e) => self.fail(event_loop, e),
         }
         // Interactive: a frame was drawn because something changed; egui may ask for
@@ -298,10 +311,14 @@ impl App {
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
+        // A deadline is kept until it is reached (`new_events`) or replaced.
         if delay.is_zero() {
             self.request_redraw();
-        } else if let Some(when) = Instant::now().checked_add(delay) {
-            event_loop.set_control_flow(ControlFlow::WaitUntil(when));
+        } else {
+            event_loop.set_control_flow(match Instant::now().checked_add(delay) {
+                Some(when) => ControlFlow::WaitUntil(when),
+                None => ControlFlow::Wait,
+            });
         }
     }
 }
@@ -319,7 +336,8 @@ fn display_error(e: impl std::fmt::Display) -> Error {
     Error::Display { message }
 }
 
-/// The plan in a few words: what is baked and bound, and the rows kept in memory.
+/// The plan in a few words, shorter than its `Display` (`render --verbose`), which lists
+/// every row's roughness: what is baked and bound, and the rows kept in memory.
 fn plan_summary(renderer: &crate::gpu::Renderer) -> String {
     use crate::scene::TablePlan;
     let Some(plan) = renderer.plan() else {

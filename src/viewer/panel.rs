@@ -4,9 +4,9 @@
 
 use crate::brdf::Geometry;
 use crate::lut::{Layout, LayoutKind};
-use crate::scene::{Light, Preset, Scene, MAX_MAGNITUDE};
+use crate::scene::{Material, Preset, Scene, MAX_MAGNITUDE};
 
-use super::edit::{self, Grid, LightControl, MaterialChoice, MAX_BALLS_PER_ROW};
+use super::edit::{self, Grid, LightControl, MaterialChoice, SavedLighting, MAX_BALLS_PER_ROW};
 
 /// The panel's width in points (egui's logical pixels).
 pub const PANEL_WIDTH: f32 = 300.0;
@@ -19,8 +19,10 @@ pub struct Controls {
     /// `None` while the balls are the scene's own; a grid once the user asks for one.
     pub grid: Option<Grid>,
     pub light: LightControl,
-    /// The scene's lights while the furnace is on.
-    pub saved_lights: Vec<Light>,
+    /// The scene's lighting while the furnace is on.
+    pub saved_lighting: Option<SavedLighting>,
+    /// Each ball's material in the scene as loaded ("as in the scene").
+    pub scene_materials: Vec<Material>,
     pub layout: LayoutKind,
     pub table_size: (usize, usize),
 }
@@ -31,7 +33,8 @@ impl Controls {
             material: MaterialChoice::AsScene,
             grid: None,
             light: LightControl::of(scene),
-            saved_lights: Vec::new(),
+            saved_lighting: None,
+            scene_materials: scene.balls.iter().map(|b| b.material).collect(),
             layout: layout.kind,
             table_size: (layout.mu_size, layout.r_size),
         }
@@ -178,8 +181,9 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
         });
     }
     if controls.material != before {
-        if let Some(material) = controls.material.material() {
-            edit::set_material(scene, material);
+        match controls.material.material() {
+            Some(material) => edit::set_material(scene, material),
+            None => edit::restore_materials(scene, &controls.scene_materials),
         }
     }
 }
@@ -193,7 +197,7 @@ fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
         )
         .changed()
     {
-        edit::set_furnace(scene, furnace, &mut controls.saved_lights);
+        edit::set_furnace(scene, furnace, &mut controls.saved_lighting);
     }
     ui.add_enabled_ui(!furnace, |ui| {
         let light = &mut controls.light;

@@ -19,9 +19,9 @@ use super::compose::{self, Layers, Overlay};
 pub enum Frame {
     /// Drawn and presented; with the window's pixels (RGBA8, the whole window) if asked.
     Shown(Option<Vec<u8>>),
-    /// Nothing drawn: the window is minimised, occluded, or the surface timed out.
+    /// Nothing drawn: the window is minimised or occluded (its restoring event redraws).
     Skipped,
-    /// The surface was outdated or lost and has been rebuilt: draw again.
+    /// The surface was outdated or lost and has been rebuilt, or timed out: draw again.
     Retry,
 }
 
@@ -52,11 +52,7 @@ impl State {
                 message: format!("cannot create a surface for the window: {e}"),
             })?;
         let gpu = Gpu::open(&instance, backends, Some(&surface), wgpu::Features::empty())?;
-        let size = window.inner_size();
-        let config = surface_config(&surface, &gpu, size.width, size.height)?;
-        if config.width > 0 && config.height > 0 {
-            surface.configure(&gpu.device, &config);
-        }
+        let config = surface_config(&surface, &gpu, 0, 0)?;
         let blit = (!config.usage.contains(wgpu::TextureUsages::COPY_DST))
             .then(|| Blit::new(&gpu.device, config.format));
         let egui = egui_wgpu::Renderer::new(
@@ -67,7 +63,8 @@ impl State {
                 ..Default::default()
             },
         );
-        Ok(State {
+        let size = window.inner_size();
+        let mut state = State {
             window,
             instance,
             surface,
@@ -77,7 +74,9 @@ impl State {
             layers: Layers::default(),
             blit,
             stale: false,
-        })
+        };
+        state.resize(size.width, size.height);
+        Ok(state)
     }
 
     /// The window's size in pixels as configured (zero while minimised).
@@ -111,8 +110,29 @@ impl State {
     }
 
     /// Draws `scene` into the `scene_width` left columns of the window, the panel over the
-    /// rest, and presents; `capture` also returns the window's pixels.
+    /// rest, and presents; `capture` also returns the window's pixels. egui's texture
+    /// changes are applied whether or not the frame is shown: egui sends each only once.
     pub fn draw(
+        &mut self,
+        scene: &Scene,
+        scene_width: u32,
+        overlay: &Overlay,
+        capture: bool,
+    ) -> Result<Frame> {
+        let (device, queue) = (&self.renderer.gpu().device, &self.renderer.gpu().queue);
+        for (id, deltas) in &overlay.textures.set {
+            for delta in deltas {
+                self.egui.update_texture(device, queue, *id, delta);
+            }
+        }
+        let frame = self.draw_frame(scene, scene_width, overlay, capture);
+        for id in &overlay.textures.free {
+            self.egui.free_texture(id);
+        }
+        frame
+    }
+
+    fn draw_frame(
         &mut self,
         scene: &Scene,
         scene_width: u32,
@@ -133,9 +153,8 @@ impl State {
                 self.stale = true;
                 frame
             }
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-                return Ok(Frame::Skipped)
-            }
+            wgpu::CurrentSurfaceTexture::Occluded => return Ok(Frame::Skipped),
+            wgpu::CurrentSurfaceTexture::Timeout => return Ok(Frame::Retry),
             wgpu::CurrentSurfaceTexture::Outdated => {
                 self.resize(width, height);
                 return Ok(Frame::Retry);
@@ -153,11 +172,6 @@ impl State {
         self.renderer.gpu().check()?;
         let device = self.renderer.gpu().device.clone();
         let queue = self.renderer.gpu().queue.clone();
-        for (id, deltas) in &overlay.textures.set {
-            for delta in deltas {
-                self.egui.update_texture(&device, &queue, *id, delta);
-            }
-        }
         let mut encoder = device.create_command_encoder(&Default::default());
         let frame_image = self.layers.update(
             &mut self.renderer,
@@ -186,15 +200,19 @@ impl State {
         };
         queue.submit([encoder.finish()]);
         queue.present(frame);
-        for id in &overlay.textures.free {
-            self.egui.free_texture(id);
-        }
         self.renderer.gpu().check()?;
         let image = match readback {
             Some(readback) => Some(to_rgba(readback.read(&device)?, self.config.format)),
             None => None,
         };
         Ok(Frame::Shown(image))
+    }
+
+    /// Whether the frame image holds egui's latest panel at the window's size (so an
+    /// unchanged panel need not be tessellated or drawn again).
+    pub fn panel_is_current(&self) -> bool {
+        self.layers
+            .panel_is_current(self.size(), self.config.format)
     }
 
     /// How many times the balls were shaded, and the panel drawn (frames that change

@@ -9,7 +9,7 @@ use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::lut::BakeConfig;
 use shadeballs::scene::{DrawOptions, Scene, TablePolicy, MAX_PLANNED_ROWS};
 
-use crate::pixels::{assert_close, compare, vulkan, Diff};
+use crate::pixels::{assert_close, compare, vulkan};
 use crate::plan::scene_with_roughness;
 use shadeballs::bench::no_term;
 

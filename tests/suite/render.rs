@@ -4,7 +4,7 @@ use shadeballs::cpu;
 use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::scene::{Preset, Scene};
 
-use crate::pixels::{assert_close, compare, renderer, vulkan, Diff};
+use crate::pixels::{assert_close, compare, renderer, vulkan};
 
 const W: u32 = 1280;
 const H: u32 = 720;
