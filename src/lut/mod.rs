@@ -208,6 +208,37 @@ pub fn piece_integral(axis: MuAxis, alpha: f64, a: f64, b: f64, m0: f64, m1: f64
     }
 }
 
+/// The bilinear blend of texels `t(i, j)` of `lut_loss` in `shaders/lut.wgsl`: along mu
+/// between `i0` and `i1` with weight `fx`, then between rows `j0` and `j1` with `fy`.
+fn bilinear(
+    t: impl Fn(usize, usize) -> f32,
+    (i0, i1, fx): (usize, usize, f32),
+    (j0, j1, fy): (usize, usize, f32),
+) -> f32 {
+    let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
+    let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
+    top + (bottom - top) * fy
+}
+
+/// `lut_loss_row` of `shaders/lut.wgsl` over `rows` rows of `layout.mu_size` texels,
+/// texel (i, j) = `t(i, j)`: the mu half of the read at `mu`, the roughness half from `row`
+/// (`[first row, weight of the next, alpha, _]`). The one CPU copy behind
+/// [`Tables::lut_loss_row`] and [`RowSet::lut_loss_row`].
+pub(crate) fn read_row(
+    layout: &Layout,
+    rows: usize,
+    mu: f32,
+    row: [f32; 4],
+    t: impl Fn(usize, usize) -> f32,
+) -> f32 {
+    let (sx, bx) = layout.scale_bias(layout.mu_size);
+    let x = layout.mu_axis.coord(mu, row[2]);
+    let span = lut_texel_span(x, layout.mu_size, sx as f32, bx as f32);
+    let last = rows.saturating_sub(1);
+    let j0 = (row[0] as usize).min(last);
+    bilinear(t, span, (j0, (j0 + 1).min(last), row[1]))
+}
+
 impl Tables {
     pub fn layout(&self) -> &Layout {
         &self.config.layout
@@ -224,9 +255,7 @@ impl Tables {
         let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
         let (j0, j1, fy) = lut_texel_span(l.r_coord(roughness), l.r_size, sy as f32, by as f32);
         let t = |i: usize, j: usize| self.stored_loss[j * l.mu_size + i];
-        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
-        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
-        top + (bottom - top) * fy
+        bilinear(t, (i0, i1, fx), (j0, j1, fy))
     }
 
     /// The roughness half of a read at `roughness`, done once per ball (`lut_row` in a ball's
@@ -244,15 +273,9 @@ impl Tables {
     /// from [`Tables::lut_row`]; equal to `lut_loss(mu, roughness)`.
     pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
         let l = self.layout();
-        let (sx, bx) = l.scale_bias(l.mu_size);
-        let x = l.mu_axis.coord(mu, row[2]);
-        let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
-        let j0 = row[0] as usize;
-        let j1 = (j0 + 1).min(l.r_size - 1);
-        let t = |i: usize, j: usize| self.stored_loss[j * l.mu_size + i];
-        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
-        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
-        top + (bottom - top) * row[1]
+        read_row(l, l.r_size, mu, row, |i, j| {
+            self.stored_loss[j * l.mu_size + i]
+        })
     }
 
     /// E as the shader reads it: `1 - lut_loss`.

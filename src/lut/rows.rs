@@ -23,8 +23,8 @@ use rayon::prelude::*;
 
 use super::chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES};
 use super::estimators::{Estimator, Method};
-use super::layout::{lut_texel_span, roughness_coord, Layout};
-use super::{finish_row_at, BakeConfig};
+use super::layout::{roughness_coord, Layout};
+use super::{finish_row_at, read_row, BakeConfig};
 use crate::brdf::alpha_from_roughness;
 
 /// Everything that changes a row's values: the bake settings (the layout's `r_size`
@@ -170,16 +170,8 @@ impl RowSet {
     /// `lut_loss_row` of `shaders/lut.wgsl` on these rows: the f32 arithmetic of
     /// `Tables::lut_loss_row`, the next row weighted by `row[1]` (0 from [`RowSet::lut_row`]).
     pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
-        let l = self.layout();
-        let (sx, bx) = l.scale_bias(l.mu_size);
-        let x = l.mu_axis.coord(mu, row[2]);
-        let (i0, i1, fx) = lut_texel_span(x, l.mu_size, sx as f32, bx as f32);
-        let j0 = (row[0] as usize).min(self.rows.len() - 1);
-        let j1 = (j0 + 1).min(self.rows.len() - 1);
         let t = |i: usize, j: usize| self.rows[j].stored_loss[i];
-        let top = t(i0, j0) + (t(i1, j0) - t(i0, j0)) * fx;
-        let bottom = t(i0, j1) + (t(i1, j1) - t(i0, j1)) * fx;
-        top + (bottom - top) * row[1]
+        read_row(self.layout(), self.rows.len(), mu, row, t)
     }
 
     /// `1 - E` as a ball at `roughness` reads it.
