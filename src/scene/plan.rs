@@ -23,7 +23,7 @@ use crate::lut::{roughness_coord, BakeConfig, Method};
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
 /// row costs 25 quadratures and the table 425; 16 rows baked faster than the table in each
-/// of five runs, 24 in one and 32 in none (README, "Planning").
+/// of six runs, 24 and 32 in only one (README, "Planning").
 pub const MAX_PLANNED_ROWS: usize = 16;
 
 /// How the renderer chooses its tables.
