@@ -337,6 +337,25 @@ fn a_blinking_cursor_redraws_without_spinning() {
     );
 }
 
+/// With no display the viewer fails in one line that points to `shadeballs render`.
+#[test]
+fn no_display_points_to_render() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
+        .arg("view")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "view without a display succeeded");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("cannot open a window") && stderr.contains("`shadeballs render`"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn orbit_keeps_a_valid_camera_and_zoom_stays_in_range() {
     let home = Camera::reference();
