@@ -155,16 +155,15 @@ impl Renderer {
                 t
             }
         };
-        if !self.reuse(&BoundKey::Full(config)) {
-            let bind = self
-                .resources
-                .bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
-            self.replace_bound(Bound {
-                what: BoundKey::Full(config),
-                read: BoundTables::Full(tables.clone()),
-                bind,
-            });
-        }
+        // Not bound nor kept (checked above): bind it.
+        let bind = self
+            .resources
+            .bind_tables(&self.gpu.device, &self.gpu.queue, &tables);
+        self.replace_bound(Bound {
+            what: BoundKey::Full(config),
+            read: BoundTables::Full(tables.clone()),
+            bind,
+        });
         tables
     }
 

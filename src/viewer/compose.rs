@@ -53,9 +53,17 @@ pub struct Layers {
 }
 
 impl Layers {
-    /// Whether the frame image is `size` in `format` and holds egui's latest panel.
-    pub fn panel_is_current(&self, size: (u32, u32), format: wgpu::TextureFormat) -> bool {
-        self.panel_current && fits(&self.frame_image, size, format)
+    /// Whether the next [`Layers::update`] at `size` in `format` draws the panel again:
+    /// egui's output `changed`, reaches over the scene area (not `panel_only`), or the frame
+    /// image does not hold the latest panel at that size.
+    pub fn panel_due(
+        &self,
+        changed: bool,
+        panel_only: bool,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> bool {
+        changed || !panel_only || !(self.panel_current && fits(&self.frame_image, size, format))
     }
 
     /// Records on `encoder` what brings the frame image up to date with `scene`, drawn in
@@ -73,6 +81,7 @@ impl Layers {
         encoder: &mut wgpu::CommandEncoder,
     ) -> &wgpu::Texture {
         let size = (width, height);
+        let redraw_panel = self.panel_due(overlay.changed, overlay.panel_only, size, format);
         if !fits(&self.scene_image, size, format) || !fits(&self.frame_image, size, format) {
             let device = &renderer.gpu().device;
             self.scene_image = Some(image(device, "scene image", format, width, height));
@@ -106,7 +115,6 @@ impl Layers {
             });
             self.scene_draws += 1;
         }
-        let redraw_panel = !self.panel_current || overlay.changed || !overlay.panel_only;
         if redraw_panel {
             copy(encoder, scene_image, frame_image, (width, height));
             draw_panel(

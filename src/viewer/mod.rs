@@ -259,7 +259,7 @@ impl App {
         self.last_shapes = (output.shapes.clone(), ppp);
         let panel_only = left * ppp >= self.scene_width as f32 - 1.0;
         // Tessellated only when the frame image's panel is redrawn (compose.rs).
-        let primitives = if changed || !panel_only || !state.panel_is_current() {
+        let primitives = if state.panel_due(changed, panel_only) {
             self.egui_ctx.tessellate(output.shapes, ppp)
         } else {
             Vec::new()

@@ -208,11 +208,11 @@ impl State {
         Ok(Frame::Shown(image))
     }
 
-    /// Whether the frame image holds egui's latest panel at the window's size (so an
-    /// unchanged panel need not be tessellated or drawn again).
-    pub fn panel_is_current(&self) -> bool {
+    /// Whether the next frame draws the panel again ([`Layers::panel_due`] at the window's
+    /// size): only then does it need egui's output tessellated.
+    pub fn panel_due(&self, changed: bool, panel_only: bool) -> bool {
         self.layers
-            .panel_is_current(self.size(), self.config.format)
+            .panel_due(changed, panel_only, self.size(), self.config.format)
     }
 
     /// How many times the balls were shaded, and the panel drawn (frames that change
