@@ -4,7 +4,7 @@
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let out = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/bench-results");
-    match shadeballs::bench::run(&shadeballs::bench::BenchOptions {
+    match shadeballs::lab::bench::run(&shadeballs::lab::bench::BenchOptions {
         quick,
         out: out.clone(),
         exe: Some(env!("CARGO_BIN_EXE_shadeballs").into()),

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 pub use shade::{intersect_sphere, shade, TableRead};
 
+use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
 use crate::scene::{Scene, MAX_BALLS};
 
@@ -65,18 +66,6 @@ pub fn surface_normal(p: DVec3, d: DVec3) -> DVec3 {
     } else {
         -d
     }
-}
-
-/// The display transform of `shaders/lighting.wgsl` `tone_map` for one channel:
-/// exposure, Reinhard `c / (c + 1)`, gamma 1/2.2.
-pub fn tone_map(radiance: f64, exposure: f64) -> f64 {
-    let c = (radiance * exposure).max(0.0);
-    (c / (c + 1.0)).powf(1.0 / 2.2)
-}
-
-/// A display value in [0, 1] as an 8-bit unorm (round to nearest, as the GPU stores it).
-pub fn to_unorm8(v: f64) -> u8 {
-    (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
 /// Tone-mapped RGBA8 of `radiance` (alpha 255).

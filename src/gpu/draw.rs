@@ -156,7 +156,7 @@ fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
         if is_linear(format) {
             c as f32 as f64
         } else {
-            crate::cpu::tone_map(c, scene.exposure)
+            crate::display::tone_map(c, scene.exposure)
         }
     };
     wgpu::Color {

@@ -5,6 +5,7 @@
 mod context;
 mod draw;
 mod headless;
+pub mod plan;
 mod probe;
 pub mod readback;
 mod renderer;
@@ -15,6 +16,7 @@ pub mod uniforms;
 
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage};
+pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
 pub use renderer::{is_linear, Renderer, Target, QUAD_PAD_PX};
 pub use tables::MAX_CACHED_ROWS;

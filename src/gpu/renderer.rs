@@ -12,8 +12,9 @@ use super::tables::{Bound, TableCache};
 use super::{shaders, Gpu};
 use crate::brdf::{FAvgForm, Geometry};
 use crate::error::Result;
+use crate::gpu::{DrawOptions, Plan, TablePolicy, Variant};
 use crate::lut::{BakeConfig, MuAxis};
-use crate::scene::{DrawOptions, Plan, Scene, TablePolicy, Variant};
+use crate::scene::Scene;
 
 pub use super::draw::QUAD_PAD_PX;
 

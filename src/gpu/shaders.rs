@@ -3,8 +3,8 @@
 //! table reads, then the entry points.
 
 use crate::brdf::{FAvgForm, Geometry};
+use crate::gpu::Variant;
 use crate::lut::MuAxis;
-use crate::scene::Variant;
 
 /// `shaders/*.wgsl`, in concatenation order, by file name.
 pub const COMMON: [(&str, &str); 4] = [
@@ -77,7 +77,7 @@ pub fn overrides(
 }
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
-/// ([`crate::scene::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`.
+/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`.
 pub fn overrides_for(
     geometry: Geometry,
     form: FAvgForm,

@@ -13,8 +13,8 @@ use std::time::Instant;
 use super::renderer::Renderer;
 use super::uniforms::BoundTables;
 use crate::brdf::Geometry;
+use crate::gpu::{Plan, TablePlan};
 use crate::lut::{self, BakeConfig, Row, RowKey, RowSet, Tables};
-use crate::scene::{Plan, TablePlan};
 
 /// Most rows the memory cache keeps (about 0.8 KB each at 64 texels): past it, the rows
 /// not bound are dropped.

@@ -12,7 +12,7 @@
 //! row costs the quadrature at [`CHEBYSHEV_MU_NODES`] points (Chebyshev bake) or one
 //! estimate a texel (the other methods), so a few rows cost less than the 2-D table's 425
 //! quadratures; past a count measured by `shadeballs bench` the 2-D table is cheaper
-//! (`scene::plan::MAX_PLANNED_ROWS`).
+//! (`gpu::plan::MAX_PLANNED_ROWS`).
 //!
 //! Rows are keyed by everything that changes their values ([`RowKey`]), so a cache can hand
 //! out a row baked once to any scene that needs it again.

@@ -7,7 +7,6 @@
 
 mod camera;
 mod file;
-pub mod plan;
 mod preset;
 mod values;
 
@@ -15,7 +14,6 @@ use glam::DVec3;
 
 pub use camera::{Camera, CameraBasis};
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
-pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use preset::Preset;
 
 use crate::brdf::Geometry;

@@ -53,5 +53,5 @@ impl FrameClock {
 }
 
 fn median(values: &[f64]) -> Option<f64> {
-    (!values.is_empty()).then(|| crate::bench::median(&mut values.to_vec()))
+    (!values.is_empty()).then(|| crate::stats::median(&mut values.to_vec()))
 }

@@ -26,7 +26,7 @@ use winit::window::Window;
 
 use crate::error::{Error, Result};
 use crate::gpu::Backend;
-use crate::image_out::write_png;
+use crate::output::write_png;
 use crate::scene::Scene;
 use clock::FrameClock;
 use compose::Overlay;
@@ -339,7 +339,7 @@ fn display_error(e: impl std::fmt::Display) -> Error {
 /// The plan in a few words, shorter than its `Display` (`render --verbose`), which lists
 /// every row's roughness: what is baked and bound, and the rows kept in memory.
 fn plan_summary(renderer: &crate::gpu::Renderer) -> String {
-    use crate::scene::TablePlan;
+    use crate::gpu::TablePlan;
     let Some(plan) = renderer.plan() else {
         return "tables: not planned yet".into();
     };

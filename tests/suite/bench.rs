@@ -4,9 +4,9 @@
 use std::collections::HashSet;
 use std::time::Instant;
 
-use shadeballs::bench::exact::exact_tables;
-use shadeballs::bench::{bake_errors, display_error, lookup, parse_phases, HOMEWORK};
 use shadeballs::brdf::Geometry;
+use shadeballs::lab::bench::exact::exact_tables;
+use shadeballs::lab::bench::{bake_errors, display_error, lookup, parse_phases, HOMEWORK};
 use shadeballs::lut::{self, e_avg_reference, e_reference, BakeConfig, Method};
 use shadeballs::scene::Scene;
 
@@ -222,8 +222,8 @@ fn display_error_counts_in_255ths() {
     let mut off = same.clone();
     off[0] = 1.0;
     let (max, mean) = display_error(&off, &exact, 1.0);
-    let expect =
-        255.0 * (shadeballs::cpu::tone_map(1.0, 1.0) - shadeballs::cpu::tone_map(0.25, 1.0));
+    let expect = 255.0
+        * (shadeballs::display::tone_map(1.0, 1.0) - shadeballs::display::tone_map(0.25, 1.0));
     assert!((max - expect).abs() < 1e-9 && (mean - expect / 12.0).abs() < 1e-9);
 }
 
@@ -259,7 +259,7 @@ fn lookup_module_validates_and_hashes_like_the_shader() {
 #[test]
 fn gpu_lookup_and_term_switch() {
     use shadeballs::lut::accuracy::ReferencePoints;
-    let gpu = shadeballs::bench::device::open().unwrap_or_else(|e| {
+    let gpu = shadeballs::lab::bench::device::open().unwrap_or_else(|e| {
         panic!("GPU test cannot run: {e}. Install lavapipe: apt-get install -y --no-install-recommends mesa-vulkan-drivers libvulkan1")
     });
     let tables = lut::bake(&BakeConfig::default());

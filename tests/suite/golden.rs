@@ -11,7 +11,7 @@
 //! rewritten only with `SHADEBALLS_UPDATE_GOLDENS=1`; a missing golden fails otherwise.
 use std::path::PathBuf;
 
-use shadeballs::image_out::write_png;
+use shadeballs::output::write_png;
 use shadeballs::scene::{Preset, Scene};
 
 use crate::pixels::{compare, difference_image, output_dir, vulkan};

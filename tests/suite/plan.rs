@@ -1,11 +1,12 @@
 //! The plan (`scene::plan`): which rows are baked and which pipelines exist, per case of
 //! issue 7, and the rows' read against the precise reference. CPU only.
 use glam::DVec3;
-use shadeballs::bench::no_term;
-use shadeballs::lut::{self, accuracy::random_points, BakeConfig, RowKey, RowSet};
-use shadeballs::scene::{
-    DrawOptions, Plan, Scene, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS,
+use shadeballs::gpu::{
+    DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS,
 };
+use shadeballs::lab::bench::no_term;
+use shadeballs::lut::{self, accuracy::random_points, BakeConfig, RowKey, RowSet};
+use shadeballs::scene::Scene;
 
 pub fn plan(scene: &Scene) -> Plan {
     Plan::new(scene, BakeConfig::default(), DrawOptions::default())

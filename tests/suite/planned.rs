@@ -6,12 +6,13 @@ use std::time::Duration;
 use glam::DVec3;
 use shadeballs::cpu::{self, TableRead};
 use shadeballs::gpu::{BoundTables, Renderer};
+use shadeballs::gpu::{DrawOptions, TablePolicy, MAX_PLANNED_ROWS};
 use shadeballs::lut::BakeConfig;
-use shadeballs::scene::{DrawOptions, Scene, TablePolicy, MAX_PLANNED_ROWS};
+use shadeballs::scene::Scene;
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::plan::scene_with_roughness;
-use shadeballs::bench::no_term;
+use shadeballs::lab::bench::no_term;
 
 const W: u32 = 640;
 const H: u32 = 360;

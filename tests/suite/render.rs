@@ -160,7 +160,7 @@ fn furnace_balls_vanish_with_the_term_and_darken_without() {
     let (w, h) = (640, 360);
     let scene = Scene::furnace();
     let image = &vulkan().render_ldr(&scene, w, h).unwrap().rgba;
-    let bg = cpu::to_unorm8(cpu::tone_map(1.0, scene.exposure));
+    let bg = shadeballs::display::to_unorm8(shadeballs::display::tone_map(1.0, scene.exposure));
     assert_eq!(&image[..3], &[bg, bg, bg], "corner pixel is background");
     for (k, ball) in scene.balls.iter().enumerate() {
         let px = interior(&scene, k, w, h);

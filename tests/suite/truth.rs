@@ -4,17 +4,17 @@
 
 use glam::DVec3;
 use shadeballs::brdf::{f_micro, Geometry};
-use shadeballs::lut::{self, adaptive, e_reference, gauss_legendre_unit, BakeConfig};
-use shadeballs::scene::Scene;
-use shadeballs::truth::albedo::{self, FresnelKind, Grid};
-use shadeballs::truth::compare::Comparison;
-use shadeballs::truth::fresnel::{
+use shadeballs::lab::truth::albedo::{self, FresnelKind, Grid};
+use shadeballs::lab::truth::compare::Comparison;
+use shadeballs::lab::truth::fresnel::{
     fresnel_conductor, gulbrandsen_ior, gulbrandsen_pair, Fresnel, Metal,
 };
-use shadeballs::truth::microsurface::Microsurface;
-use shadeballs::truth::models::ModelTables;
-use shadeballs::truth::single::{phi_fresnel, single_albedo, Rules};
-use shadeballs::truth::walk::{self, incident};
+use shadeballs::lab::truth::microsurface::Microsurface;
+use shadeballs::lab::truth::models::ModelTables;
+use shadeballs::lab::truth::single::{phi_fresnel, single_albedo, Rules};
+use shadeballs::lab::truth::walk::{self, incident};
+use shadeballs::lut::{self, adaptive, e_reference, gauss_legendre_unit, BakeConfig};
+use shadeballs::scene::Scene;
 
 use crate::cli::{shadeballs, temp_dir};
 
@@ -268,7 +268,10 @@ fn cli_truth_quick_writes_well_formed_files() {
         stderr.contains("accurate") && stderr.contains("games202"),
         "{stderr}"
     );
-    let (grid, slices) = (Grid::quick(), shadeballs::truth::lobes::Slices::quick());
+    let (grid, slices) = (
+        Grid::quick(),
+        shadeballs::lab::truth::lobes::Slices::quick(),
+    );
     let cells = grid.roughness.len() * grid.mu.len();
     // White + 3 copper + 3 gold Schlick channels; 3 + 3 conductor channels.
     check_csv(&dir.join("albedo.csv"), "material", cells * 7);

@@ -1,16 +1,15 @@
-//! The `render` and `probe` subcommands: parse flags, call the scene, GPU and CPU layers,
-//! report on stderr.
+//! `shadeballs render`: the scene to a `.png` or `.exr`, on the GPU or, without a GPU driver,
+//! the CPU reference renderer; one line on stderr with the time of each phase.
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use shadeballs::cli::{ProbeArgs, RenderArgs, ViewArgs};
-use shadeballs::error::{Error, Result};
-use shadeballs::gpu::{Backend, Gpu, Renderer};
-use shadeballs::image_out::{image_kind, write_exr, write_png, ImageKind};
-use shadeballs::lut::{self, BakeConfig};
-use shadeballs::scene;
-use shadeballs::{cpu, output};
+use super::args::RenderArgs;
+use crate::cpu;
+use crate::error::{Error, Result};
+use crate::gpu::{Backend, Gpu, Renderer};
+use crate::lut::{self, BakeConfig};
+use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
 
 fn open(backend: Backend) -> Result<Option<Renderer>> {
     let Some(backends) = backend.wgpu_backends() else {
@@ -26,7 +25,7 @@ fn open(backend: Backend) -> Result<Option<Renderer>> {
     }
 }
 
-pub fn render(args: RenderArgs) -> anyhow::Result<()> {
+pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
@@ -119,96 +118,5 @@ fn check_cpu_size(w: u32, h: u32) -> Result<()> {
             message: format!("{w}x{h}: each side must be in 1..={MAX}"),
         });
     }
-    Ok(())
-}
-
-pub fn probe(args: ProbeArgs) -> anyhow::Result<()> {
-    output::check_output_path(&args.out)?;
-    // The probe needs a GPU: no CPU fallback (and no warning announcing one).
-    let backend = if args.backend == Backend::Cpu {
-        Backend::Vulkan
-    } else {
-        args.backend
-    };
-    let backends = backend.wgpu_backends().unwrap_or(wgpu::Backends::VULKAN);
-    let mut renderer = match Gpu::new(backends) {
-        Ok(gpu) => Renderer::new(gpu),
-        Err(Error::NoAdapter { message, .. }) => anyhow::bail!(
-            "the probe runs on the GPU and no adapter was found ({message}); \
-             for software Vulkan install the package mesa-vulkan-drivers"
-        ),
-        Err(e) => return Err(e.into()),
-    };
-    let (geometry, samples, what) = match &args.scene {
-        Some(path) => {
-            let scene = scene::load(path)?;
-            let geometry = scene.effective_geometry();
-            let Some((rows, samples)) = renderer.probe_rows(&scene, args.grid)? else {
-                anyhow::bail!(
-                    "{}: the scene's plan bakes no rows (no ball reads E, or more roughness \
-                     values than rows are planned for); probe without --scene",
-                    path.display()
-                );
-            };
-            (
-                geometry,
-                samples,
-                format!("{}x{} rows", args.grid, rows.rows.len()),
-            )
-        }
-        None => {
-            let geometry = args.preset.geometry().unwrap_or(args.geometry);
-            let (_, samples) = renderer.probe(geometry, args.grid)?;
-            (geometry, samples, format!("{}x{}", args.grid, args.grid))
-        }
-    };
-    let mut csv = String::from("roughness,mu,E,E_avg\n");
-    for s in &samples {
-        let _ = writeln!(csv, "{},{},{},{}", s.roughness, s.mu, s.e, s.e_avg);
-    }
-    output::write_atomic(&args.out, csv.as_bytes())?;
-    eprintln!(
-        "probed {what} ({} G) on {} -> {}",
-        geometry,
-        renderer.gpu().describe(),
-        args.out.display()
-    );
-    Ok(())
-}
-
-pub fn view(args: ViewArgs) -> anyhow::Result<()> {
-    if let Some(path) = &args.screenshot {
-        output::check_output_path(path)?;
-        if image_kind(path)? != ImageKind::Png {
-            anyhow::bail!("--screenshot '{}' must be a .png", path.display());
-        }
-    }
-    let scene = args.scene.load()?;
-    let report = shadeballs::viewer::run(shadeballs::viewer::ViewOptions {
-        scene,
-        backend: args.backend,
-        size: (args.width, args.height),
-        frames: args.frames,
-        screenshot: args.screenshot,
-        orbit: args.orbit,
-    })?;
-    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
-    let fps = report
-        .interval_ms
-        .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
-    eprintln!(
-        "viewed {} frames ({} shading the balls, {} drawing the panel) at {}x{} (scene area \
-         {}x{}) on {}: median frame interval {} ({fps} fps), median draw {}",
-        report.frames,
-        report.scene_draws,
-        report.panel_draws,
-        report.window.0,
-        report.window.1,
-        report.scene.0,
-        report.scene.1,
-        report.adapter,
-        ms(report.interval_ms),
-        ms(report.draw_ms),
-    );
     Ok(())
 }

@@ -6,9 +6,10 @@ use super::median_ms;
 use super::table::{sci, Table};
 use super::{Goal, Sweep};
 use crate::brdf::Geometry;
+use crate::gpu::{DrawOptions, Plan, MAX_PLANNED_ROWS};
 use crate::lut::accuracy::{random_points, ErrorStats, ReferencePoints};
 use crate::lut::{self, BakeConfig, RowSet, Tables};
-use crate::scene::{DrawOptions, Plan, Scene, MAX_PLANNED_ROWS};
+use crate::scene::Scene;
 
 /// `k` roughness values spread over [0.05, 0.95].
 fn spread(k: usize) -> Vec<f32> {

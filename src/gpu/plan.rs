@@ -16,9 +16,9 @@
 
 use std::fmt;
 
-use super::{Scene, MAX_BALLS};
 use crate::brdf::Geometry;
 use crate::lut::{roughness_coord, BakeConfig, Method};
+use crate::scene::{Scene, MAX_BALLS};
 
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
@@ -128,7 +128,7 @@ impl Plan {
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
         let lights = !scene.lights.is_empty();
-        let uses_term = |b: &super::Ball| options.term && b.multiple_scattering;
+        let uses_term = |b: &crate::scene::Ball| options.term && b.multiple_scattering;
         // Balls that read E: with the term (its lobe), or all of them under an environment
         // (its single-scattering part reads E(mu_o)).
         let mut roughness: Vec<f32> = balls

@@ -14,8 +14,8 @@ use std::time::Instant;
 use super::device;
 use crate::error::{Error, Result};
 use crate::gpu::Renderer;
-use crate::image_out::write_png;
 use crate::lut::{self, BakeConfig};
+use crate::output::write_png;
 use crate::scene::Scene;
 
 /// Phase names, in order, as `shadeballs render` prints them.

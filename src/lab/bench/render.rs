@@ -16,11 +16,12 @@ use std::time::Instant;
 use glam::DVec3;
 
 use super::{device, median};
-use crate::cpu;
 use crate::error::Result;
+use crate::gpu::DrawOptions;
 use crate::gpu::{Renderer, Target};
 use crate::lut::{self, BakeConfig, Tables};
-use crate::scene::{DrawOptions, Scene};
+use crate::scene::Scene;
+use crate::{cpu, display};
 
 pub const WIDTH: u32 = 1280;
 pub const HEIGHT: u32 = 720;
@@ -40,7 +41,8 @@ pub fn display_error(gpu: &[f32], exact: &[DVec3], exposure: f64) -> (f64, f64) 
     let mut sum = 0.0;
     for (px, e) in gpu.chunks_exact(4).zip(exact) {
         for (c, ex) in [e.x, e.y, e.z].into_iter().enumerate() {
-            let d = (cpu::tone_map(px[c] as f64, exposure) - cpu::tone_map(ex, exposure)).abs();
+            let d =
+                (display::tone_map(px[c] as f64, exposure) - display::tone_map(ex, exposure)).abs();
             let d = if d.is_nan() { f64::INFINITY } else { d * 255.0 };
             max = max.max(d);
             sum += d;

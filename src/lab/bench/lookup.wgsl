@@ -1,4 +1,4 @@
-// bench_lookup.wgsl: what one read of the E table costs and returns, the shader's own
+// lookup.wgsl (the lab's): what one read of the E table costs and returns, the shader's own
 // manual bilinear read (lut_loss of lut.wgsl, four textureLoad) against the sampler's
 // hardware filtering of the same texels (`shadeballs bench`, src/bench/lookup.rs).
 // Concatenated after the common files; uses `globals` (table dims) and `e_table`.

@@ -239,9 +239,4 @@ pub fn median_ms<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (median(&mut times), last)
 }
 
-/// The median of `v` (the upper of the two middle values for an even count; NaN when
-/// empty), sorting it.
-pub fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
+pub use crate::stats::median;

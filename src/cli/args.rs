@@ -56,7 +56,7 @@ pub struct BenchArgs {
     /// Only these sweeps, comma-separated: bake, plan, read, lookup, render, startup
     /// (default: all).
     #[arg(long, value_delimiter = ',')]
-    pub only: Vec<crate::bench::SweepKind>,
+    pub only: Vec<crate::lab::bench::SweepKind>,
 }
 
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).

@@ -1,7 +1,7 @@
 //! Reading on the GPU: what one read of the E table costs in a compute shader and what it
 //! returns, for the shader's manual bilinear read (`lut_loss`: one `textureLoad` of a 2x2
 //! block, three lerps) against the sampler's hardware filtering of a one-texel-per-value
-//! texture, per layout and storage (`shaders/bench_lookup.wgsl`).
+//! texture, per layout and storage (`lookup.wgsl` beside this file).
 //!
 //! Cost: the median wall time of a dispatch (submit to idle) of `INVOCATIONS` invocations
 //! doing `reads` reads each at hashed `(mu, roughness)`, divided by the reads; the
@@ -49,7 +49,7 @@ impl Filter {
     }
 }
 
-/// PCG hash, as `pcg_hash` in `bench_lookup.wgsl`.
+/// PCG hash, as `pcg_hash` in `lookup.wgsl`.
 pub fn pcg_hash(v: u32) -> u32 {
     let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
     let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
@@ -130,12 +130,12 @@ pub fn shader_points(n: u32) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The lookup module: the common files and `bench_lookup.wgsl`.
+/// The lookup module: the common files and `lookup.wgsl`.
 pub fn lookup_source() -> String {
     shaders::COMMON
         .iter()
         .map(|(_, src)| *src)
-        .chain([include_str!("../../shaders/bench_lookup.wgsl")])
+        .chain([include_str!("lookup.wgsl")])
         .collect::<Vec<_>>()
         .join("\n")
 }

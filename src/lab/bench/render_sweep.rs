@@ -15,8 +15,9 @@ use super::table::Table;
 use super::{Goal, Sweep};
 use crate::error::Result;
 use crate::gpu::Renderer;
+use crate::gpu::{DrawOptions, TablePlan, TermMode};
 use crate::lut::{BakeConfig, Layout, LayoutKind};
-use crate::scene::{DrawOptions, Preset, Scene, TablePlan, TermMode};
+use crate::scene::{Preset, Scene};
 
 /// The default scene with every ball's term off.
 pub fn no_term() -> Scene {

@@ -1,0 +1,76 @@
+//! The `shadeballs` command line (feature `cli`): one file per subcommand, each parsing
+//! nothing itself (the flags are in [`args`]), calling the library and the lab, and
+//! reporting on stderr. The binary (`src/main.rs`) only sets up the process and calls
+//! [`main`].
+
+mod args;
+mod bake;
+mod bench;
+mod probe;
+mod render;
+mod truth;
+mod view;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+pub use args::*;
+
+#[derive(Parser)]
+#[command(
+    name = "shadeballs",
+    version,
+    about = "Shading balls for the Kulla-Conty multiple-scattering BRDF"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Bake E(mu, roughness) and E_avg(roughness) and write them to a file.
+    Bake(BakeArgs),
+    /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
+    Bench(BenchArgs),
+    /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
+    Render(RenderArgs),
+    /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
+    Probe(ProbeArgs),
+    /// Compare the models with the exact multiple scattering of a random walk on the
+    /// microsurface (CSV tables, PNG plots, summary.md).
+    Truth(TruthArgs),
+    /// Open a window showing the shading balls, with a panel to change them live.
+    View(ViewArgs),
+}
+
+/// Parses `std::env::args`, runs the subcommand and turns its error into one line on stderr
+/// and the exit code (2 for bad flags, 1 for a failed run).
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match one_line_error(&e) {
+            Some(line) => {
+                eprintln!("{line}");
+                return ExitCode::from(2);
+            }
+            None => e.exit(),
+        },
+    };
+    let result = match cli.command {
+        Command::Bake(args) => bake::run(args),
+        Command::Bench(args) => bench::run(args),
+        Command::Render(args) => render::run(args),
+        Command::Probe(args) => probe::run(args),
+        Command::Truth(args) => truth::run(args),
+        Command::View(args) => view::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", crate::error::one_line(&format!("{e:#}")));
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,41 @@
+//! `shadeballs view`: the interactive viewer (the [`crate::viewer`] front end).
+
+use super::args::ViewArgs;
+use crate::output::{self, image_kind, ImageKind};
+
+pub fn run(args: ViewArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.screenshot {
+        output::check_output_path(path)?;
+        if image_kind(path)? != ImageKind::Png {
+            anyhow::bail!("--screenshot '{}' must be a .png", path.display());
+        }
+    }
+    let scene = args.scene.load()?;
+    let report = crate::viewer::run(crate::viewer::ViewOptions {
+        scene,
+        backend: args.backend,
+        size: (args.width, args.height),
+        frames: args.frames,
+        screenshot: args.screenshot,
+        orbit: args.orbit,
+    })?;
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+    let fps = report
+        .interval_ms
+        .map_or("-".to_string(), |v| format!("{:.1}", 1e3 / v));
+    eprintln!(
+        "viewed {} frames ({} shading the balls, {} drawing the panel) at {}x{} (scene area \
+         {}x{}) on {}: median frame interval {} ({fps} fps), median draw {}",
+        report.frames,
+        report.scene_draws,
+        report.panel_draws,
+        report.window.0,
+        report.window.1,
+        report.scene.0,
+        report.scene.1,
+        report.adapter,
+        ms(report.interval_ms),
+        ms(report.draw_ms),
+    );
+    Ok(())
+}
