@@ -4,10 +4,16 @@
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<uniform> balls: array<Ball, MAX_BALLS>;
 @group(0) @binding(2) var<uniform> lights: array<Light, MAX_LIGHTS>;
-// 1 - E(mu, roughness) (Tables::stored_loss), mu_size x r_size, row = roughness, as 2x2
-// blocks: Rgba32Float texel (i, j) holds texels (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)
-// (loss_quad in lut.wgsl; src/gpu/resources.rs loss_quads).
+// 1 - E(mu, roughness) (Tables::stored_loss) as 2x2 blocks (lut.wgsl says how).
 @group(0) @binding(3) var e_table: texture_2d<f32>;
-// Row 0: 1 - E_avg(roughness) (Tables::stored_loss_avg); row 1: the roughness of each
-// table row (f32, for the power-law read). R32Float, r_size x 2.
+// 1 - E_avg(roughness) (Tables::stored_loss_avg) and each row's roughness (lut.wgsl).
 @group(0) @binding(4) var e_avg_table: texture_2d<f32>;
+
+// The bound tables' read parameters, with the pipeline's MU_AXIS for the axis: a constant,
+// so the compiler keeps only that axis's arithmetic (a select over all three cost about 1 %
+// of a frame with the term; docs/benchmarks.md, "The term's cost").
+fn lut_params() -> LutParams {
+    var p = globals.lut;
+    p.mu_axis = MU_AXIS;
+    return p;
+}

@@ -77,12 +77,13 @@ fn g_smith_correlated(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
     return 1.0 / (1.0 + lambda_smith(mu_o, alpha) + lambda_smith(mu_i, alpha));
 }
 
-// The G chosen by the GEOMETRY override (src/brdf Geometry::g).
-fn geometry_g(mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
-    if GEOMETRY == GEOMETRY_SMITH {
+// The G of `geometry` (GEOMETRY_*; src/brdf Geometry::g). The tables must be baked with the
+// same G (a pipeline passes a constant, which the compiler folds).
+fn geometry_g(mu_o: f32, mu_i: f32, roughness: f32, geometry: u32) -> f32 {
+    if geometry == GEOMETRY_SMITH {
         return g_smith(mu_o, mu_i, roughness);
     }
-    if GEOMETRY == GEOMETRY_SMITH_CORRELATED {
+    if geometry == GEOMETRY_SMITH_CORRELATED {
         return g_smith_correlated(mu_o, mu_i, roughness);
     }
     return g_schlick(mu_o, mu_i, roughness);
@@ -142,23 +143,24 @@ fn f_add_denominator(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
 }
 
 // The Fresnel scale f_add as the preset computes it (Kulla & Conty 2017, slide 26; src/brdf
-// f_add_preset; the F_ADD_FORM override picks the form): accurate = f_add_accurate of
-// Schlick's F_avg(F0); games202 = f_add_games202 of the homework's polynomial F_avg.
-fn f_add_preset(f0: vec3<f32>, e_avg: f32) -> vec3<f32> {
-    if F_ADD_FORM == F_ADD_GAMES202 {
-        return f_add_games202(f_avg_games202(f0, GAMES202_EDGE_TINT), e_avg);
+// f_add_preset): form F_ADD_ACCURATE = f_add_accurate of Schlick's F_avg(F0); F_ADD_GAMES202 =
+// f_add_games202 of the homework's polynomial F_avg of F0 and `edge_tint`.
+fn f_add_preset(form: u32, f0: vec3<f32>, edge_tint: vec3<f32>, e_avg: f32) -> vec3<f32> {
+    if form == F_ADD_GAMES202 {
+        return f_add_games202(f_avg_games202(f0, edge_tint), e_avg);
     }
     return f_add_accurate(f_avg_schlick(f0), e_avg);
 }
 
 // The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):
-// F G D / (4 mu_i mu_o) for a Fresnel value per channel; below the horizon 0.
-fn f_micro(fresnel: vec3<f32>, mu_o: f32, mu_i: f32, n_dot_h: f32, roughness: f32) -> vec3<f32> {
+// F G D / (4 mu_i mu_o) for a Fresnel value per channel, G of `geometry` (GEOMETRY_*);
+// below the horizon 0.
+fn f_micro(fresnel: vec3<f32>, mu_o: f32, mu_i: f32, n_dot_h: f32, roughness: f32, geometry: u32) -> vec3<f32> {
     if mu_o <= 0.0 || mu_i <= 0.0 {
         return vec3<f32>(0.0);
     }
     let alpha = alpha_from_roughness(roughness);
     let d = d_ggx(n_dot_h, alpha);
-    let g = geometry_g(mu_o, mu_i, roughness);
+    let g = geometry_g(mu_o, mu_i, roughness, geometry);
     return fresnel * (g * d / max(4.0 * mu_i * mu_o, DIV_EPSILON));
 }

@@ -23,7 +23,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     // E(mu_o) is read for the term and for the environment's part, not otherwise.
     var loss_o = 0.0;
     if MS_TERM != 0u || HAS_ENVIRONMENT == 1u {
-        loss_o = lut_loss_row(mu_o, b.lut_row);
+        loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
     }
     let e_o = 1.0 - loss_o;
     let f_avg_ss = f_avg_schlick(f0);
@@ -52,12 +52,12 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, dot(v, h));
-        let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness);
+        let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
         var lobe = vec3<f32>(0.0);
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
         // its E read.
         if MS_TERM == 2u || (MS_TERM == 1u && ms > 0.0) {
-            let loss_i = lut_loss_row(mu_i, b.lut_row);
+            let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
             lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
         }
         let f_r = spec + lobe + kd / PI;

@@ -15,7 +15,7 @@ fn probe_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let mu = f32(k % n) / f32(n - 1u);
     let roughness = f32(k / n) / f32(n - 1u);
-    probe_out[k] = vec2<f32>(lut_e(mu, roughness), lut_e_avg(roughness));
+    probe_out[k] = vec2<f32>(lut_e(e_table, globals.lut, mu, roughness), lut_e_avg(e_avg_table, globals.lut, roughness));
 }
 
 // Along a scene's own rows (src/lut/rows.rs): row j (roughness in row 1 of e_avg_table),
@@ -33,5 +33,5 @@ fn probe_rows_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = roughness_clamped(textureLoad(e_avg_table, vec2<u32>(j, 1u), 0).r);
     let row = vec4<f32>(f32(j), 0.0, r * r, 0.0);
     let loss_avg = textureLoad(e_avg_table, vec2<u32>(j, 0u), 0).r;
-    probe_out[k] = vec2<f32>(1.0 - lut_loss_row(mu, row), 1.0 - loss_avg);
+    probe_out[k] = vec2<f32>(1.0 - lut_loss_row(e_table, globals.lut, mu, row), 1.0 - loss_avg);
 }

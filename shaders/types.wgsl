@@ -1,54 +1,16 @@
-// types.wgsl: constants, override constants and the uniform layouts shared by every
-// entry point. Concatenated first (src/gpu/shaders.rs); naga has no #include.
-
-const PI: f32 = 3.14159265358979;
-
-// Guard for divisions whose denominator can reach zero at the edge of the domain (grazing
-// angles, E_avg -> 1, F_avg -> 1): src/brdf DIV_EPSILON, representable in f32.
-const DIV_EPSILON: f32 = 1e-12;
-
-// Smallest roughness the model evaluates (src/brdf ROUGHNESS_MIN).
-const ROUGHNESS_MIN: f32 = 0.02;
-
-// lambda_smith at c = 0 is +infinity in the Rust model; WGSL has no infinity literal and
-// fast-math may drop it, so the shader uses this finite stand-in (G becomes ~1e-30, not 0).
-const LAMBDA_MAX: f32 = 1e30;
-
-// The GAMES202 homework's edge tint ("copper"), src/brdf GAMES202_EDGE_TINT.
-const GAMES202_EDGE_TINT: vec3<f32> = vec3<f32>(0.827, 0.792, 0.678);
+// types.wgsl: the renderer's override constants and uniform layouts, shared by its entry
+// points. Concatenated after the library (constants, brdf, lut; src/gpu/shaders.rs): naga
+// has no #include.
 
 // Sizes of the uniform arrays (src/scene MAX_BALLS, MAX_LIGHTS).
 const MAX_BALLS: u32 = 256u;
 const MAX_LIGHTS: u32 = 16u;
 
-// Values of the GEOMETRY override (src/brdf Geometry, in Geometry::ALL order).
-const GEOMETRY_SCHLICK: u32 = 0u;
-const GEOMETRY_SMITH: u32 = 1u;
-const GEOMETRY_SMITH_CORRELATED: u32 = 2u;
-
-// Values of the F_ADD_FORM override (src/brdf FAvgForm).
-const F_ADD_ACCURATE: u32 = 0u;
-const F_ADD_GAMES202: u32 = 1u;
-
-// Values of MU_AXIS (src/lut MuAxis::id).
-const MU_AXIS_LINEAR: u32 = 0u;
-const MU_AXIS_SQRT: u32 = 1u;
-const MU_AXIS_WARPED: u32 = 2u;
-
-// Values of globals.lut_dims.w (src/lut EAvgRead).
-const E_AVG_READ_LINEAR: u32 = 0u;
-const E_AVG_READ_POWER_LAW: u32 = 1u;
-
-// Smallest stored 1 - E_avg the power-law read takes the logarithm of (src/lut LOSS_AVG_MIN).
-const LOSS_AVG_MIN: f32 = 1e-20;
-
 // Pipeline-time choices (PipelineCompilationOptions::constants), folded by the compiler:
 // no uniform branches on them.
 override GEOMETRY: u32;
-override F_ADD_FORM: u32;
-// The mu axis of the tables the pipeline reads (MU_AXIS_*): a pipeline-time choice, so the
-// read computes its own axis only (a select over all three cost about 1% of a frame with the
-// term, README "The term's cost").
+// The mu axis of the tables the pipeline reads (MU_AXIS_*): a pipeline-time choice
+// (lut_params in lighting.wgsl).
 override MU_AXIS: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
@@ -75,12 +37,9 @@ struct Globals {
     size: vec4<f32>,
     // ball count, light count, unused, unused.
     counts: vec4<u32>,
-    // E table read: mu scale, mu bias, roughness scale, roughness bias (Layout::scale_bias).
-    lut: vec4<f32>,
-    // mu_size, r_size, unused (the mu axis is the MU_AXIS override), E_avg read id.
-    lut_dims: vec4<u32>,
-    // x: r_min, the roughness of the first row (Layout::r_axis); yzw unused.
-    lut_r: vec4<f32>,
+    // How the bound tables are read (Layout::lut_params; the ball pipelines take the mu
+    // axis from MU_AXIS instead, lut_params in lighting.wgsl).
+    lut: LutParams,
 }
 
 struct Ball {

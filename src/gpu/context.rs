@@ -1,10 +1,11 @@
 //! Choosing a backend and opening a device, and keeping its failures as errors.
 //!
 //! wgpu reports errors that no error scope captures (an out-of-memory texture, any call on
-//! a destroyed or lost device) to a handler that panics by default. [`Gpu::new`] installs
-//! a handler and a device-lost callback that record them instead, and every operation of
-//! the renderer asks [`Gpu::check`] afterwards, so a failing device is an [`Error::Gpu`],
-//! never a panic.
+//! a destroyed or lost device) to a handler that panics by default. A device this crate
+//! opens ([`Gpu::new`]) gets a handler and a device-lost callback that record them instead,
+//! and every operation of the renderer asks [`Gpu::check`] afterwards, so a failing device
+//! is an [`Error::Gpu`], never a panic. A host's device ([`Gpu::from_device`]) keeps the
+//! host's handlers: this crate installs nothing on it and relies on its error scopes.
 
 use std::sync::{Arc, Mutex};
 
@@ -49,9 +50,10 @@ impl Backend {
 
 crate::named_enum!(Backend, "backend");
 
-/// An adapter, its device and queue.
+/// A device and its queue, and the adapter when this crate opened the device.
 pub struct Gpu {
-    pub adapter: wgpu::Adapter,
+    /// `None` for a host's device ([`Gpu::from_device`]).
+    pub adapter: Option<wgpu::Adapter>,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     faults: Arc<Mutex<Faults>>,
@@ -133,11 +135,22 @@ impl Gpu {
             })
         });
         Ok(Gpu {
-            adapter,
+            adapter: Some(adapter),
             device,
             queue,
             faults,
         })
+    }
+
+    /// A host program's device and queue (handles: cloning shares them): no adapter of this
+    /// crate's, no handler or callback installed.
+    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
+        Gpu {
+            adapter: None,
+            device: device.clone(),
+            queue: queue.clone(),
+            faults: Arc::default(),
+        }
     }
 
     /// `Err` when the device is lost, or when an error escaped every error scope since the
@@ -158,14 +171,23 @@ impl Gpu {
 
     /// "name (backend)" of the adapter, for messages.
     pub fn describe(&self) -> String {
-        let info = self.adapter.get_info();
-        format!("{} ({:?})", info.name, info.backend)
+        match &self.adapter {
+            Some(adapter) => {
+                let info = adapter.get_info();
+                format!("{} ({:?})", info.name, info.backend)
+            }
+            None => "the host's device".to_string(),
+        }
     }
 
-    /// Whether `format` can be a render target here (GL cannot render to Rgba32Float).
+    /// Whether `format` can be a render target here (GL cannot render to Rgba32Float). On a
+    /// host's device, what WebGPU guarantees with its features.
     pub fn renderable(&self, format: wgpu::TextureFormat) -> bool {
-        self.adapter
-            .get_texture_format_features(format)
+        let features = match &self.adapter {
+            Some(adapter) => adapter.get_texture_format_features(format),
+            None => format.guaranteed_format_features(self.device.features()),
+        };
+        features
             .allowed_usages
             .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
     }

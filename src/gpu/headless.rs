@@ -34,13 +34,13 @@ impl Renderer {
     /// Renders linear radiance into `Rgba32Float` (or `Rgba16Float` where 32-bit float is
     /// not renderable, as on GL) and reads it back as f32.
     pub fn render_hdr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<HdrImage> {
-        let format = if self.gpu.renderable(wgpu::TextureFormat::Rgba32Float) {
+        let format = if self.gpu().renderable(wgpu::TextureFormat::Rgba32Float) {
             wgpu::TextureFormat::Rgba32Float
-        } else if self.gpu.renderable(wgpu::TextureFormat::Rgba16Float) {
+        } else if self.gpu().renderable(wgpu::TextureFormat::Rgba16Float) {
             wgpu::TextureFormat::Rgba16Float
         } else {
             return Err(Error::Gpu {
-                message: format!("{} cannot render to a float target", self.gpu.describe()),
+                message: format!("{} cannot render to a float target", self.gpu().describe()),
             });
         };
         let bytes = self.render_readback(scene, width, height, format)?;
@@ -65,9 +65,9 @@ impl Renderer {
         height: u32,
         format: wgpu::TextureFormat,
     ) -> Result<Vec<u8>> {
-        self.gpu.check_size(width, height)?;
-        self.gpu.check()?;
-        let device = self.gpu.device.clone();
+        self.gpu().check_size(width, height)?;
+        self.gpu().check()?;
+        let device = self.gpu().device.clone();
         let readback = Readback::new(&device, format, (width, height))?;
         let scopes = super::Scopes::push(&device);
         let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -97,12 +97,12 @@ impl Renderer {
             &mut encoder,
         );
         readback.record(&mut encoder, &texture);
-        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu().queue.submit([encoder.finish()]);
         scopes.pop()?;
-        self.gpu.check()?;
+        self.gpu().check()?;
         // A lost device fails the read; its own message says why, so it goes first.
         let data = readback.read(&device);
-        self.gpu.check()?;
+        self.gpu().check()?;
         data
     }
 }

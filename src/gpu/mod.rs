@@ -1,26 +1,30 @@
-//! The GPU renderer (DESIGN.md section 7, layer 4): device creation, the ball pipeline,
-//! the tables as textures, headless rendering and the table probe. Knows nothing of
+//! The GPU renderer (docs/design.md section 7, layer 4): the device ([`Gpu`], its own or a
+//! host's), the plan of a scene, the tables as textures ([`GpuTables`], usable by any wgpu
+//! program), the ball pipelines, headless rendering and the table probe. Knows nothing of
 //! windows: [`Renderer::render`] draws into any `TextureView`.
 
+mod bindings;
 mod context;
-mod draw;
 mod headless;
+mod pipelines;
 pub mod plan;
 mod probe;
 pub mod readback;
 mod renderer;
-pub mod resources;
 pub mod shaders;
-mod tables;
+mod table_cache;
 pub mod uniforms;
+mod upload;
 
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage};
+pub use pipelines::is_linear;
 pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{is_linear, Renderer, Target, QUAD_PAD_PX};
-pub use tables::MAX_CACHED_ROWS;
+pub use renderer::{Renderer, Target, QUAD_PAD_PX};
+pub use table_cache::MAX_CACHED_ROWS;
 pub use uniforms::BoundTables;
+pub use upload::{loss_quads, GpuTables};
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by
 /// [`Scopes::pop`] instead of reaching the uncaptured-error handler.

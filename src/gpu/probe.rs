@@ -8,7 +8,7 @@ use super::readback::read_buffer;
 use super::renderer::Renderer;
 use super::shaders;
 use super::uniforms::BoundTables;
-use crate::brdf::{FAvgForm, Geometry};
+use crate::brdf::Geometry;
 use crate::error::{Error, Result};
 use crate::lut::{RowSet, Tables};
 use crate::scene::Scene;
@@ -30,7 +30,7 @@ impl Renderer {
     /// row = roughness. Returns the tables read, for comparison.
     pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
         check_grid(n)?;
-        self.gpu.check()?;
+        self.gpu().check()?;
         let tables = self.tables_for(geometry);
         let read = super::uniforms::BoundTables::Full(tables.clone());
         let values = self.dispatch(&read, geometry, [n, 0, 0, 0], n * n, shaders::PROBE_MAIN)?;
@@ -56,7 +56,7 @@ impl Renderer {
         n: u32,
     ) -> Result<Option<(Arc<RowSet>, Vec<ProbeSample>)>> {
         check_grid(n)?;
-        self.gpu.check()?;
+        self.gpu().check()?;
         let plan = self.plan_for(scene);
         let (geometry, planned_rows) = (plan.geometry, !plan.rows().is_empty());
         let read = self.bound_tables();
@@ -91,18 +91,16 @@ impl Renderer {
         count: u32,
         entry_point: &str,
     ) -> Result<Vec<f32>> {
-        let device = self.gpu.device.clone();
+        let gpu = self.gpu();
+        let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+        let (bindings, bound) = self.group0();
+        let bind = &bound.expect("tables bound above").bind;
         let scopes = super::Scopes::push(&device);
-        let (lut, lut_dims, lut_r) = read.uniforms();
         let globals = super::uniforms::Globals {
-            lut,
-            lut_dims,
-            lut_r,
+            lut: read.lut_params(),
             ..bytemuck::Zeroable::zeroed()
         };
-        self.gpu
-            .queue
-            .write_buffer(&self.resources.globals, 0, bytemuck::bytes_of(&globals));
+        queue.write_buffer(&bindings.globals, 0, bytemuck::bytes_of(&globals));
 
         let count = count as u64;
         let grid = device.create_buffer(&wgpu::BufferDescriptor {
@@ -111,9 +109,7 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        self.gpu
-            .queue
-            .write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
+        queue.write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
         let out_size = count * 8;
         let out = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe out"),
@@ -160,14 +156,14 @@ impl Renderer {
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("probe"),
-            bind_group_layouts: &[Some(&self.resources.layout), Some(&layout1)],
+            bind_group_layouts: &[Some(&bindings.layout), Some(&layout1)],
             immediate_size: 0,
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("probe"),
             source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
         });
-        let constants = shaders::overrides(geometry, FAvgForm::Accurate, false, read.mu_axis());
+        let constants = shaders::overrides(geometry, false, read.mu_axis());
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("probe"),
             layout: Some(&layout),
@@ -183,20 +179,16 @@ impl Renderer {
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(
-                0,
-                &self.bound.as_ref().expect("tables bound above").bind,
-                &[],
-            );
+            pass.set_bind_group(0, bind, &[]);
             pass.set_bind_group(1, &group1, &[]);
             pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
         }
         encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
-        self.gpu.queue.submit([encoder.finish()]);
+        queue.submit([encoder.finish()]);
         scopes.pop()?;
-        self.gpu.check()?;
+        self.gpu().check()?;
         let values = read_buffer(&device, &readback);
-        self.gpu.check()?;
+        self.gpu().check()?;
         Ok(bytemuck::pod_collect_to_vec(&values?))
     }
 }

@@ -1,22 +1,23 @@
-//! The ball renderer: plans each scene (`scene::Plan`: which tables, which shader
-//! variants), bakes and binds what the plan needs (`tables.rs`), and draws into any colour
-//! target: each ball's quad over its screen-space bounds with its variant's pipeline, the
-//! background a clear (`balls.wgsl`). A window reuses [`Renderer::render`] with its
-//! surface view.
+//! The ball renderer: plans each scene ([`Plan`]: which tables, which shader variants),
+//! bakes and binds what the plan needs ([`TableCache`]), and draws into any colour target:
+//! each ball's quad over its screen-space bounds with its variant's pipeline
+//! ([`Pipelines`]), the background a clear (`balls.wgsl`). A window reuses
+//! [`Renderer::render`] with its surface view; a host program hands its own device
+//! ([`Renderer::from_device`]).
 
-use std::collections::HashMap;
+use std::sync::Arc;
 use std::time::Duration;
 
-use super::resources::Resources;
-use super::tables::{Bound, TableCache};
-use super::{shaders, Gpu};
-use crate::brdf::{FAvgForm, Geometry};
+use super::bindings::{BallInstance, Bindings};
+use super::context::Gpu;
+use super::pipelines::{is_linear, pipeline_key, Pipelines};
+use super::plan::{DrawOptions, Plan, TablePolicy};
+use super::table_cache::{Bound, TableCache, Upload};
+use super::uniforms::{self, BoundTables};
+use crate::brdf::Geometry;
 use crate::error::Result;
-use crate::gpu::{DrawOptions, Plan, TablePolicy, Variant};
-use crate::lut::{BakeConfig, MuAxis};
+use crate::lut::{BakeConfig, Tables};
 use crate::scene::Scene;
-
-pub use super::draw::QUAD_PAD_PX;
 
 /// Where to draw: a view of a texture of `format`; the image is `width x height` pixels at
 /// its top-left corner (the whole texture for a headless render, the scene area left of
@@ -31,94 +32,60 @@ pub struct Target<'a> {
     pub height: u32,
 }
 
-/// Whether `format` gets linear radiance rather than display values.
-pub fn is_linear(format: wgpu::TextureFormat) -> bool {
-    matches!(
-        format,
-        wgpu::TextureFormat::Rgba32Float
-            | wgpu::TextureFormat::Rgba16Float
-            | wgpu::TextureFormat::R32Float
-    )
-}
+/// Pixels added around each ball's exact bounds: the shader's f32 ray may hit a pixel
+/// whose centre the f64 silhouette just misses.
+pub const QUAD_PAD_PX: f64 = 2.0;
 
-/// Target format, G, f_add form, the tables' mu axis, per-ball quads (or the full-screen
-/// triangle), variant.
-pub(super) type PipelineKey = (
-    wgpu::TextureFormat,
-    Geometry,
-    FAvgForm,
-    MuAxis,
-    bool,
-    Variant,
-);
-
-/// The pipeline that draws `variant` of `plan` (of `scene`) into `format`. The mu axis is
-/// the plan's bake layout's: the tables it binds are baked with it (or, pinned by
-/// `set_tables`, set it), and with no tables nothing reads the axis.
-pub(super) fn pipeline_key(
-    plan: &Plan,
-    scene: &Scene,
-    format: wgpu::TextureFormat,
-    variant: Variant,
-) -> PipelineKey {
-    (
-        format,
-        plan.geometry,
-        scene.preset.f_avg_form(),
-        plan.bake.layout.mu_axis,
-        plan.per_ball,
-        variant,
-    )
-}
-
-/// Device, shader module, pipelines, the plan of the latest scene and its tables.
+/// Device, group 0, pipelines, tables, and the plan of the latest scene.
 pub struct Renderer {
-    pub(super) gpu: Gpu,
-    pub(super) resources: Resources,
-    pub(super) module: wgpu::ShaderModule,
-    pub(super) pipeline_layout: wgpu::PipelineLayout,
-    pub(super) pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
-    /// The tables bound now and their bind group.
-    pub(super) bound: Option<Bound>,
-    /// Baked rows and the latest 2-D table.
-    pub(super) cache: TableCache,
+    gpu: Gpu,
+    bindings: Bindings,
+    pipelines: Pipelines,
+    tables: TableCache,
     /// `set_tables` was called: its table is used whatever the plan.
-    pub(super) pinned: bool,
-    pub(super) options: DrawOptions,
+    pinned: bool,
+    options: DrawOptions,
     /// How tables are baked; its `geometry` is replaced by the scene's.
-    pub(super) bake_config: BakeConfig,
-    /// Wall time of the latest bake, if any.
-    pub(super) last_bake: Option<Duration>,
-    pub(super) plan: Option<Plan>,
+    bake_config: BakeConfig,
+    plan: Option<Plan>,
 }
 
 impl Renderer {
+    /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: [`Gpu::from_device`]).
     pub fn new(gpu: Gpu) -> Self {
-        let device = &gpu.device;
-        let resources = Resources::new(device);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("balls"),
-            source: wgpu::ShaderSource::Wgsl(shaders::balls_source().into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("balls"),
-            bind_group_layouts: &[Some(&resources.layout)],
-            immediate_size: 0,
-        });
+        let bindings = Bindings::new(&gpu.device);
+        let pipelines = Pipelines::new(&gpu.device, &bindings);
         Renderer {
             gpu,
-            resources,
-            module,
-            pipeline_layout,
-            pipelines: HashMap::new(),
-            bound: None,
-            cache: TableCache::default(),
+            bindings,
+            pipelines,
+            tables: TableCache::default(),
             pinned: false,
             options: DrawOptions::default(),
             bake_config: BakeConfig::default(),
-            last_bake: None,
             plan: None,
         }
+    }
+
+    /// A renderer on a host program's device and queue: no device of its own, no error
+    /// handler installed (wgpu's own, or the host's, sees any error that escapes the error
+    /// scopes this crate pushes around each of its operations).
+    ///
+    /// ```no_run
+    /// # fn host(device: &wgpu::Device, queue: &wgpu::Queue, view: &wgpu::TextureView) -> shadeballs::Result<()> {
+    /// let mut renderer = shadeballs::Renderer::from_device(device, queue);
+    /// let scene = shadeballs::Scene::reference();
+    /// renderer.render(&scene, shadeballs::Target {
+    ///     view,
+    ///     format: wgpu::TextureFormat::Rgba8Unorm,
+    ///     width: 640,
+    ///     height: 360,
+    /// })?;
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self::new(Gpu::from_device(device, queue))
     }
 
     pub fn gpu(&self) -> &Gpu {
@@ -160,10 +127,11 @@ impl Renderer {
             .as_ref()
             .is_none_or(|p| p.tables != plan.tables || p.bake != plan.bake);
         if changed {
-            // A change that bakes nothing reports zero (ensure_tables sets any bake).
-            self.last_bake = Some(Duration::ZERO);
+            // A change that bakes nothing reports zero (a bake below sets its own time).
+            self.tables.clear_last_bake();
         }
-        self.ensure_tables(&plan);
+        let up = upload(&self.gpu, &self.bindings);
+        self.tables.ensure(&plan, &up);
         self.bake_config = plan.bake;
         self.plan.insert(plan)
     }
@@ -178,7 +146,8 @@ impl Renderer {
     pub fn prepare(&mut self, scene: &Scene, format: wgpu::TextureFormat) {
         let plan = self.make_plan(scene);
         for variant in plan.variants() {
-            self.pipeline(pipeline_key(&plan, scene, format, variant));
+            self.pipelines
+                .get(&self.gpu.device, pipeline_key(&plan, format, variant));
         }
     }
 
@@ -199,7 +168,42 @@ impl Renderer {
     /// or table baked for the latest change of plan, zero when that change baked nothing
     /// (no table needed, or every row cached); `None` before any.
     pub fn last_bake_time(&self) -> Option<Duration> {
-        self.last_bake
+        self.tables.last_bake()
+    }
+
+    /// The 2-D table for `geometry` with the bake config (baked if not held) and bound.
+    pub fn tables_for(&mut self, geometry: Geometry) -> Arc<Tables> {
+        self.bake_config.geometry = geometry;
+        let up = upload(&self.gpu, &self.bindings);
+        self.tables.full_table(self.bake_config, &up)
+    }
+
+    /// Uses `tables` (baked for their `config.geometry`) for every scene from now on, as
+    /// the 2-D table whatever the plan would choose, and bakes with their config when the
+    /// geometry changes; [`Renderer::set_bake_config`] returns to planning.
+    pub fn set_tables(&mut self, tables: Arc<Tables>) {
+        self.bake_config = tables.config;
+        self.pinned = true;
+        let up = upload(&self.gpu, &self.bindings);
+        self.tables.pin(tables, &up);
+    }
+
+    /// The tables bound now (what the last draw read).
+    pub fn bound_tables(&self) -> BoundTables {
+        self.tables
+            .bound()
+            .map_or(BoundTables::None, |b| b.read.clone())
+    }
+
+    /// Rows in the memory cache.
+    pub fn cached_rows(&self) -> usize {
+        self.tables.cached_rows()
+    }
+
+    /// Group 0's buffers and layout and the bound tables' bind group (the probe binds them
+    /// too).
+    pub(crate) fn group0(&self) -> (&Bindings, Option<&Bound>) {
+        (&self.bindings, self.tables.bound())
     }
 
     /// Draws `scene` into `target` and submits.
@@ -211,5 +215,120 @@ impl Renderer {
         self.gpu.queue.submit([encoder.finish()]);
         scopes.pop()?;
         self.gpu.check()
+    }
+
+    /// Records the draw of `scene` into `target` on `encoder` (plans the scene, bakes what
+    /// its plan needs and is not cached, uploads uniforms and quads now).
+    pub fn encode(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let plan = self.plan_for(scene).clone();
+        let bound = self.tables.bound().expect("plan_for binds");
+        let read = bound.read.clone();
+        let bind = bound.bind.clone();
+        let queue = &self.gpu.queue;
+        let (w, h) = (target.width, target.height);
+        let globals = uniforms::globals(scene, &read, w, h);
+        queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
+        let balls = uniforms::balls(scene, &read);
+        if !balls.is_empty() {
+            queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
+        }
+        let lights = uniforms::lights(scene);
+        if !lights.is_empty() {
+            queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
+        }
+        // Per variant: its pipeline and the range of its quads in the instance buffer.
+        let mut draws = Vec::new();
+        let mut quads: Vec<BallInstance> = Vec::new();
+        let basis = scene.camera.basis(w, h);
+        for (variant, members) in &plan.draws {
+            let start = quads.len() as u32;
+            if plan.per_ball {
+                quads.extend(members.iter().filter_map(|&k| {
+                    let b = &scene.balls[k];
+                    let rect = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX)?;
+                    Some(BallInstance {
+                        rect: rect.map(|v| v as f32),
+                        ball: k as u32,
+                    })
+                }));
+            }
+            let key = pipeline_key(&plan, target.format, *variant);
+            let pipeline = self.pipelines.get(&self.gpu.device, key).clone();
+            draws.push((pipeline, start..quads.len() as u32));
+        }
+        if !quads.is_empty() {
+            let queue = &self.gpu.queue;
+            queue.write_buffer(&self.bindings.instances, 0, bytemuck::cast_slice(&quads));
+        }
+        let clear = if plan.per_ball {
+            background(scene, target.format)
+        } else {
+            wgpu::Color::BLACK
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("balls"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        // The image's rectangle: the whole target headless, the scene area in a window.
+        pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
+        pass.set_scissor_rect(0, 0, w, h);
+        pass.set_bind_group(0, &bind, &[]);
+        let stride = std::mem::size_of::<BallInstance>() as u64;
+        for (pipeline, range) in draws {
+            pass.set_pipeline(&pipeline);
+            if plan.per_ball {
+                if range.is_empty() {
+                    continue;
+                }
+                let bytes = range.start as u64 * stride..range.end as u64 * stride;
+                pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
+                pass.draw(0..6, 0..range.len() as u32);
+            } else {
+                pass.draw(0..3, 0..1);
+            }
+        }
+    }
+}
+
+/// What the table cache uploads and binds with (fields of the renderer borrowed apart from
+/// its cache).
+fn upload<'a>(gpu: &'a Gpu, bindings: &'a Bindings) -> Upload<'a> {
+    Upload {
+        device: &gpu.device,
+        queue: &gpu.queue,
+        bindings,
+    }
+}
+
+/// The clear colour: what the shader would give a pixel that hits no ball (the
+/// environment, linear on a float target, else through the display transform).
+fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
+    let env = scene.environment;
+    let value = |c: f64| {
+        if is_linear(format) {
+            c as f32 as f64
+        } else {
+            crate::display::tone_map(c, scene.exposure)
+        }
+    };
+    wgpu::Color {
+        r: value(env.x),
+        g: value(env.y),
+        b: value(env.z),
+        a: 1.0,
     }
 }

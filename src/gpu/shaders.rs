@@ -1,17 +1,20 @@
 //! The WGSL sources and how they are combined. naga has no `#include`, so each module is
-//! the concatenation of the role files in one fixed order: types, bindings, BRDF terms,
-//! table reads, then the entry points.
+//! the concatenation of the role files in one fixed order: the library (constants, BRDF
+//! terms, table reads: [`crate::wgsl::KULLA_CONTY`], no bindings), the renderer's types and
+//! bindings, then the entry points.
 
 use crate::brdf::{FAvgForm, Geometry};
 use crate::gpu::Variant;
 use crate::lut::MuAxis;
 
-/// `shaders/*.wgsl`, in concatenation order, by file name.
-pub const COMMON: [(&str, &str); 4] = [
-    ("types.wgsl", include_str!("../../shaders/types.wgsl")),
-    ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
+/// The library's files (`crate::wgsl::KULLA_CONTY` is their concatenation), then the
+/// renderer's types and bindings: every module starts with these, by file name.
+pub const COMMON: [(&str, &str); 5] = [
+    ("constants.wgsl", include_str!("../../shaders/constants.wgsl")),
     ("brdf.wgsl", include_str!("../../shaders/brdf.wgsl")),
     ("lut.wgsl", include_str!("../../shaders/lut.wgsl")),
+    ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
 ];
 const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
 const BALLS: &str = include_str!("../../shaders/balls.wgsl");
@@ -46,13 +49,14 @@ pub fn probe_source() -> String {
     concat(&[PROBE])
 }
 
-/// The value of the `GEOMETRY` override for `g` (its index in `Geometry::ALL`, matching
-/// the `GEOMETRY_*` constants of `types.wgsl`).
+/// The `geometry` argument of the WGSL `geometry_g` and `f_micro` for `g`, and the value of
+/// the renderer's `GEOMETRY` override (its index in `Geometry::ALL`, matching the
+/// `GEOMETRY_*` constants of `constants.wgsl`).
 pub fn geometry_id(g: Geometry) -> u32 {
     Geometry::ALL.iter().position(|&x| x == g).unwrap_or(0) as u32
 }
 
-/// The value of the `F_ADD_FORM` override (`F_ADD_*` in `types.wgsl`).
+/// The `form` argument of the WGSL `f_add_preset` (`F_ADD_*` in `constants.wgsl`).
 pub fn f_add_form_id(form: FAvgForm) -> u32 {
     match form {
         FAvgForm::Accurate => 0,
@@ -62,15 +66,9 @@ pub fn f_add_form_id(form: FAvgForm) -> u32 {
 
 /// Pipeline-time constants for every override the modules declare without a default;
 /// `mu_axis` is that of the tables the pipeline reads (`MU_AXIS`, [`MuAxis::id`]).
-pub fn overrides(
-    geometry: Geometry,
-    form: FAvgForm,
-    linear: bool,
-    mu_axis: MuAxis,
-) -> [(&'static str, f64); 4] {
+pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'static str, f64); 3] {
     [
         ("GEOMETRY", geometry_id(geometry) as f64),
-        ("F_ADD_FORM", f_add_form_id(form) as f64),
         ("OUTPUT_LINEAR", if linear { 1.0 } else { 0.0 }),
         ("MU_AXIS", mu_axis.id() as f64),
     ]
@@ -80,18 +78,16 @@ pub fn overrides(
 /// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`.
 pub fn overrides_for(
     geometry: Geometry,
-    form: FAvgForm,
     linear: bool,
     mu_axis: MuAxis,
     variant: Variant,
-) -> [(&'static str, f64); 7] {
-    let [a, b, c, d] = overrides(geometry, form, linear, mu_axis);
+) -> [(&'static str, f64); 6] {
+    let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
         a,
         b,
         c,
-        d,
         ("MS_TERM", variant.term as u32 as f64),
         ("HAS_ENVIRONMENT", flag(variant.environment)),
         ("HAS_LIGHTS", flag(variant.lights)),

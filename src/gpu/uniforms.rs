@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use std::sync::Arc;
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
-use crate::lut::{roughness_coord, Layout, MuAxis, RowSet, Tables};
+use crate::lut::{roughness_coord, Layout, LutParams, MuAxis, RowSet, Tables};
 use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
@@ -18,26 +18,16 @@ pub enum BoundTables {
 }
 
 impl BoundTables {
-    /// The table-read uniforms ([`lut_uniforms`]); rows: their mu axis, no roughness axis
-    /// (each ball names its row).
-    pub fn uniforms(&self) -> ([f32; 4], [u32; 4], [f32; 4]) {
+    /// The read parameters of the bound tables (placeholders: one texel).
+    pub fn lut_params(&self) -> LutParams {
         match self {
-            BoundTables::None => ([0.0; 4], [1, 1, 0, 0], [0.0; 4]),
-            BoundTables::Full(t) => lut_uniforms(t),
-            BoundTables::Rows(rows) => {
-                let l = rows.layout();
-                let (sx, bx) = l.scale_bias(l.mu_size);
-                (
-                    [sx as f32, bx as f32, 0.0, 0.0],
-                    [
-                        l.mu_size as u32,
-                        rows.rows.len() as u32,
-                        0,
-                        l.e_avg_read.id(),
-                    ],
-                    [0.0; 4],
-                )
-            }
+            BoundTables::None => LutParams {
+                mu_size: 1,
+                r_size: 1,
+                ..LutParams::default()
+            },
+            BoundTables::Full(t) => t.layout().lut_params(),
+            BoundTables::Rows(rows) => rows.lut_params(),
         }
     }
 
@@ -85,9 +75,7 @@ pub struct Globals {
     pub environment: [f32; 4],
     pub size: [f32; 4],
     pub counts: [u32; 4],
-    pub lut: [f32; 4],
-    pub lut_dims: [u32; 4],
-    pub lut_r: [f32; 4],
+    pub lut: LutParams,
 }
 
 #[repr(C)]
@@ -111,25 +99,9 @@ fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
 
-/// The table-read uniforms of `tables`: `Layout::scale_bias` per axis; sizes, 0 (unused:
-/// the mu axis is the pipelines' `MU_AXIS` override) and E_avg read id (`E_AVG_READ_*` in
-/// `types.wgsl`); `r_min` of the roughness axis.
-pub fn lut_uniforms(tables: &Tables) -> ([f32; 4], [u32; 4], [f32; 4]) {
-    let l = tables.layout();
-    let (sx, bx) = l.scale_bias(l.mu_size);
-    let (sy, by) = l.scale_bias(l.r_size);
-    let e_avg_read = l.e_avg_read.id();
-    (
-        [sx as f32, bx as f32, sy as f32, by as f32],
-        [l.mu_size as u32, l.r_size as u32, 0, e_avg_read],
-        [l.r_axis.r_min() as f32, 0.0, 0.0, 0.0],
-    )
-}
-
 /// Globals for rendering `scene` at `width x height` with `tables`.
 pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
-    let (lut, lut_dims, lut_r) = tables.uniforms();
     Globals {
         cam_origin: v4(basis.origin, 1.0),
         cam_forward: v4(basis.forward, 0.0),
@@ -143,9 +115,7 @@ pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> 
             0,
             0,
         ],
-        lut,
-        lut_dims,
-        lut_r,
+        lut: tables.lut_params(),
     }
 }
 

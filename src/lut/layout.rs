@@ -326,6 +326,57 @@ impl Layout {
     }
 }
 
+/// How a shader addresses and reads a table: everything `lut_loss`, `lut_loss_avg` and
+/// their kin in the crate's WGSL ([`crate::wgsl::KULLA_CONTY`], `struct LutParams`) take
+/// besides the textures. A plain `repr(C)` struct laid out as the WGSL one in a uniform
+/// buffer (48 bytes), so a host uploads it with `bytemuck::bytes_of`.
+///
+/// Texel `i` of an axis of `n` texels sits where `x * scale + bias = i` (the module docs'
+/// texel-centre convention); `x` is the mu axis's coordinate of mu ([`MuAxis::coord`], by
+/// `mu_axis`) or the roughness coordinate `(roughness - r_min) / (1 - r_min)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LutParams {
+    /// Scale and bias of the mu axis ([`Layout::scale_bias`] of `mu_size`).
+    pub mu_scale: f32,
+    pub mu_bias: f32,
+    /// Scale and bias of the roughness axis (of `r_size`; 0 for a scene's rows, where each
+    /// ball names its row).
+    pub r_scale: f32,
+    pub r_bias: f32,
+    /// Texels along mu and along roughness (rows).
+    pub mu_size: u32,
+    pub r_size: u32,
+    /// [`MuAxis::id`]: `MU_AXIS_LINEAR`, `MU_AXIS_SQRT` or `MU_AXIS_WARPED` in the WGSL.
+    pub mu_axis: u32,
+    /// [`EAvgRead::id`]: `E_AVG_READ_LINEAR` or `E_AVG_READ_POWER_LAW`.
+    pub e_avg_read: u32,
+    /// Roughness of the first row (the roughness axis spans `[r_min, 1]`).
+    pub r_min: f32,
+    /// Padding to the WGSL struct's 48-byte uniform size; zero.
+    pub padding: [f32; 3],
+}
+
+impl Layout {
+    /// The read parameters of a table of this layout.
+    pub fn lut_params(&self) -> LutParams {
+        let (sx, bx) = self.scale_bias(self.mu_size);
+        let (sy, by) = self.scale_bias(self.r_size);
+        LutParams {
+            mu_scale: sx as f32,
+            mu_bias: bx as f32,
+            r_scale: sy as f32,
+            r_bias: by as f32,
+            mu_size: self.mu_size as u32,
+            r_size: self.r_size as u32,
+            mu_axis: self.mu_axis.id(),
+            e_avg_read: self.e_avg_read.id(),
+            r_min: self.r_axis.r_min() as f32,
+            padding: [0.0; 3],
+        }
+    }
+}
+
 /// The two texels and the weight of the second, for a bilinear read along one axis:
 /// exactly the f32 arithmetic of `lut_texel_span` in `shaders/lut.wgsl`.
 pub fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize, f32) {

@@ -18,7 +18,8 @@ pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
 pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
-    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, MuAxis, RAxis, Storage,
+    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis, RAxis,
+    Storage,
     DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
@@ -293,13 +294,15 @@ impl Tables {
         let (a, b) = (self.stored_loss_avg[j0], self.stored_loss_avg[j1]);
         match l.e_avg_read {
             EAvgRead::Linear => a + (b - a) * fy,
-            EAvgRead::PowerLaw => {
+            // One row (j0 = j1): no second row to fit a power law through.
+            EAvgRead::PowerLaw if j1 != j0 => {
                 // Both rows have roughness >= ROUGHNESS_MIN > 0 (clamped reads).
                 let (ra, rb) = (l.row_roughness(j0), l.row_roughness(j1));
                 let w = (roughness_coord(roughness) / ra).ln() / (rb / ra).ln();
                 let (la, lb) = (a.max(LOSS_AVG_MIN).ln(), b.max(LOSS_AVG_MIN).ln());
                 (la + (lb - la) * w).exp()
             }
+            _ => a + (b - a) * fy,
         }
     }
 

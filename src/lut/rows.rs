@@ -160,6 +160,19 @@ impl RowSet {
             .map_or(0, |(j, _)| j)
     }
 
+    /// The read parameters of the rows as one table: the mu axis of their layout, one row
+    /// each, no roughness axis (each ball names its row: [`RowSet::lut_row`]).
+    pub fn lut_params(&self) -> crate::lut::LutParams {
+        let l = self.layout();
+        crate::lut::LutParams {
+            r_scale: 0.0,
+            r_bias: 0.0,
+            r_size: self.rows.len() as u32,
+            r_min: 0.0,
+            ..l.lut_params()
+        }
+    }
+
     /// A ball's row for `lut_loss_row` (`Tables::lut_row`'s form): `[row index, 0 (no
     /// weight on the next row), alpha, 0]`, alpha in f32 as `Tables::lut_row` forms it.
     pub fn lut_row(&self, roughness: f32) -> [f32; 4] {

@@ -231,7 +231,11 @@ fn surface_config(
     width: u32,
     height: u32,
 ) -> Result<wgpu::SurfaceConfiguration> {
-    let caps = surface.get_capabilities(&gpu.adapter);
+    // The viewer opens its own device (`Gpu::open`), so the adapter is there.
+    let adapter = gpu.adapter.as_ref().ok_or_else(|| Error::Gpu {
+        message: "the viewer needs the adapter it opened".into(),
+    })?;
+    let caps = surface.get_capabilities(adapter);
     let format = caps
         .formats
         .iter()

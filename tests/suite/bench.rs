@@ -310,7 +310,7 @@ fn per_ball_read_equals_the_full_read() {
             ..BakeConfig::default()
         });
         let quads =
-            shadeballs::gpu::resources::loss_quads(&t.stored_loss, layout.mu_size, layout.r_size);
+            shadeballs::gpu::loss_quads(&t.stored_loss, layout.mu_size, layout.r_size);
         for (mu, r) in random_points(500, 5)
             .into_iter()
             .chain([(0.0, 0.0), (1.0, 1.0)])

@@ -4,7 +4,7 @@
 //! GPU edge grid in `gpu_stress.rs`. Each output has an f64 counterpart in [`cpu`], the same
 //! functions of `src/brdf` at the same (f32) inputs.
 
-use shadeballs::brdf::{self, FAvgForm, Geometry};
+use shadeballs::brdf::{self, Geometry};
 use shadeballs::gpu::{shaders, uniforms, Renderer};
 use shadeballs::lut::Tables;
 use wgpu::util::DeviceExt;
@@ -74,15 +74,15 @@ fn eval_main(@builtin(global_invocation_id) id: vec3<u32>) {
     eval_out[o + 12u] = f_ms(eval_in[i + 6u], eval_in[i + 7u], eval_in[i + 8u]);
     eval_out[o + 13u] = f_add_accurate(vec3<f32>(eval_in[i + 9u]), eval_in[i + 10u]).x;
     eval_out[o + 14u] = f_add_games202(vec3<f32>(eval_in[i + 9u]), eval_in[i + 10u]).x;
-    let spec = f_micro(fresnel, mu_o, mu_i, n_dot_h, r).x;
+    let spec = f_micro(fresnel, mu_o, mu_i, n_dot_h, r, GEOMETRY).x;
     eval_out[o + 15u] = spec;
-    eval_out[o + 16u] = lut_loss(eval_in[i + 11u], eval_in[i + 12u]);
-    eval_out[o + 17u] = lut_loss_avg(eval_in[i + 12u]);
+    eval_out[o + 16u] = lut_loss(e_table, lut_params(), eval_in[i + 11u], eval_in[i + 12u]);
+    eval_out[o + 17u] = lut_loss_avg(e_avg_table, lut_params(), eval_in[i + 12u]);
     // The lighting.wgsl combination for one light: f_micro + f_add f_ms, tables read.
-    let loss_avg = lut_loss_avg(r);
+    let loss_avg = lut_loss_avg(e_avg_table, lut_params(), r);
     // The normalisation as src/brdf f_ms_norm forms it (per ball on the CPU in the renderer).
     let norm = 1.0 / max(PI * loss_avg, DIV_EPSILON);
-    let lobe = f_ms(lut_loss(mu_o, r), lut_loss(mu_i, r), norm);
+    let lobe = f_ms(lut_loss(e_table, lut_params(), mu_o, r), lut_loss(e_table, lut_params(), mu_i, r), norm);
     eval_out[o + 18u] = spec + (f_add_accurate(f_avg_schlick(f0), 1.0 - loss_avg) * lobe).x;
 }
 "#;
@@ -105,7 +105,7 @@ pub fn evaluate(
         label: Some("eval"),
         source: wgpu::ShaderSource::Wgsl(source.into()),
     });
-    let constants = shaders::overrides(geometry, FAvgForm::Accurate, true, tables.layout().mu_axis);
+    let constants = shaders::overrides(geometry, true, tables.layout().mu_axis);
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("eval"),
         layout: None,
@@ -176,19 +176,17 @@ pub fn evaluate(
 }
 
 /// Group 0 as `bindings.wgsl` declares it, for the table reads: the table uniforms, the E
-/// table in 2x2 blocks and the R32Float E_avg rows, laid out as `src/gpu/resources.rs`
-/// uploads them.
+/// table in 2x2 blocks and the R32Float E_avg rows, as `GpuTables::upload` makes them.
 fn table_group(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     pipeline: &wgpu::ComputePipeline,
     tables: &Tables,
 ) -> wgpu::BindGroup {
-    let (lut, lut_dims, lut_r) = uniforms::lut_uniforms(tables);
+    // The tables as the renderer and any host upload them (the facade's GpuTables).
+    let gpu_tables = shadeballs::GpuTables::upload(device, queue, tables);
     let globals = uniforms::Globals {
-        lut,
-        lut_dims,
-        lut_r,
+        lut: gpu_tables.params,
         ..bytemuck::Zeroable::zeroed()
     };
     let globals = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -196,41 +194,7 @@ fn table_group(
         contents: bytemuck::bytes_of(&globals),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let l = tables.layout();
-    let mut avg = tables.stored_loss_avg.clone();
-    avg.extend((0..l.r_size).map(|j| l.row_roughness(j)));
-    let texture = |w: usize, h: usize, data: &[f32]| {
-        device
-            .create_texture_with_data(
-                queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("eval table"),
-                    size: wgpu::Extent3d {
-                        width: w as u32,
-                        height: h as u32,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::R32Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(data),
-            )
-            .create_view(&Default::default())
-    };
-    // E as the renderer uploads it: 2x2 blocks, one load per bilinear read.
-    let e = shadeballs::gpu::resources::quad_texture(
-        device,
-        queue,
-        l.mu_size,
-        l.r_size,
-        &tables.stored_loss,
-    );
-    let e_avg = texture(l.r_size, 2, &avg);
+    let (e, e_avg) = (&gpu_tables.e, &gpu_tables.e_avg);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("eval tables"),
         layout: &pipeline.get_bind_group_layout(0),
@@ -241,11 +205,11 @@ fn table_group(
             },
             wgpu::BindGroupEntry {
                 binding: 3,
-                resource: wgpu::BindingResource::TextureView(&e),
+                resource: wgpu::BindingResource::TextureView(e),
             },
             wgpu::BindGroupEntry {
                 binding: 4,
-                resource: wgpu::BindingResource::TextureView(&e_avg),
+                resource: wgpu::BindingResource::TextureView(e_avg),
             },
         ],
     })

@@ -22,11 +22,8 @@ impl Kernel {
     pub fn new(gpu: &Gpu, tables: &Tables, filter: Filter) -> Result<Self> {
         let device = &gpu.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let (lut, lut_dims, lut_r) = uniforms::lut_uniforms(tables);
         let globals = uniforms::Globals {
-            lut,
-            lut_dims,
-            lut_r,
+            lut: tables.layout().lut_params(),
             ..bytemuck::Zeroable::zeroed()
         };
         let globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -39,14 +36,7 @@ impl Kernel {
             .write_buffer(&globals_buffer, 0, bytemuck::bytes_of(&globals));
         // e_table: the renderer's 2x2 blocks; filtered_table: one texel each, in the storage
         // format, for the sampler.
-        let l = tables.layout();
-        let quads = crate::gpu::resources::quad_texture(
-            device,
-            &gpu.queue,
-            l.mu_size,
-            l.r_size,
-            &tables.stored_loss,
-        );
+        let quads = crate::gpu::GpuTables::upload(device, &gpu.queue, tables).e;
         let view = loss_texture(gpu, tables);
         let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bench group 0"),
@@ -97,7 +87,6 @@ impl Kernel {
         });
         let constants = shaders::overrides(
             tables.config.geometry,
-            crate::brdf::FAvgForm::Accurate,
             false,
             tables.layout().mu_axis,
         );

@@ -27,9 +27,10 @@ fn unit_float(h: u32) -> f32 {
 // (texel i is at u = (i + 0.5) / n; clamp-to-edge clamps like lut_texel_span).
 fn lut_loss_filtered(mu: f32, roughness: f32) -> f32 {
     let r = roughness_clamped(roughness);
-    let x = mu_coord(mu, r * r);
-    let p = vec2<f32>(x * globals.lut.x + globals.lut.y, r_coord(roughness) * globals.lut.z + globals.lut.w);
-    let uv = (p + 0.5) / vec2<f32>(globals.lut_dims.xy);
+    let l = globals.lut;
+    let x = mu_coord(mu, r * r, MU_AXIS);
+    let p = vec2<f32>(x * l.mu_scale + l.mu_bias, r_coord(roughness, l) * l.r_scale + l.r_bias);
+    let uv = (p + 0.5) / vec2<f32>(f32(l.mu_size), f32(l.r_size));
     return textureSampleLevel(filtered_table, bilinear, uv, 0.0).r;
 }
 
@@ -65,7 +66,7 @@ fn lookup_manual(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var s = 0u; s < lookup.x; s++) {
         let p = next_point(state);
         state = p.z;
-        sum += lut_loss(unit_float(p.x), unit_float(p.y));
+        sum += lut_loss(e_table, lut_params(), unit_float(p.x), unit_float(p.y));
     }
     lookup_out[id.x] = sum;
 }

@@ -1,0 +1,122 @@
+//! The renderer's group 0 (`shaders/bindings.wgsl`): its layout, the uniform buffers and
+//! the per-ball quads' vertex buffer; a bind group joins them with the tables
+//! ([`GpuTables`], `upload.rs`).
+
+use std::mem::size_of;
+
+use super::upload::GpuTables;
+use super::uniforms::{Globals, GpuBall, GpuLight};
+use crate::scene::{MAX_BALLS, MAX_LIGHTS};
+
+/// Buffers and the layout of group 0; the bind group follows the tables.
+pub struct Bindings {
+    pub layout: wgpu::BindGroupLayout,
+    pub globals: wgpu::Buffer,
+    pub balls: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
+    pub instances: wgpu::Buffer,
+}
+
+/// One ball's quad (`vs_ball` in `balls.wgsl`): its bounds in NDC and its index.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BallInstance {
+    pub rect: [f32; 4],
+    pub ball: u32,
+}
+
+impl BallInstance {
+    /// The vertex layout of [`BallInstance`], one per instance.
+    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+        array_stride: size_of::<BallInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Uint32],
+    };
+}
+
+/// A uniform buffer, visible to the vertex stage too: the ball renderer's vertex shaders read
+/// the loop counts from `globals` for the fragment stage (`loop_counts` in `balls.wgsl`).
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX
+            | wgpu::ShaderStages::FRAGMENT
+            | wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// The stages that read the tables: the ball renderer's fragments, the probe's compute.
+const TABLE_STAGES: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+
+fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl Bindings {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("group 0"),
+            entries: &[
+                uniform_entry(0),
+                uniform_entry(1),
+                uniform_entry(2),
+                GpuTables::layout_entry(3, TABLE_STAGES),
+                GpuTables::layout_entry(4, TABLE_STAGES),
+            ],
+        });
+        Bindings {
+            layout,
+            globals: uniform_buffer(device, "globals", size_of::<Globals>()),
+            balls: uniform_buffer(device, "balls", size_of::<GpuBall>() * MAX_BALLS),
+            lights: uniform_buffer(device, "lights", size_of::<GpuLight>() * MAX_LIGHTS),
+            instances: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("ball quads"),
+                size: (size_of::<BallInstance>() * MAX_BALLS) as u64,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// The bind group of these buffers with `tables`.
+    pub fn bind(&self, device: &wgpu::Device, tables: &GpuTables) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("group 0"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.globals.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.balls.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&tables.e),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&tables.e_avg),
+                },
+            ],
+        })
+    }
+}

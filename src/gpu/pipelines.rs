@@ -1,0 +1,112 @@
+//! The ball renderer's pipelines: one per shader variant and target, created on first use
+//! with the variant's override constants (`types.wgsl`), either the per-ball entry points
+//! with their instance buffer or the full-screen ones.
+
+use std::collections::HashMap;
+
+use super::bindings::{BallInstance, Bindings};
+use super::plan::{Plan, Variant};
+use super::shaders;
+use crate::brdf::Geometry;
+use crate::lut::MuAxis;
+
+/// Target format, G, the tables' mu axis, per-ball quads (or the full-screen triangle),
+/// variant: everything a ball pipeline is compiled for.
+pub type PipelineKey = (wgpu::TextureFormat, Geometry, MuAxis, bool, Variant);
+
+/// The pipeline key that draws `variant` of `plan` into `format`. The mu axis is the plan's
+/// bake layout's: the tables it binds are baked with it (or, pinned by
+/// `Renderer::set_tables`, set it), and with no tables nothing reads the axis.
+pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) -> PipelineKey {
+    (
+        format,
+        plan.geometry,
+        plan.bake.layout.mu_axis,
+        plan.per_ball,
+        variant,
+    )
+}
+
+/// Whether `format` gets linear radiance rather than display values.
+pub fn is_linear(format: wgpu::TextureFormat) -> bool {
+    matches!(
+        format,
+        wgpu::TextureFormat::Rgba32Float
+            | wgpu::TextureFormat::Rgba16Float
+            | wgpu::TextureFormat::R32Float
+    )
+}
+
+/// The ball module, its pipeline layout and the pipelines made so far.
+pub struct Pipelines {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    made: HashMap<PipelineKey, wgpu::RenderPipeline>,
+}
+
+impl Pipelines {
+    pub fn new(device: &wgpu::Device, bindings: &Bindings) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("balls"),
+            source: wgpu::ShaderSource::Wgsl(shaders::balls_source().into()),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("balls"),
+            bind_group_layouts: &[Some(&bindings.layout)],
+            immediate_size: 0,
+        });
+        Pipelines {
+            module,
+            layout,
+            made: HashMap::new(),
+        }
+    }
+
+    /// The pipeline of `key`, created on first use.
+    pub fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
+        let (format, geometry, mu_axis, per_ball, variant) = key;
+        let (module, layout) = (&self.module, &self.layout);
+        self.made.entry(key).or_insert_with(|| {
+            let linear = is_linear(format);
+            let constants = shaders::overrides_for(geometry, linear, mu_axis, variant);
+            let options = wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            };
+            let (vs, fs, buffers): (_, _, &[Option<wgpu::VertexBufferLayout>]) = if per_ball {
+                (
+                    shaders::VS_BALL,
+                    shaders::FS_BALL,
+                    &[Some(BallInstance::LAYOUT)],
+                )
+            } else {
+                (shaders::VS_MAIN, shaders::FS_MAIN, &[])
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("balls"),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some(vs),
+                    compilation_options: options.clone(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some(fs),
+                    compilation_options: options,
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+    }
+}
