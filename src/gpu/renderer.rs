@@ -71,18 +71,33 @@ impl Renderer {
     /// handler installed (wgpu's own, or the host's, sees any error that escapes the error
     /// scopes this crate pushes around each of its operations).
     ///
-    /// ```no_run
-    /// # fn host(device: &wgpu::Device, queue: &wgpu::Queue, view: &wgpu::TextureView) -> shadeballs::Result<()> {
-    /// let mut renderer = shadeballs::Renderer::from_device(device, queue);
-    /// let scene = shadeballs::Scene::reference();
-    /// renderer.render(&scene, shadeballs::Target {
-    ///     view,
+    /// ```
+    /// # let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    /// # let adapter = pollster::block_on(instance.request_adapter(&Default::default()))
+    /// #     .expect("a GPU adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
+    /// # let (device, queue) = pollster::block_on(adapter.request_device(&Default::default())).unwrap();
+    /// // The host's own colour target.
+    /// let texture = device.create_texture(&wgpu::TextureDescriptor {
+    ///     label: None,
+    ///     size: wgpu::Extent3d { width: 320, height: 180, depth_or_array_layers: 1 },
+    ///     mip_level_count: 1,
+    ///     sample_count: 1,
+    ///     dimension: wgpu::TextureDimension::D2,
     ///     format: wgpu::TextureFormat::Rgba8Unorm,
-    ///     width: 640,
-    ///     height: 360,
-    /// })?;
-    /// # Ok(())
-    /// # }
+    ///     usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+    ///     view_formats: &[],
+    /// });
+    /// let view = texture.create_view(&Default::default());
+    /// let mut renderer = shadeballs::Renderer::from_device(&device, &queue);
+    /// let scene = shadeballs::Scene::reference();
+    /// let target = shadeballs::Target {
+    ///     view: &view,
+    ///     format: wgpu::TextureFormat::Rgba8Unorm,
+    ///     width: 320,
+    ///     height: 180,
+    /// };
+    /// renderer.render(&scene, target)?;
+    /// # Ok::<(), shadeballs::Error>(())
     /// ```
     pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
         Self::new(Gpu::from_device(device, queue))

@@ -9,15 +9,19 @@ use crate::lut::{LutParams, RowSet, Tables};
 /// Baked tables uploaded to a device: what `lut_loss`, `lut_e`, `lut_loss_avg` and
 /// `lut_e_avg` of [`crate::wgsl::KULLA_CONTY`] take as arguments.
 ///
-/// ```no_run
-/// # fn host(device: &wgpu::Device, queue: &wgpu::Queue) {
+/// ```
+/// # let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+/// # let adapter = pollster::block_on(instance.request_adapter(&Default::default()))
+/// #     .expect("a GPU adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
+/// # let (device, queue) = pollster::block_on(adapter.request_device(&Default::default())).unwrap();
+/// // A host program's device and queue (opened above, hidden): bake at startup, upload.
 /// let tables = shadeballs::bake(&shadeballs::BakeConfig::default());
-/// let gpu_tables = shadeballs::GpuTables::upload(device, queue, &tables);
+/// let gpu_tables = shadeballs::GpuTables::upload(&device, &queue, &tables);
+/// assert_eq!(gpu_tables.e.texture().width(), tables.layout().mu_size as u32);
 /// // Bind `gpu_tables.e` and `gpu_tables.e_avg` as `texture_2d<f32>` (not filterable:
 /// // `GpuTables::layout_entry`), and `gpu_tables.params` in a uniform buffer.
 /// let params: &[u8] = bytemuck::bytes_of(&gpu_tables.params);
-/// # let _ = params;
-/// # }
+/// assert_eq!(params.len(), 48);
 /// ```
 #[derive(Clone, Debug)]
 pub struct GpuTables {

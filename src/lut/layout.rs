@@ -334,6 +334,19 @@ impl Layout {
 /// Texel `i` of an axis of `n` texels sits where `x * scale + bias = i` (the module docs'
 /// texel-centre convention); `x` is the mu axis's coordinate of mu ([`MuAxis::coord`], by
 /// `mu_axis`) or the roughness coordinate `(roughness - r_min) / (1 - r_min)`.
+///
+/// ```
+/// use shadeballs::{Layout, LayoutKind};
+/// // The homework's layout: linear axes, texel centres at (i + 0.5) / n.
+/// let p = Layout::of_kind(LayoutKind::Games202).lut_params();
+/// let texel = |x: f32, scale: f32, bias: f32, n: u32| (x * scale + bias).clamp(0.0, (n - 1) as f32);
+/// // mu = 0.5 falls between texels 63 and 64 of 128; roughness 1 on the last row.
+/// assert_eq!(texel(0.5, p.mu_scale, p.mu_bias, p.mu_size), 63.5);
+/// assert_eq!(texel(1.0, p.r_scale, p.r_bias, p.r_size), 127.0);
+/// // The default layout puts texel centres on the end points: x = 1 is the last texel.
+/// let p = Layout::default().lut_params();
+/// assert_eq!(p.mu_scale + p.mu_bias, (p.mu_size - 1) as f32);
+/// ```
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LutParams {
