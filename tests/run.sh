@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian machine: installs what the tests need (Mesa's
-# lavapipe Vulkan driver, Xvfb and xdotool for the viewer test), then runs every test in
-# release mode (one build serves the tests and the program; DESIGN.md section 6).
+# lavapipe Vulkan driver, Xvfb and xdotool for the viewer test), then checks formatting,
+# lints, the library alone (no default features), the docs, and runs every test, the
+# examples' and the doctests in release mode (one build serves the tests and the program;
+# docs/design.md section 6).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -29,4 +31,9 @@ fi
 
 cargo fmt --all -- --check
 cargo clippy --release --all-targets -- -D warnings
+# The library as another program links it: no winit, egui, clap or plotting crate.
+cargo build --release --no-default-features --lib
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
+# Unit and integration tests (one binary), the examples (built, and run by their tests)
+# and the doctests of the facade.
 cargo test --release

@@ -1,5 +1,5 @@
 //! The `shadeballs` command line (feature `cli`): one file per subcommand, each parsing
-//! nothing itself (the flags are in [`args`]), calling the library and the lab, and
+//! nothing itself (the flags are in `args.rs`), calling the library and the lab, and
 //! reporting on stderr. The binary (`src/main.rs`) only sets up the process and calls
 //! [`main`].
 

@@ -10,7 +10,7 @@
 //!   per-ball flag; a scene without lights or without an environment compiles that part
 //!   out.
 //!
-//! Planning is a pass over the balls (a sort of at most [`super::MAX_BALLS`] values): cheap
+//! Planning is a pass over the balls (a sort of at most [`crate::scene::MAX_BALLS`] values): cheap
 //! enough to redo on every frame of the viewer, which re-bakes only when the plan's rows
 //! change.
 

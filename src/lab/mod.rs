@@ -1,4 +1,4 @@
-//! The measurement lab (feature `lab`): the benchmark harness ([`bench`]) and the
+//! The measurement lab (feature `lab`): the benchmark harness ([`mod@bench`]) and the
 //! random-walk truth study ([`truth`]). It imports the library; the library never imports it.
 
 pub mod bench;

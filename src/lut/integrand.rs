@@ -147,7 +147,7 @@ impl EIntegrand {
     }
 
     /// The pieces of `[0, pi/2]` in their mapped variables (see the module docs): up to
-    /// four (five with height-correlated G at grazing, [`GRAZING_SPLIT`]), each integrated over `[seg.lo, seg.hi]` by [`EIntegrand::at_segment`]. An
+    /// four (five with height-correlated G at grazing, `GRAZING_SPLIT`), each integrated over `[seg.lo, seg.hi]` by [`EIntegrand::at_segment`]. An
     /// iterator, not a vector: the bake asks for them once per texel.
     pub fn segments(&self) -> impl Iterator<Item = Segment> {
         let w = self.width();

@@ -2,7 +2,7 @@
 //! renderer draws, through the same [`crate::gpu::Renderer::encode`], with an egui panel
 //! on the right to change it live.
 //!
-//! [`App`] is winit's application (its events, keys and mouse in `events`); `state::State`
+//! `App` is winit's application (its events, keys and mouse in `events`); `state::State`
 //! holds the GPU resources and `compose` the cached images a frame is made of; [`edit`] and
 //! [`orbit`] are the pure scene edits the controls make. Nothing is drawn while nothing
 //! changes (winit waits for events), except in `--frames` mode, which
