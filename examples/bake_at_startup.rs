@@ -176,9 +176,12 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     };
 
     // This program's own device.
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&Default::default()))
-        .map_err(|e| format!("no GPU adapter ({e}); for software Vulkan install mesa-vulkan-drivers"))?;
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter =
+        pollster::block_on(instance.request_adapter(&Default::default())).map_err(|e| {
+            format!("no GPU adapter ({e}); for software Vulkan install mesa-vulkan-drivers")
+        })?;
     let (device, queue) = pollster::block_on(adapter.request_device(&Default::default()))?;
 
     // Startup: bake (the G this program shades with) and upload onto this device.
@@ -372,9 +375,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn main() -> std::process::ExitCode {
-    let result = parse_args()
-        .map_err(Into::into)
-        .and_then(|args| run(&args));
+    let result = parse_args().map_err(Into::into).and_then(|args| run(&args));
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {

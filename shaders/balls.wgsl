@@ -21,7 +21,7 @@ struct VsOut {
 // uniform buffer by the fragment stage itself: lavapipe (Mesa 22.3) inlines uniform-buffer
 // values that decide a loop's exit into the fragment shader and compiles that shader again
 // each time the pipeline is bound (about 2 ms a bind with Mesa's disk cache answering), so
-// every frame that bound the term's pipeline paid a compile (README, "The term's cost").
+// every frame that bound the term's pipeline paid a compile (docs/benchmarks.md, "The term's cost").
 fn loop_counts() -> vec2<u32> {
     return min(globals.counts.xy, vec2<u32>(MAX_BALLS, MAX_LIGHTS));
 }
@@ -145,7 +145,7 @@ struct BallOut {
     // The members of balls[ball], read once per vertex and handed on as flat varyings: a
     // fragment shades only its own ball, so it reads no per-ball uniform. On lavapipe a
     // uniform read at a per-pixel index is a gather that costs about what a table read does;
-    // a flat varying is a broadcast (README, "The term's cost").
+    // a flat varying is a broadcast (docs/benchmarks.md, "The term's cost").
     @location(2) @interpolate(flat) center_radius: vec4<f32>,
     @location(3) @interpolate(flat) f0_roughness: vec4<f32>,
     @location(4) @interpolate(flat) diffuse_ms: vec4<f32>,

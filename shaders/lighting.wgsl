@@ -78,7 +78,7 @@ fn term_weight(b: Ball) -> f32 {
     return 0.0;
 }
 
-// Display transform (DESIGN.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.
+// Display transform (docs/design.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.
 fn tone_map(radiance: vec3<f32>, exposure: f32) -> vec3<f32> {
     let c = max(radiance * exposure, vec3<f32>(0.0));
     return pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2));

@@ -13,7 +13,7 @@ use super::DIV_EPSILON;
 /// and as `(1 - n.h)(1 + n.h)`, where `1 - n.h` is exact: `1 - (n.h)^2` would inherit the
 /// rounding of the square, which in f32 is 6e-8, a third of the denominator's
 /// `alpha^2 = 1.6e-7` at the roughness clamp (measured in the shader: 1.7e-4 relative
-/// error in D near the peak before, see README "Reliability").
+/// error in D near the peak before, see docs/reliability.md "Reliability").
 pub fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
     if n_dot_h <= 0.0 {
         return 0.0;

@@ -4,8 +4,8 @@
 
 use std::mem::size_of;
 
-use super::upload::GpuTables;
 use super::uniforms::{Globals, GpuBall, GpuLight};
+use super::upload::GpuTables;
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
 /// Buffers and the layout of group 0; the bind group follows the tables.
@@ -53,7 +53,8 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 /// The stages that read the tables: the ball renderer's fragments, the probe's compute.
-const TABLE_STAGES: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+const TABLE_STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 
 fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {

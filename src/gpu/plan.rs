@@ -1,5 +1,5 @@
 //! The plan: what a scene needs baked, compiled and drawn, made from the scene before any
-//! work starts (DESIGN.md section 7: scene -> plan -> tables -> renderer).
+//! work starts (docs/design.md section 7: scene -> plan -> tables -> renderer).
 //!
 //! - Tables: none when no ball reads E (no ball with the term and no environment, whose
 //!   single-scattering part reads E(mu_o)); one exact row per distinct roughness read when
@@ -23,7 +23,7 @@ use crate::scene::{Scene, MAX_BALLS};
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
 /// row costs 25 quadratures and the table 425; 16 rows baked faster than the table in each
-/// of six runs, 24 and 32 in only one (README, "Planning").
+/// of six runs, 24 and 32 in only one (docs/benchmarks.md, "Planning").
 pub const MAX_PLANNED_ROWS: usize = 16;
 
 /// How the renderer chooses its tables.

@@ -10,7 +10,10 @@ use crate::lut::MuAxis;
 /// The library's files (`crate::wgsl::KULLA_CONTY` is their concatenation), then the
 /// renderer's types and bindings: every module starts with these, by file name.
 pub const COMMON: [(&str, &str); 5] = [
-    ("constants.wgsl", include_str!("../../shaders/constants.wgsl")),
+    (
+        "constants.wgsl",
+        include_str!("../../shaders/constants.wgsl"),
+    ),
     ("brdf.wgsl", include_str!("../../shaders/brdf.wgsl")),
     ("lut.wgsl", include_str!("../../shaders/lut.wgsl")),
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),

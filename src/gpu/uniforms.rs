@@ -127,7 +127,7 @@ pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> 
 /// with the lobe's normalisation `f_ms_norm` of it (no division per pixel);
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
-/// on lavapipe (README, "Measured results").
+/// on lavapipe (docs/benchmarks.md, "Measured results").
 pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
     scene

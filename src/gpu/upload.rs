@@ -58,7 +58,13 @@ impl GpuTables {
     pub fn upload_rows(device: &wgpu::Device, queue: &wgpu::Queue, rows: &RowSet) -> GpuTables {
         let mut e_avg_rows: Vec<f32> = rows.rows.iter().map(|r| r.loss_avg).collect();
         e_avg_rows.extend(rows.rows.iter().map(|r| r.key.roughness()));
-        Self::from_parts(device, queue, &rows.stored_loss(), &e_avg_rows, rows.lut_params())
+        Self::from_parts(
+            device,
+            queue,
+            &rows.stored_loss(),
+            &e_avg_rows,
+            rows.lut_params(),
+        )
     }
 
     /// 1 x 1 placeholders for a scene that reads no table (its pipelines never read them).
@@ -101,7 +107,10 @@ impl GpuTables {
 
     /// The bind group layout entry of either texture at `binding`: a non-filterable float
     /// 2-D texture (the reads use `textureLoad`).
-    pub fn layout_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    pub fn layout_entry(
+        binding: u32,
+        visibility: wgpu::ShaderStages,
+    ) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility,

@@ -16,7 +16,7 @@
 //!
 //! Tables hold the missing energy `1 - E` and `1 - E_avg` rather than E: the lobe needs
 //! exactly these, and they are small where E is near 1, where floating point keeps their
-//! relative precision (DESIGN.md section 3).
+//! relative precision (docs/design.md section 3).
 //! Tables are stored row-major: row `j` (roughness) holds `mu_size` texels.
 
 use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
@@ -26,7 +26,7 @@ use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
 pub enum MuAxis {
     /// `x = mu` (the homework's).
     Linear,
-    /// `x = sqrt(mu)` (DESIGN.md section 3's candidate).
+    /// `x = sqrt(mu)` (docs/design.md section 3's candidate).
     Sqrt,
     /// `x = mu (1 + a) / (mu + a)`, `a = alpha` at the read roughness (the default).
     ///
@@ -36,7 +36,7 @@ pub enum MuAxis {
     /// blur it (3e-2 error with `Sqrt` at 64 x 64). This warp pins the feature to the same
     /// x in every row (`mu = a` maps to `x = (1 + a) / 2`), keeps x in `[0, 1]` with
     /// `x(0) = 0`, `x(1) = 1`, and tends to the identity as alpha grows. Measured: 1.1e-4
-    /// max read error at 64 x 64 (README, "Measured results").
+    /// max read error at 64 x 64 (docs/benchmarks.md, "Measured results").
     Warped,
 }
 
@@ -219,7 +219,7 @@ pub struct Layout {
 }
 
 /// Default table size (mu x roughness), chosen by measurement: the smallest that keeps the
-/// read-path error within max 1e-3 and mean 1e-4 (see README, "Measured results").
+/// read-path error within max 1e-3 and mean 1e-4 (see docs/benchmarks.md, "Measured results").
 pub const DEFAULT_MU_SIZE: usize = 64;
 pub const DEFAULT_R_SIZE: usize = 64;
 

@@ -1,5 +1,5 @@
 //! Baking the Kulla-Conty tables E(mu, roughness) and E_avg(roughness) on the CPU
-//! (DESIGN.md section 2), and the CPU model of how the shader reads them (section 3).
+//! (docs/design.md section 2), and the CPU model of how the shader reads them (section 3).
 //! Knows the maths; knows nothing of the GPU.
 
 pub mod accuracy;
@@ -18,9 +18,8 @@ pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
 pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
-    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis, RAxis,
-    Storage,
-    DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,
+    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis,
+    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
@@ -28,7 +27,7 @@ pub use rows::{bake_rows, Row, RowKey, RowSet};
 
 use crate::brdf::Geometry;
 
-/// The default estimator and its node count a segment, chosen by measurement (README,
+/// The default estimator and its node count a segment, chosen by measurement (docs/benchmarks.md,
 /// "Measured results"): the Chebyshev bake keeps every texel of every layout within about
 /// 1e-5 of the reference at a fixed cost of 425 quadratures a table.
 pub const DEFAULT_METHOD: Method = Method::Chebyshev;

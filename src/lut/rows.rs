@@ -5,7 +5,7 @@
 //!
 //! A shading-ball scene holds a few roughness values (the default scene five). A 2-D table
 //! answers every roughness by blending two rows, and its error is largest between rows
-//! (README, "Measured results": 1.1e-4 at 64 x 64). A row baked at the ball's own roughness
+//! (docs/benchmarks.md, "Measured results": 1.1e-4 at 64 x 64). A row baked at the ball's own roughness
 //! leaves only the read along mu: the shader reads it with the same `lut_loss_row` and a
 //! row weight of 0, and the ball's `1 - E_avg` is that row's integral as read, so the lobe
 //! restores exactly the energy the read E misses (`row_loss_avg_at` in `mod.rs`). Each

@@ -27,7 +27,7 @@ pub struct CameraBasis {
 }
 
 impl Camera {
-    /// The reference scene's camera (DESIGN.md section 4).
+    /// The reference scene's camera (docs/design.md section 4).
     pub fn reference() -> Self {
         Camera {
             position: DVec3::new(0.0, 80.0, 300.0),

@@ -1,4 +1,4 @@
-//! The scene: balls, lights, environment, camera and the render settings (DESIGN.md
+//! The scene: balls, lights, environment, camera and the render settings (docs/design.md
 //! sections 1 and 4), its TOML file format, and its validation. Knows nothing of wgpu.
 //!
 //! Conventions: world units are arbitrary (the reference scene uses the homework's), `+y`
@@ -31,7 +31,7 @@ pub const MAX_LIGHTS: usize = 16;
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
 
-/// Spacing of `grid = [row, col]` placements: the reference scene's layout (DESIGN.md
+/// Spacing of `grid = [row, col]` placements: the reference scene's layout (docs/design.md
 /// section 4): column 0 at x = 180, each column 80 to the left; row 0 at y = +60, each row
 /// 120 lower; z = 0.
 pub fn grid_position(row: u32, col: u32) -> DVec3 {
@@ -59,7 +59,7 @@ pub struct Material {
 }
 
 impl Material {
-    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2` (DESIGN.md
+    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2` (docs/design.md
     /// section 4: the homework's decoding).
     pub fn metal_srgb(albedo: [f64; 3]) -> Self {
         Material {
@@ -112,7 +112,7 @@ pub struct Scene {
     pub geometry: Geometry,
 }
 
-/// The reference scene's metal albedo (sRGB, DESIGN.md section 4).
+/// The reference scene's metal albedo (sRGB, docs/design.md section 4).
 pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
 /// Roughness per column of the reference scene (column 0 at x = 180).
 pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
@@ -120,7 +120,7 @@ pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
 pub const REFERENCE_RADIUS: f64 = 35.0;
 
 impl Scene {
-    /// The homework's scene (DESIGN.md section 4): two rows of five copper-coloured metal
+    /// The homework's scene (docs/design.md section 4): two rows of five copper-coloured metal
     /// balls, top row with the multiple-scattering term, one white light from +z.
     pub fn reference() -> Self {
         Scene {
@@ -133,12 +133,12 @@ impl Scene {
             camera: Camera::reference(),
             exposure: 1.0,
             preset: Preset::Accurate,
-            // The G closest to real multiple scattering (README, "How close to the truth").
+            // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
         }
     }
 
-    /// The white furnace (DESIGN.md section 4): the same balls with `F0 = 1`, no lights, a
+    /// The white furnace (docs/design.md section 4): the same balls with `F0 = 1`, no lights, a
     /// uniform white environment. With the term on, the balls vanish into the background.
     pub fn furnace() -> Self {
         let white = Material {

@@ -309,8 +309,7 @@ fn per_ball_read_equals_the_full_read() {
             layout,
             ..BakeConfig::default()
         });
-        let quads =
-            shadeballs::gpu::loss_quads(&t.stored_loss, layout.mu_size, layout.r_size);
+        let quads = shadeballs::gpu::loss_quads(&t.stored_loss, layout.mu_size, layout.r_size);
         for (mu, r) in random_points(500, 5)
             .into_iter()
             .chain([(0.0, 0.0), (1.0, 1.0)])

@@ -77,7 +77,7 @@ fn every_hit_pixel_is_inside_the_bounds() {
         "the bounds are almost never tight: the test sees nothing"
     );
     // The default scene's balls are small against the frame: their padded quads cover
-    // 14.4 % of it (README, "Planning"); 20 % leaves room for a changed pad, not for
+    // 14.4 % of it (docs/benchmarks.md, "Planning"); 20 % leaves room for a changed pad, not for
     // bounds that grew to the screen.
     let s = Scene::reference();
     let b = s.camera.basis(1280, 720);

@@ -10,7 +10,10 @@ use crate::pixels::compare;
 /// The example's binary beside this test binary (`cargo test` builds the examples).
 fn example_exe() -> PathBuf {
     let exe = std::env::current_exe().expect("test binary path");
-    let dir = exe.parent().and_then(|d| d.parent()).expect("target folder");
+    let dir = exe
+        .parent()
+        .and_then(|d| d.parent())
+        .expect("target folder");
     let path = dir.join("examples").join("bake_at_startup");
     assert!(
         path.exists(),
@@ -46,7 +49,10 @@ fn the_example_shades_the_ball_as_shadeballs_renders_it() {
         String::from_utf8_lossy(&out.stderr)
     );
     // It reports its startup cost: bake and upload.
-    assert!(stdout.contains("baked the tables") && stdout.contains("uploaded in"), "{stdout}");
+    assert!(
+        stdout.contains("baked the tables") && stdout.contains("uploaded in"),
+        "{stdout}"
+    );
     println!("{}", stdout.trim());
 
     let reference = dir.join("render.png");

@@ -3,7 +3,7 @@
 //!
 //! Bound: every channel within 1/255 of the golden and at most 0.01 % of pixels different
 //! at all. Lavapipe's output is bit-identical run to run, debug or release, any thread
-//! count (DESIGN.md section 6), so on the machine that wrote the goldens the difference is
+//! count (docs/design.md section 6), so on the machine that wrote the goldens the difference is
 //! 0; the slack absorbs a different Mesa/LLVM rounding a last bit. A changed model or table
 //! layout moves far more pixels and fails.
 //!

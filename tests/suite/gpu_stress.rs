@@ -162,7 +162,7 @@ struct Worst {
 const RELATIVE: [&str; 5] = ["d_ggx", "lambda_smith", "f_ms", "f_micro", "f_r"];
 
 /// The stated bounds of f32 (the shader, lavapipe) against f64 at the same f32 inputs:
-/// relative for [`RELATIVE`], absolute for the rest. Measured maxima (README,
+/// relative for [`RELATIVE`], absolute for the rest. Measured maxima (docs/reliability.md,
 /// "Reliability"): 2.0e-6 relative (`f_r`), 3.1e-7 absolute (`f_avg_games202`).
 const RELATIVE_BOUND: f64 = 4e-6;
 const ABSOLUTE_BOUND: f64 = 1e-6;

@@ -203,7 +203,7 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
 
 /// A row baked alone equals the 2-D bake's row at the same roughness within the Chebyshev
 /// series' own error, on every method's path (Chebyshev and per-texel quadrature): each
-/// bake is within 7.2e-7 of the precise E (README, "Baking"), so two of them within 2e-6
+/// bake is within 7.2e-7 of the precise E (docs/benchmarks.md, "Baking"), so two of them within 2e-6
 /// of each other.
 #[test]
 fn a_row_equals_the_table_row_at_its_roughness() {

@@ -1,4 +1,4 @@
-//! The fragment stage decides no control flow on a value read from a uniform buffer (README,
+//! The fragment stage decides no control flow on a value read from a uniform buffer (docs/benchmarks.md,
 //! "The term's cost"): lavapipe inlines such values and compiles the shader again at every
 //! pipeline bind, which cost about 2 ms a frame. A data-flow analysis over
 //! naga's IR marks values computable from uniform-buffer values and constants alone and

@@ -85,11 +85,7 @@ impl Kernel {
             label: Some("bench lookup"),
             source: wgpu::ShaderSource::Wgsl(lookup_source().into()),
         });
-        let constants = shaders::overrides(
-            tables.config.geometry,
-            false,
-            tables.layout().mu_axis,
-        );
+        let constants = shaders::overrides(tables.config.geometry, false, tables.layout().mu_axis);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("bench lookup"),
             layout: Some(&layout),

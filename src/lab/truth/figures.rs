@@ -1,5 +1,5 @@
 //! The study's PNG figures: albedo against mu and roughness, albedo error, lobe slices.
-//! Colours (also in the README): walk black, none grey (dashed), accurate green, games202
+//! Colours (also in docs/truth.md): walk black, none grey (dashed), accurate green, games202
 //! red, Turquin blue, Fdez-Aguera orange.
 
 use super::albedo::{Cell, FresnelKind};

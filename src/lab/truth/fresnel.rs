@@ -140,7 +140,7 @@ pub struct Metal {
 
 impl Metal {
     /// The homework's copper: F0 = the scene's sRGB albedo (0.7216, 0.451, 0.2) decoded with
-    /// pow 2.2 (DESIGN.md section 4), edge tint [`GAMES202_EDGE_TINT`].
+    /// pow 2.2 (docs/design.md section 4), edge tint [`GAMES202_EDGE_TINT`].
     pub fn copper() -> Self {
         Metal {
             name: "copper",
