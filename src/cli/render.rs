@@ -93,8 +93,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Wall time per phase since the previous mark, for the one-line report (`shadeballs
-/// bench` parses it: "name 12.3 ms, ..."; "encode" is the image file's encoding and write).
+/// Wall time per phase since the previous mark, for the one-line report ("name 12.3 ms,
+/// ..."; "encode" is the image file's encoding and write). For people: nothing parses it.
 struct Phases(Instant, String);
 
 impl Phases {

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use shadeballs::brdf::Geometry;
 use shadeballs::lab::bench::exact::exact_tables;
-use shadeballs::lab::bench::{bake_errors, display_error, lookup, parse_phases, HOMEWORK};
+use shadeballs::lab::bench::{bake_errors, display_error, lookup, HOMEWORK};
 use shadeballs::lut::{self, e_avg_reference, e_reference, BakeConfig, Method};
 use shadeballs::scene::Scene;
 
@@ -225,14 +225,6 @@ fn display_error_counts_in_255ths() {
     let expect = 255.0
         * (shadeballs::display::tone_map(1.0, 1.0) - shadeballs::display::tone_map(0.25, 1.0));
     assert!((max - expect).abs() < 1e-9 && (mean - expect / 12.0).abs() < 1e-9);
-}
-
-#[test]
-fn startup_line_parses() {
-    let line = "rendered 1280x720 (accurate preset, schlick G) on llvmpipe (Vulkan) in 123.0 ms \
-                (device 45.4 ms, bake 1.5 ms, pipeline 7.3 ms, render 60.8 ms, encode 8.0 ms) -> x.png";
-    assert_eq!(parse_phases(line), Some([45.4, 1.5, 7.3, 60.8, 8.0]));
-    assert_eq!(parse_phases("rendered in 3 ms (device 1 ms)"), None);
 }
 
 #[test]

@@ -26,7 +26,6 @@ use std::time::Instant;
 pub use bake::{bake_errors, homework_config, HOMEWORK};
 pub use render::{close_up, display_error};
 pub use render_sweep::no_term;
-pub use startup::parse_phases;
 pub use table::Table;
 
 use crate::error::{Error, Result};

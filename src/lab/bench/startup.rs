@@ -2,10 +2,10 @@
 //! render (draw and readback) and encode (PNG encoding and write).
 //!
 //! The process row runs `shadeballs render` as a child process, as a user does, and takes
-//! the wall time from spawn to exit in this process and the phase split from the line the
-//! child prints (`render_cmd.rs`). The in-process rows run the same phases in this process
-//! with a fresh device each time, for the default bake and for the homework's bake (its
-//! lut-gen run at startup: the peer row).
+//! only the wall time from spawn to exit (the child's stderr is for people, not parsed
+//! here). The in-process rows time each phase with the library's own calls, with a fresh
+//! device each time, for the default bake and for the homework's bake (its lut-gen run at
+//! startup: the peer row).
 
 use std::path::Path;
 use std::process::Command;
@@ -18,7 +18,7 @@ use crate::lut::{self, BakeConfig};
 use crate::output::write_png;
 use crate::scene::Scene;
 
-/// Phase names, in order, as `shadeballs render` prints them.
+/// Phase names, in order (the names `shadeballs render` reports too).
 pub const PHASES: [&str; 5] = ["device", "bake", "pipeline", "render", "encode"];
 
 /// One startup: the total and each phase, in ms.
@@ -28,20 +28,8 @@ pub struct Startup {
     pub phases_ms: [f64; 5],
 }
 
-/// Reads "device 45.4 ms, bake 1.5 ms, ..." from `shadeballs render`'s report line.
-pub fn parse_phases(line: &str) -> Option<[f64; 5]> {
-    let mut out = [f64::NAN; 5];
-    for (k, name) in PHASES.iter().enumerate() {
-        let at = line.find(&format!("{name} "))? + name.len() + 1;
-        let rest = &line[at..];
-        let end = rest.find(" ms")?;
-        out[k] = rest[..end].trim().parse().ok()?;
-    }
-    Some(out)
-}
-
-/// Runs `exe render --out DIR/startup.png` once.
-pub fn process(exe: &Path, dir: &Path) -> Result<Startup> {
+/// Runs `exe render --out DIR/startup.png` once: its wall time from spawn to exit, in ms.
+pub fn process(exe: &Path, dir: &Path) -> Result<f64> {
     let out = dir.join("startup.png");
     let start = Instant::now();
     let result = Command::new(exe)
@@ -53,21 +41,17 @@ pub fn process(exe: &Path, dir: &Path) -> Result<Startup> {
             message: format!("cannot run '{}': {e}", exe.display()),
         })?;
     let total_ms = start.elapsed().as_secs_f64() * 1e3;
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    let line = stderr.lines().find(|l| l.starts_with("rendered "));
-    match (result.status.success(), line.and_then(parse_phases)) {
-        (true, Some(phases_ms)) => Ok(Startup {
-            total_ms,
-            phases_ms,
-        }),
-        _ => Err(Error::Invalid {
+    if result.status.success() && out.exists() {
+        Ok(total_ms)
+    } else {
+        Err(Error::Invalid {
             what: "startup run",
             message: format!(
-                "'{} render' failed or printed no timing line: {}",
+                "'{} render' failed: {}",
                 exe.display(),
-                stderr.trim()
+                String::from_utf8_lossy(&result.stderr).trim()
             ),
-        }),
+        })
     }
 }
 
@@ -157,32 +141,39 @@ fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
         r.push(format!("{:.1}%", 100.0 * s.phases_ms[1] / s.total_ms));
         r
     };
-    let process_runs = (0..runs)
+    let mut process_runs = (0..runs)
         .map(|_| process(exe, dir))
         .collect::<Result<Vec<_>>>()?;
-    let worst = process_runs.iter().map(|s| s.total_ms).fold(0.0, f64::max);
-    let p = median(&process_runs);
+    let worst = process_runs.iter().copied().fold(0.0, f64::max);
+    let process_ms = super::median(&mut process_runs);
     let hw = (0..runs)
         .map(|_| in_process(&homework_config(crate::brdf::Geometry::Schlick), dir))
         .collect::<Result<Vec<_>>>()?;
     t.push(row(HOMEWORK, "in process", &median(&hw)));
-    t.push(row("default", "process (shadeballs render)", &p));
-    let ours = (0..runs)
-        .map(|_| in_process(&BakeConfig::default(), dir))
-        .collect::<Result<Vec<_>>>()?;
-    t.push(row("-", "in process", &median(&ours)));
+    let mut process_row = vec![
+        "default".to_string(),
+        "process (shadeballs render)".to_string(),
+        format!("{process_ms:.1}"),
+    ];
+    process_row.extend(["-"; 6].map(String::from));
+    t.push(process_row);
+    let ours = median(
+        &(0..runs)
+            .map(|_| in_process(&BakeConfig::default(), dir))
+            .collect::<Result<Vec<_>>>()?,
+    );
+    t.push(row("default", "in process", &ours));
     t.note = format!(
-        "Medians of {runs} runs each. 'process': `shadeballs render` spawned by the bench, total = spawn to exit as this process sees it (its slowest run: {worst:.0} ms), phases as the child reports them (a new shader compiles on the first run after a build; Mesa's disk cache serves later runs). 'in process': the same phases with a fresh device per run."
+        "Medians of {runs} runs each. 'process': `shadeballs render` spawned by the bench, total = spawn to exit as this process sees it (its slowest run: {worst:.0} ms; a new shader compiles on the first run after a build, Mesa's disk cache serves later runs). 'in process': the phases, timed with the library's calls, with a fresh device per run."
     );
     let goal = Goal {
         what: "startup to the first PNG <= 1 s, the bake a small share".into(),
         figure: format!(
-            "{:.0} ms (bake {:.1} ms, {:.1}%)",
-            p.total_ms,
-            p.phases_ms[1],
-            100.0 * p.phases_ms[1] / p.total_ms
+            "{process_ms:.0} ms (bake {:.1} ms, {:.1}% in process)",
+            ours.phases_ms[1],
+            100.0 * ours.phases_ms[1] / ours.total_ms
         ),
-        met: p.total_ms <= 1000.0 && p.phases_ms[1] <= 0.1 * p.total_ms,
+        met: process_ms <= 1000.0 && ours.phases_ms[1] <= 0.1 * ours.total_ms,
     };
     Ok(super::Sweep {
         tables: vec![t],
