@@ -83,8 +83,9 @@ pub fn parse_named<T: Copy>(
         })
 }
 
-/// Implements `FromStr` and `Display` for an enum with `ALL` and `name()`, so the CLI and
-/// scene files parse the same names the program prints.
+/// Implements `FromStr` and `Display` for an enum with `ALL` and `name()`, so scene files
+/// parse the same names the program prints (the command line's `clap::ValueEnum` impls,
+/// `value_enum!` in `cli/args.rs`, take the same `ALL` and `name()`).
 #[macro_export]
 macro_rules! named_enum {
     ($ty:ty, $what:literal) => {

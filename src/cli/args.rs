@@ -3,7 +3,8 @@
 //! names around these; they live in the library so that tests parse argv in-process with
 //! exactly the binary's rules (`clap::Args::augment_args` and `FromArgMatches`), and fuzz
 //! them without starting a process per case. Values are checked here, so a bad flag is one
-//! clear line from clap before any work starts.
+//! clear line from clap before any work starts. The values a named flag accepts come from
+//! its enum (`ALL` and `name()`, through `value_enum!`): help text never lists them by hand.
 
 use std::path::PathBuf;
 
@@ -11,8 +12,29 @@ use clap::error::ErrorKind;
 
 use crate::brdf::Geometry;
 use crate::gpu::Backend;
+use crate::lab::bench::SweepKind;
 use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
 use crate::scene::Preset;
+
+/// Implements [`clap::ValueEnum`] for enums with `ALL` and `name()` (the names `FromStr`
+/// parses, see `named_enum!`): clap parses the flag, prints `[possible values: ...]` in
+/// `--help` and names the choices when a value is wrong. A variant added to `ALL` is a new
+/// value without any change here. (The impls live in the command line, so the library
+/// builds without clap.)
+macro_rules! value_enum {
+    ($($ty:ty),+ $(,)?) => {$(
+        impl clap::ValueEnum for $ty {
+            fn value_variants<'a>() -> &'a [Self] {
+                &<$ty>::ALL
+            }
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                Some(clap::builder::PossibleValue::new(self.name()))
+            }
+        }
+    )+};
+}
+
+value_enum!(Geometry, Method, PointSet, LayoutKind, Storage, Preset, Backend, SweepKind);
 
 #[derive(clap::Args)]
 pub struct BakeArgs {
@@ -22,22 +44,22 @@ pub struct BakeArgs {
     /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.
     #[arg(long, value_parser = parse_size, allow_negative_numbers = true)]
     pub size: Option<(usize, usize)>,
-    /// Masking-shadowing term: schlick, smith or smith-correlated.
+    /// Masking-shadowing term.
     #[arg(long, default_value_t = Geometry::Schlick)]
     pub geometry: Geometry,
-    /// Estimator: cosine, ndf, vndf or quadrature.
+    /// Estimator of E(mu, roughness).
     #[arg(long, default_value_t = lut::DEFAULT_METHOD)]
     pub method: Method,
     /// Samples per texel (Monte Carlo) or Gauss-Legendre nodes per segment (quadrature).
     #[arg(long, default_value_t = lut::DEFAULT_SAMPLES as u32, value_parser = clap::value_parser!(u32).range(1..=1_000_000), allow_negative_numbers = true)]
     pub samples: u32,
-    /// Point set for Monte Carlo methods: random, hammersley or sobol.
+    /// Point set for the Monte Carlo methods.
     #[arg(long, default_value_t = PointSet::Sobol)]
     pub points: PointSet,
-    /// Table layout: warped (default), sqrt-mu or games202 (the homework's).
+    /// Table layout (games202: the homework's).
     #[arg(long, default_value_t = LayoutKind::Warped)]
     pub layout: LayoutKind,
-    /// Storage format the GPU will read: f32, f16 or unorm8. Default: the layout's.
+    /// Storage format the GPU will read (default: the layout's).
     #[arg(long)]
     pub storage: Option<Storage>,
 }
@@ -50,13 +72,12 @@ pub struct BenchArgs {
     /// Folder for the CSV files, plots (PNG) and summary.md.
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
-    /// Only the CPU sweeps (bake, plan, read): for a machine without a GPU driver.
+    /// Only the sweeps that need no GPU: for a machine without a GPU driver.
     #[arg(long)]
     pub cpu_only: bool,
-    /// Only these sweeps, comma-separated: bake, plan, read, lookup, render, startup
-    /// (default: all).
+    /// Only these sweeps, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
-    pub only: Vec<crate::lab::bench::SweepKind>,
+    pub only: Vec<SweepKind>,
 }
 
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
@@ -65,11 +86,12 @@ pub struct SceneArgs {
     /// Scene file (TOML); default: the built-in reference scene.
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// accurate or games202 (default: the scene's, else accurate).
+    /// Model preset: which Fresnel average and f_add form (default: the scene's, else
+    /// accurate).
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// Masking-shadowing term for the accurate preset: schlick, smith or smith-correlated
-    /// (default: the scene's; the built-in scenes use smith-correlated).
+    /// Masking-shadowing term for the accurate preset (default: the scene's; the built-in
+    /// scenes use smith-correlated).
     #[arg(long)]
     pub geometry: Option<Geometry>,
 }
@@ -100,7 +122,8 @@ pub struct RenderArgs {
     /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
     #[arg(long, default_value = "shading_balls.png")]
     pub out: PathBuf,
-    /// auto, vulkan, gl or cpu.
+    /// Where to render: a GPU backend (auto: any adapter, else the CPU), or the CPU
+    /// reference renderer.
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
     /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
@@ -116,11 +139,13 @@ pub struct ProbeArgs {
     /// Grid side N (mu = i/(N-1), roughness = j/(N-1)).
     #[arg(long, default_value_t = 65, allow_negative_numbers = true)]
     pub grid: u32,
+    /// Model preset: which Fresnel average and f_add form.
     #[arg(long, default_value_t = Preset::Accurate)]
     pub preset: Preset,
+    /// Masking-shadowing term.
     #[arg(long, default_value_t = Geometry::Schlick)]
     pub geometry: Geometry,
-    /// vulkan, gl or auto (the probe needs a GPU).
+    /// GPU backend (the probe needs a GPU: cpu means vulkan).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
     /// Probe along this scene's own rows (one per roughness its plan bakes; mu = i/(N-1))
@@ -151,7 +176,7 @@ pub struct ViewArgs {
     /// orbiting).
     #[arg(long, requires = "frames")]
     pub orbit: bool,
-    /// vulkan, gl or auto (the viewer needs a GPU).
+    /// GPU backend (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
 }

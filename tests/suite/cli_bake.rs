@@ -59,7 +59,7 @@ fn bake_rejects_bad_input_with_one_clear_line() {
         (&["bake", "--out", "t.csv", "--samples", "0"], "--samples"),
         (
             &["bake", "--out", "t.csv", "--geometry", "beckmann"],
-            "expected one of schlick, smith, smith-correlated",
+            "[possible values: schlick, smith, smith-correlated]",
         ),
         (&["bake", "--out", "t.txt"], "use .csv, .exr or .png"),
         (&["bake", "--out", "/no/such/folder/t.csv"], "cannot write"),

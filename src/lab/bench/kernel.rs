@@ -1,11 +1,54 @@
-//! The compiled lookup kernel of [`super::lookup`]: pipeline, bind groups and buffers for
-//! up to [`INVOCATIONS`] invocations, and one timed dispatch.
+//! The compiled kernel the lookup sweep times (`lookup.rs`): its shader (the common files
+//! and `lookup.wgsl`), its entry points ([`Filter`]), and the pipeline, bind groups and
+//! buffers for up to [`INVOCATIONS`] invocations, with one timed dispatch.
 
 use super::device::{self, buffer, entry, loss_texture, texture};
-use super::lookup::{lookup_source, Filter, INVOCATIONS};
 use crate::error::{Error, Result};
 use crate::gpu::{shaders, uniforms, Gpu};
 use crate::lut::Tables;
+
+/// Invocations of a timed dispatch.
+pub const INVOCATIONS: u32 = 1 << 16;
+
+/// How the read filters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    /// No read: the loop's own cost.
+    None,
+    /// `lut_loss`: one `textureLoad` of a 2x2 block and three lerps in f32 (the renderer's
+    /// read).
+    Manual,
+    /// One `textureSampleLevel` with a linear, clamp-to-edge sampler.
+    Hardware,
+}
+
+impl Filter {
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::None => "none",
+            Filter::Manual => "manual",
+            Filter::Hardware => "hardware",
+        }
+    }
+
+    pub fn entry_point(self) -> &'static str {
+        match self {
+            Filter::None => "lookup_none",
+            Filter::Manual => "lookup_manual",
+            Filter::Hardware => "lookup_filtered",
+        }
+    }
+}
+
+/// The lookup module: the common files and `lookup.wgsl`.
+pub fn lookup_source() -> String {
+    shaders::COMMON
+        .iter()
+        .map(|(_, src)| *src)
+        .chain([include_str!("lookup.wgsl")])
+        .collect::<Vec<_>>()
+        .join("\n")
+}
 
 /// A compiled lookup pipeline with its bind groups and buffers (for up to
 /// [`INVOCATIONS`] invocations).

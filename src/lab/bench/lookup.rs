@@ -8,46 +8,15 @@
 //! `lookup_none` row does the same loop without the read. Error: one read per invocation
 //! read back and compared with the precise reference at the same points.
 
+pub use super::kernel::{lookup_source, Filter, INVOCATIONS};
+
 use super::device::filterable;
 use super::kernel::Kernel;
 use super::median_ms;
 use crate::error::{Error, Result};
-use crate::gpu::{shaders, Gpu};
+use crate::gpu::Gpu;
 use crate::lut::accuracy::{ErrorStats, ReferencePoints};
 use crate::lut::Tables;
-
-/// Invocations of a timed dispatch.
-pub const INVOCATIONS: u32 = 1 << 16;
-
-/// How the read filters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Filter {
-    /// No read: the loop's own cost.
-    None,
-    /// `lut_loss`: one `textureLoad` of a 2x2 block and three lerps in f32 (the renderer's
-    /// read).
-    Manual,
-    /// One `textureSampleLevel` with a linear, clamp-to-edge sampler.
-    Hardware,
-}
-
-impl Filter {
-    pub fn name(self) -> &'static str {
-        match self {
-            Filter::None => "none",
-            Filter::Manual => "manual",
-            Filter::Hardware => "hardware",
-        }
-    }
-
-    pub fn entry_point(self) -> &'static str {
-        match self {
-            Filter::None => "lookup_none",
-            Filter::Manual => "lookup_manual",
-            Filter::Hardware => "lookup_filtered",
-        }
-    }
-}
 
 /// PCG hash, as `pcg_hash` in `lookup.wgsl`.
 pub fn pcg_hash(v: u32) -> u32 {
@@ -128,14 +97,4 @@ pub fn shader_points(n: u32) -> Vec<(f64, f64)> {
             (mu as f64, r as f64)
         })
         .collect()
-}
-
-/// The lookup module: the common files and `lookup.wgsl`.
-pub fn lookup_source() -> String {
-    shaders::COMMON
-        .iter()
-        .map(|(_, src)| *src)
-        .chain([include_str!("lookup.wgsl")])
-        .collect::<Vec<_>>()
-        .join("\n")
 }
