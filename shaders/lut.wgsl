@@ -10,10 +10,9 @@
 // Every function takes the tables and their LutParams as arguments (GpuTables in
 // src/gpu/upload.rs makes both), so a host program's shader can call them.
 //
-// No control flow here depends on LutParams, only select: a pipeline whose parameters come
-// from a uniform buffer would otherwise be recompiled by lavapipe at every bind (Mesa 22.3
-// inlines uniform values that decide an if or a loop exit; docs/benchmarks.md, "The term's
-// cost").
+// No control flow here depends on LutParams, only select: a lavapipe workaround, explained
+// once at loop_counts in balls.wgsl (a uniform value that decides an if is inlined and the
+// pipeline compiled again at every bind).
 
 struct LutSpan {
     i0: u32,
