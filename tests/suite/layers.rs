@@ -9,8 +9,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 10] = [
-    "crate", "brdf", "lut", "scene", "gpu", "cpu", "display", "output", "stats", "error",
+const LIBRARY: [&str; 11] = [
+    "crate", "brdf", "lut", "scene", "gpu", "cpu", "display", "output", "stats", "error", "wgsl",
 ];
 
 /// Each top-level module (`crate`: lib.rs itself) and the top-level modules it must not
