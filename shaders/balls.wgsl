@@ -3,7 +3,7 @@
 // Each pixel casts its primary ray and intersects every ball analytically (exact spheres,
 // no tessellation); the nearest hit wins, so overlapping balls need no depth buffer. Two
 // ways to cover the pixels:
-// - vs_ball / fs_ball (the planned renderer, src/gpu/draw.rs): one quad per ball over
+// - vs_ball / fs_ball (the planned renderer, src/gpu/renderer.rs): one quad per ball over
 //   its screen-space bounds (CameraBasis::sphere_bounds), instanced per shader variant; a
 //   fragment shades only where its own ball is the nearest hit and discards elsewhere;
 //   the background is the render pass's clear. Only the pixels a ball covers are shaded.
@@ -159,7 +159,7 @@ fn ball_of(in: BallOut) -> Ball {
 }
 
 // One corner of ball `ball`'s quad per vertex (two triangles, vertices 0..6): `rect` is its
-// bounds in NDC, [x0, y0, x1, y1] (src/gpu/draw.rs encode, one instance per ball).
+// bounds in NDC, [x0, y0, x1, y1] (src/gpu/renderer.rs encode, one instance per ball).
 @vertex
 fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @location(1) ball: u32) -> BallOut {
     // Corners (0,0) (1,0) (0,1) (0,1) (1,0) (1,1), as 2-bit codes x + 2y packed in a u32.

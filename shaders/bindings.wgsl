@@ -1,5 +1,5 @@
 // bindings.wgsl: group 0, shared by the ball renderer and the table probe
-// (src/gpu/resources.rs creates the matching layout).
+// (src/gpu/bindings.rs creates the matching layout).
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<uniform> balls: array<Ball, MAX_BALLS>;

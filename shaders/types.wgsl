@@ -14,7 +14,7 @@ override GEOMETRY: u32;
 override MU_AXIS: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
-// The multiple-scattering term (src/scene/plan.rs TermMode): 0: compiled out (no E read
+// The multiple-scattering term (src/gpu/plan.rs TermMode): 0: compiled out (no E read
 // for it), the same image as every flag off; 1 (default): a branch on each ball's flag (one
 // pipeline for every ball); 2: compiled in for every ball the pipeline draws (the planned
 // renderer draws the balls with the term with it, those without with 0).

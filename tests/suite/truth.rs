@@ -1,4 +1,4 @@
-//! The ground-truth random walk (src/truth): its single scattering is the baker's E with
+//! The ground-truth random walk (src/lab/truth): its single scattering is the baker's E with
 //! height-correlated Smith G, its white albedo is 1, and `shadeballs truth` writes
 //! well-formed files.
 

@@ -1,6 +1,6 @@
 // lookup.wgsl (the lab's): what one read of the E table costs and returns, the shader's own
 // manual bilinear read (lut_loss of lut.wgsl, four textureLoad) against the sampler's
-// hardware filtering of the same texels (`shadeballs bench`, src/bench/lookup.rs).
+// hardware filtering of the same texels (`shadeballs bench`, src/lab/bench/kernel.rs).
 // Concatenated after the common files; uses `globals` (table dims) and `e_table`.
 
 // x: reads per invocation; y: invocation count.
@@ -10,7 +10,7 @@
 // Per invocation: the sum of its reads of 1 - E.
 @group(1) @binding(3) var<storage, read_write> lookup_out: array<f32>;
 
-// PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering"); src/bench/lookup.rs
+// PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering"); src/lab/bench/kernel.rs
 // pcg_hash computes the same points on the CPU.
 fn pcg_hash(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;
