@@ -41,6 +41,17 @@ pub enum MuAxis {
 }
 
 impl MuAxis {
+    pub const ALL: [MuAxis; 3] = [MuAxis::Linear, MuAxis::Sqrt, MuAxis::Warped];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            MuAxis::Linear => "linear",
+            MuAxis::Sqrt => "sqrt",
+            MuAxis::Warped => "warped",
+        }
+    }
+
     /// The coordinate of `mu`, in f32 as the shader computes it (`mu_coord` in
     /// `shaders/lut.wgsl`); `alpha` is the clamped alpha of the read. `mu + alpha >= alpha_min
     /// > 0`, so the warp never divides by zero.
@@ -98,6 +109,16 @@ pub enum EAvgRead {
 }
 
 impl EAvgRead {
+    pub const ALL: [EAvgRead; 2] = [EAvgRead::Linear, EAvgRead::PowerLaw];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            EAvgRead::Linear => "linear",
+            EAvgRead::PowerLaw => "power-law",
+        }
+    }
+
     /// The id the shader switches on (`E_AVG_READ_*` in `shaders/lut.wgsl`).
     pub fn id(self) -> u32 {
         match self {
@@ -137,6 +158,18 @@ impl RAxis {
 pub enum Centres {
     Endpoints,
     HalfTexel,
+}
+
+impl Centres {
+    pub const ALL: [Centres; 2] = [Centres::Endpoints, Centres::HalfTexel];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            Centres::Endpoints => "endpoints",
+            Centres::HalfTexel => "half-texel",
+        }
+    }
 }
 
 /// How texel values are stored on the GPU.
@@ -188,20 +221,36 @@ pub enum LayoutKind {
     SqrtMu,
     /// The homework's: linear mu and roughness, centres at `(i + 0.5) / n`, 128 x 128, 8 bit.
     Games202,
+    /// For engines that will not port our read: linear mu, roughness linear over `[0, 1]`,
+    /// texel centres on the end points, f32, E_avg read linearly; a plain bilinear
+    /// `textureSample` with clamp-to-edge at `uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M)`
+    /// reads it ([`super::plain`]). Its default size ([`UNIFORM_MU_SIZE`] x
+    /// [`UNIFORM_R_SIZE`]) is the smallest whose plain read stays within 1e-3 of the
+    /// reference at roughness >= 0.1.
+    Uniform,
 }
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 3] = [LayoutKind::Warped, LayoutKind::SqrtMu, LayoutKind::Games202];
+    pub const ALL: [LayoutKind; 4] = [
+        LayoutKind::Warped,
+        LayoutKind::SqrtMu,
+        LayoutKind::Games202,
+        LayoutKind::Uniform,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             LayoutKind::Warped => "warped",
             LayoutKind::SqrtMu => "sqrt-mu",
             LayoutKind::Games202 => "games202",
+            LayoutKind::Uniform => "uniform",
         }
     }
 }
 
+crate::named_enum!(MuAxis, "mu axis");
+crate::named_enum!(EAvgRead, "E_avg read");
+crate::named_enum!(Centres, "texel-centre convention");
 crate::named_enum!(Storage, "storage");
 crate::named_enum!(LayoutKind, "layout");
 
@@ -222,6 +271,16 @@ pub struct Layout {
 /// read-path error within max 1e-3 and mean 1e-4 (see README, "Measured results").
 pub const DEFAULT_MU_SIZE: usize = 64;
 pub const DEFAULT_R_SIZE: usize = 64;
+
+/// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness), chosen by
+/// measurement (`tests/suite/ktx2.rs`): the smallest, on a lattice of 64 texels along mu and
+/// 4 rows, whose plain bilinear read ([`super::plain`], f32 weights) stays within 1e-3 of the
+/// reference over mu in `[0, 1]` and roughness in `[0.1, 1]` for Schlick and height-correlated
+/// Smith G (max 9.75e-4, Schlick). The error lives at grazing mu and roughness 0.1, where a
+/// linear mu axis needs texels 4.6e-4 apart: 2112 x 100 or 2176 x 96 reach 1.03e-3 and 1.19e-3;
+/// 2048 x 128, 1.07e-3. 1.7 MB as R32G32_SFLOAT.
+pub const UNIFORM_MU_SIZE: usize = 2176;
+pub const UNIFORM_R_SIZE: usize = 100;
 
 impl Default for Layout {
     fn default() -> Self {
@@ -260,6 +319,17 @@ impl Layout {
                 mu_size: 128,
                 r_size: 128,
                 storage: Storage::Unorm8,
+            },
+            LayoutKind::Uniform => Layout {
+                kind,
+                mu_axis: MuAxis::Linear,
+                r_axis: RAxis::Full,
+                // What a plain bilinear read of the second channel does.
+                e_avg_read: EAvgRead::Linear,
+                centres: Centres::Endpoints,
+                mu_size: UNIFORM_MU_SIZE,
+                r_size: UNIFORM_R_SIZE,
+                storage: Storage::F32,
             },
         }
     }
