@@ -7,6 +7,7 @@ mod chebyshev;
 mod estimators;
 mod integrand;
 pub mod io;
+pub mod ktx2;
 mod layout;
 pub mod plain;
 mod quadrature;
