@@ -15,6 +15,7 @@ mod golden;
 mod gpu_eval;
 mod gpu_faults;
 mod gpu_stress;
+mod ktx2;
 mod lut;
 mod lut_chebyshev;
 mod pixels;
