@@ -1,4 +1,5 @@
-//! Writing baked tables: `.csv` (one row per texel), `.exr` (f32), `.png` (16 bit).
+//! Writing baked tables: `.csv` (one row per texel), `.exr` (f32), `.png` (16 bit), and
+//! `.ktx2`, the texture the shader reads, for other programs ([`super::ktx2`]).
 //!
 //! Image files hold both tables in one picture, `mu_size` wide and `r_size` tall, row `j` =
 //! roughness texel `j` (top row = roughness 0): red = E(mu, r), green = E_avg(r) repeated
@@ -19,9 +20,10 @@ pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
         "csv" => write_atomic(path, tables_csv(tables).as_bytes()),
         "exr" => write_image(path, &tables_image_f32(tables), ImageFormat::OpenExr),
         "png" => write_image(path, &tables_image_u16(tables), ImageFormat::Png),
+        "ktx2" => write_atomic(path, &super::ktx2::encode_tables(tables)?),
         _ => Err(Error::Format {
             path: path.to_path_buf(),
-            expected: "use .csv, .exr or .png",
+            expected: "use .csv, .exr or .png, or .ktx2 (the texture the shader reads)",
         }),
     }
 }

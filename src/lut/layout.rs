@@ -41,6 +41,17 @@ pub enum MuAxis {
 }
 
 impl MuAxis {
+    pub const ALL: [MuAxis; 3] = [MuAxis::Linear, MuAxis::Sqrt, MuAxis::Warped];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            MuAxis::Linear => "linear",
+            MuAxis::Sqrt => "sqrt",
+            MuAxis::Warped => "warped",
+        }
+    }
+
     /// The coordinate of `mu`, in f32 as the shader computes it (`mu_coord` in
     /// `shaders/lut.wgsl`); `alpha` is the clamped alpha of the read. `mu + alpha >= alpha_min
     /// > 0`, so the warp never divides by zero.
@@ -98,6 +109,16 @@ pub enum EAvgRead {
 }
 
 impl EAvgRead {
+    pub const ALL: [EAvgRead; 2] = [EAvgRead::Linear, EAvgRead::PowerLaw];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            EAvgRead::Linear => "linear",
+            EAvgRead::PowerLaw => "power-law",
+        }
+    }
+
     /// The id the shader switches on (`E_AVG_READ_*` in `shaders/lut.wgsl`).
     pub fn id(self) -> u32 {
         match self {
@@ -137,6 +158,18 @@ impl RAxis {
 pub enum Centres {
     Endpoints,
     HalfTexel,
+}
+
+impl Centres {
+    pub const ALL: [Centres; 2] = [Centres::Endpoints, Centres::HalfTexel];
+
+    /// The name in files (the KTX2 layout text).
+    pub fn name(self) -> &'static str {
+        match self {
+            Centres::Endpoints => "endpoints",
+            Centres::HalfTexel => "half-texel",
+        }
+    }
 }
 
 /// How texel values are stored on the GPU.
@@ -188,20 +221,36 @@ pub enum LayoutKind {
     SqrtMu,
     /// The homework's: linear mu and roughness, centres at `(i + 0.5) / n`, 128 x 128, 8 bit.
     Games202,
+    /// For engines that will not port our read: linear mu, roughness linear over `[0, 1]`,
+    /// texel centres on the end points, f32, E_avg read linearly; a plain bilinear
+    /// `textureSample` with clamp-to-edge at `uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M)`
+    /// reads it ([`super::plain`]). Its default size ([`UNIFORM_MU_SIZE`] x
+    /// [`UNIFORM_R_SIZE`]) keeps a plain read within 1e-3 of the reference at roughness
+    /// >= 0.1, with f32 or 8-bit filter weights.
+    Uniform,
 }
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 3] = [LayoutKind::Warped, LayoutKind::SqrtMu, LayoutKind::Games202];
+    pub const ALL: [LayoutKind; 4] = [
+        LayoutKind::Warped,
+        LayoutKind::SqrtMu,
+        LayoutKind::Games202,
+        LayoutKind::Uniform,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             LayoutKind::Warped => "warped",
             LayoutKind::SqrtMu => "sqrt-mu",
             LayoutKind::Games202 => "games202",
+            LayoutKind::Uniform => "uniform",
         }
     }
 }
 
+crate::named_enum!(MuAxis, "mu axis");
+crate::named_enum!(EAvgRead, "E_avg read");
+crate::named_enum!(Centres, "texel-centre convention");
 crate::named_enum!(Storage, "storage");
 crate::named_enum!(LayoutKind, "layout");
 
@@ -222,6 +271,17 @@ pub struct Layout {
 /// read-path error within max 1e-3 and mean 1e-4 (see docs/benchmarks.md, "Measured results").
 pub const DEFAULT_MU_SIZE: usize = 64;
 pub const DEFAULT_R_SIZE: usize = 64;
+
+/// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness), chosen by
+/// measurement (`tests/suite/ktx2.rs`): a plain bilinear read ([`super::plain`]) stays
+/// within 1e-3 of the reference over mu in `[0, 1]` and roughness in `[0.1, 1]` for Schlick
+/// and height-correlated Smith G, with f32 filter weights and with the 8-bit fractional
+/// weights of real GPUs' samplers. The error lives at grazing mu and roughness 0.1, where a
+/// linear mu axis needs texels 4.6e-4 apart, and between rows there. With f32 weights
+/// 2176 x 100 is enough (9.75e-4, Schlick) but 8-bit weights take it to 1.02e-3; 2304 x 112
+/// leaves a margin for both. 2.1 MB as R32G32_SFLOAT.
+pub const UNIFORM_MU_SIZE: usize = 2304;
+pub const UNIFORM_R_SIZE: usize = 112;
 
 impl Default for Layout {
     fn default() -> Self {
@@ -260,6 +320,17 @@ impl Layout {
                 mu_size: 128,
                 r_size: 128,
                 storage: Storage::Unorm8,
+            },
+            LayoutKind::Uniform => Layout {
+                kind,
+                mu_axis: MuAxis::Linear,
+                r_axis: RAxis::Full,
+                // What a plain bilinear read of the second channel does.
+                e_avg_read: EAvgRead::Linear,
+                centres: Centres::Endpoints,
+                mu_size: UNIFORM_MU_SIZE,
+                r_size: UNIFORM_R_SIZE,
+                storage: Storage::F32,
             },
         }
     }
