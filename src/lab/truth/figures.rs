@@ -5,7 +5,7 @@
 use super::albedo::{Cell, FresnelKind};
 use super::compare::{Comparison, MODELS};
 use super::lobes::{LobePoint, Slice};
-use super::plot::{Figure, Panel, Series};
+use crate::lab::plot::{Figure, Panel, Series, Style};
 
 const WALK: [u8; 3] = [0, 0, 0];
 /// The walk's two-standard-error band.
@@ -22,9 +22,9 @@ const COLOURS: [[u8; 3]; 5] = [
 fn series(label: &str, color: [u8; 3], dashed: bool, points: Vec<(f64, f64)>) -> Series {
     Series {
         label: label.to_uppercase(),
-        color,
-        dashed,
         points,
+        colour: Some(color),
+        style: if dashed { Style::Dashed } else { Style::Line },
     }
 }
 
