@@ -1,5 +1,7 @@
 //! The measurement lab (feature `lab`): the benchmark harness ([`mod@bench`]) and the
-//! random-walk truth study ([`truth`]). It imports the library; the library never imports it.
+//! random-walk truth study ([`truth`]), with their PNG plots ([`plot`]). It imports the
+//! library; the library never imports it.
 
 pub mod bench;
+pub mod plot;
 pub mod truth;

@@ -3,10 +3,10 @@
 //! Every error is against [`ReferenceTables`], the adaptive Gauss-Kronrod reference at the
 //! same texels ([`bake_errors`]), never against another estimator.
 
-use super::plot::{Plot, Series};
 use super::table::{sci, Table};
 use super::{median_ms, Goal, Sweep};
 use crate::brdf::Geometry;
+use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::accuracy::{ErrorStats, ReferenceTables};
 use crate::lut::{self, BakeConfig, Layout, LayoutKind, Method, PointSet, Tables};
 
@@ -179,7 +179,6 @@ pub fn bake_sweep(quick: bool) -> Sweep {
                 plot.series.push(Series {
                     label: method.to_string(),
                     points,
-                    peer: false,
                     ..Default::default()
                 });
             }
@@ -188,7 +187,7 @@ pub fn bake_sweep(quick: bool) -> Sweep {
     plot.series.push(Series {
         label: "homework (128x128)".into(),
         points: vec![hw_point],
-        peer: true,
+        style: Style::Peer,
         ..Default::default()
     });
     sweep.note = format!(
@@ -248,14 +247,13 @@ fn size_sweep(quick: bool, hw_row: &[String], hw_point: (f64, f64)) -> (Table, P
         plot.series.push(Series {
             label: format!("{method} ({samples})"),
             points,
-            peer: false,
             ..Default::default()
         });
     }
     plot.series.push(Series {
         label: "homework (128x128)".into(),
         points: vec![hw_point],
-        peer: true,
+        style: Style::Peer,
         ..Default::default()
     });
     t.note = format!("Sizes {sizes:?} (N x N); quadrature and chebyshev at {} nodes a segment; a method's time grows with the texel count unless it interpolates (chebyshev).", lut::DEFAULT_SAMPLES);

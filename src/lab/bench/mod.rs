@@ -13,7 +13,6 @@ pub mod exact;
 mod kernel;
 pub mod lookup;
 mod plan;
-pub mod plot;
 mod read;
 mod render;
 mod render_sweep;
@@ -29,6 +28,7 @@ pub use render_sweep::no_term;
 pub use table::Table;
 
 use crate::error::{Error, Result};
+use crate::lab::plot::{write_plot, Plot};
 use crate::output::write_atomic;
 
 /// What to measure and where to write it.
@@ -99,7 +99,7 @@ crate::named_enum!(SweepKind, "sweep");
 /// A sweep's output: its tables, its plots (file stem, plot) and the goals it checks.
 pub struct Sweep {
     pub tables: Vec<Table>,
-    pub plots: Vec<(String, plot::Plot)>,
+    pub plots: Vec<(String, Plot)>,
     pub goals: Vec<Goal>,
 }
 
@@ -214,7 +214,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         }
         for (stem, p) in &sweep.plots {
             let file = format!("{stem}.png");
-            plot::write(p, &options.out.join(&file))?;
+            write_plot(p, &options.out.join(&file))?;
             summary.push_str(&format!("![{}]({file})\n\n", p.title));
         }
     }

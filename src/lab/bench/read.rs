@@ -4,12 +4,12 @@
 
 use super::bake::{homework_config, HOMEWORK};
 use super::lookup::{self, Filter};
-use super::plot::{Plot, Series};
 use super::table::{sci, Table};
 use super::Sweep;
 use crate::brdf::Geometry;
 use crate::error::Result;
 use crate::gpu::Gpu;
+use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::accuracy::{random_points, ErrorStats, ReferencePoints};
 use crate::lut::{self, BakeConfig, Layout, LayoutKind, Storage, Tables};
 
@@ -103,7 +103,11 @@ pub fn read_sweep(quick: bool) -> Sweep {
             None => series.push(Series {
                 label: name,
                 points: vec![point],
-                peer: label == HOMEWORK,
+                style: if label == HOMEWORK {
+                    Style::Peer
+                } else {
+                    Style::Marked
+                },
                 ..Default::default()
             }),
         }
@@ -225,8 +229,12 @@ pub fn lookup_sweep(gpu: &Gpu, quick: bool) -> Result<Sweep> {
                 None => series.push(Series {
                     label: name,
                     points: vec![point],
-                    peer: label == HOMEWORK,
-                    points_only: true,
+                    style: if label == HOMEWORK {
+                        Style::Peer
+                    } else {
+                        Style::Points
+                    },
+                    ..Default::default()
                 }),
             }
         }

@@ -7,7 +7,6 @@ use glam::DVec3;
 
 use super::bake::{homework_config, HOMEWORK};
 use super::exact::exact_tables;
-use super::plot::{Plot, Series};
 use super::render::{
     close_up, exact_radiance, measure_alternating, measure_pair, tables_for, Setup,
 };
@@ -16,6 +15,7 @@ use super::{Goal, Sweep};
 use crate::error::Result;
 use crate::gpu::Renderer;
 use crate::gpu::{DrawOptions, TablePlan, TermMode};
+use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::{BakeConfig, Layout, LayoutKind};
 use crate::scene::{Preset, Scene};
 
@@ -126,8 +126,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
     let series = |label: &str, peer| Series {
         label: label.into(),
-        peer,
-        points_only: true,
+        style: if peer { Style::Peer } else { Style::Points },
         ..Default::default()
     };
     let mut on_series = series("term on", false);

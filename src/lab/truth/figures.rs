@@ -5,7 +5,7 @@
 use super::albedo::{Cell, FresnelKind};
 use super::compare::{Comparison, MODELS};
 use super::lobes::{LobePoint, Slice};
-use super::plot::{Figure, Panel, Series};
+use crate::lab::plot::{Figure, Panel, Series, Style};
 
 const WALK: [u8; 3] = [0, 0, 0];
 /// The walk's two-standard-error band.
@@ -21,10 +21,10 @@ const COLOURS: [[u8; 3]; 5] = [
 
 fn series(label: &str, color: [u8; 3], dashed: bool, points: Vec<(f64, f64)>) -> Series {
     Series {
-        label: label.to_uppercase(),
-        color,
-        dashed,
+        label: label.into(),
         points,
+        colour: Some(color),
+        style: if dashed { Style::Dashed } else { Style::Line },
     }
 }
 
@@ -101,19 +101,19 @@ pub fn albedo_figures(
         for &k in &ids {
             for &r in &rs {
                 panels.push(Panel {
-                    title: format!("{} {} R={r}", material, cmp.channels[k].name()).to_uppercase(),
-                    x_label: "MU".into(),
+                    title: format!("{} {} r={r}", material, cmp.channels[k].name()),
+                    x_label: "mu".into(),
                     series: albedo_panel(cmp, k, |c| c.roughness == r, |c| c.mu, errors),
                     with_zero: errors,
                 });
             }
         }
         let what = if errors {
-            "DIRECTIONAL ALBEDO, MODEL MINUS WALK"
+            "Directional albedo, model minus walk"
         } else {
-            "DIRECTIONAL ALBEDO"
+            "Directional albedo"
         };
-        let title = format!("{what}, {material}, AGAINST MU").to_uppercase();
+        let title = format!("{what}, {material}, against mu");
         figs.push((
             format!("{stem}_{material}"),
             Figure {
@@ -127,14 +127,14 @@ pub fn albedo_figures(
     for &k in &ids {
         for &m in &mus {
             panels.push(Panel {
-                title: format!("{} {} MU={m}", material, cmp.channels[k].name()).to_uppercase(),
-                x_label: "ROUGHNESS".into(),
+                title: format!("{} {} mu={m}", material, cmp.channels[k].name()),
+                x_label: "roughness".into(),
                 series: albedo_panel(cmp, k, |c| c.mu == m, |c| c.roughness, false),
                 with_zero: false,
             });
         }
     }
-    let title = format!("DIRECTIONAL ALBEDO, {material}, AGAINST ROUGHNESS").to_uppercase();
+    let title = format!("Directional albedo, {material}, against roughness");
     figs.push((
         format!("albedo_vs_roughness_{material}"),
         Figure {
@@ -174,13 +174,13 @@ pub fn lobe_figure(
                     vec![
                         series("walk", WALK, false, curve(&|p| p.truth_ms)),
                         series(
-                            "walk +-2 sigma",
+                            "walk ± 2σ",
                             SIGMA,
                             true,
                             curve(&|p| p.truth_ms + 2.0 * p.truth_stderr),
                         ),
                         series(
-                            "walk +-2 sigma",
+                            "walk ± 2σ",
                             SIGMA,
                             true,
                             curve(&|p| p.truth_ms - 2.0 * p.truth_stderr),
@@ -199,13 +199,12 @@ pub fn lobe_figure(
                 };
                 panels.push(Panel {
                     title: format!(
-                        "{} {} R={r} THETA_I={}",
+                        "{} {} r={r} theta_i={}",
                         material,
                         cmp.channels[k].name(),
                         s.theta_i
-                    )
-                    .to_uppercase(),
-                    x_label: "THETA_O (DEG)".into(),
+                    ),
+                    x_label: "theta_o (deg)".into(),
                     series: series_list,
                     with_zero: true,
                 });
@@ -213,12 +212,12 @@ pub fn lobe_figure(
         }
     }
     let what = if ms_only {
-        "MULTIPLE-SCATTERING PART OF THE BRDF"
+        "Multiple-scattering part of the BRDF"
     } else {
         "BRDF"
     };
     Figure {
-        title: format!("{what} IN THE PLANE OF INCIDENCE, {material}").to_uppercase(),
+        title: format!("{what} in the plane of incidence, {material}"),
         cols: cols.max(1),
         panels,
     }

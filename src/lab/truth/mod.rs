@@ -9,19 +9,17 @@
 //! presets exactly as the renderer evaluates them (same functions, same baked tables),
 //! Kulla-Conty variants, and the compensations of Turquin 2019 and Fdez-Aguera 2019.
 //! [`albedo`] and [`lobes`] run the two studies; [`report`], [`lobe_report`] and
-//! [`figures`] write CSV tables, a markdown summary and PNG plots ([`plot`], [`font`]).
+//! [`figures`] write CSV tables, a markdown summary and PNG plots (drawn by [`crate::lab::plot`]).
 
 pub mod albedo;
 pub mod compare;
 pub mod estimate;
 pub mod figures;
-pub mod font;
 pub mod fresnel;
 pub mod lobe_report;
 pub mod lobes;
 pub mod microsurface;
 pub mod models;
-pub mod plot;
 pub mod report;
 pub mod rng;
 pub mod single;
@@ -38,7 +36,8 @@ use models::ModelTables;
 
 use crate::brdf::Geometry;
 use crate::error::{Error, Result};
-use crate::output::{write_atomic, write_image};
+use crate::lab::plot::{write_figure, Figure};
+use crate::output::write_atomic;
 use crate::scene::Scene;
 
 /// What `shadeballs truth` runs and where it writes.
@@ -155,13 +154,8 @@ pub fn write_all(study: &Study, dir: &Path) -> Result<(String, Headline)> {
     Ok((summary, headline))
 }
 
-fn png(dir: &Path, stem: &str, fig: &plot::Figure) -> Result<()> {
-    let img = image::DynamicImage::ImageRgb8(plot::render(fig));
-    write_image(
-        &dir.join(format!("{stem}.png")),
-        &img,
-        image::ImageFormat::Png,
-    )
+fn png(dir: &Path, stem: &str, fig: &Figure) -> Result<()> {
+    write_figure(fig, &dir.join(format!("{stem}.png")))
 }
 
 fn summary(study: &Study, cmp: &Comparison, ablation_md: &str) -> (String, Headline) {
