@@ -118,9 +118,12 @@ impl Gpu {
         .map_err(|e| Error::Gpu {
             message: format!("cannot open the device: {e}"),
         })?;
+        let info = adapter.get_info();
+        log::info!("opened {} ({:?}, {})", info.name, info.backend, info.driver_info);
         let faults = Arc::new(Mutex::new(Faults::default()));
         let sink = faults.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            log::debug!("uncaptured wgpu error (returned by the next check): {e}");
             record(&sink, |f| {
                 f.uncaptured.get_or_insert_with(|| one_line(&e.to_string()));
             })

@@ -107,6 +107,12 @@ impl TableCache {
             let start = Instant::now();
             let baked = lut::bake_rows(&missing);
             self.last_bake = Some(start.elapsed());
+            log::debug!(
+                "baked {} of {} rows in {:.2} ms",
+                missing.len(),
+                keys.len(),
+                start.elapsed().as_secs_f64() * 1e3
+            );
             if self.rows.len() + baked.len() > MAX_CACHED_ROWS {
                 self.rows.retain(|k, _| keys.contains(k));
             }
@@ -163,6 +169,12 @@ impl TableCache {
                 let start = Instant::now();
                 let t = Arc::new(lut::bake(&config));
                 self.last_bake = Some(start.elapsed());
+                log::debug!(
+                    "baked the {}x{} table in {:.2} ms",
+                    config.layout.mu_size,
+                    config.layout.r_size,
+                    start.elapsed().as_secs_f64() * 1e3
+                );
                 self.full = Some(t.clone());
                 t
             }
