@@ -31,8 +31,42 @@ fn give_mesa_a_runtime_dir() {
 #[cfg(not(unix))]
 fn give_mesa_a_runtime_dir() {}
 
+/// On SIGINT (Ctrl-C) or SIGTERM: remove the temporary files of writes in flight (a 4096 x
+/// 4096 table or an 8192 x 8192 image is hundreds of MB), say so in one line, and exit
+/// with 128 + the signal's number (130, 143), as a shell reports a process it interrupted.
+/// A thread reads the signals, so the removal runs outside any signal handler.
+#[cfg(unix)]
+fn clean_up_on_interrupt() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            let removed = shadeballs::output::remove_temp_files_in_flight();
+            let name = if signal == SIGINT {
+                "SIGINT"
+            } else {
+                "SIGTERM"
+            };
+            eprintln!(
+                "error: interrupted by {name}{}",
+                match removed {
+                    0 => String::new(),
+                    n => format!("; removed {n} unfinished output file(s)"),
+                }
+            );
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+#[cfg(not(unix))]
+fn clean_up_on_interrupt() {}
+
 fn main() -> ExitCode {
     give_mesa_a_runtime_dir();
+    clean_up_on_interrupt();
     // wgpu, naga and the drivers log through `log`: warnings by default, `RUST_LOG` to
     // choose (`RUST_LOG=wgpu=info`).
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))

@@ -80,8 +80,8 @@ pub struct BenchArgs {
     /// Only the sweeps that need no GPU: for a machine without a GPU driver.
     #[arg(long)]
     pub cpu_only: bool,
-    /// Only these sweeps, comma-separated (default: all).
-    #[arg(long, value_delimiter = ',')]
+    /// Only these sweeps, comma-separated, given once (default: all).
+    #[arg(long, value_delimiter = ',', action = clap::ArgAction::Set)]
     pub only: Vec<SweepKind>,
 }
 
@@ -110,18 +110,40 @@ impl SceneArgs {
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
+        if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
+            eprintln!("warning: {warning}");
+        }
+        if scene.lights.iter().all(|l| l.radiance == glam::DVec3::ZERO)
+            && scene.environment == glam::DVec3::ZERO
+        {
+            eprintln!(
+                "warning: the scene has no light and a black environment: the balls are black \
+                 (add a [[light]] or an [environment])"
+            );
+        }
         Ok(scene)
     }
+}
+
+/// The warning for a `--geometry` the preset does not use (games202 always uses schlick).
+pub fn ignored_geometry(preset: Preset, geometry: Option<Geometry>) -> Option<String> {
+    let (Some(fixed), Some(asked)) = (preset.geometry(), geometry) else {
+        return None;
+    };
+    (fixed != asked).then(|| {
+        format!("--geometry {asked} is ignored: the {preset} preset always uses {fixed} G")
+    })
 }
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Image width in pixels (1 up to the device's largest texture, 16384 on lavapipe).
+    /// Image width in pixels, 1..=16384 (a device with a smaller largest texture refuses
+    /// more).
     #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
     pub width: u32,
-    /// Image height in pixels.
+    /// Image height in pixels, 1..=16384.
     #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
     pub height: u32,
     /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
@@ -138,20 +160,22 @@ pub struct RenderArgs {
 
 #[derive(clap::Args)]
 pub struct ProbeArgs {
-    /// CSV output: roughness,mu,E,E_avg.
+    /// CSV output (a .csv file): roughness,mu,E,E_avg.
     #[arg(long)]
     pub out: PathBuf,
-    /// Grid side N (mu = i/(N-1), roughness = j/(N-1)).
-    #[arg(long, default_value_t = 65, allow_negative_numbers = true)]
+    /// Grid side N, 2..=1024 (mu = i/(N-1), roughness = j/(N-1)).
+    #[arg(long, default_value_t = 65, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::gpu::MAX_PROBE_GRID)))]
     pub grid: u32,
     /// Model preset: which Fresnel average and f_add form.
     #[arg(long, default_value_t = Preset::Accurate)]
     pub preset: Preset,
-    /// Masking-shadowing term.
-    #[arg(long, default_value_t = Geometry::Schlick)]
-    pub geometry: Geometry,
-    /// GPU backend (the probe needs a GPU: cpu means vulkan).
-    #[arg(long, default_value_t = Backend::Auto)]
+    /// Masking-shadowing term for the accurate preset (default schlick; games202 always
+    /// uses schlick).
+    #[arg(long)]
+    pub geometry: Option<Geometry>,
+    /// GPU backend: auto, vulkan or gl (the probe runs on the GPU; there is no cpu).
+    #[arg(long, default_value_t = Backend::Auto, value_parser = parse_gpu_backend)]
     pub backend: Backend,
     /// Probe along this scene's own rows (one per roughness its plan bakes; mu = i/(N-1))
     /// instead of the N x N grid of the 2-D table; `--preset` and `--geometry` then come
@@ -165,10 +189,11 @@ pub struct ProbeArgs {
 pub struct ViewArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Window width in pixels (the panel takes 300 points on the right).
+    /// Window width in pixels, 1..=16384, as for `render` (the panel takes 300 points on the
+    /// right).
     #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
     pub width: u32,
-    /// Window height in pixels.
+    /// Window height in pixels, 1..=16384.
     #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
     pub height: u32,
     /// Draw this many frames back to back, print their median times and exit.
@@ -217,17 +242,33 @@ pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
     }
 }
 
-/// `--width` / `--height`: a whole number >= 1 (the device's limit is checked when it is
+/// Largest image or window side `render` and `view` accept: lavapipe's and most GPUs'
+/// largest 2-D texture. A device with a smaller limit refuses more when it is open.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// `--width` / `--height` of `render` and `view`: a whole number in
+/// `1..=MAX_IMAGE_SIDE` (one rule for both; the device's own limit is checked when it is
 /// open).
 pub fn parse_side(s: &str) -> Result<u32, String> {
     let n: i64 = s
         .trim()
         .parse()
         .map_err(|_| format!("'{s}' is not a whole number"))?;
-    if n < 1 {
-        return Err(format!("{n}: the image size must be at least 1"));
+    if !(1..=i64::from(MAX_IMAGE_SIDE)).contains(&n) {
+        return Err(format!(
+            "{n}: the image size must be in 1..={MAX_IMAGE_SIDE}"
+        ));
     }
-    u32::try_from(n).map_err(|_| format!("{n} is far beyond any device's image size"))
+    Ok(n as u32)
+}
+
+/// `probe --backend`: a GPU backend (the probe runs the shader's own reads on the GPU).
+pub fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
+    match s.parse::<Backend>() {
+        Ok(Backend::Cpu) => Err("the probe runs on the GPU: use auto, vulkan or gl".to_string()),
+        Ok(b) => Ok(b),
+        Err(_) => Err(format!("'{s}' is not a backend: use auto, vulkan or gl")),
+    }
 }
 
 /// What the front end prints for a clap error: `None` for `--help`, `--version` and a

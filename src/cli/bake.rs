@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use super::args::BakeArgs;
-use crate::lut::{self, io::write_tables, BakeConfig, Layout};
+use crate::lut::{self, io::write_tables, BakeConfig, Layout, Method};
 
 pub fn run(args: BakeArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
@@ -22,11 +22,26 @@ pub fn run(args: BakeArgs) -> anyhow::Result<()> {
         layout,
     };
     let start = Instant::now();
-    let tables = lut::bake(&config);
+    let estimate = estimated_seconds(&config);
+    let tables = if estimate > PROGRESS_AFTER_S {
+        eprintln!(
+            "warning: this bake takes about {} ({} with {} samples on a {}x{} table); \
+             elapsed time follows every {PROGRESS_EVERY_S} s, Ctrl-C stops it",
+            duration(estimate),
+            config.method,
+            config.samples,
+            layout.mu_size,
+            layout.r_size
+        );
+        with_progress(estimate, || lut::bake(&config))
+    } else {
+        lut::bake(&config)
+    };
     let elapsed = start.elapsed();
     write_tables(&tables, &args.out)?;
     eprintln!(
-        "baked E {}x{} + E_avg {} ({} G, {} with {} samples, {} layout) in {:.2} ms -> {}",
+        "baked E {}x{} + E_avg {} ({} G, {} with {} samples, {} layout, {} storage) in {:.2} \
+         ms -> {}",
         layout.mu_size,
         layout.r_size,
         layout.r_size,
@@ -34,8 +49,63 @@ pub fn run(args: BakeArgs) -> anyhow::Result<()> {
         config.method,
         config.samples,
         layout.kind,
+        layout.storage,
         elapsed.as_secs_f64() * 1e3,
         args.out.display()
     );
     Ok(())
+}
+
+/// A bake estimated to take longer than this warns first and reports its elapsed time.
+const PROGRESS_AFTER_S: f64 = 10.0;
+/// Seconds between progress lines.
+const PROGRESS_EVERY_S: u64 = 10;
+
+/// Seconds `config` should take to bake, from rates measured on the 2-core reference
+/// machine (docs/reliability.md, "Reliability"): the Chebyshev bake runs 425 quadratures
+/// whatever the table size, the quadrature one per texel, Monte Carlo one estimate of
+/// `samples` points per texel. Within a factor of 2 or so on that machine.
+pub fn estimated_seconds(config: &BakeConfig) -> f64 {
+    let samples = config.samples as f64;
+    let texels = config.layout.texels() as f64;
+    match config.method {
+        // 0.31 s at 1000 nodes; plus evaluating the series at every texel.
+        Method::Chebyshev => 3.1e-4 * samples + 1.5e-7 * texels,
+        // 0.92 s for 64 x 64 texels at 1000 nodes.
+        Method::Quadrature => 2.3e-7 * samples * texels,
+        // 0.27 s for 64 x 64 texels at 1000 points (vndf; cosine and ndf alike).
+        _ => 6.5e-8 * samples * texels,
+    }
+}
+
+fn duration(seconds: f64) -> String {
+    if seconds < 120.0 {
+        format!("{seconds:.0} s")
+    } else {
+        format!("{:.0} min", seconds / 60.0)
+    }
+}
+
+/// Runs `bake`, printing the elapsed time against `estimate` every `PROGRESS_EVERY_S`
+/// seconds on stderr until it returns.
+fn with_progress<T>(estimate: f64, bake: impl FnOnce() -> T) -> T {
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    let start = Instant::now();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            let every = std::time::Duration::from_secs(PROGRESS_EVERY_S);
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(every) {
+                let elapsed = start.elapsed().as_secs_f64();
+                eprintln!(
+                    "baking: {} elapsed of about {} ({:.0} %)",
+                    duration(elapsed),
+                    duration(estimate),
+                    (100.0 * elapsed / estimate).min(99.0)
+                );
+            }
+        });
+        let tables = bake();
+        drop(done);
+        tables
+    })
 }

@@ -6,6 +6,7 @@
 mod args;
 mod bake;
 mod bench;
+mod memory;
 mod probe;
 mod render;
 mod truth;
@@ -43,6 +44,36 @@ enum Command {
     Truth(TruthArgs),
     /// Open a window showing the shading balls, with a panel to change them live.
     View(ViewArgs),
+}
+
+/// The backend names wgpu reads from `WGPU_BACKEND` (`wgpu::Backends::from_comma_list`,
+/// which drops any other name with only a log line, leaving no backend at all).
+const WGPU_BACKEND_NAMES: [&str; 11] = [
+    "vulkan", "vk", "gl", "gles", "opengl", "dx12", "d3d12", "metal", "mtl", "webgpu", "noop",
+];
+
+/// Checks `WGPU_BACKEND` where `--backend auto` honours it: a name wgpu does not know
+/// would leave no backend, and the error would then advise installing a driver.
+pub(crate) fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Result<()> {
+    if backend != crate::gpu::Backend::Auto {
+        return Ok(());
+    }
+    let Some(value) = std::env::var_os("WGPU_BACKEND") else {
+        return Ok(());
+    };
+    let value = value.to_string_lossy();
+    let known = |name: &str| WGPU_BACKEND_NAMES.contains(&name.trim().to_lowercase().as_str());
+    if !value.split(',').all(known) {
+        return Err(crate::Error::Invalid {
+            what: "environment",
+            message: format!(
+                "WGPU_BACKEND='{value}' is not a backend: use vulkan or gl (or a comma-separated \
+                 list of {}), or unset it",
+                WGPU_BACKEND_NAMES.join(", ")
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Parses `std::env::args`, runs the subcommand and turns its error into one line on stderr

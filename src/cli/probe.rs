@@ -3,19 +3,29 @@
 use std::fmt::Write as _;
 
 use super::args::ProbeArgs;
+use crate::brdf::Geometry;
 use crate::error::Error;
-use crate::gpu::{Backend, Gpu, Renderer};
+use crate::gpu::{Gpu, Renderer};
 use crate::{output, scene};
 
 pub fn run(args: ProbeArgs) -> anyhow::Result<()> {
     output::check_output_path(&args.out)?;
-    // The probe needs a GPU: no CPU fallback (and no warning announcing one).
-    let backend = if args.backend == Backend::Cpu {
-        Backend::Vulkan
-    } else {
-        args.backend
-    };
-    let backends = backend.wgpu_backends().unwrap_or(wgpu::Backends::VULKAN);
+    if output::extension(&args.out) != "csv" {
+        anyhow::bail!(
+            "--out '{}' must be a .csv file (the probe writes CSV)",
+            args.out.display()
+        );
+    }
+    if let Some(warning) = super::args::ignored_geometry(args.preset, args.geometry) {
+        eprintln!("warning: {warning}");
+    }
+    // The probe needs a GPU: no CPU fallback (and no warning announcing one); `--backend
+    // cpu` is refused by the flag's parser.
+    super::check_wgpu_backend_env(args.backend)?;
+    let backends = args
+        .backend
+        .wgpu_backends()
+        .unwrap_or(wgpu::Backends::VULKAN);
     let mut renderer = match Gpu::new(backends) {
         Ok(gpu) => Renderer::new(gpu),
         Err(Error::NoAdapter { message, .. }) => anyhow::bail!(
@@ -42,7 +52,11 @@ pub fn run(args: ProbeArgs) -> anyhow::Result<()> {
             )
         }
         None => {
-            let geometry = args.preset.geometry().unwrap_or(args.geometry);
+            let geometry = args
+                .preset
+                .geometry()
+                .or(args.geometry)
+                .unwrap_or(Geometry::Schlick);
             let (_, samples) = renderer.probe(geometry, args.grid)?;
             (geometry, samples, format!("{}x{}", args.grid, args.grid))
         }

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::args::RenderArgs;
+use super::memory;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
@@ -30,14 +31,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     output::check_output_path(&args.out)?;
+    super::check_wgpu_backend_env(args.backend)?;
     let scene = args.scene.load()?;
+    // Reading the scene can wait (a FIFO, a slow disk): its own phase, not the device's.
+    phases.mark("scene");
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
+    let pixels = u64::from(w) * u64::from(h);
     let renderer = open(args.backend)?;
     phases.mark("device");
     let device = match renderer {
         Some(mut renderer) => {
             renderer.gpu().check_size(w, h)?;
+            memory::check(
+                &format!("a {w}x{h} {} on the GPU", kind_name(kind)),
+                pixels * gpu_bytes_per_pixel(kind),
+            )?;
             let plan = renderer.plan_for(&scene);
             if args.verbose {
                 eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
@@ -63,6 +72,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         }
         None => {
             check_cpu_size(w, h)?;
+            memory::check(
+                &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
+                pixels * cpu_bytes_per_pixel(kind),
+            )?;
             if args.verbose {
                 eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
             }
@@ -73,11 +86,18 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             phases.mark("bake");
             let radiance = cpu::render_radiance(&scene, &tables, w, h);
             phases.mark("render");
+            // The radiance (24 bytes a pixel) is dropped before the encoder starts.
             match kind {
                 ImageKind::Png => {
-                    write_png(&args.out, w, h, cpu::to_rgba8(&radiance, scene.exposure))?
+                    let rgba = cpu::to_rgba8(&radiance, scene.exposure);
+                    drop(radiance);
+                    write_png(&args.out, w, h, rgba)?
                 }
-                ImageKind::Exr => write_exr(&args.out, w, h, cpu::to_rgba_f32(&radiance))?,
+                ImageKind::Exr => {
+                    let rgba = cpu::to_rgba_f32(&radiance);
+                    drop(radiance);
+                    write_exr(&args.out, w, h, rgba)?
+                }
             }
             "CPU reference renderer".to_string()
         }
@@ -119,4 +139,30 @@ fn check_cpu_size(w: u32, h: u32) -> Result<()> {
         });
     }
     Ok(())
+}
+
+fn kind_name(kind: ImageKind) -> &'static str {
+    match kind {
+        ImageKind::Png => ".png",
+        ImageKind::Exr => ".exr",
+    }
+}
+
+/// Peak bytes a pixel on the CPU path: the radiance (3 f64), then the pixels for the
+/// encoder (RGBA8 or RGBA f32) made from it.
+fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
+    match kind {
+        ImageKind::Png => 24 + 4,
+        ImageKind::Exr => 24 + 16,
+    }
+}
+
+/// Peak bytes a pixel on the GPU path, measured on lavapipe (where the GPU's memory is the
+/// host's): the frame, the read-back buffer, its mapped copy and the unpadded image, each
+/// 4 (RGBA8) or 16 (RGBA f32) bytes.
+fn gpu_bytes_per_pixel(kind: ImageKind) -> u64 {
+    match kind {
+        ImageKind::Png => 4 * 4,
+        ImageKind::Exr => 4 * 16,
+    }
 }

@@ -10,6 +10,7 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
             anyhow::bail!("--screenshot '{}' must be a .png", path.display());
         }
     }
+    super::check_wgpu_backend_env(args.backend)?;
     let scene = args.scene.load()?;
     let report = crate::viewer::run(crate::viewer::ViewOptions {
         scene,

@@ -3,52 +3,86 @@
 //!
 //! Image files hold both tables in one picture, `mu_size` wide and `r_size` tall, row `j` =
 //! roughness texel `j` (top row = roughness 0): red = E(mu, r), green = E_avg(r) repeated
-//! along the row, blue = 0. Texel coordinates follow the layout's convention (layout.rs).
+//! along the row, blue = 0. Every format holds the values the layout's storage keeps
+//! (`1 -` the stored loss, after f32, f16 or unorm8 rounding), the ones the shader reads.
+//! Texel coordinates follow the layout's convention (layout.rs).
 
-use std::fmt::Write as _;
+use std::io::Write;
 use std::path::Path;
 
 use image::{DynamicImage, ImageBuffer, ImageFormat, Rgb};
 
 use super::Tables;
 use crate::error::{Error, Result};
-use crate::output::{extension, write_atomic, write_image};
+use crate::output::{extension, write_atomic, write_atomic_with, write_image};
 
 /// Writes `tables` to `path`, the format chosen by its extension.
 pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
     match extension(path).as_str() {
-        "csv" => write_atomic(path, tables_csv(tables).as_bytes()),
+        // Streamed into the temporary file: a 4096 x 4096 table is 1 GB of text.
+        "csv" => write_atomic_with(path, |w| {
+            write_csv(tables, w).map_err(|reason| Error::Write {
+                path: path.to_path_buf(),
+                reason,
+            })
+        }),
         "exr" => write_image(path, &tables_image_f32(tables), ImageFormat::OpenExr),
         "png" => write_image(path, &tables_image_u16(tables), ImageFormat::Png),
         "ktx2" => write_atomic(path, &super::ktx2::encode_tables(tables)?),
         _ => Err(Error::Format {
             path: path.to_path_buf(),
-            expected: "use .csv, .exr or .png, or .ktx2 (the texture the shader reads)",
+            expected: crate::output::format_hint(
+                path,
+                "use .csv, .exr or .png, or .ktx2 (the texture the shader reads)",
+            ),
         }),
     }
 }
 
+/// E of texel `k` as the table stores it: `1 - ` the stored loss, after the layout's
+/// storage rounding (f32, f16 or unorm8), the value the shader reads.
+fn stored_e(tables: &Tables, k: usize) -> f64 {
+    1.0 - f64::from(tables.stored_loss[k])
+}
+
+/// E_avg of row `j` as stored.
+fn stored_e_avg(tables: &Tables, j: usize) -> f64 {
+    1.0 - f64::from(tables.stored_loss_avg[j])
+}
+
 /// CSV with header `table,roughness,mu,value`; E_avg rows leave `mu` empty. Coordinates
-/// are the texels' exact values; numbers are printed to round-trip.
+/// are the texels' exact values; values are what the storage holds ([`stored_e`]), printed
+/// to round-trip.
 pub fn tables_csv(tables: &Tables) -> String {
+    let mut out = Vec::new();
+    write_csv(tables, &mut out).expect("writing to a Vec");
+    String::from_utf8(out).expect("the CSV is ASCII")
+}
+
+/// [`tables_csv`] into any writer.
+pub fn write_csv(tables: &Tables, w: &mut impl Write) -> std::io::Result<()> {
     let l = tables.layout();
-    let mut s = String::with_capacity((l.texels() + l.r_size) * 48);
-    s.push_str("table,roughness,mu,value\n");
+    w.write_all(b"table,roughness,mu,value\n")?;
     for j in 0..l.r_size {
         let r = l.roughness_of_texel(j);
         for i in 0..l.mu_size {
-            let _ = writeln!(
-                s,
+            writeln!(
+                w,
                 "E,{r},{},{}",
                 l.mu_of_texel(i, j),
-                tables.e[j * l.mu_size + i]
-            );
+                stored_e(tables, j * l.mu_size + i)
+            )?;
         }
     }
     for j in 0..l.r_size {
-        let _ = writeln!(s, "E_avg,{},,{}", l.roughness_of_texel(j), tables.e_avg[j]);
+        writeln!(
+            w,
+            "E_avg,{},,{}",
+            l.roughness_of_texel(j),
+            stored_e_avg(tables, j)
+        )?;
     }
-    s
+    Ok(())
 }
 
 fn tables_image_f32(tables: &Tables) -> DynamicImage {
@@ -56,8 +90,8 @@ fn tables_image_f32(tables: &Tables) -> DynamicImage {
     let img = ImageBuffer::from_fn(l.mu_size as u32, l.r_size as u32, |i, j| {
         let (i, j) = (i as usize, j as usize);
         Rgb([
-            tables.e[j * l.mu_size + i] as f32,
-            tables.e_avg[j] as f32,
+            stored_e(tables, j * l.mu_size + i) as f32,
+            stored_e_avg(tables, j) as f32,
             0.0,
         ])
     });
@@ -69,7 +103,11 @@ fn tables_image_u16(tables: &Tables) -> DynamicImage {
     let q = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;
     let img = ImageBuffer::from_fn(l.mu_size as u32, l.r_size as u32, |i, j| {
         let (i, j) = (i as usize, j as usize);
-        Rgb([q(tables.e[j * l.mu_size + i]), q(tables.e_avg[j]), 0])
+        Rgb([
+            q(stored_e(tables, j * l.mu_size + i)),
+            q(stored_e_avg(tables, j)),
+            0,
+        ])
     });
     DynamicImage::ImageRgb16(img)
 }

@@ -10,7 +10,7 @@
 //! vfov_deg = 75
 //! [environment]                # optional: black
 //! radiance = [1, 1, 1]
-//! [[light]]                    # any number (up to MAX_LIGHTS)
+//! [[light]]                    # up to MAX_LIGHTS
 //! direction = [0, 0, 1]        # towards the light; normalised on load
 //! radiance = [1, 1, 1]
 //! [[ball]]                     # at least one (up to MAX_BALLS)
@@ -32,7 +32,7 @@ use glam::DVec3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::values::{Colour, Direction, Finite3, Fov, Named, Positive, Radiance, Roughness};
+use super::values::{Colour, Direction, Finite3, Fov, Grid, Named, Positive, Radiance, Roughness};
 use super::{
     grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS,
 };
@@ -51,7 +51,7 @@ struct SceneFile {
     camera: Option<Spanned<CameraFile>>,
     environment: Option<EnvironmentFile>,
     #[serde(default)]
-    light: Vec<LightFile>,
+    light: Vec<Spanned<LightFile>>,
     #[serde(default)]
     ball: Vec<Spanned<BallFile>>,
 }
@@ -81,7 +81,7 @@ struct LightFile {
 #[serde(deny_unknown_fields)]
 struct BallFile {
     position: Option<Finite3>,
-    grid: Option<[u32; 2]>,
+    grid: Option<Grid>,
     radius: Positive,
     roughness: Roughness,
     #[serde(default = "yes")]
@@ -119,20 +119,45 @@ pub fn load(path: &Path) -> Result<Scene> {
     };
     // Read at most one byte past the limit: `/dev/zero` or a stray huge file is an error,
     // not an endless read.
-    let mut text = String::new();
+    let mut bytes = Vec::new();
     std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text))
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
         .map_err(|e| err(e.to_string()))?;
-    if text.len() as u64 > MAX_SCENE_BYTES {
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
         return Err(err(format!(
-            "larger than {MAX_SCENE_BYTES} bytes, the limit for a scene file"
+            "larger than {MAX_SCENE_BYTES} bytes, the limit for a scene file \
+             ({MAX_BALLS} balls and {MAX_LIGHTS} lights, each written out in full)"
         )));
     }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        // The text up to the bad byte is valid, so the line and column count in it.
+        let before = std::str::from_utf8(&bytes[..valid]).unwrap_or_default();
+        err(at(
+            before,
+            valid..valid,
+            &format!("not UTF-8 text (byte 0x{:02x})", bytes[valid]),
+        ))
+    })?;
     parse(&text, path)
 }
 
-/// Largest scene file read (`load`).
-pub const MAX_SCENE_BYTES: u64 = 1 << 24;
+/// Bytes a `[[ball]]` table may take in a scene file: the longest legal ball, every number
+/// written with 17 digits and an exponent, is about 350 bytes; the rest is room for
+/// comments and indentation.
+pub const SCENE_BYTES_PER_BALL: u64 = 1024;
+/// Bytes a `[[light]]` table may take (the longest legal one is about 130 bytes).
+pub const SCENE_BYTES_PER_LIGHT: u64 = 512;
+/// Bytes for the rest: the top-level keys, `[camera]`, `[environment]`, comments.
+pub const SCENE_BYTES_OTHER: u64 = 64 * 1024;
+
+/// Largest scene file read (`load`): the largest legal scene, [`MAX_BALLS`] balls and
+/// [`MAX_LIGHTS`] lights written out in full, so that a huge file is refused before toml
+/// parses it (a 16 MiB file used to take 1.3 GB to parse before its error).
+pub const MAX_SCENE_BYTES: u64 = SCENE_BYTES_OTHER
+    + MAX_BALLS as u64 * SCENE_BYTES_PER_BALL
+    + MAX_LIGHTS as u64 * SCENE_BYTES_PER_LIGHT;
 
 /// Parses scene text; `path` only names the file in errors.
 pub fn parse(text: &str, path: &Path) -> Result<Scene> {
@@ -140,16 +165,65 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene> {
         path: path.to_path_buf(),
         message,
     };
+    // Too many `[[ball]]` or `[[light]]` headers are counted before toml builds anything
+    // (100,000 balls used to take 600 MB before their error), at the first one too many.
+    for (header, max, what) in [
+        ("[[ball]]", MAX_BALLS, "balls"),
+        ("[[light]]", MAX_LIGHTS, "lights"),
+    ] {
+        let mut offset = 0;
+        let extra = text
+            .split_inclusive('\n')
+            .map(|line| {
+                let start = offset;
+                offset += line.len();
+                (start, line)
+            })
+            .filter(|(_, line)| line.trim_start().starts_with(header))
+            .nth(max);
+        if let Some((start, _)) = extra {
+            return Err(err(at(
+                text,
+                start..start,
+                &format!("more than {max} {what}"),
+            )));
+        }
+    }
     // toml's own rendering spans several lines (a source snippet); the line and column
     // of its span, then its message, make the one line the front end prints.
     let file: SceneFile = toml::from_str(text).map_err(|e| {
         let message = crate::error::one_line(e.message());
         err(match e.span() {
-            Some(span) => at(text, span, &message),
+            Some(span) => {
+                let message = match key_before(text, span.start) {
+                    Some(key) if !message.starts_with(key) => format!("{key}: {message}"),
+                    _ => message,
+                };
+                at(text, span, &message)
+            }
             None => message,
         })
     })?;
-    build(file, text).map_err(|(span, msg)| err(at(text, span, &msg)))
+    build(file).map_err(|(span, msg)| err(at(text, span, &msg)))
+}
+
+/// The key whose value starts at byte `start` of `text` (`radius` in `radius = 0`, `f0` in
+/// `material = { kind = "metal", f0 = [2, 1, 1] }`), so that a value's error names it.
+fn key_before(text: &str, start: usize) -> Option<&str> {
+    let mut start = start.min(text.len());
+    while !text.is_char_boundary(start) {
+        start -= 1;
+    }
+    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+    let before = text[line_start..start]
+        .trim_end()
+        .strip_suffix('=')?
+        .trim_end();
+    let is_key = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    // Every byte of the key is ASCII, so its length in bytes is its length in chars.
+    let len = before.chars().rev().take_while(|&c| is_key(c)).count();
+    let key = &before[before.len() - len..];
+    (!key.is_empty()).then_some(key)
 }
 
 /// "line L, column C: message" for the byte offset `span.start` of `text`.
@@ -168,7 +242,7 @@ fn at(text: &str, span: Range<usize>, message: &str) -> String {
 
 type Spanned2<T> = std::result::Result<T, (Range<usize>, String)>;
 
-fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
+fn build(file: SceneFile) -> Spanned2<Scene> {
     let reference = Scene::reference();
     let camera = match file.camera {
         None => reference.camera,
@@ -197,10 +271,8 @@ fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
         return Err((span, format!("more than {MAX_BALLS} balls")));
     }
     if file.light.len() > MAX_LIGHTS {
-        return Err((
-            0..text.len().min(1),
-            format!("more than {MAX_LIGHTS} lights"),
-        ));
+        let span = file.light[MAX_LIGHTS].span();
+        return Err((span, format!("more than {MAX_LIGHTS} lights")));
     }
     let balls = file
         .ball
@@ -211,8 +283,8 @@ fn build(file: SceneFile, text: &str) -> Spanned2<Scene> {
         .light
         .into_iter()
         .map(|l| Light {
-            direction: l.direction.0,
-            radiance: l.radiance.0,
+            direction: l.get_ref().direction.0,
+            radiance: l.get_ref().radiance.0,
         })
         .collect();
     Ok(Scene {
@@ -231,7 +303,7 @@ fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {
     let b = b.into_inner();
     let center = match (b.position, b.grid) {
         (Some(p), None) => p.0,
-        (None, Some([row, col])) => grid_position(row, col),
+        (None, Some(Grid([row, col]))) => grid_position(row, col),
         _ => {
             return Err((
                 span,

@@ -1,5 +1,6 @@
 //! Checked value types for the scene file: each rejects bad input while toml deserialises
-//! it, so the error carries the value's line and column.
+//! it, so the error carries the value's line and column (and `file.rs` adds the key's
+//! name). Numbers print as `{:?}` does: 1e30, not 31 digits.
 
 use std::str::FromStr;
 
@@ -8,13 +9,28 @@ use serde::{Deserialize, Deserializer};
 
 use super::MAX_MAGNITUDE;
 
-fn finite3(v: [f64; 3], what: &str) -> Result<DVec3, String> {
+/// Exactly `N` numbers: an array with more or fewer is an error (serde's fixed-size arrays
+/// ignore extra values in toml).
+fn exactly<const N: usize, T: Copy + Default>(v: &[T]) -> Result<[T; N], String> {
+    if v.len() != N {
+        return Err(format!(
+            "expected {N} values, found {} (an array of exactly {N})",
+            v.len()
+        ));
+    }
+    let mut out = [T::default(); N];
+    out.copy_from_slice(v);
+    Ok(out)
+}
+
+fn finite3(v: &[f64]) -> Result<DVec3, String> {
+    let v: [f64; 3] = exactly(v)?;
     if !v.iter().all(|c| c.is_finite()) {
-        return Err(format!("{what} {v:?} has a NaN or infinite component"));
+        return Err(format!("{v:?} has a NaN or infinite component"));
     }
     if v.iter().any(|c| c.abs() > MAX_MAGNITUDE) {
         return Err(format!(
-            "{what} {v:?} has a component beyond {MAX_MAGNITUDE:e} in magnitude"
+            "{v:?} has a component beyond {MAX_MAGNITUDE:e} in magnitude"
         ));
     }
     Ok(DVec3::from_array(v))
@@ -22,29 +38,39 @@ fn finite3(v: [f64; 3], what: &str) -> Result<DVec3, String> {
 
 /// Any finite 3-vector (a position).
 #[derive(Deserialize, Clone, Copy, Debug)]
-#[serde(try_from = "[f64; 3]")]
+#[serde(try_from = "Vec<f64>")]
 pub struct Finite3(pub DVec3);
 
-impl TryFrom<[f64; 3]> for Finite3 {
+impl TryFrom<Vec<f64>> for Finite3 {
     type Error = String;
-    fn try_from(v: [f64; 3]) -> Result<Self, String> {
-        finite3(v, "position").map(Finite3)
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        finite3(&v).map(Finite3)
+    }
+}
+
+/// A ball's `grid = [row, col]`: exactly two whole numbers.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "Vec<u32>")]
+pub struct Grid(pub [u32; 2]);
+
+impl TryFrom<Vec<u32>> for Grid {
+    type Error = String;
+    fn try_from(v: Vec<u32>) -> Result<Self, String> {
+        exactly(&v).map(Grid)
     }
 }
 
 /// A non-zero finite direction, normalised.
 #[derive(Deserialize, Clone, Copy, Debug)]
-#[serde(try_from = "[f64; 3]")]
+#[serde(try_from = "Vec<f64>")]
 pub struct Direction(pub DVec3);
 
-impl TryFrom<[f64; 3]> for Direction {
+impl TryFrom<Vec<f64>> for Direction {
     type Error = String;
-    fn try_from(v: [f64; 3]) -> Result<Self, String> {
-        let d = finite3(v, "direction")?;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        let d = finite3(&v)?;
         if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
-            return Err(format!(
-                "direction {v:?} has zero (or unrepresentable) length"
-            ));
+            return Err(format!("{v:?} has zero (or unrepresentable) length"));
         }
         Ok(Direction(d.normalize()))
     }
@@ -52,15 +78,15 @@ impl TryFrom<[f64; 3]> for Direction {
 
 /// A colour with every channel in `[0, 1]`.
 #[derive(Deserialize, Clone, Copy, Debug)]
-#[serde(try_from = "[f64; 3]")]
+#[serde(try_from = "Vec<f64>")]
 pub struct Colour(pub DVec3);
 
-impl TryFrom<[f64; 3]> for Colour {
+impl TryFrom<Vec<f64>> for Colour {
     type Error = String;
-    fn try_from(v: [f64; 3]) -> Result<Self, String> {
-        let c = finite3(v, "colour")?;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        let c = finite3(&v)?;
         if c.min_element() < 0.0 || c.max_element() > 1.0 {
-            return Err(format!("colour {v:?} has a channel outside [0, 1]"));
+            return Err(format!("{v:?} has a channel outside [0, 1]"));
         }
         Ok(Colour(c))
     }
@@ -68,15 +94,15 @@ impl TryFrom<[f64; 3]> for Colour {
 
 /// A radiance: finite, non-negative channels.
 #[derive(Deserialize, Clone, Copy, Debug)]
-#[serde(try_from = "[f64; 3]")]
+#[serde(try_from = "Vec<f64>")]
 pub struct Radiance(pub DVec3);
 
-impl TryFrom<[f64; 3]> for Radiance {
+impl TryFrom<Vec<f64>> for Radiance {
     type Error = String;
-    fn try_from(v: [f64; 3]) -> Result<Self, String> {
-        let c = finite3(v, "radiance")?;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        let c = finite3(&v)?;
         if c.min_element() < 0.0 {
-            return Err(format!("radiance {v:?} has a negative channel"));
+            return Err(format!("{v:?} has a negative channel"));
         }
         Ok(Radiance(c))
     }
@@ -94,7 +120,7 @@ impl TryFrom<f64> for Positive {
             Ok(Positive(v))
         } else {
             Err(format!(
-                "{v} must be a number greater than 0 and at most {MAX_MAGNITUDE:e}"
+                "{v:?} must be a number greater than 0 and at most {MAX_MAGNITUDE:e}"
             ))
         }
     }
@@ -111,7 +137,7 @@ impl TryFrom<f64> for Roughness {
         if (0.0..=1.0).contains(&v) {
             Ok(Roughness(v))
         } else {
-            Err(format!("roughness {v} is outside [0, 1]"))
+            Err(format!("roughness {v:?} is outside [0, 1]"))
         }
     }
 }
@@ -127,7 +153,7 @@ impl TryFrom<f64> for Fov {
         if v > 0.0 && v < 180.0 {
             Ok(Fov(v))
         } else {
-            Err(format!("vfov_deg {v} is outside (0, 180)"))
+            Err(format!("vfov_deg {v:?} is outside (0, 180)"))
         }
     }
 }

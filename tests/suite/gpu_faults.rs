@@ -22,9 +22,16 @@ fn no_adapter_is_a_clear_error_or_a_stated_fallback() {
     vulkan_only.extend(small);
     fails_with_one_line(&vulkan_only, &no_driver, "mesa-vulkan-drivers");
     // The probe has no CPU fallback: one error line, no warning announcing one.
+    let csv = dir.join("x.csv");
     for backend in ["vulkan", "auto"] {
         fails_with_one_line(
-            &["probe", "--backend", backend, "--out", out],
+            &[
+                "probe",
+                "--backend",
+                backend,
+                "--out",
+                csv.to_str().unwrap(),
+            ],
             &no_driver,
             "mesa-vulkan-drivers",
         );

@@ -320,7 +320,8 @@ fn tables_are_written_as_csv_exr_and_png() {
         .map(|v| v.parse().unwrap())
         .collect();
     assert_eq!(last_e[..2], [1.0, 1.0]);
-    assert_eq!(last_e[2], tables.e[31]);
+    // What the storage holds (f32 here): 1 - the stored loss, not the f64 bake.
+    assert_eq!(last_e[2], 1.0 - f64::from(tables.stored_loss[31]));
     assert!(lines[33].starts_with(&format!("E_avg,{ROUGHNESS_MIN},,")));
 
     for ext in ["exr", "png"] {
