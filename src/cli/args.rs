@@ -36,6 +36,7 @@ macro_rules! value_enum {
 
 value_enum!(Geometry, Method, PointSet, LayoutKind, Storage, Preset, Backend, SweepKind);
 
+/// Flags of `shadeballs bake`.
 #[derive(clap::Args)]
 pub struct BakeArgs {
     /// Output file: .csv (one row per texel), .exr (f32) or .png (16 bit).
@@ -64,6 +65,7 @@ pub struct BakeArgs {
     pub storage: Option<Storage>,
 }
 
+/// Flags of `shadeballs bench`.
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// Fewer configurations and repeats (under a minute).
@@ -109,8 +111,10 @@ impl SceneArgs {
     }
 }
 
+/// Flags of `shadeballs render`.
 #[derive(clap::Args)]
 pub struct RenderArgs {
+    /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Image width in pixels (1 up to the device's largest texture, 16384 on lavapipe).
@@ -131,6 +135,7 @@ pub struct RenderArgs {
     pub verbose: bool,
 }
 
+/// Flags of `shadeballs probe`.
 #[derive(clap::Args)]
 pub struct ProbeArgs {
     /// CSV output: roughness,mu,E,E_avg.
@@ -158,6 +163,7 @@ pub struct ProbeArgs {
 /// Flags of `shadeballs view`.
 #[derive(clap::Args)]
 pub struct ViewArgs {
+    /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Window width in pixels (the panel takes 300 points on the right).
@@ -184,6 +190,7 @@ pub struct ViewArgs {
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
 pub const MAX_TABLE_SIDE: usize = 8192;
 
+/// Flags of `shadeballs truth`.
 #[derive(clap::Args)]
 pub struct TruthArgs {
     /// A few cells and slices with few paths (seconds) instead of the full study.
