@@ -196,8 +196,10 @@ pub enum LayoutKind {
 }
 
 impl LayoutKind {
+    /// Every named layout, in a fixed order.
     pub const ALL: [LayoutKind; 3] = [LayoutKind::Warped, LayoutKind::SqrtMu, LayoutKind::Games202];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             LayoutKind::Warped => "warped",
