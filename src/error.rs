@@ -3,53 +3,92 @@
 
 use std::path::PathBuf;
 
+/// What went wrong: one variant per kind of failure, its `Display` the message.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// A name that is none of an enum's values (a layout, a backend, ...).
     #[error("unknown {what} '{given}': expected one of {expected}")]
     UnknownName {
+        /// What was being named ("layout", "backend", ...).
         what: &'static str,
+        /// The name given.
         given: String,
+        /// The valid names, comma-separated.
         expected: String,
     },
 
+    /// A value out of its range (an image size, a probe grid, ...).
     #[error("invalid {what}: {message}")]
-    Invalid { what: &'static str, message: String },
+    Invalid {
+        /// What the value is ("image size", "probe grid", ...).
+        what: &'static str,
+        /// Why it is invalid.
+        message: String,
+    },
 
     /// The cause is part of the message, not a `source`: the front end prints the error's
     /// chain, which would repeat it.
     #[error("cannot write '{}': {reason}", path.display())]
     Write {
+        /// The file (or folder) that could not be written.
         path: PathBuf,
+        /// The I/O error.
         reason: std::io::Error,
     },
 
+    /// An image that could not be encoded for the file `path`.
     #[error("cannot encode '{}': {message}", path.display())]
-    Encode { path: PathBuf, message: String },
+    Encode {
+        /// The file the image was for.
+        path: PathBuf,
+        /// The encoder's reason.
+        message: String,
+    },
 
+    /// An output file whose extension names no format this writer knows.
     #[error("unsupported output file '{}': {expected}", path.display())]
     Format {
+        /// The output file.
         path: PathBuf,
+        /// The extensions accepted, as a phrase ("expected .png or .exr").
         expected: &'static str,
     },
 
     /// A scene file that cannot be read, parsed or validated; `message` names the line and
     /// column.
     #[error("scene file '{}': {message}", path.display())]
-    Scene { path: PathBuf, message: String },
+    Scene {
+        /// The scene file.
+        path: PathBuf,
+        /// What is wrong, and where.
+        message: String,
+    },
 
     /// No adapter for the requested backends.
     #[error("no GPU adapter for {backends}: {message} (for software Vulkan install the package mesa-vulkan-drivers, or use --backend cpu)")]
-    NoAdapter { backends: String, message: String },
+    NoAdapter {
+        /// The backends asked for (`Debug` of `wgpu::Backends`).
+        backends: String,
+        /// wgpu's reason.
+        message: String,
+    },
 
     /// No window could be opened (no display server, or it refused).
     #[error("cannot open a window: {message} (without a display, `shadeballs render` draws the same scene to a PNG)")]
-    Display { message: String },
+    Display {
+        /// The windowing system's reason.
+        message: String,
+    },
 
     /// The GPU device reported an error (validation, out of memory, lost device).
     #[error("GPU error: {message}")]
-    Gpu { message: String },
+    Gpu {
+        /// The error, on one line.
+        message: String,
+    },
 }
 
+/// The library's result type: [`Error`] on failure.
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// `message` on one line: its non-empty lines, trimmed, joined by ": " (by " " after a line

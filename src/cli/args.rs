@@ -36,6 +36,7 @@ macro_rules! value_enum {
 
 value_enum!(Geometry, Method, PointSet, LayoutKind, Storage, Preset, Backend, SweepKind);
 
+/// Flags of `shadeballs bake`.
 #[derive(clap::Args)]
 pub struct BakeArgs {
     /// Output file: .csv (one row per texel), .exr (f32), .png (16 bit), or .ktx2: the
@@ -69,6 +70,7 @@ pub struct BakeArgs {
     pub storage: Option<Storage>,
 }
 
+/// Flags of `shadeballs bench`.
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// Fewer configurations and repeats (under a minute).
@@ -135,8 +137,10 @@ pub fn ignored_geometry(preset: Preset, geometry: Option<Geometry>) -> Option<St
     })
 }
 
+/// Flags of `shadeballs render`.
 #[derive(clap::Args)]
 pub struct RenderArgs {
+    /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Image width in pixels, 1..=16384 (a device with a smaller largest texture refuses
@@ -158,6 +162,7 @@ pub struct RenderArgs {
     pub verbose: bool,
 }
 
+/// Flags of `shadeballs probe`.
 #[derive(clap::Args)]
 pub struct ProbeArgs {
     /// CSV output (a .csv file): roughness,mu,E,E_avg.
@@ -187,6 +192,7 @@ pub struct ProbeArgs {
 /// Flags of `shadeballs view`.
 #[derive(clap::Args)]
 pub struct ViewArgs {
+    /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Window width in pixels, 1..=16384, as for `render` (the panel takes 300 points on the
@@ -214,6 +220,7 @@ pub struct ViewArgs {
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
 pub const MAX_TABLE_SIDE: usize = 8192;
 
+/// Flags of `shadeballs truth`.
 #[derive(clap::Args)]
 pub struct TruthArgs {
     /// A few cells and slices with few paths (seconds) instead of the full study.

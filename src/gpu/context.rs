@@ -17,15 +17,19 @@ pub enum Backend {
     /// Any GPU adapter wgpu finds (honours `WGPU_BACKEND`); the CPU renderer if none.
     #[default]
     Auto,
+    /// Vulkan adapters only (`wgpu::Backends::VULKAN`).
     Vulkan,
+    /// OpenGL adapters only (`wgpu::Backends::GL`).
     Gl,
     /// The CPU reference renderer.
     Cpu,
 }
 
 impl Backend {
+    /// Every backend, in a fixed order.
     pub const ALL: [Backend; 4] = [Backend::Auto, Backend::Vulkan, Backend::Gl, Backend::Cpu];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             Backend::Auto => "auto",
@@ -52,9 +56,12 @@ crate::named_enum!(Backend, "backend");
 
 /// A device and its queue, and the adapter when this crate opened the device.
 pub struct Gpu {
-    /// `None` for a host's device ([`Gpu::from_device`]).
+    /// The adapter the device was opened on; `None` for a host's device
+    /// ([`Gpu::from_device`]).
     pub adapter: Option<wgpu::Adapter>,
+    /// The device the renderer creates its resources on.
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
     faults: Arc<Mutex<Faults>>,
 }

@@ -7,15 +7,21 @@ use crate::scene::Scene;
 
 /// Display values, RGBA8, row-major, row 0 at the top.
 pub struct LdrImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `4 * width * height` bytes: tone-mapped, gamma-encoded RGB and alpha 255.
     pub rgba: Vec<u8>,
 }
 
 /// Linear radiance, RGBA f32, row-major, row 0 at the top.
 pub struct HdrImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `4 * width * height` values: linear radiance (before exposure) and alpha 1.
     pub rgba: Vec<f32>,
 }
 

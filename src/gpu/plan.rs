@@ -41,6 +41,7 @@ pub enum TablePolicy {
 /// What the renderer does besides the tables: how it draws.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct DrawOptions {
+    /// How the tables are chosen.
     pub tables: TablePolicy,
     /// Each ball drawn over its screen-space bounds, the background a clear (`true`), or one
     /// full-screen triangle that paints the background too (`false`, the earlier design).
@@ -100,6 +101,7 @@ pub enum TermMode {
 /// One shader variant: the pipeline-time constants that depend on the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Variant {
+    /// How the multiple-scattering term is compiled.
     pub term: TermMode,
     /// The environment's part compiled in.
     pub environment: bool,
@@ -110,12 +112,15 @@ pub struct Variant {
 /// The plan of one scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
+    /// The G the tables and the shader use ([`Scene::effective_geometry`]).
     pub geometry: Geometry,
     /// The bake settings (geometry = the scene's).
     pub bake: BakeConfig,
+    /// The tables to bake and bind.
     pub tables: TablePlan,
     /// The variants drawn, each with the indices of its balls (in the scene's order).
     pub draws: Vec<(Variant, Vec<usize>)>,
+    /// Whether each ball is drawn over its screen-space bounds ([`DrawOptions::per_ball`]).
     pub per_ball: bool,
 }
 

@@ -19,9 +19,13 @@ pub const MAX_PROBE_GRID: u32 = 1024;
 /// One probe sample: `mu = i / (N - 1)`, `roughness = j / (N - 1)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProbeSample {
+    /// Roughness of the read: `j / (N - 1)`, or the row's (clamped) along a scene's rows.
     pub roughness: f32,
+    /// mu of the read (cos of the angle to the normal): `i / (N - 1)`.
     pub mu: f32,
+    /// E as the shader reads it at `(mu, roughness)`.
     pub e: f32,
+    /// E_avg as the shader reads it at `roughness` (a scene's row: the row's own).
     pub e_avg: f32,
 }
 

@@ -26,9 +26,13 @@ use crate::scene::Scene;
 /// Float formats receive linear radiance (for EXR); others the tone-mapped value.
 #[derive(Clone, Copy)]
 pub struct Target<'a> {
+    /// The view drawn into (a render attachment).
     pub view: &'a wgpu::TextureView,
+    /// The view's format (linear radiance where [`crate::gpu::is_linear`], else tone-mapped).
     pub format: wgpu::TextureFormat,
+    /// Width of the image in pixels, from the texture's left edge.
     pub width: u32,
+    /// Height of the image in pixels, from the texture's top edge.
     pub height: u32,
 }
 
@@ -103,6 +107,7 @@ impl Renderer {
         Self::new(Gpu::from_device(device, queue))
     }
 
+    /// The device the renderer draws with.
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }
@@ -120,6 +125,7 @@ impl Renderer {
         self.options = options;
     }
 
+    /// How draws plan and draw now ([`Renderer::set_draw_options`]).
     pub fn draw_options(&self) -> DrawOptions {
         self.options
     }

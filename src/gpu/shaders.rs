@@ -23,11 +23,14 @@ const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
 const BALLS: &str = include_str!("../../shaders/balls.wgsl");
 const PROBE: &str = include_str!("../../shaders/probe.wgsl");
 
-/// Entry points of the ball renderer module.
+/// Vertex entry point of the ball renderer module's full-screen draw (one triangle over
+/// the viewport).
 pub const VS_MAIN: &str = "vs_main";
+/// Fragment entry point of the full-screen draw: every pixel's radiance, background included.
 pub const FS_MAIN: &str = "fs_main";
-/// Entry points of the per-ball draw (one quad per ball over its screen-space bounds).
+/// Vertex entry point of the per-ball draw (one quad per ball over its screen-space bounds).
 pub const VS_BALL: &str = "vs_ball";
+/// Fragment entry point of the per-ball draw: the pixel if its nearest hit is the quad's ball.
 pub const FS_BALL: &str = "fs_ball";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";

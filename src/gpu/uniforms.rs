@@ -12,8 +12,11 @@ use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
 #[derive(Clone, Debug)]
 pub enum BoundTables {
+    /// No tables: no ball reads E (a one-texel placeholder is bound).
     None,
+    /// A scene's own rows, one per roughness ([`crate::gpu::TablePlan::Rows`]).
     Rows(Arc<RowSet>),
+    /// The 2-D table.
     Full(Arc<Tables>),
 }
 
@@ -65,33 +68,54 @@ impl BoundTables {
     }
 }
 
+/// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Globals {
+    /// xyz: the eye ([`crate::scene::CameraBasis::origin`]); w: 1.
     pub cam_origin: [f32; 4],
+    /// xyz: unit view direction; w: 0.
     pub cam_forward: [f32; 4],
+    /// xyz: right scaled by `tan(vfov / 2) * aspect` ([`crate::scene::CameraBasis::right`]);
+    /// w: 0.
     pub cam_right: [f32; 4],
+    /// xyz: up scaled by `tan(vfov / 2)`; w: 0.
     pub cam_up: [f32; 4],
+    /// rgb: linear environment radiance (also the background); w: exposure.
     pub environment: [f32; 4],
+    /// Width and height of the image in pixels, 0, 0.
     pub size: [f32; 4],
+    /// Ball count and light count (at most `MAX_BALLS` and `MAX_LIGHTS`), 0, 0.
     pub counts: [u32; 4],
+    /// How the bound tables are read ([`BoundTables::lut_params`]).
     pub lut: LutParams,
 }
 
+/// One ball of the balls uniform array: `Ball` of `types.wgsl` ([`balls`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuBall {
+    /// xyz: centre; w: radius.
     pub center_radius: [f32; 4],
+    /// xyz: linear F0; w: roughness (raw; the shader clamps it).
     pub f0_roughness: [f32; 4],
+    /// xyz: linear diffuse albedo (0 for a metal); w: 1 with the multiple-scattering term,
+    /// 0 without.
     pub diffuse_ms: [f32; 4],
+    /// xyz: `f_add` of the scene's preset; w: `f_ms_norm` of `1 - E_avg` at the ball's
+    /// roughness as read; all 0 without the term.
     pub f_add_ms_norm: [f32; 4],
+    /// The roughness half of the ball's E reads ([`BoundTables::lut_row`]).
     pub lut_row: [f32; 4],
 }
 
+/// One light of the lights uniform array: `Light` of `types.wgsl` ([`lights`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuLight {
+    /// xyz: unit vector from the surface towards the light; w: 0.
     pub direction: [f32; 4],
+    /// rgb: linear radiance ([`crate::scene::Light::radiance`]); w: 0.
     pub radiance: [f32; 4],
 }
 

@@ -10,8 +10,11 @@ use crate::brdf::Geometry;
 /// Summary of absolute errors.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ErrorStats {
+    /// Largest error (infinite when any error is NaN).
     pub max: f64,
+    /// Mean error (0 for no errors).
     pub mean: f64,
+    /// How many errors were folded.
     pub count: usize,
     /// `(mu, roughness)` of the largest error (mu is NaN for E_avg).
     pub worst_at: (f64, f64),
@@ -43,13 +46,19 @@ impl ErrorStats {
 /// Precise values at every texel of a layout: what a perfect bake would hold.
 #[derive(Clone, Debug)]
 pub struct ReferenceTables {
+    /// The layout whose texels these are.
     pub layout: Layout,
+    /// The masking-shadowing term.
     pub geometry: Geometry,
+    /// Precise E per texel, row-major (row = roughness), `layout.mu_size` per row.
     pub e: Vec<f64>,
+    /// Precise E_avg per roughness row.
     pub e_avg: Vec<f64>,
 }
 
 impl ReferenceTables {
+    /// [`e_reference`] at every texel of `layout` and [`e_avg_reference`] of every row, on
+    /// rayon's pool.
     pub fn new(layout: Layout, geometry: Geometry) -> Self {
         let l = layout;
         let e = (0..l.texels())
@@ -104,12 +113,16 @@ impl ReferenceTables {
 /// Precise E at sample points, kept to compare many tables against the same points.
 #[derive(Clone, Debug)]
 pub struct ReferencePoints {
+    /// The masking-shadowing term.
     pub geometry: Geometry,
+    /// The sample points, `(mu, roughness)`.
     pub points: Vec<(f64, f64)>,
+    /// Precise E at each point.
     pub e: Vec<f64>,
 }
 
 impl ReferencePoints {
+    /// [`e_reference`] at each of `points` (`(mu, roughness)`), on rayon's pool.
     pub fn new(points: Vec<(f64, f64)>, geometry: Geometry) -> Self {
         let e = points
             .par_iter()

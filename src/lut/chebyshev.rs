@@ -35,9 +35,9 @@ use super::estimators::{Estimator, Method, PointSet};
 use super::layout::{Layout, MuAxis};
 use crate::brdf::{alpha_from_roughness, roughness_clamped, Geometry, ROUGHNESS_MIN};
 
-/// Chebyshev points along `y = sqrt(x)` and along roughness, chosen by measurement (see
-/// the module docs).
+/// Chebyshev points along `y = sqrt(x)`, chosen by measurement (see the module docs).
 pub const CHEBYSHEV_MU_NODES: usize = 25;
+/// Chebyshev points along roughness, chosen by measurement (see the module docs).
 pub const CHEBYSHEV_R_NODES: usize = 17;
 
 /// E as a tensor Chebyshev series in (warped x, roughness).
@@ -141,7 +141,7 @@ impl ChebyshevSurface {
         Self { coeffs, n, nr }
     }
 
-    /// The series in x at `roughness` (clamped): `n` coefficients.
+    /// The series in `y = sqrt(x)` at `roughness` (clamped): `n` coefficients.
     pub fn row(&self, roughness: f64) -> Vec<f64> {
         let n = self.n;
         let nr = self.nr;

@@ -27,6 +27,7 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in a fixed order.
     pub const ALL: [Method; 5] = [
         Method::Cosine,
         Method::Ndf,
@@ -35,6 +36,7 @@ impl Method {
         Method::Chebyshev,
     ];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             Method::Cosine => "cosine",
@@ -58,8 +60,10 @@ pub enum PointSet {
 }
 
 impl PointSet {
+    /// Every point set, in a fixed order.
     pub const ALL: [PointSet; 3] = [PointSet::Random, PointSet::Hammersley, PointSet::Sobol];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             PointSet::Random => "random",
@@ -151,6 +155,8 @@ pub struct Estimator {
 }
 
 impl Estimator {
+    /// An estimator of `method` with `samples` (at least 1) points of `points` a texel
+    /// (Monte Carlo) or Gauss-Legendre nodes a segment (quadrature).
     pub fn new(method: Method, points: PointSet, samples: usize) -> Self {
         let samples = samples.max(1);
         let gl = if matches!(method, Method::Quadrature | Method::Chebyshev) {

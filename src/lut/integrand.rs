@@ -86,9 +86,13 @@ pub enum Mapping {
 /// One piece of the `theta_i` range: `theta_i = theta_o + sign d(x)`, `x` in `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
+    /// `1` on the side towards the horizon (`theta_i > theta_o`), `-1` towards the normal.
     pub sign: f64,
+    /// How `x` maps to `d`.
     pub mapping: Mapping,
+    /// Start of the range of `x`.
     pub lo: f64,
+    /// End of the range of `x`.
     pub hi: f64,
 }
 
@@ -115,15 +119,22 @@ pub fn phi_integral(mu_o: f64, s_o: f64, mu_i: f64, s_i: f64, alpha: f64) -> f64
 /// The E integrand over `theta_i` (includes the `sin theta_i` Jacobian of `dmu_i`).
 #[derive(Clone, Copy, Debug)]
 pub struct EIntegrand {
+    /// mu of the outgoing direction, clamped to `[MU_MIN, 1]`.
     pub mu_o: f64,
     s_o: f64,
+    /// Angle of the outgoing direction to the normal, `acos(mu_o)`, in radians: the peak.
     pub theta_o: f64,
+    /// Roughness as given (G clamps it).
     pub roughness: f64,
+    /// `alpha = roughness^2` after the roughness clamp.
     pub alpha: f64,
+    /// The masking-shadowing term.
     pub geometry: Geometry,
 }
 
 impl EIntegrand {
+    /// The integrand of `E(mu_o, roughness)` for `geometry`; `mu_o` is clamped to
+    /// `[MU_MIN, 1]`.
     pub fn new(mu_o: f64, roughness: f64, geometry: Geometry) -> Self {
         let mu_o = mu_o.clamp(MU_MIN, 1.0);
         Self {

@@ -41,6 +41,7 @@ pub enum MuAxis {
 }
 
 impl MuAxis {
+    /// Every value, in a fixed order (their names parse in scene files and table files).
     pub const ALL: [MuAxis; 3] = [MuAxis::Linear, MuAxis::Sqrt, MuAxis::Warped];
 
     /// The name in files (the KTX2 layout text).
@@ -109,6 +110,7 @@ pub enum EAvgRead {
 }
 
 impl EAvgRead {
+    /// Every value, in a fixed order (their names parse in scene files and table files).
     pub const ALL: [EAvgRead; 2] = [EAvgRead::Linear, EAvgRead::PowerLaw];
 
     /// The name in files (the KTX2 layout text).
@@ -156,11 +158,14 @@ impl RAxis {
 /// Where the texel centres sit (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Centres {
+    /// Texel `i` at `x = i / (n - 1)`: both ends are texel centres (the default layouts).
     Endpoints,
+    /// Texel `i` at `x = (i + 0.5) / n` (the homework's, GL's texture convention).
     HalfTexel,
 }
 
 impl Centres {
+    /// Every value, in a fixed order (their names parse in scene files and table files).
     pub const ALL: [Centres; 2] = [Centres::Endpoints, Centres::HalfTexel];
 
     /// The name in files (the KTX2 layout text).
@@ -184,8 +189,10 @@ pub enum Storage {
 }
 
 impl Storage {
+    /// Every storage, in a fixed order.
     pub const ALL: [Storage; 3] = [Storage::F32, Storage::F16, Storage::Unorm8];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             Storage::F32 => "f32",
@@ -203,6 +210,7 @@ impl Storage {
         }
     }
 
+    /// Bytes a texel takes on the GPU.
     pub fn bytes_per_texel(self) -> usize {
         match self {
             Storage::F32 => 4,
@@ -231,6 +239,7 @@ pub enum LayoutKind {
 }
 
 impl LayoutKind {
+    /// Every named layout, in a fixed order.
     pub const ALL: [LayoutKind; 4] = [
         LayoutKind::Warped,
         LayoutKind::SqrtMu,
@@ -238,6 +247,7 @@ impl LayoutKind {
         LayoutKind::Uniform,
     ];
 
+    /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
         match self {
             LayoutKind::Warped => "warped",
@@ -257,19 +267,30 @@ crate::named_enum!(LayoutKind, "layout");
 /// A table layout: axes, sizes, storage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Layout {
+    /// The named layout it was made from ([`Layout::of_kind`]; [`Layout::with_size`] and
+    /// [`Layout::with_storage`] keep it).
     pub kind: LayoutKind,
+    /// How mu maps to the table's x coordinate.
     pub mu_axis: MuAxis,
+    /// The range of the roughness axis.
     pub r_axis: RAxis,
+    /// How a read interpolates `1 - E_avg` between rows.
     pub e_avg_read: EAvgRead,
+    /// Where the texel centres sit.
     pub centres: Centres,
+    /// Texels along mu (a row's length).
     pub mu_size: usize,
+    /// Texels along roughness (rows).
     pub r_size: usize,
+    /// How texel values are stored on the GPU.
     pub storage: Storage,
 }
 
-/// Default table size (mu x roughness), chosen by measurement: the smallest that keeps the
-/// read-path error within max 1e-3 and mean 1e-4 (see docs/benchmarks.md, "Measured results").
+/// Default texels along mu. The default table size (mu x roughness) was chosen by
+/// measurement: the smallest that keeps the read-path error within max 1e-3 and mean 1e-4
+/// (see docs/benchmarks.md, "Measured results").
 pub const DEFAULT_MU_SIZE: usize = 64;
+/// Default texels along roughness (see [`DEFAULT_MU_SIZE`]).
 pub const DEFAULT_R_SIZE: usize = 64;
 
 /// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness), chosen by
@@ -281,6 +302,7 @@ pub const DEFAULT_R_SIZE: usize = 64;
 /// 2176 x 100 is enough (9.75e-4, Schlick) but 8-bit weights take it to 1.02e-3; 2304 x 112
 /// leaves a margin for both. 2.1 MB as R32G32_SFLOAT.
 pub const UNIFORM_MU_SIZE: usize = 2304;
+/// Default roughness rows of the [`LayoutKind::Uniform`] layout (see [`UNIFORM_MU_SIZE`]).
 pub const UNIFORM_R_SIZE: usize = 112;
 
 impl Default for Layout {
@@ -335,12 +357,14 @@ impl Layout {
         }
     }
 
+    /// This layout with `mu_size x r_size` texels.
     pub fn with_size(mut self, mu_size: usize, r_size: usize) -> Self {
         self.mu_size = mu_size;
         self.r_size = r_size;
         self
     }
 
+    /// This layout with its texels stored as `storage`.
     pub fn with_storage(mut self, storage: Storage) -> Self {
         self.storage = storage;
         self
@@ -387,6 +411,7 @@ impl Layout {
         ((roughness_coord(roughness) - r_min) / (1.0 - r_min)).clamp(0.0, 1.0)
     }
 
+    /// Texels of the E table: `mu_size * r_size`.
     pub fn texels(&self) -> usize {
         self.mu_size * self.r_size
     }
@@ -421,15 +446,18 @@ impl Layout {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LutParams {
-    /// Scale and bias of the mu axis ([`Layout::scale_bias`] of `mu_size`).
+    /// Scale of the mu axis ([`Layout::scale_bias`] of `mu_size`).
     pub mu_scale: f32,
+    /// Bias of the mu axis.
     pub mu_bias: f32,
-    /// Scale and bias of the roughness axis (of `r_size`; 0 for a scene's rows, where each
-    /// ball names its row).
+    /// Scale of the roughness axis (of `r_size`; 0 for a scene's rows, where each ball
+    /// names its row).
     pub r_scale: f32,
+    /// Bias of the roughness axis (0 for a scene's rows).
     pub r_bias: f32,
-    /// Texels along mu and along roughness (rows).
+    /// Texels along mu.
     pub mu_size: u32,
+    /// Texels along roughness (rows).
     pub r_size: u32,
     /// [`MuAxis::id`]: `MU_AXIS_LINEAR`, `MU_AXIS_SQRT` or `MU_AXIS_WARPED` in the WGSL.
     pub mu_axis: u32,

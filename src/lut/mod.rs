@@ -33,16 +33,21 @@ use crate::brdf::Geometry;
 /// "Measured results"): the Chebyshev bake keeps every texel of every layout within about
 /// 1e-5 of the reference at a fixed cost of 425 quadratures a table.
 pub const DEFAULT_METHOD: Method = Method::Chebyshev;
+/// The default Gauss-Legendre nodes per segment of [`DEFAULT_METHOD`]'s quadrature.
 pub const DEFAULT_SAMPLES: usize = 24;
 
 /// Everything that changes the baked values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BakeConfig {
+    /// The masking-shadowing term E is baked for (the shader must use the same).
     pub geometry: Geometry,
+    /// How E is estimated.
     pub method: Method,
+    /// The points a Monte Carlo method draws (unused by the quadratures).
     pub points: PointSet,
     /// Samples per texel (Monte Carlo) or nodes per segment (quadrature).
     pub samples: usize,
+    /// Axes, size and storage of the tables.
     pub layout: Layout,
 }
 
@@ -61,6 +66,7 @@ impl Default for BakeConfig {
 /// Baked tables: the values per texel and what the GPU stores.
 #[derive(Clone, Debug)]
 pub struct Tables {
+    /// The settings the tables were baked with.
     pub config: BakeConfig,
     /// E per texel, row-major (row = roughness), `layout.mu_size` per row.
     pub e: Vec<f64>,
@@ -255,6 +261,7 @@ pub(crate) fn read_row(
 }
 
 impl Tables {
+    /// The tables' layout (`config.layout`).
     pub fn layout(&self) -> &Layout {
         &self.config.layout
     }

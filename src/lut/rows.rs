@@ -33,7 +33,9 @@ use crate::brdf::alpha_from_roughness;
 /// f32 the shader reads at, clamped, as bits).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct RowKey {
+    /// The bake settings, `layout.r_size` set to 1.
     pub config: BakeConfig,
+    /// The row's roughness (clamped, f32) as bits, so the key is `Eq` and `Hash`.
     pub roughness_bits: u32,
 }
 
@@ -57,6 +59,7 @@ impl RowKey {
 /// One baked row.
 #[derive(Clone, Debug)]
 pub struct Row {
+    /// What the row was baked for.
     pub key: RowKey,
     /// E per texel (f64), `layout.mu_size` of them.
     pub e: Vec<f64>,
@@ -116,6 +119,7 @@ pub fn bake_rows(keys: &[RowKey]) -> Vec<Row> {
 pub struct RowSet {
     /// The bake settings; `layout.r_size` is the number of rows.
     pub config: BakeConfig,
+    /// The rows, row `j` of the texture at index `j`.
     pub rows: Vec<Arc<Row>>,
 }
 
@@ -133,6 +137,7 @@ impl RowSet {
         RowSet::new(bake_rows(&keys).into_iter().map(Arc::new).collect())
     }
 
+    /// The rows' layout as one table: `config.layout`, one row per roughness.
     pub fn layout(&self) -> &Layout {
         &self.config.layout
     }

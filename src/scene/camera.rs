@@ -6,7 +6,9 @@ use glam::DVec3;
 /// A perspective camera looking from `position` at `target`, `+y` up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The eye, in world units.
     pub position: DVec3,
+    /// The point looked at (centred in the image).
     pub target: DVec3,
     /// Vertical field of view in degrees, in `(0, 180)`.
     pub vfov_deg: f64,
@@ -18,7 +20,9 @@ pub struct Camera {
 /// `ndc_y = 1 - 2 (py + 0.5) / h` (row 0 at the top).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraBasis {
+    /// The eye: the camera's position, where every primary ray starts.
     pub origin: DVec3,
+    /// Unit vector from the eye towards the target.
     pub forward: DVec3,
     /// Unit right vector scaled by `tan(vfov / 2) * aspect`.
     pub right: DVec3,

@@ -51,6 +51,7 @@ pub enum MaterialKind {
 /// A ball's material, resolved to linear values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
+    /// Metal or dielectric.
     pub kind: MaterialKind,
     /// Linear reflectance at normal incidence, per channel.
     pub f0: DVec3,
@@ -78,10 +79,13 @@ pub fn srgb_to_linear(c: [f64; 3]) -> DVec3 {
 /// One exact sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ball {
+    /// Centre, in world units.
     pub center: DVec3,
+    /// Radius, in world units.
     pub radius: f64,
     /// In `[0, 1]`; the model clamps it to `[ROUGHNESS_MIN, 1]` when shading.
     pub roughness: f64,
+    /// What the ball is made of.
     pub material: Material,
     /// Whether the Kulla-Conty term `f_add * f_ms` is added.
     pub multiple_scattering: bool,
@@ -92,20 +96,26 @@ pub struct Ball {
 pub struct Light {
     /// Unit vector from the surface towards the light.
     pub direction: DVec3,
+    /// Linear RGB radiance; a point it lights reflects `f_r * radiance * mu_i`.
     pub radiance: DVec3,
 }
 
 /// A scene and its render settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The balls (at most [`MAX_BALLS`]: the renderers draw no more).
     pub balls: Vec<Ball>,
+    /// The directional lights (at most [`MAX_LIGHTS`]: the GPU renderer uses no more).
     pub lights: Vec<Light>,
     /// Uniform environment radiance (the white furnace when 1 and `F0 = 1`); also the
     /// background.
     pub environment: DVec3,
+    /// The camera the image is seen through.
     pub camera: Camera,
     /// Multiplies radiance before tone mapping.
     pub exposure: f64,
+    /// The `F_avg` and `f_add` forms the multiple-scattering term uses (and, for
+    /// `games202`, G).
     pub preset: Preset,
     /// The G the `accurate` preset uses (`games202` always uses schlick); default
     /// height-correlated Smith.

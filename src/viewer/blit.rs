@@ -8,6 +8,7 @@ pub struct Blit {
 }
 
 impl Blit {
+    /// The blit's pipeline drawing into surfaces of `format`.
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("blit"),

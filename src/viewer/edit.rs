@@ -18,8 +18,11 @@ pub enum MaterialChoice {
     AsScene,
     /// The homework's copper: sRGB albedo (0.7216, 0.451, 0.2) decoded with `pow 2.2`.
     Copper,
+    /// Gold, F0 (1.000, 0.782, 0.344).
     Gold,
+    /// Silver, F0 (0.972, 0.960, 0.915).
     Silver,
+    /// Aluminium, F0 (0.913, 0.922, 0.924).
     Aluminium,
     /// F0 = 1: with the furnace on, a ball with the term vanishes into the background.
     White,
@@ -41,6 +44,7 @@ impl MaterialChoice {
         ]
     }
 
+    /// The choice's label in the panel.
     pub fn name(self) -> &'static str {
         match self {
             MaterialChoice::AsScene => "as in the scene",
@@ -129,8 +133,11 @@ pub fn toggle_term(scene: &mut Scene) {
 /// both shrunk in proportion beyond, so that a row is no wider than the reference's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
+    /// Balls per row (clamped to `1..=MAX_BALLS_PER_ROW`).
     pub per_row: u32,
+    /// Roughness of a row's first ball (column 0, on the right; clamped to `[0, 1]`).
     pub low: f64,
+    /// Roughness of a row's last ball (clamped to `[0, 1]`).
     pub high: f64,
 }
 
@@ -182,8 +189,11 @@ impl Grid {
 /// side) and elevation (above the horizon), and a white intensity.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightControl {
+    /// Angle about +y in degrees, 0 towards +z.
     pub azimuth_deg: f64,
+    /// Angle above the horizon in degrees.
     pub elevation_deg: f64,
+    /// Radiance of each channel; no light when not positive.
     pub intensity: f64,
 }
 

@@ -40,12 +40,15 @@ const STATS_PERIOD: Duration = Duration::from_millis(500);
 
 /// What `shadeballs view` was asked for.
 pub struct ViewOptions {
+    /// The scene shown first (the panel edits it).
     pub scene: Scene,
+    /// The GPU backend to open (not [`Backend::Cpu`]: the viewer needs a GPU).
     pub backend: Backend,
     /// The window's inner size in pixels.
     pub size: (u32, u32),
     /// Draw this many frames, save `screenshot` if given, and exit.
     pub frames: Option<u32>,
+    /// With `frames`: the PNG the window's last frame is saved to.
     pub screenshot: Option<PathBuf>,
     /// Turn the camera by [`ORBIT_STEP`] every frame (to measure frame times while orbiting).
     pub orbit: bool,
@@ -53,14 +56,17 @@ pub struct ViewOptions {
 
 /// What a `--frames` run measured.
 pub struct Report {
+    /// Frames drawn.
     pub frames: u32,
-    /// How many of the frames shaded the balls, and drew the panel (the others reused
-    /// the last image of it).
+    /// How many of the frames shaded the balls (the others reused the last image of them).
     pub scene_draws: u64,
+    /// How many of the frames drew the panel (the others reused the last image of it).
     pub panel_draws: u64,
+    /// The window's inner size in pixels.
     pub window: (u32, u32),
     /// The scene area: the top-left `width x height` of the window.
     pub scene: (u32, u32),
+    /// The adapter drawn with ([`crate::gpu::Gpu::describe`]).
     pub adapter: String,
     /// Median wall time between the starts of consecutive frames (what the user sees).
     pub interval_ms: Option<f64>,
