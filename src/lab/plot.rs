@@ -6,7 +6,7 @@
 //! font embedded in `epaint_default_fonts`, registered with plotters' `ab_glyph` text (no
 //! system fonts, no download). That text places each glyph without its left side bearing
 //! (letters sit a pixel tight; a proportional font shows it far less than the monospace
-//! Hack) and a little high (see [`centre_fix`]).
+//! Hack) and a little high (see `centre_fix`).
 
 use std::error::Error as StdError;
 use std::path::Path;
