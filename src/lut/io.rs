@@ -51,7 +51,7 @@ fn stored_e_avg(tables: &Tables, j: usize) -> f64 {
 }
 
 /// CSV with header `table,roughness,mu,value`; E_avg rows leave `mu` empty. Coordinates
-/// are the texels' exact values; values are what the storage holds ([`stored_e`]), printed
+/// are the texels' exact values; values are what the storage holds (`stored_e`), printed
 /// to round-trip.
 pub fn tables_csv(tables: &Tables) -> String {
     let mut out = Vec::new();
