@@ -164,6 +164,12 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
+/// A line on stdout; a closed pipe (`| head -1`) is not an error worth a panic.
+fn say(line: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stdout().lock(), "{line}");
+}
+
 fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
@@ -195,13 +201,13 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     queue.submit([]);
     device.poll(wgpu::PollType::wait_indefinitely())?;
     let uploaded = start.elapsed() - baked;
-    println!(
+    say(&format!(
         "baked the tables ({}x{}) in {:.2} ms, uploaded in {:.2} ms",
         tables.layout().mu_size,
         tables.layout().r_size,
         baked.as_secs_f64() * 1e3,
         uploaded.as_secs_f64() * 1e3
-    );
+    ));
 
     let size = args.size;
     let basis = scene.camera.basis(size, size);
@@ -370,7 +376,10 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         rgba.extend_from_slice(&row[..(size * 4) as usize]);
     }
     image::save_buffer(&args.out, &rgba, size, size, image::ColorType::Rgba8)?;
-    println!("shaded one ball at {size}x{size} -> {}", args.out.display());
+    say(&format!(
+        "shaded one ball at {size}x{size} -> {}",
+        args.out.display()
+    ));
     Ok(())
 }
 

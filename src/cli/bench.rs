@@ -21,6 +21,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         only: args.only,
     };
     let summary = crate::lab::bench::run(&options)?;
-    println!("{summary}");
+    super::print_stdout(&summary);
     Ok(())
 }

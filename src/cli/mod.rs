@@ -76,6 +76,13 @@ pub(crate) fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Res
     Ok(())
 }
 
+/// Writes `text` and a newline to stdout; a reader that closed the pipe (`| head`) is not
+/// an error worth a panic (`println!` panics on it).
+fn print_stdout(text: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stdout().lock(), "{text}");
+}
+
 /// Parses `std::env::args`, runs the subcommand and turns its error into one line on stderr
 /// and the exit code (2 for bad flags, 1 for a failed run).
 pub fn main() -> ExitCode {

@@ -12,7 +12,7 @@ pub fn run(args: TruthArgs) -> anyhow::Result<()> {
         out: args.out,
     };
     let (summary, headline) = crate::lab::truth::run(&options)?;
-    println!("{summary}");
+    super::print_stdout(&summary);
     eprintln!(
         "truth: largest albedo error against the walk: accurate {:.2e}, games202 {:.2e} \
          (ratio {:.2}; walk standard error <= {:.1e}) in {:.1} s -> {}",
