@@ -119,7 +119,12 @@ impl Gpu {
             message: format!("cannot open the device: {e}"),
         })?;
         let info = adapter.get_info();
-        log::info!("opened {} ({:?}, {})", info.name, info.backend, info.driver_info);
+        log::info!(
+            "opened {} ({:?}, {})",
+            info.name,
+            info.backend,
+            info.driver_info
+        );
         let faults = Arc::new(Mutex::new(Faults::default()));
         let sink = faults.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {

@@ -69,6 +69,11 @@ impl Camera {
     }
 }
 
+/// Pixels added around each ball's exact bounds by both renderers (the GPU's quads,
+/// the CPU's screen bins): the shader's f32 ray may hit a pixel whose centre the f64
+/// silhouette just misses.
+pub const BOUNDS_PAD_PX: f64 = 2.0;
+
 /// The relative margin by which `cz^2 - r^2` must be positive (the sphere wholly in front
 /// of the eye's plane, `cz` its centre's depth) for [`CameraBasis::sphere_bounds`] to bound
 /// it tighter than the screen; it keeps the bounds' division by `cz^2 - r^2` away from 0.
