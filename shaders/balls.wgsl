@@ -159,7 +159,7 @@ fn ball_of(in: BallOut) -> Ball {
     return Ball(in.center_radius, in.f0_roughness, in.diffuse_ms, in.f_add_ms_norm, in.lut_row);
 }
 
-// One corner of a ball's quad per vertex (two triangles, vertices 0..6): `rect` is its
+// One corner of a ball's quad per vertex (a triangle strip, vertices 0..4): `rect` is its
 // bounds in NDC, [x0, y0, x1, y1], the other attributes the ball's members (src/gpu/
 // renderer.rs encode, one instance per ball).
 @vertex
@@ -172,10 +172,9 @@ fn vs_ball(
     @location(5) f_add_ms_norm: vec4<f32>,
     @location(6) lut_row: vec4<f32>,
 ) -> BallOut {
-    // Corners (0,0) (1,0) (0,1) (0,1) (1,0) (1,1), as 2-bit codes x + 2y packed in a u32.
-    let i = (3492u >> (2u * index)) & 3u;
-    let cx = f32(i & 1u);
-    let cy = f32((i >> 1u) & 1u);
+    // Corners (0,0) (1,0) (0,1) (1,1): the index's bits.
+    let cx = f32(index & 1u);
+    let cy = f32((index >> 1u) & 1u);
     var out: BallOut;
     out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
     out.counts = loop_counts();

@@ -95,7 +95,15 @@ impl Pipelines {
                     compilation_options: options.clone(),
                     buffers,
                 },
-                primitive: wgpu::PrimitiveState::default(),
+                // A quad a ball: one strip of two triangles an instance (4 vertices, not 6).
+                primitive: wgpu::PrimitiveState {
+                    topology: if per_ball {
+                        wgpu::PrimitiveTopology::TriangleStrip
+                    } else {
+                        wgpu::PrimitiveTopology::TriangleList
+                    },
+                    ..Default::default()
+                },
                 // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
                 depth_stencil: per_ball.then(|| wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,

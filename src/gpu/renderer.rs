@@ -373,7 +373,7 @@ impl Renderer {
                 }
                 let bytes = range.start as u64 * stride..range.end as u64 * stride;
                 pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
-                pass.draw(0..6, 0..range.len() as u32);
+                pass.draw(0..4, 0..range.len() as u32);
             } else {
                 pass.draw(0..3, 0..1);
             }

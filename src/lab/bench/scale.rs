@@ -238,6 +238,47 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         });
     }
 
+    // The CPU reference renderer at 1280 x 720 (rayon's pool; the same charts).
+    let mut cpu_t = Table::new(
+        "scale_cpu",
+        "Scale: the CPU reference renderer at 1280x720 against the number of balls at equal covered pixels",
+        &["balls", "cpu_ms", "over_16_balls"],
+    );
+    let mut by_balls_cpu = series("CPU reference renderer");
+    let cpu_repeats = if quick { 1 } else { 5 };
+    let mut cpu_at = std::collections::HashMap::new();
+    for n in SIDES {
+        let scene = chart(n, 1, None);
+        let tables = crate::lut::bake(&BakeConfig {
+            geometry: scene.effective_geometry(),
+            ..BakeConfig::default()
+        });
+        let (ms, _) = super::median_ms(cpu_repeats, || {
+            crate::cpu::render_radiance(&scene, &tables, w, h)
+        });
+        cpu_at.insert(n * n, ms);
+        by_balls_cpu.points.push(((n * n) as f64, ms));
+    }
+    for n in SIDES {
+        let ms = cpu_at[&(n * n)];
+        cpu_t.push(vec![
+            (n * n).to_string(),
+            format!("{ms:.1}"),
+            format!("{:.3}", ms / cpu_at[&16]),
+        ]);
+    }
+    let cpu_ratio = cpu_at[&256] / cpu_at[&16];
+    goals.push(Goal {
+        what:
+            "scale: the CPU reference renderer's 256-ball chart <= 2x its 16-ball time (1280x720)"
+                .into(),
+        figure: format!(
+            "{:.1} ms against {:.1} ms: {cpu_ratio:.2}x; 4,096 balls {:.1} ms",
+            cpu_at[&256], cpu_at[&16], cpu_at[&4096]
+        ),
+        met: cpu_ratio <= 2.0,
+    });
+
     // Resolution, the 16 x 16 chart.
     let mut res_t = Table::new(
         "scale_resolution",
@@ -369,7 +410,7 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         goals: Vec::new(),
     };
     Ok(Sweep {
-        tables: vec![balls_t, res_t, lights_t, start_t],
+        tables: vec![balls_t, cpu_t, res_t, lights_t, start_t],
         plots: vec![
             (
                 "scale_balls".into(),
