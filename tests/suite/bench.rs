@@ -22,7 +22,17 @@ const CSVS: [&str; 8] = [
     "render",
     "startup",
 ];
-const PLOTS: [&str; 5] = ["bake", "bake_sizes", "read", "lookup", "render"];
+const PLOTS: [&str; 9] = [
+    "bake",
+    "bake_sizes",
+    "read",
+    "lookup",
+    "render",
+    "scale_balls",
+    "scale_resolution",
+    "scale_lights",
+    "scale_startup",
+];
 
 /// Columns that hold a number (or "-" where the row has none).
 fn numeric(column: &str) -> bool {
