@@ -1,14 +1,16 @@
 // balls.wgsl: the entry points of the ball renderer.
 //
-// Each pixel casts its primary ray and intersects every ball analytically (exact spheres,
-// no tessellation); the nearest hit wins, so overlapping balls need no depth buffer. Two
-// ways to cover the pixels:
+// Each pixel casts its primary ray and intersects balls analytically (exact spheres, no
+// tessellation). Two ways to cover the pixels:
 // - vs_ball / fs_ball (the planned renderer, src/gpu/renderer.rs): one quad per ball over
 //   its screen-space bounds (CameraBasis::sphere_bounds), instanced per shader variant; a
-//   fragment shades only where its own ball is the nearest hit and discards elsewhere;
-//   the background is the render pass's clear. Only the pixels a ball covers are shaded.
-// - vs_main / fs_main: one full-screen triangle that also paints the background (the
-//   design before planning, kept for comparison in `shadeballs bench`).
+//   fragment intersects its own ball only, discards where the ray misses it, and writes
+//   the hit's distance as its depth (ball_depth): the depth test keeps the nearest ball,
+//   so a pixel costs one intersection whatever the number of balls. The background is the
+//   render pass's clear. Only the pixels a ball's quad covers are shaded.
+// - vs_main / fs_main: one full-screen triangle that also paints the background, each
+//   pixel intersecting every ball (nearest_hit; the design before planning, kept for
+//   comparison in `shadeballs bench`).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -139,13 +141,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
 
 struct BallOut {
     @builtin(position) position: vec4<f32>,
-    @location(0) @interpolate(flat) ball: u32,
     // loop_counts(), as in VsOut.
     @location(1) @interpolate(flat) counts: vec2<u32>,
-    // The members of balls[ball], read once per vertex and handed on as flat varyings: a
-    // fragment shades only its own ball, so it reads no per-ball uniform. On lavapipe a
-    // uniform read at a per-pixel index is a gather that costs about what a table read does;
-    // a flat varying is a broadcast (docs/benchmarks.md, "The term's cost").
+    // The quad's ball, from its instance (src/gpu/bindings.rs BallInstance) and handed on
+    // as flat varyings: a fragment shades only its own ball, so it reads no per-ball buffer.
+    // On lavapipe a buffer read at a per-pixel index is a gather that costs about what a
+    // table read does; a flat varying is a broadcast (docs/benchmarks.md, "The term's cost").
     @location(2) @interpolate(flat) center_radius: vec4<f32>,
     @location(3) @interpolate(flat) f0_roughness: vec4<f32>,
     @location(4) @interpolate(flat) diffuse_ms: vec4<f32>,
@@ -158,35 +159,57 @@ fn ball_of(in: BallOut) -> Ball {
     return Ball(in.center_radius, in.f0_roughness, in.diffuse_ms, in.f_add_ms_norm, in.lut_row);
 }
 
-// One corner of ball `ball`'s quad per vertex (two triangles, vertices 0..6): `rect` is its
-// bounds in NDC, [x0, y0, x1, y1] (src/gpu/renderer.rs encode, one instance per ball).
+// One corner of a ball's quad per vertex (a triangle strip, vertices 0..4): `rect` is its
+// bounds in NDC, [x0, y0, x1, y1], the other attributes the ball's members (src/gpu/
+// renderer.rs encode, one instance per ball).
 @vertex
-fn vs_ball(@builtin(vertex_index) index: u32, @location(0) rect: vec4<f32>, @location(1) ball: u32) -> BallOut {
-    // Corners (0,0) (1,0) (0,1) (0,1) (1,0) (1,1), as 2-bit codes x + 2y packed in a u32.
-    let i = (3492u >> (2u * index)) & 3u;
-    let cx = f32(i & 1u);
-    let cy = f32((i >> 1u) & 1u);
+fn vs_ball(
+    @builtin(vertex_index) index: u32,
+    @location(0) rect: vec4<f32>,
+    @location(2) center_radius: vec4<f32>,
+    @location(3) f0_roughness: vec4<f32>,
+    @location(4) diffuse_ms: vec4<f32>,
+    @location(5) f_add_ms_norm: vec4<f32>,
+    @location(6) lut_row: vec4<f32>,
+) -> BallOut {
+    // Corners (0,0) (1,0) (0,1) (1,1): the index's bits.
+    let cx = f32(index & 1u);
+    let cy = f32((index >> 1u) & 1u);
     var out: BallOut;
     out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
-    out.ball = ball;
     out.counts = loop_counts();
-    let b = balls[min(ball, MAX_BALLS - 1u)];
-    out.center_radius = b.center_radius;
-    out.f0_roughness = b.f0_roughness;
-    out.diffuse_ms = b.diffuse_ms;
-    out.f_add_ms_norm = b.f_add_ms_norm;
-    out.lut_row = b.lut_row;
+    out.center_radius = center_radius;
+    out.f0_roughness = f0_roughness;
+    out.diffuse_ms = diffuse_ms;
+    out.f_add_ms_norm = f_add_ms_norm;
+    out.lut_row = lut_row;
     return out;
 }
 
-// The pixel's radiance if its nearest hit is this quad's ball; discarded otherwise (another
-// ball's quad or the clear covers it).
+// The depth of a hit at distance t > 0: t scaled by the power of two DEPTH_SCALE, which is
+// exact in f32 (no two distances the f32 ray tells apart share a depth), so the depth
+// test (less) keeps the nearest hit as nearest_hit does. Every distance in a valid scene
+// is below 2^43 (coordinates and radii within MAX_MAGNITUDE = 1e12 of src/scene: at most
+// 2 sqrt(3) 1e12 + 1e12 = 4.5e12), so depths stay in [0, 1).
+const DEPTH_SCALE: f32 = 5.684341886080802e-14; // 2^-44
+
+struct BallFragment {
+    @location(0) colour: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// The pixel's radiance on this quad's ball, at its depth; discarded where the ray misses
+// the ball (another quad or the clear covers it). The depth test settles which ball is in
+// front: one intersection a fragment, not one per ball.
 @fragment
-fn fs_ball(in: BallOut) -> @location(0) vec4<f32> {
+fn fs_ball(in: BallOut) -> BallFragment {
     let ray = primary_ray(in.position.xy);
-    let hit = nearest_hit(ray[0], ray[1], in.counts.x);
-    if hit.t < 0.0 || hit.ball != in.ball {
+    let t = intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+    if !(t > 0.0) {
         discard;
     }
-    return output_value(shade_hit(ray[0], ray[1], hit.t, ball_of(in), in.counts.y));
+    var out: BallFragment;
+    out.colour = output_value(shade_hit(ray[0], ray[1], t, ball_of(in), in.counts.y));
+    out.depth = t * DEPTH_SCALE;
+    return out;
 }

@@ -2,7 +2,10 @@
 // (src/gpu/bindings.rs creates the matching layout).
 
 @group(0) @binding(0) var<uniform> globals: Globals;
-@group(0) @binding(1) var<uniform> balls: array<Ball, MAX_BALLS>;
+// Every ball, for the full-screen path's loop (fs_main); the per-ball quads carry their
+// ball in the instance buffer instead (vs_ball). A storage buffer: MAX_BALLS balls of 80
+// bytes exceed the 64 KiB a uniform binding may hold.
+@group(0) @binding(1) var<storage, read> balls: array<Ball>;
 @group(0) @binding(2) var<uniform> lights: array<Light, MAX_LIGHTS>;
 // 1 - E(mu, roughness) (Tables::stored_loss) as 2x2 blocks (lut.wgsl says how).
 @group(0) @binding(3) var e_table: texture_2d<f32>;

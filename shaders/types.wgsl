@@ -2,8 +2,9 @@
 // points. Concatenated after the library (constants, brdf, lut; src/gpu/shaders.rs): naga
 // has no #include.
 
-// Sizes of the uniform arrays (src/scene MAX_BALLS, MAX_LIGHTS).
-const MAX_BALLS: u32 = 256u;
+// Most balls and lights (src/scene MAX_BALLS, MAX_LIGHTS): the sizes of the balls storage
+// buffer and the lights uniform array.
+const MAX_BALLS: u32 = 4096u;
 const MAX_LIGHTS: u32 = 16u;
 
 // Pipeline-time choices (PipelineCompilationOptions::constants), folded by the compiler:

@@ -12,7 +12,7 @@ pub use shade::{intersect_sphere, shade, TableRead};
 
 use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
-use crate::scene::{Scene, MAX_BALLS};
+use crate::scene::{Ball, CameraBasis, Scene, BOUNDS_PAD_PX, MAX_BALLS};
 
 /// Linear radiance of every pixel, row-major, row 0 at the top; rows on rayon's pool.
 pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Vec<DVec3> {
@@ -20,6 +20,13 @@ pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) 
 }
 
 /// As [`render_radiance`] with a chosen source of E and E_avg.
+///
+/// Each pixel intersects only the balls whose screen-space bounds cover it (the bounds the
+/// GPU's quads use, [`CameraBasis::sphere_bounds`], widened by the same
+/// [`BOUNDS_PAD_PX`]), found through square screen bins of [`BIN_PX`] pixels: the cost
+/// follows the pixels the balls cover, not their number. Candidates are tried in index
+/// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
+/// every ball.
 pub fn render_radiance_with(
     scene: &Scene,
     e: &TableRead<'_>,
@@ -30,6 +37,8 @@ pub fn render_radiance_with(
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
     let geometry = scene.effective_geometry();
+    let bins = Bins::new(&basis, balls, width, height);
+    let bins = &bins;
     (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -37,7 +46,8 @@ pub fn render_radiance_with(
                 let d = basis.ray(px, py, width, height);
                 let o = basis.origin;
                 let mut best: Option<(f64, usize)> = None;
-                for (k, b) in balls.iter().enumerate() {
+                for k in bins.candidates(px, py) {
+                    let b = &balls[k];
                     let t = intersect_sphere(o, d, b.center, b.radius);
                     if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
                         best = Some((t, k));
@@ -54,6 +64,80 @@ pub fn render_radiance_with(
             })
         })
         .collect()
+}
+
+/// Side of the CPU renderer's screen bins, in pixels.
+pub const BIN_PX: u32 = 16;
+
+/// The balls that may cover each bin of the image: each ball's pixel rectangle (from its
+/// padded bounds) and, per bin, the indices of the balls whose rectangle meets it, in
+/// index order.
+struct Bins {
+    columns: usize,
+    /// Per ball: first and last pixel column and row its bounds cover (inclusive).
+    rects: Vec<[u32; 4]>,
+    /// Per bin (row-major), the balls that meet it.
+    members: Vec<Vec<u32>>,
+}
+
+impl Bins {
+    fn new(basis: &CameraBasis, balls: &[Ball], width: u32, height: u32) -> Self {
+        let columns = width.div_ceil(BIN_PX) as usize;
+        let rows = height.div_ceil(BIN_PX) as usize;
+        let mut members = vec![Vec::new(); columns * rows];
+        let mut rects = Vec::with_capacity(balls.len());
+        for (k, b) in balls.iter().enumerate() {
+            if members.is_empty() {
+                break; // An empty image.
+            }
+            let Some(ndc) = basis.sphere_bounds(b.center, b.radius, width, height, BOUNDS_PAD_PX)
+            else {
+                // Off screen or behind the eye: no pixel sees it.
+                rects.push([1, 0, 1, 0]);
+                continue;
+            };
+            let rect = pixel_rect(ndc, width, height);
+            rects.push(rect);
+            let [x0, x1, y0, y1] = rect.map(|v| (v / BIN_PX) as usize);
+            for row in y0..=y1 {
+                for col in x0..=x1 {
+                    members[row * columns + col].push(k as u32);
+                }
+            }
+        }
+        Bins {
+            columns,
+            rects,
+            members,
+        }
+    }
+
+    /// The balls whose bounds cover pixel `(px, py)`, in index order.
+    fn candidates(&self, px: u32, py: u32) -> impl Iterator<Item = usize> + '_ {
+        let bin = (py / BIN_PX) as usize * self.columns + (px / BIN_PX) as usize;
+        self.members[bin]
+            .iter()
+            .map(|&k| k as usize)
+            .filter(move |&k| {
+                let [x0, x1, y0, y1] = self.rects[k];
+                (x0..=x1).contains(&px) && (y0..=y1).contains(&py)
+            })
+    }
+}
+
+/// The pixels whose centres NDC bounds `[x0, y0, x1, y1]` (y up) hold, widened by one pixel
+/// each side against rounding: `[first column, last column, first row, last row]` within
+/// the image (row 0 at the top). Pixel centre `px + 0.5` is at NDC `2 (px + 0.5) / w - 1`.
+fn pixel_rect(ndc: [f64; 4], width: u32, height: u32) -> [u32; 4] {
+    let [x0, y0, x1, y1] = ndc;
+    let (w, h) = (width as f64, height as f64);
+    let clamp = |v: f64, n: u32| v.clamp(0.0, (n - 1) as f64) as u32;
+    [
+        clamp(((x0 + 1.0) * 0.5 * w - 0.5).floor() - 1.0, width),
+        clamp(((x1 + 1.0) * 0.5 * w - 0.5).ceil() + 1.0, width),
+        clamp(((1.0 - y1) * 0.5 * h - 0.5).floor() - 1.0, height),
+        clamp(((1.0 - y0) * 0.5 * h - 0.5).ceil() + 1.0, height),
+    ]
 }
 
 /// `surface_normal` of `balls.wgsl`: the unit normal along `p` (hit point minus centre), or

@@ -1,6 +1,6 @@
-//! The renderer's group 0 (`shaders/bindings.wgsl`): its layout, the uniform buffers and
-//! the per-ball quads' vertex buffer; a bind group joins them with the tables
-//! ([`GpuTables`], `upload.rs`).
+//! The renderer's group 0 (`shaders/bindings.wgsl`): its layout, the uniform buffers, the
+//! balls' storage buffer and the per-ball quads' vertex buffer; a bind group joins them
+//! with the tables ([`GpuTables`], `upload.rs`).
 
 use std::mem::size_of;
 
@@ -12,26 +12,37 @@ use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 pub struct Bindings {
     pub layout: wgpu::BindGroupLayout,
     pub globals: wgpu::Buffer,
+    /// Every ball (storage, [`MAX_BALLS`] of them): read by the full-screen path only.
     pub balls: wgpu::Buffer,
     pub lights: wgpu::Buffer,
     /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
     pub instances: wgpu::Buffer,
 }
 
-/// One ball's quad (`vs_ball` in `balls.wgsl`): its bounds in NDC and its index.
+/// One ball's quad (`vs_ball` in `balls.wgsl`): its bounds in NDC and the ball's members,
+/// which reach the fragment stage as flat varyings. An instance attribute rather than a
+/// read of the balls buffer in the vertex stage: portable to adapters without storage
+/// buffers in the vertex stage, and no gather.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct BallInstance {
     pub rect: [f32; 4],
-    pub ball: u32,
+    pub ball: GpuBall,
 }
 
 impl BallInstance {
-    /// The vertex layout of [`BallInstance`], one per instance.
+    /// The vertex layout of [`BallInstance`], one per instance (locations as in `vs_ball`).
     pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
         array_stride: size_of::<BallInstance>() as u64,
         step_mode: wgpu::VertexStepMode::Instance,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Uint32],
+        attributes: &wgpu::vertex_attr_array![
+            0 => Float32x4,
+            2 => Float32x4,
+            3 => Float32x4,
+            4 => Float32x4,
+            5 => Float32x4,
+            6 => Float32x4
+        ],
     };
 }
 
@@ -45,6 +56,21 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
             | wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// The balls' storage buffer, read by the full-screen path's fragments (`fs_main`; the
+/// probe's compute stage shares the layout).
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: TABLE_STAGES,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
             has_dynamic_offset: false,
             min_binding_size: None,
         },
@@ -71,7 +97,7 @@ impl Bindings {
             label: Some("group 0"),
             entries: &[
                 uniform_entry(0),
-                uniform_entry(1),
+                storage_entry(1),
                 uniform_entry(2),
                 GpuTables::layout_entry(3, TABLE_STAGES),
                 GpuTables::layout_entry(4, TABLE_STAGES),
@@ -80,7 +106,12 @@ impl Bindings {
         Bindings {
             layout,
             globals: uniform_buffer(device, "globals", size_of::<Globals>()),
-            balls: uniform_buffer(device, "balls", size_of::<GpuBall>() * MAX_BALLS),
+            balls: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("balls"),
+                size: (size_of::<GpuBall>() * MAX_BALLS) as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             lights: uniform_buffer(device, "lights", size_of::<GpuLight>() * MAX_LIGHTS),
             instances: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("ball quads"),

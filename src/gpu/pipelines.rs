@@ -27,6 +27,10 @@ pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) 
     )
 }
 
+/// The depth target of the per-ball draw (`Renderer`'s own, sized to each colour target):
+/// f32, so that `fs_ball`'s depths (distances scaled by a power of two) keep every bit.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
 /// Whether `format` gets linear radiance rather than display values.
 pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     matches!(
@@ -91,8 +95,23 @@ impl Pipelines {
                     compilation_options: options.clone(),
                     buffers,
                 },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
+                // A quad a ball: one strip of two triangles an instance (4 vertices, not 6).
+                primitive: wgpu::PrimitiveState {
+                    topology: if per_ball {
+                        wgpu::PrimitiveTopology::TriangleStrip
+                    } else {
+                        wgpu::PrimitiveTopology::TriangleList
+                    },
+                    ..Default::default()
+                },
+                // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
+                depth_stencil: per_ball.then(|| wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
                     module,

@@ -10,10 +10,10 @@ use std::time::Duration;
 
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
-use super::pipelines::{is_linear, pipeline_key, Pipelines};
+use super::pipelines::{is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
 use super::plan::{DrawOptions, Plan, TablePolicy};
 use super::table_cache::{Bound, TableCache, Upload};
-use super::uniforms::{self, BoundTables};
+use super::uniforms::{self, BoundTables, GpuBall};
 use crate::brdf::Geometry;
 use crate::error::Result;
 use crate::lut::{BakeConfig, Tables};
@@ -37,8 +37,8 @@ pub struct Target<'a> {
 }
 
 /// Pixels added around each ball's exact bounds: the shader's f32 ray may hit a pixel
-/// whose centre the f64 silhouette just misses.
-pub const QUAD_PAD_PX: f64 = 2.0;
+/// whose centre the f64 silhouette just misses (the CPU renderer's bins use the same).
+pub const QUAD_PAD_PX: f64 = crate::scene::BOUNDS_PAD_PX;
 
 /// Device, group 0, pipelines, tables, and the plan of the latest scene.
 pub struct Renderer {
@@ -52,6 +52,42 @@ pub struct Renderer {
     /// How tables are baked; its `geometry` is replaced by the scene's.
     bake_config: BakeConfig,
     plan: Option<Plan>,
+    /// The per-ball draw's depth target, the size of the last colour target drawn into
+    /// (made again when that size changes).
+    depth: Option<Depth>,
+}
+
+/// A depth texture and its view, of a colour target's size.
+struct Depth {
+    size: (u32, u32),
+    // Kept alive with its view.
+    _texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+impl Depth {
+    fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("ball depth"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        Depth {
+            size,
+            _texture: texture,
+            view,
+        }
+    }
 }
 
 impl Renderer {
@@ -68,6 +104,7 @@ impl Renderer {
             options: DrawOptions::default(),
             bake_config: BakeConfig::default(),
             plan: None,
+            depth: None,
         }
     }
 
@@ -255,7 +292,8 @@ impl Renderer {
         let globals = uniforms::globals(scene, &read, w, h);
         queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
         let balls = uniforms::balls(scene, &read);
-        if !balls.is_empty() {
+        // Only the full-screen path reads the balls buffer; the quads carry their ball.
+        if !plan.per_ball && !balls.is_empty() {
             queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
         }
         let lights = uniforms::lights(scene);
@@ -266,15 +304,20 @@ impl Renderer {
         let mut draws = Vec::new();
         let mut quads: Vec<BallInstance> = Vec::new();
         let basis = scene.camera.basis(w, h);
+        let hidden = if plan.per_ball {
+            hidden_duplicates(&balls)
+        } else {
+            Vec::new()
+        };
         for (variant, members) in &plan.draws {
             let start = quads.len() as u32;
             if plan.per_ball {
-                quads.extend(members.iter().filter_map(|&k| {
+                quads.extend(members.iter().filter(|&&k| !hidden[k]).filter_map(|&k| {
                     let b = &scene.balls[k];
                     let rect = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX)?;
                     Some(BallInstance {
                         rect: rect.map(|v| v as f32),
-                        ball: k as u32,
+                        ball: balls[k],
                     })
                 }));
             }
@@ -291,6 +334,17 @@ impl Renderer {
         } else {
             wgpu::Color::BLACK
         };
+        // The per-ball draw's depth target, the size of the whole colour attachment.
+        let depth = if plan.per_ball {
+            let texture = target.view.texture();
+            let size = (texture.width(), texture.height());
+            if self.depth.as_ref().is_none_or(|d| d.size != size) {
+                self.depth = Some(Depth::new(&self.gpu.device, size));
+            }
+            self.depth.as_ref().map(|d| &d.view)
+        } else {
+            None
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("balls"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -302,6 +356,14 @@ impl Renderer {
                     store: wgpu::StoreOp::Store,
                 },
             })],
+            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
             ..Default::default()
         });
         // The image's rectangle: the whole target headless, the scene area in a window.
@@ -317,12 +379,25 @@ impl Renderer {
                 }
                 let bytes = range.start as u64 * stride..range.end as u64 * stride;
                 pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
-                pass.draw(0..6, 0..range.len() as u32);
+                pass.draw(0..4, 0..range.len() as u32);
             } else {
                 pass.draw(0..3, 0..1);
             }
         }
     }
+}
+
+/// Which balls are hidden by an earlier one of the same centre and radius (as the shader
+/// sees them, in f32): such a pair ties at every pixel, where the nearest hit is the lower
+/// index's (`nearest_hit` in `balls.wgsl`, `cpu::render_radiance`); the depth test would
+/// keep whichever quad is drawn first, so the later ball is not drawn at all.
+fn hidden_duplicates(balls: &[GpuBall]) -> Vec<bool> {
+    let mut seen = std::collections::HashSet::with_capacity(balls.len());
+    balls
+        .iter()
+        // + 0.0 makes -0 and +0 one key.
+        .map(|b| !seen.insert(b.center_radius.map(|v| (v + 0.0).to_bits())))
+        .collect()
 }
 
 /// What the table cache uploads and binds with (fields of the renderer borrowed apart from

@@ -1,4 +1,4 @@
-//! The uniform buffers' Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`
+//! The shader data's Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`
 //! (every member a 16-byte vector, so the WGSL uniform layout is the `repr(C)` one).
 
 use bytemuck::{Pod, Zeroable};
@@ -143,7 +143,8 @@ pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> 
     }
 }
 
-/// The balls array (the used prefix of the uniform array). Each ball carries what the
+/// The balls (the used prefix of the balls storage buffer, and each quad's instance data).
+/// Each ball carries what the
 /// multiple-scattering term needs that is constant over the ball: `1 - E_avg` at its
 /// roughness as the shader reads it (`Tables::lut_loss_avg`, the f32 arithmetic of
 /// `lut_loss_avg` in `lut.wgsl`, or its own row's, `RowSet::lut_loss_avg`) and `f_add` of

@@ -12,14 +12,17 @@ mod values;
 
 use glam::DVec3;
 
-pub use camera::{Camera, CameraBasis};
+pub use camera::{Camera, CameraBasis, BOUNDS_PAD_PX};
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use preset::Preset;
 
 use crate::brdf::Geometry;
 
-/// Most balls a scene may hold (the GPU keeps them in one uniform array).
-pub const MAX_BALLS: usize = 256;
+/// Most balls a scene may hold: a 64 x 64 chart. The GPU keeps them in a storage buffer
+/// X; a frame's
+/// cost follows the pixels the balls cover, not their number (docs/reliability.md,
+/// "Limits").
+pub const MAX_BALLS: usize = 4096;
 /// Most directional lights a scene may hold.
 pub const MAX_LIGHTS: usize = 16;
 

@@ -22,7 +22,17 @@ const CSVS: [&str; 8] = [
     "render",
     "startup",
 ];
-const PLOTS: [&str; 5] = ["bake", "bake_sizes", "read", "lookup", "render"];
+const PLOTS: [&str; 9] = [
+    "bake",
+    "bake_sizes",
+    "read",
+    "lookup",
+    "render",
+    "scale_balls",
+    "scale_resolution",
+    "scale_lights",
+    "scale_startup",
+];
 
 /// Columns that hold a number (or "-" where the row has none).
 fn numeric(column: &str) -> bool {
@@ -110,7 +120,7 @@ fn bench_only_runs_the_named_sweeps() {
     let (ok, stderr) = shadeballs(&["bench", "--quick", "--only", "plan", "--out", out]);
     assert!(ok, "bench --only plan failed: {stderr}");
     assert!(dir.join("plan.csv").is_file());
-    for other in ["bake", "read", "lookup", "render", "startup"] {
+    for other in ["bake", "read", "lookup", "render", "startup", "scale_balls"] {
         assert!(
             !dir.join(format!("{other}.csv")).exists(),
             "--only plan wrote {other}.csv"
@@ -118,14 +128,16 @@ fn bench_only_runs_the_named_sweeps() {
     }
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(
-        summary.contains("Not measured: bake, read, lookup, render, startup (not in --only)"),
+        summary
+            .contains("Not measured: bake, read, lookup, render, startup, scale (not in --only)"),
         "{summary}"
     );
     // An unknown sweep is a one-line error naming the choices, before anything runs.
     let (ok, stderr) = shadeballs(&["bench", "--only", "plan,nope", "--out", out]);
     assert!(!ok);
     assert!(
-        stderr.contains("nope") && stderr.contains("bake, plan, read, lookup, render, startup"),
+        stderr.contains("nope")
+            && stderr.contains("bake, plan, read, lookup, render, startup, scale"),
         "{stderr}"
     );
 }

@@ -26,6 +26,7 @@ mod planned;
 mod probe;
 mod props;
 mod render;
+mod scale;
 mod scene;
 mod scene_gen;
 mod shaders;

@@ -16,6 +16,7 @@ mod plan;
 mod read;
 mod render;
 mod render_sweep;
+pub mod scale;
 mod startup;
 mod table;
 
@@ -62,16 +63,18 @@ pub enum SweepKind {
     Lookup,
     Render,
     Startup,
+    Scale,
 }
 
 impl SweepKind {
-    pub const ALL: [SweepKind; 6] = [
+    pub const ALL: [SweepKind; 7] = [
         SweepKind::Bake,
         SweepKind::Plan,
         SweepKind::Read,
         SweepKind::Lookup,
         SweepKind::Render,
         SweepKind::Startup,
+        SweepKind::Scale,
     ];
 
     pub fn name(self) -> &'static str {
@@ -82,6 +85,7 @@ impl SweepKind {
             SweepKind::Lookup => "lookup",
             SweepKind::Render => "render",
             SweepKind::Startup => "startup",
+            SweepKind::Scale => "scale",
         }
     }
 
@@ -89,7 +93,7 @@ impl SweepKind {
     pub fn needs_gpu(self) -> bool {
         matches!(
             self,
-            SweepKind::Lookup | SweepKind::Render | SweepKind::Startup
+            SweepKind::Lookup | SweepKind::Render | SweepKind::Startup | SweepKind::Scale
         )
     }
 }
@@ -157,9 +161,14 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             if options.wants(SweepKind::Lookup) {
                 sweeps.push(read::lookup_sweep(&gpu, quick)?);
             }
-            if options.wants(SweepKind::Render) {
+            if options.wants(SweepKind::Render) || options.wants(SweepKind::Scale) {
                 let mut renderer = crate::gpu::Renderer::new(gpu);
-                sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
+                if options.wants(SweepKind::Render) {
+                    sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
+                }
+                if options.wants(SweepKind::Scale) {
+                    sweeps.push(scale::scale_sweep(&mut renderer, quick)?);
+                }
             } else {
                 drop(gpu);
             }

@@ -1,0 +1,262 @@
+//! Scale (issue 18): the planned renderer settles occlusion with a depth test (one
+//! intersection a fragment), the CPU renderer shades each pixel against the balls whose
+//! bounds cover it, and scenes hold up to MAX_BALLS = 4,096 balls. Overlapping, touching
+//! and coincident balls must come out as the CPU's nearest hit (ties: lowest index).
+use glam::DVec3;
+use shadeballs::cpu;
+use shadeballs::gpu::{BoundTables, DrawOptions, Renderer};
+use shadeballs::lab::bench::scale::chart;
+use shadeballs::scene::{self, Ball, Material, MaterialKind, Scene, MAX_BALLS};
+
+use crate::pixels::{assert_close, compare, renderer, vulkan};
+
+/// Balls that interpenetrate (centres closer than the sum of radii, one deep inside
+/// another's silhouette), touch (centres exactly the sum of radii apart, side by side and
+/// one behind the other), and coincide (same centre and radius, different materials: the
+/// lower index must win everywhere).
+fn overlapping() -> Scene {
+    let mut scene = Scene::reference();
+    let metal = |rgb: [f64; 3]| Material::metal_srgb(rgb);
+    let dielectric = Material {
+        kind: MaterialKind::Dielectric,
+        f0: DVec3::splat(0.04),
+        diffuse: DVec3::new(0.2, 0.5, 0.7),
+    };
+    let ball = |c: [f64; 3], r: f64, roughness: f64, material: Material, ms: bool| Ball {
+        center: DVec3::from_array(c),
+        radius: r,
+        roughness,
+        material,
+        multiple_scattering: ms,
+    };
+    scene.balls = vec![
+        // Interpenetrating pair and a small ball half sunk into the big one.
+        ball([-150.0, 40.0, 0.0], 60.0, 0.3, metal([0.9, 0.6, 0.2]), true),
+        ball(
+            [-90.0, 40.0, 30.0],
+            45.0,
+            0.7,
+            metal([0.6, 0.6, 0.9]),
+            false,
+        ),
+        ball([-150.0, 40.0, 60.0], 20.0, 0.1, dielectric, true),
+        // Touching side by side (distance 40 + 30 = 70) and front to back.
+        ball([20.0, 60.0, 0.0], 40.0, 0.5, metal([0.9, 0.9, 0.9]), true),
+        ball([90.0, 60.0, 0.0], 30.0, 0.2, dielectric, false),
+        ball([20.0, 60.0, 70.0], 30.0, 0.9, metal([0.3, 0.9, 0.3]), true),
+        // Coincident: three identical spheres, the first must show.
+        ball(
+            [150.0, -70.0, 0.0],
+            45.0,
+            0.25,
+            metal([0.95, 0.3, 0.3]),
+            false,
+        ),
+        ball(
+            [150.0, -70.0, 0.0],
+            45.0,
+            0.85,
+            metal([0.3, 0.3, 0.95]),
+            true,
+        ),
+        ball([150.0, -70.0, 0.0], 45.0, 0.55, dielectric, true),
+        // A chain of interpenetrating balls receding from the camera.
+        ball([-40.0, -80.0, 0.0], 35.0, 0.4, metal([0.8, 0.5, 0.3]), true),
+        ball([-10.0, -80.0, -40.0], 35.0, 0.6, dielectric, false),
+        ball(
+            [20.0, -80.0, -80.0],
+            35.0,
+            0.8,
+            metal([0.5, 0.8, 0.3]),
+            true,
+        ),
+    ];
+    scene.environment = DVec3::new(0.05, 0.06, 0.08);
+    scene
+}
+
+/// GPU (RGBA8) and CPU images of `scene`, the CPU reading the tables the GPU bound.
+fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
+    let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
+    let radiance = match r.bound_tables() {
+        BoundTables::Rows(rows) => {
+            cpu::render_radiance_with(scene, &cpu::TableRead::Rows(&rows), w, h)
+        }
+        _ => {
+            let tables = r.tables_for(scene.effective_geometry());
+            cpu::render_radiance(scene, &tables, w, h)
+        }
+    };
+    (gpu, cpu::to_rgba8(&radiance, scene.exposure))
+}
+
+fn overlapping_matches_cpu(r: &mut Renderer, backend: &str) {
+    let scene = overlapping();
+    for (w, h) in [(1280, 720), (333, 199)] {
+        let (gpu, cpu) = both(r, &scene, w, h);
+        assert_close(
+            &compare(&gpu, &cpu, w),
+            &format!("{backend} vs CPU, overlapping balls, {w}x{h}"),
+        );
+    }
+}
+
+#[test]
+fn overlapping_balls_match_cpu_vulkan() {
+    overlapping_matches_cpu(&mut vulkan(), "Vulkan");
+}
+
+#[test]
+fn overlapping_balls_match_cpu_gl() {
+    overlapping_matches_cpu(&mut renderer(wgpu::Backends::GL), "GL");
+}
+
+/// The float target (EXR's) gets the same occlusion: linear radiance against the CPU's.
+#[test]
+fn overlapping_balls_hdr_match_cpu() {
+    let mut r = vulkan();
+    let scene = overlapping();
+    let (w, h) = (320, 180);
+    let hdr = r.render_hdr(&scene, w, h).unwrap();
+    let radiance = match r.bound_tables() {
+        BoundTables::Rows(rows) => {
+            cpu::render_radiance_with(&scene, &cpu::TableRead::Rows(&rows), w, h)
+        }
+        _ => cpu::render_radiance(&scene, &r.tables_for(scene.effective_geometry()), w, h),
+    };
+    let cpu = cpu::to_rgba_f32(&radiance);
+    let close = hdr
+        .rgba
+        .iter()
+        .zip(&cpu)
+        .filter(|(a, b)| (*a - *b).abs() <= 1e-3 * b.abs().max(1.0))
+        .count();
+    println!("HDR overlapping: {close} of {} channels", cpu.len());
+    assert!(close as f64 >= 0.999 * cpu.len() as f64);
+}
+
+/// Coincident balls: the lowest index shows, on the GPU as on the CPU, whichever pipeline
+/// (shader variant) each is drawn by.
+#[test]
+fn coincident_balls_show_the_lowest_index() {
+    let mut r = vulkan();
+    let mut scene = overlapping();
+    scene
+        .balls
+        .retain(|b| b.center == DVec3::new(150.0, -70.0, 0.0));
+    let (w, h) = (320, 180);
+    let (gpu, cpu) = both(&mut r, &scene, w, h);
+    let d = compare(&gpu, &cpu, w);
+    assert_close(&d, "coincident balls");
+    // And the image is the first ball's alone.
+    let first = Scene {
+        balls: vec![scene.balls[0]],
+        ..scene.clone()
+    };
+    let alone = r.render_ldr(&first, w, h).unwrap().rgba;
+    assert_eq!(gpu, alone, "a later coincident ball showed through");
+}
+
+/// The full-screen path (the loop over every ball, the comparison baseline) still agrees.
+#[test]
+fn full_screen_path_matches_planned() {
+    let mut r = vulkan();
+    let scene = overlapping();
+    let (w, h) = (640, 360);
+    let planned = r.render_ldr(&scene, w, h).unwrap().rgba;
+    r.set_draw_options(DrawOptions::unplanned());
+    let unplanned = r.render_ldr(&scene, w, h).unwrap().rgba;
+    assert_close(
+        &compare(&planned, &unplanned, w),
+        "planned vs full-screen, overlapping",
+    );
+}
+
+/// The renderer's depth target follows the colour target's size: sizes in turn, each equal
+/// to a fresh renderer's image.
+#[test]
+fn depth_target_follows_the_target_size() {
+    let mut r = vulkan();
+    let scene = overlapping();
+    for (w, h) in [(320, 180), (640, 360), (200, 300), (320, 180)] {
+        let image = r.render_ldr(&scene, w, h).unwrap().rgba;
+        let fresh = vulkan().render_ldr(&scene, w, h).unwrap().rgba;
+        assert_eq!(image, fresh, "{w}x{h}");
+    }
+}
+
+/// The CPU renderer's bins change nothing: bit-identical to a loop over every ball.
+#[test]
+fn cpu_bins_equal_the_loop_over_every_ball() {
+    use shadeballs::lut::{bake, BakeConfig};
+    for scene in [overlapping(), chart(16, 2, None), Scene::reference()] {
+        let (w, h) = (301, 173);
+        let tables = bake(&BakeConfig {
+            geometry: scene.effective_geometry(),
+            ..BakeConfig::default()
+        });
+        let binned = cpu::render_radiance(&scene, &tables, w, h);
+        let basis = scene.camera.basis(w, h);
+        let read = cpu::TableRead::Lut(&tables);
+        let mut k = 0;
+        for py in 0..h {
+            for px in 0..w {
+                let d = basis.ray(px, py, w, h);
+                let o = basis.origin;
+                let mut best: Option<(f64, usize)> = None;
+                for (i, b) in scene.balls.iter().enumerate() {
+                    let t = cpu::intersect_sphere(o, d, b.center, b.radius);
+                    if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                        best = Some((t, i));
+                    }
+                }
+                let expected = match best {
+                    None => scene.environment,
+                    Some((t, i)) => {
+                        let b = &scene.balls[i];
+                        let n = cpu::surface_normal(o + t * d - b.center, d);
+                        cpu::shade(
+                            &scene,
+                            b,
+                            n,
+                            -d,
+                            &read,
+                            scene.preset.f_avg_form(),
+                            scene.effective_geometry(),
+                        )
+                    }
+                };
+                assert_eq!(binned[k], expected, "pixel ({px}, {py})");
+                k += 1;
+            }
+        }
+    }
+}
+
+/// A 64 x 64 chart (MAX_BALLS balls) renders and matches the CPU.
+#[test]
+fn a_chart_of_max_balls_matches_cpu() {
+    const { assert!(MAX_BALLS >= 4096) };
+    let scene = chart(64, 1, None);
+    assert_eq!(scene.balls.len(), 4096);
+    let mut r = vulkan();
+    let (w, h) = (1280, 720);
+    let (gpu, cpu) = both(&mut r, &scene, w, h);
+    assert_close(&compare(&gpu, &cpu, w), "Vulkan vs CPU, 64 x 64 chart");
+}
+
+/// Scene files take MAX_BALLS balls and refuse one more, naming the limit.
+#[test]
+fn scene_files_hold_max_balls() {
+    let one = "[[ball]]\ngrid = [0, 0]\nradius = 1\nroughness = 0.5\nmaterial = { kind = \"metal\", f0 = [1, 1, 1] }\n";
+    let scene = scene::parse(&one.repeat(MAX_BALLS), std::path::Path::new("chart.toml"))
+        .expect("MAX_BALLS balls parse");
+    assert_eq!(scene.balls.len(), MAX_BALLS);
+    let e = scene::parse(
+        &one.repeat(MAX_BALLS + 1),
+        std::path::Path::new("chart.toml"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains(&format!("more than {MAX_BALLS} balls")), "{e}");
+}
