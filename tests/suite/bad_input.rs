@@ -1,6 +1,7 @@
 //! Bad input to the real binary (issue 6): each case exits non-zero with one clear line on
 //! stderr, never a panic, and leaves no file behind. (GPU failures: `gpu_faults.rs`.)
 
+use shadeballs::scene::MAX_BALLS;
 use std::path::Path;
 use std::process::Command;
 
@@ -454,9 +455,13 @@ fn long_arrays_and_unnamed_fields_are_one_line_errors_at_their_key() {
             format!("line {}, column 1: more than 16 lights", 5 + 16 * 3 + 1).leak(),
         ),
         (
-            "257 balls",
-            BALL.repeat(257),
-            format!("line {}, column 1: more than 256 balls", 256 * 5 + 1).leak(),
+            "one ball past the limit",
+            BALL.repeat(MAX_BALLS + 1),
+            format!(
+                "line {}, column 1: more than {MAX_BALLS} balls",
+                MAX_BALLS * 5 + 1
+            )
+            .leak(),
         ),
         (
             "radius 0",
