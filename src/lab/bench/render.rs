@@ -113,30 +113,7 @@ impl Setup {
     }
 }
 
-const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// The 1280 x 720 frame the bench draws into, and its view.
-fn bench_target(renderer: &Renderer) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = renderer
-        .gpu()
-        .device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("bench frame"),
-            size: wgpu::Extent3d {
-                width: WIDTH,
-                height: HEIGHT,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
-}
+const FORMAT: wgpu::TextureFormat = device::FRAME_FORMAT;
 
 /// Frame times of `scene` drawn with options `a` and `b` in alternating frames (same
 /// tables): (median a, median b, median over pairs of a / b).
@@ -162,7 +139,7 @@ fn alternate(
     repeats: usize,
     mut set: impl FnMut(&mut Renderer, usize),
 ) -> Result<([Vec<f64>; 2], f64)> {
-    let (_texture, view) = bench_target(renderer);
+    let (_texture, view) = device::frame_target(renderer.gpu(), WIDTH, HEIGHT);
     let target = Target {
         view: &view,
         format: FORMAT,

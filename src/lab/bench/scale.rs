@@ -14,7 +14,7 @@ use glam::DVec3;
 use super::table::Table;
 use super::{device, median, Goal, Sweep};
 use crate::error::Result;
-use crate::gpu::{Gpu, Plan, Renderer, Target};
+use crate::gpu::{Plan, Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
 use crate::scene::{Ball, Camera, Light, Material, Scene};
@@ -98,27 +98,7 @@ const RESOLUTIONS: [(u32, u32); 5] = [
 ];
 const LIGHTS: [usize; 5] = [1, 2, 4, 8, 16];
 
-const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// A colour target of `w x h` and its view.
-fn target(gpu: &Gpu, w: u32, h: u32) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("scale frame"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
-}
+const FORMAT: wgpu::TextureFormat = device::FRAME_FORMAT;
 
 /// One frame of `scene` at `w x h`, waited for: its wall time in ms.
 fn frame(
@@ -150,7 +130,7 @@ pub fn frame_ms(
     h: u32,
     repeats: usize,
 ) -> Result<f64> {
-    let (_texture, view) = target(renderer.gpu(), w, h);
+    let (_texture, view) = device::frame_target(renderer.gpu(), w, h);
     frame(renderer, scene, &view, w, h)?;
     let mut times = Vec::with_capacity(repeats);
     for _ in 0..repeats.max(1) {
@@ -385,7 +365,7 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             let start = Instant::now();
             let tables = plan_tables(fresh.plan_for(&scene));
             let bake_ms = start.elapsed().as_secs_f64() * 1e3;
-            let (_texture, view) = target(fresh.gpu(), w, h);
+            let (_texture, view) = device::frame_target(fresh.gpu(), w, h);
             let first = frame(&mut fresh, &scene, &view, w, h)?;
             let steady = frame(&mut fresh, &scene, &view, w, h)?;
             s.points.push(((n * n) as f64, plan_ms + bake_ms + first));
