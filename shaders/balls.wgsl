@@ -134,9 +134,22 @@ fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
     return -d;
 }
 
+// The bits of linear radiance (and alpha 1) for an `Rgba32Uint` target: GL renders to no
+// 32-bit float format, and the read-back reinterprets the bits as f32 (src/gpu/headless.rs
+// render_hdr), so `.exr` keeps f32 there too. Compiled with OUTPUT_LINEAR = 1.
+fn output_bits(radiance: vec3<f32>) -> vec4<u32> {
+    return bitcast<vec4<u32>>(vec4<f32>(radiance, 1.0));
+}
+
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     return output_value(radiance_at(in.position.xy, in.counts));
+}
+
+// fs_main for an Rgba32Uint target (output_bits).
+@fragment
+fn fs_main_bits(in: VsOut) -> @location(0) vec4<u32> {
+    return output_bits(radiance_at(in.position.xy, in.counts));
 }
 
 struct BallOut {
@@ -198,18 +211,43 @@ struct BallFragment {
     @builtin(frag_depth) depth: f32,
 }
 
+// The distance along the pixel's primary ray `ray` to the quad's own ball (not > 0 where
+// the ray misses it).
+fn ball_distance(in: BallOut, ray: array<vec3<f32>, 2>) -> f32 {
+    return intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+}
+
 // The pixel's radiance on this quad's ball, at its depth; discarded where the ray misses
 // the ball (another quad or the clear covers it). The depth test settles which ball is in
 // front: one intersection a fragment, not one per ball.
 @fragment
 fn fs_ball(in: BallOut) -> BallFragment {
     let ray = primary_ray(in.position.xy);
-    let t = intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+    let t = ball_distance(in, ray);
     if !(t > 0.0) {
         discard;
     }
     var out: BallFragment;
     out.colour = output_value(shade_hit(ray[0], ray[1], t, ball_of(in), in.counts.y));
+    out.depth = t * DEPTH_SCALE;
+    return out;
+}
+
+struct BallBits {
+    @location(0) colour: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// fs_ball for an Rgba32Uint target (output_bits); the same discard and depth.
+@fragment
+fn fs_ball_bits(in: BallOut) -> BallBits {
+    let ray = primary_ray(in.position.xy);
+    let t = ball_distance(in, ray);
+    if !(t > 0.0) {
+        discard;
+    }
+    var out: BallBits;
+    out.colour = output_bits(shade_hit(ray[0], ray[1], t, ball_of(in), in.counts.y));
     out.depth = t * DEPTH_SCALE;
     return out;
 }

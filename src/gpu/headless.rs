@@ -37,26 +37,22 @@ impl Renderer {
         })
     }
 
-    /// Renders linear radiance into `Rgba32Float` (or `Rgba16Float` where 32-bit float is
-    /// not renderable, as on GL) and reads it back as f32.
+    /// Renders linear radiance into `Rgba32Float`, or where 32-bit float is not renderable
+    /// (GL) its f32 bits into `Rgba32Uint` (`fs_ball_bits`), and reads it back as f32: the
+    /// same f32 values on every backend, none clipped to a 16-bit float's range.
     pub fn render_hdr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<HdrImage> {
         let format = if self.gpu().renderable(wgpu::TextureFormat::Rgba32Float) {
             wgpu::TextureFormat::Rgba32Float
-        } else if self.gpu().renderable(wgpu::TextureFormat::Rgba16Float) {
-            wgpu::TextureFormat::Rgba16Float
+        } else if self.gpu().renderable(wgpu::TextureFormat::Rgba32Uint) {
+            wgpu::TextureFormat::Rgba32Uint
         } else {
             return Err(Error::Gpu {
-                message: format!("{} cannot render to a float target", self.gpu().describe()),
+                message: format!("{} cannot render to a 32-bit target", self.gpu().describe()),
             });
         };
+        // Either format's texels are four f32s' bytes.
         let bytes = self.render_readback(scene, width, height, format)?;
-        let rgba = match format {
-            wgpu::TextureFormat::Rgba32Float => bytemuck::pod_collect_to_vec(&bytes),
-            _ => bytes
-                .chunks_exact(2)
-                .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
-                .collect(),
-        };
+        let rgba = bytemuck::pod_collect_to_vec(&bytes);
         Ok(HdrImage {
             width,
             height,

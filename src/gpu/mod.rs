@@ -18,7 +18,7 @@ mod upload;
 
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage};
-pub use pipelines::is_linear;
+pub use pipelines::{is_bits, is_linear};
 pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
 pub use renderer::{Renderer, Target, QUAD_PAD_PX};

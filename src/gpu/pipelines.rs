@@ -31,14 +31,22 @@ pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) 
 /// f32, so that `fs_ball`'s depths (distances scaled by a power of two) keep every bit.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Whether `format` gets linear radiance rather than display values.
+/// Whether `format` gets linear radiance rather than display values: float formats, and
+/// `Rgba32Uint`, which gets its f32 bits ([`is_bits`]).
 pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     matches!(
         format,
         wgpu::TextureFormat::Rgba32Float
             | wgpu::TextureFormat::Rgba16Float
             | wgpu::TextureFormat::R32Float
-    )
+    ) || is_bits(format)
+}
+
+/// Whether `format` gets the bits of linear radiance as f32 (`fs_ball_bits`, `fs_main_bits`):
+/// `Rgba32Uint`, the f32 target of backends that render to no 32-bit float format (GL;
+/// integer formats are colour-renderable there), read back as f32 by `render_hdr`.
+pub fn is_bits(format: wgpu::TextureFormat) -> bool {
+    format == wgpu::TextureFormat::Rgba32Uint
 }
 
 /// The ball module, its pipeline layout and the pipelines made so far.
@@ -77,14 +85,24 @@ impl Pipelines {
                 constants: &constants,
                 ..Default::default()
             };
+            let bits = is_bits(format);
             let (vs, fs, buffers): (_, _, &[Option<wgpu::VertexBufferLayout>]) = if per_ball {
                 (
                     shaders::VS_BALL,
-                    shaders::FS_BALL,
+                    if bits {
+                        shaders::FS_BALL_BITS
+                    } else {
+                        shaders::FS_BALL
+                    },
                     &[Some(BallInstance::LAYOUT)],
                 )
             } else {
-                (shaders::VS_MAIN, shaders::FS_MAIN, &[])
+                let fs = if bits {
+                    shaders::FS_MAIN_BITS
+                } else {
+                    shaders::FS_MAIN
+                };
+                (shaders::VS_MAIN, fs, &[])
             };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("balls"),

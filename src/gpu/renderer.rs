@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
-use super::pipelines::{is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
+use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
 use super::plan::{DrawOptions, Plan, TablePolicy};
 use super::table_cache::{Bound, TableCache, Upload};
 use super::uniforms::{self, BoundTables, GpuBall};
@@ -23,7 +23,8 @@ use crate::scene::Scene;
 /// its top-left corner (the whole texture for a headless render, the scene area left of
 /// the viewer's panel in a window; the rest of the texture is cleared only, to the
 /// scene's background colour: the planned draw clears the whole attachment with it).
-/// Float formats receive linear radiance (for EXR); others the tone-mapped value.
+/// Float formats receive linear radiance (for EXR), `Rgba32Uint` its f32 bits; others the
+/// tone-mapped value.
 #[derive(Clone, Copy)]
 pub struct Target<'a> {
     /// The view drawn into (a render attachment).
@@ -411,9 +412,20 @@ fn upload<'a>(gpu: &'a Gpu, bindings: &'a Bindings) -> Upload<'a> {
 }
 
 /// The clear colour: what the shader would give a pixel that hits no ball (the
-/// environment, linear on a float target, else through the display transform).
+/// environment, linear on a float target, its f32 bits on an `Rgba32Uint` one, else
+/// through the display transform). wgpu clears an integer target with each component
+/// `as u32` (Vulkan and GL alike), which keeps a u32 held in an f64 exactly.
 fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
     let env = scene.environment;
+    if is_bits(format) {
+        let bits = |c: f64| (c as f32).to_bits() as f64;
+        return wgpu::Color {
+            r: bits(env.x),
+            g: bits(env.y),
+            b: bits(env.z),
+            a: bits(1.0),
+        };
+    }
     let value = |c: f64| {
         if is_linear(format) {
             c as f32 as f64

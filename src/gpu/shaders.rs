@@ -32,6 +32,10 @@ pub const FS_MAIN: &str = "fs_main";
 pub const VS_BALL: &str = "vs_ball";
 /// Fragment entry point of the per-ball draw: the pixel if its nearest hit is the quad's ball.
 pub const FS_BALL: &str = "fs_ball";
+/// `FS_MAIN` for an `Rgba32Uint` target: the bits of linear radiance (`output_bits`).
+pub const FS_MAIN_BITS: &str = "fs_main_bits";
+/// `FS_BALL` for an `Rgba32Uint` target: the bits of linear radiance (`output_bits`).
+pub const FS_BALL_BITS: &str = "fs_ball_bits";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
