@@ -12,7 +12,7 @@ const H: u32 = 720;
 /// Renders `scene` on the GPU and on the CPU from the same tables (the rows or the 2-D
 /// table its plan bound); returns both RGBA8. (`planned.rs` compares planned renders with
 /// the 2-D table's.)
-fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
+pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
     let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
     let radiance = match r.bound_tables() {
         BoundTables::Rows(rows) => {

@@ -9,6 +9,7 @@ use shadeballs::lab::bench::scale::chart;
 use shadeballs::scene::{self, Ball, Material, MaterialKind, Scene, MAX_BALLS};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
+use crate::render::both;
 
 /// Balls that interpenetrate (centres closer than the sum of radii, one deep inside
 /// another's silhouette), touch (centres exactly the sum of radii apart, side by side and
@@ -73,21 +74,6 @@ fn overlapping() -> Scene {
     ];
     scene.environment = DVec3::new(0.05, 0.06, 0.08);
     scene
-}
-
-/// GPU (RGBA8) and CPU images of `scene`, the CPU reading the tables the GPU bound.
-fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
-    let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
-    let radiance = match r.bound_tables() {
-        BoundTables::Rows(rows) => {
-            cpu::render_radiance_with(scene, &cpu::TableRead::Rows(&rows), w, h)
-        }
-        _ => {
-            let tables = r.tables_for(scene.effective_geometry());
-            cpu::render_radiance(scene, &tables, w, h)
-        }
-    };
-    (gpu, cpu::to_rgba8(&radiance, scene.exposure))
 }
 
 fn overlapping_matches_cpu(r: &mut Renderer, backend: &str) {
