@@ -37,6 +37,7 @@
 pub mod brdf;
 pub mod cpu;
 pub mod display;
+pub mod environment;
 pub mod error;
 pub mod gpu;
 pub mod lut;

@@ -17,6 +17,7 @@ pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use preset::Preset;
 
 use crate::brdf::Geometry;
+use crate::environment::{Background, Environment, IblTerm};
 
 /// Most balls a scene may hold: a 64 x 64 chart. The GPU keeps them in a storage buffer
 /// X; a frame's
@@ -113,6 +114,13 @@ pub struct Scene {
     /// Uniform environment radiance (the white furnace when 1 and `F0 = 1`); also the
     /// background.
     pub environment: DVec3,
+    /// An environment map lighting the balls, added to the uniform `environment` (which a
+    /// scene with a map leaves black).
+    pub environment_map: Option<Environment>,
+    /// What the pixels no ball covers show.
+    pub background: Background,
+    /// How the multiple-scattering term is formed under an environment map.
+    pub ibl_term: IblTerm,
     /// The camera the image is seen through.
     pub camera: Camera,
     /// Multiplies radiance before tone mapping.
@@ -143,6 +151,9 @@ impl Scene {
                 radiance: DVec3::ONE,
             }],
             environment: DVec3::ZERO,
+            environment_map: None,
+            background: Background::Environment,
+            ibl_term: IblTerm::KullaConty,
             camera: Camera::reference(),
             exposure: 1.0,
             preset: Preset::Accurate,

@@ -9,8 +9,19 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 11] = [
-    "crate", "brdf", "lut", "scene", "gpu", "cpu", "display", "output", "stats", "error", "wgsl",
+const LIBRARY: [&str; 12] = [
+    "crate",
+    "brdf",
+    "lut",
+    "environment",
+    "scene",
+    "gpu",
+    "cpu",
+    "display",
+    "output",
+    "stats",
+    "error",
+    "wgsl",
 ];
 
 /// Each top-level module (`crate`: lib.rs itself) and the top-level modules it must not
@@ -19,8 +30,9 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
     const FRONT: [&str; 3] = ["lab", "cli", "viewer"];
     let below = |extra: &[&'static str]| FRONT.iter().chain(extra).copied().collect();
     Some(match module {
-        "brdf" => below(&["lut", "scene", "gpu", "cpu"]),
-        "lut" => below(&["scene", "gpu", "cpu"]),
+        "brdf" => below(&["lut", "environment", "scene", "gpu", "cpu"]),
+        "lut" => below(&["environment", "scene", "gpu", "cpu"]),
+        "environment" => below(&["scene", "gpu", "cpu"]),
         "scene" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),
         "gpu" => below(&["cpu"]),

@@ -1,0 +1,239 @@
+//! Environment maps: equirectangular linear radiance around the scene (docs/design.md
+//! section 10), where they come from (a `.hdr`/`.exr` file or a generated built-in) and how
+//! a direction reads them. Knows nothing of the GPU.
+//!
+//! Convention (stated once, here): a unit direction `d = (x, y, z)`, `+y` up, maps to
+//! `u = atan2(x, -z) / 2 pi + 1/2`, `v = acos(y) / pi`; texel `(i, j)` of a `W x H` map has
+//! its centre at `((i + 1/2) / W, (j + 1/2) / H)`, row 0 at the top (`+y`). So `-z` (the
+//! direction the reference camera looks) is the middle of the map, `+x` three quarters
+//! across. Reads are bilinear between texel centres, wrapping in `u` and clamped in `v`
+//! (`env_radiance` in `shaders/environment.wgsl` is the GPU's twin).
+
+pub mod builtin;
+mod file;
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+
+pub use builtin::Builtin;
+pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+
+use crate::error::{Error, Result};
+
+/// An equirectangular map of linear RGB radiance, `width x height` texels, row-major, row
+/// 0 at the top. Every texel is finite and non-negative (the loaders clamp and count bad
+/// ones, [`MapStats`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvMap {
+    width: u32,
+    height: u32,
+    texels: Vec<[f32; 3]>,
+}
+
+impl EnvMap {
+    /// A map of `width x height` texels. Errors when a side is zero, the count does not
+    /// match, the map exceeds [`MAX_MAP_TEXELS`], or a texel is negative, NaN or infinite.
+    pub fn new(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Result<Self> {
+        let invalid = |message: String| Error::Invalid {
+            what: "environment map",
+            message,
+        };
+        if width == 0 || height == 0 {
+            return Err(invalid(format!("{width}x{height} has no texels")));
+        }
+        let count = width as u64 * height as u64;
+        if count > MAX_MAP_TEXELS {
+            return Err(invalid(format!(
+                "{width}x{height} is more than {MAX_MAP_TEXELS} texels (8192x4096)"
+            )));
+        }
+        if texels.len() as u64 != count {
+            return Err(invalid(format!(
+                "{} texels for {width}x{height}",
+                texels.len()
+            )));
+        }
+        if let Some(t) = texels
+            .iter()
+            .find(|t| !t.iter().all(|c| c.is_finite() && *c >= 0.0))
+        {
+            return Err(invalid(format!("texel {t:?} is negative, NaN or infinite")));
+        }
+        Ok(EnvMap {
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// A map of one radiance everywhere.
+    pub fn uniform(radiance: DVec3, width: u32, height: u32) -> Self {
+        let t = radiance.as_vec3().to_array();
+        EnvMap {
+            width,
+            height,
+            texels: vec![t; width as usize * height as usize],
+        }
+    }
+
+    /// Texels across.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Texels down.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The texels, row-major, row 0 at the top.
+    pub fn texels(&self) -> &[[f32; 3]] {
+        &self.texels
+    }
+
+    /// Texel `(i, j)` (column, row).
+    pub fn texel(&self, i: u32, j: u32) -> DVec3 {
+        let t = self.texels[j as usize * self.width as usize + i as usize];
+        DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+    }
+
+    /// Bilinear radiance at `uv` (texel centres at half-integers; `u` wraps, `v` clamps).
+    pub fn bilinear(&self, uv: DVec2) -> DVec3 {
+        let x = uv.x * self.width as f64 - 0.5;
+        let y = (uv.y * self.height as f64 - 0.5).clamp(0.0, (self.height - 1) as f64);
+        let x0 = x.floor();
+        let y0 = y.floor();
+        let (fx, fy) = (x - x0, y - y0);
+        let w = self.width as i64;
+        let i0 = (x0 as i64).rem_euclid(w) as u32;
+        let i1 = (x0 as i64 + 1).rem_euclid(w) as u32;
+        let j0 = y0 as u32;
+        let j1 = (j0 + 1).min(self.height - 1);
+        let top = self.texel(i0, j0).lerp(self.texel(i1, j0), fx);
+        let bottom = self.texel(i0, j1).lerp(self.texel(i1, j1), fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// Bilinear radiance seen along unit direction `d` in the map's own frame.
+    pub fn radiance(&self, d: DVec3) -> DVec3 {
+        self.bilinear(direction_to_uv(d))
+    }
+
+    /// The solid angle of a texel of row `j`: `(2 pi / W) (cos theta_0 - cos theta_1)`;
+    /// the rows' angles sum to `4 pi`.
+    pub fn texel_solid_angle(&self, j: u32) -> f64 {
+        let h = self.height as f64;
+        let t0 = PI * j as f64 / h;
+        let t1 = PI * (j + 1) as f64 / h;
+        2.0 * PI / self.width as f64 * (t0.cos() - t1.cos())
+    }
+}
+
+/// `(u, v)` of unit direction `d` (the module's convention).
+pub fn direction_to_uv(d: DVec3) -> DVec2 {
+    let u = d.x.atan2(-d.z) / (2.0 * PI) + 0.5;
+    let v = d.y.clamp(-1.0, 1.0).acos() / PI;
+    DVec2::new(u, v)
+}
+
+/// The unit direction at `(u, v)` (the inverse of [`direction_to_uv`]).
+pub fn uv_to_direction(uv: DVec2) -> DVec3 {
+    let phi = (uv.x - 0.5) * 2.0 * PI;
+    let theta = uv.y * PI;
+    DVec3::new(
+        theta.sin() * phi.sin(),
+        theta.cos(),
+        -theta.sin() * phi.cos(),
+    )
+}
+
+/// Where an environment map came from (for messages and the viewer's picker).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// A generated built-in.
+    Builtin(Builtin),
+    /// A file, as the scene or the command line named it.
+    File(std::path::PathBuf),
+}
+
+impl std::fmt::Display for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Source::Builtin(b) => write!(f, "{b}"),
+            Source::File(p) => write!(f, "{}", p.display()),
+        }
+    }
+}
+
+/// A scene's environment map: the map, turned about `+y` and scaled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// Where the map came from.
+    pub source: Source,
+    /// The map (shared: the renderers and the viewer keep it without copying).
+    pub map: Arc<EnvMap>,
+    /// Turns the environment about `+y` by this many degrees (right-handed: a feature at
+    /// `-z` moves towards `-x` for a positive angle).
+    pub rotation_deg: f64,
+    /// Multiplies the map's radiance.
+    pub intensity: f64,
+}
+
+impl Environment {
+    /// A world direction in the map's frame: turned by `-rotation_deg` about `+y`.
+    pub fn to_map(&self, world: DVec3) -> DVec3 {
+        let (s, c) = (-self.rotation_deg.to_radians()).sin_cos();
+        DVec3::new(
+            c * world.x + s * world.z,
+            world.y,
+            -s * world.x + c * world.z,
+        )
+    }
+
+    /// Radiance arriving from world direction `d` (towards the light): bilinear in the map,
+    /// times the intensity.
+    pub fn radiance(&self, d: DVec3) -> DVec3 {
+        self.intensity * self.map.radiance(self.to_map(d))
+    }
+}
+
+/// What the pixels no ball covers show.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Background {
+    /// Whatever the environment shows along the pixel's ray (the uniform radiance, or the
+    /// map): the default.
+    Environment,
+    /// Black.
+    Black,
+    /// A fixed linear radiance.
+    Colour(DVec3),
+}
+
+/// How the multiple-scattering term is formed under an environment map (`--ibl-term`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IblTerm {
+    /// Turquin 2019: the split-sum specular scaled by `1 + F0 (1 / E - 1)`.
+    Turquin,
+    /// Fdez-Aguera 2019: the multiple-scattering energy lit by the irradiance.
+    FdezAguera,
+    /// Kulla & Conty 2017, the whole lobe: `f_add f_ms` integrated against the map.
+    KullaConty,
+}
+
+impl IblTerm {
+    /// Every method, in the order the help lists them.
+    pub const ALL: [IblTerm; 3] = [IblTerm::Turquin, IblTerm::FdezAguera, IblTerm::KullaConty];
+
+    /// The name the command line and the scene file use.
+    pub fn name(self) -> &'static str {
+        match self {
+            IblTerm::Turquin => "turquin",
+            IblTerm::FdezAguera => "fdez-aguera",
+            IblTerm::KullaConty => "kulla-conty",
+        }
+    }
+}
+
+crate::named_enum!(IblTerm, "ibl term");
