@@ -110,9 +110,20 @@ fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
     let ray = primary_ray(frag);
     let hit = nearest_hit(ray[0], ray[1], counts.x);
     if hit.t < 0.0 {
-        return globals.environment.xyz;
+        return background_radiance(ray[1]);
     }
     return shade_hit(ray[0], ray[1], hit.t, balls[hit.ball], counts.y);
+}
+
+// What a pixel whose ray (unit direction d) hits no ball shows: the background's fixed
+// radiance, plus the environment map along d where the background shows it (IBL != 0).
+fn background_radiance(d: vec3<f32>) -> vec3<f32> {
+    var c = env.background.rgb;
+    if IBL != 0u && env.rotation_intensity.w == 1.0 {
+        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
+        c += env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+    }
+    return c;
 }
 
 // The target's value of linear radiance: itself on a float target, else tone-mapped.
@@ -250,4 +261,17 @@ fn fs_ball_bits(in: BallOut) -> BallBits {
     out.colour = output_bits(shade_hit(ray[0], ray[1], t, ball_of(in), in.counts.y));
     out.depth = t * DEPTH_SCALE;
     return out;
+}
+
+// The background alone, drawn over the viewport before the balls' quads where it shows the
+// environment map (the clear covers the other backgrounds).
+@fragment
+fn fs_background(in: VsOut) -> @location(0) vec4<f32> {
+    return output_value(background_radiance(primary_ray(in.position.xy)[1]));
+}
+
+// fs_background for an Rgba32Uint target (output_bits).
+@fragment
+fn fs_background_bits(in: VsOut) -> @location(0) vec4<u32> {
+    return output_bits(background_radiance(primary_ray(in.position.xy)[1]));
 }

@@ -12,6 +12,19 @@
 // 1 - E_avg(roughness) (Tables::stored_loss_avg) and each row's roughness (lut.wgsl).
 @group(0) @binding(4) var e_avg_table: texture_2d<f32>;
 
+// Group 1: the environment map, prefiltered (src/gpu/environment.rs). Stand-ins of one
+// texel when the scene has none (IBL = 0 compiles the reads out).
+@group(1) @binding(0) var<uniform> env: EnvUniform;
+// The map and its mip chain (Rgba16Float).
+@group(1) @binding(1) var env_radiance: texture_2d<f32>;
+// SPECULAR_LEVELS GGX-prefiltered layers (env_specular).
+@group(1) @binding(2) var env_specular_layers: texture_2d_array<f32>;
+// Irradiance, then the Kulla-Conty kernel layers (env_irradiance, env_multiple).
+@group(1) @binding(3) var env_convolved: texture_2d_array<f32>;
+// The split sum's bias B (R32Float, split_sum_bias).
+@group(1) @binding(4) var env_split_sum: texture_2d<f32>;
+@group(1) @binding(5) var env_sampler: sampler;
+
 // The bound tables' read parameters, with the pipeline's MU_AXIS for the axis: a constant,
 // so the compiler keeps only that axis's arithmetic (a select over all three cost about 1 %
 // of a frame with the term; docs/benchmarks.md, "The term's cost").

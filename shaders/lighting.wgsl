@@ -22,7 +22,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let mu_o = max(dot(n, v), 0.0);
     // E(mu_o) is read for the term and for the environment's part, not otherwise.
     var loss_o = 0.0;
-    if MS_TERM != 0u || HAS_ENVIRONMENT == 1u {
+    if MS_TERM != 0u || HAS_ENVIRONMENT == 1u || IBL != 0u {
         loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
     }
     let e_o = 1.0 - loss_o;
@@ -40,6 +40,9 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
         lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    }
+    if IBL != 0u {
+        lo += shade_environment_map(b, n, v, mu_o, loss_o, ms, f_add, kd);
     }
     if HAS_LIGHTS == 0u {
         return lo;
@@ -62,6 +65,47 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         }
         let f_r = spec + lobe + kd / PI;
         lo += f_r * lights[k].radiance.xyz * mu_i;
+    }
+    return lo;
+}
+
+// Radiance leaving ball b at normal n towards v lit by the environment map (docs/design.md
+// section 10): the split sum (prefiltered radiance about the mirror direction times
+// F0 A + B), the Lambertian base lit by the irradiance, and the multiple-scattering term
+// as IBL chooses, weighted by `ms`. `loss_o` is 1 - E(mu_o) as read from the E table; f_add
+// the ball's (zero with the term compiled out). Mirrored by src/cpu/shade.rs
+// shade_environment_map.
+fn shade_environment_map(
+    b: Ball,
+    n: vec3<f32>,
+    v: vec3<f32>,
+    mu_o: f32,
+    loss_o: f32,
+    ms: f32,
+    f_add: vec3<f32>,
+    kd: vec3<f32>,
+) -> vec3<f32> {
+    let roughness = b.f0_roughness.w;
+    let f0 = b.f0_roughness.xyz;
+    let rotation = env.rotation_intensity.xy;
+    let intensity = env.rotation_intensity.z;
+    let r = 2.0 * dot(n, v) * n - v;
+    let n_map = env_to_map(n, rotation);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(r, rotation), roughness);
+    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
+    let e_o = 1.0 - loss_o;
+    let fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_o, roughness));
+    let single = prefiltered * fss_ess;
+    var lo = single + kd * irradiance;
+    if ms > 0.0 {
+        if IBL == IBL_TURQUIN {
+            lo += ms * ibl_term_turquin(single, f0, e_o);
+        } else if IBL == IBL_FDEZ_AGUERA {
+            lo += ms * ibl_term_fdez_aguera(fss_ess, f0, loss_o, irradiance);
+        } else {
+            let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+            lo += ms * f_add * loss_o * multiple;
+        }
     }
     return lo;
 }

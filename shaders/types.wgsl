@@ -24,6 +24,13 @@ override MS_TERM: u32 = 1u;
 // has none). Likewise the directional lights' loop.
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
+// The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
+// 1, 2, 3: the map with the multiple-scattering term formed as turquin, fdez-aguera or
+// kulla-conty (IblTerm).
+override IBL: u32 = 0u;
+const IBL_TURQUIN: u32 = 1u;
+const IBL_FDEZ_AGUERA: u32 = 2u;
+const IBL_KULLA_CONTY: u32 = 3u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {
@@ -58,6 +65,15 @@ struct Ball {
     // The roughness half of an E read at the ball's roughness (Tables::lut_row; lut_loss_row
     // in lut.wgsl): first row index, weight of the next row, alpha, unused.
     lut_row: vec4<f32>,
+}
+
+// Mirrors src/gpu/environment.rs EnvUniform.
+struct EnvUniform {
+    // cos and sin of -rotation_deg (env_to_map), intensity, 1 where the background shows
+    // the map.
+    rotation_intensity: vec4<f32>,
+    // rgb: the background's fixed radiance.
+    background: vec4<f32>,
 }
 
 struct Light {

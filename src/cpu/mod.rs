@@ -8,7 +8,7 @@ mod shade;
 use glam::DVec3;
 use rayon::prelude::*;
 
-pub use shade::{intersect_sphere, shade, TableRead};
+pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, TableRead};
 
 use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
@@ -39,6 +39,21 @@ pub fn render_radiance_with(
     let geometry = scene.effective_geometry();
     let bins = Bins::new(&basis, balls, width, height);
     let bins = &bins;
+    // The map prepared as the GPU prepares it (E for its kernels from the 2-D table of the
+    // scene's G, whatever `e` reads).
+    let ibl = scene.environment_map.as_ref().map(|environment| {
+        let tables = match e {
+            TableRead::Lut(t) if t.config.geometry == geometry => (*t).clone(),
+            _ => crate::lut::bake(&crate::lut::BakeConfig {
+                geometry,
+                ..Default::default()
+            }),
+        };
+        (environment, CpuEnvironment::new(environment, &tables))
+    });
+    let ibl = &ibl;
+    let background = scene.background_radiance();
+    let shows_map = scene.background_shows_map();
     (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -53,12 +68,21 @@ pub fn render_radiance_with(
                         best = Some((t, k));
                     }
                 }
-                match best {
-                    None => scene.environment,
-                    Some((t, k)) => {
+                match (best, ibl) {
+                    (None, Some((environment, map))) if shows_map => {
+                        background + map.background(environment, d)
+                    }
+                    (None, _) => background,
+                    (Some((t, k)), _) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        shade(scene, b, n, -d, e, form, geometry)
+                        let lo = shade(scene, b, n, -d, e, form, geometry);
+                        match ibl {
+                            Some((_, map)) => {
+                                lo + shade_environment_map(scene, b, n, -d, e, form, map)
+                            }
+                            None => lo,
+                        }
                     }
                 }
             })

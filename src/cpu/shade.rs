@@ -5,9 +5,10 @@ use glam::DVec3;
 
 use crate::brdf::{
     f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, FAvgForm, Geometry,
-    GAMES202_EDGE_TINT,
+    DIV_EPSILON, GAMES202_EDGE_TINT,
 };
-use crate::lut::{e_avg_reference, e_reference, RowSet, Tables};
+use crate::environment::{Environment, IblTerm, MipChain, Prefiltered};
+use crate::lut::{e_avg_reference, e_reference, RowSet, SplitSum, Tables};
 use crate::scene::{Ball, Scene};
 
 /// Where the CPU renderer takes E and E_avg from.
@@ -119,6 +120,95 @@ pub fn shade(
         let loss_i = e.loss(mu_i, roughness);
         let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, norm) + kd / std::f64::consts::PI;
         lo += f_r * light.radiance * mu_i;
+    }
+    lo
+}
+
+/// An environment map prepared for the CPU renderer: the same mip chain, prefiltered
+/// layers and split-sum table the GPU binds (`gpu::environment`), computed on the CPU.
+pub struct CpuEnvironment {
+    /// The map's mip chain (f16 values, as uploaded).
+    pub chain: MipChain,
+    /// The prefiltered layers.
+    pub prefiltered: Prefiltered,
+    /// The split sum's bias table.
+    pub split: SplitSum,
+}
+
+impl CpuEnvironment {
+    /// Prepares `environment` for shading with E from `tables` (its geometry).
+    pub fn new(environment: &Environment, tables: &Tables) -> Self {
+        let chain = MipChain::new(&environment.map);
+        let kernels = crate::environment::prefilter::kernels(tables);
+        let prefiltered = Prefiltered::new(&chain, &kernels);
+        CpuEnvironment {
+            chain,
+            prefiltered,
+            split: SplitSum::bake(tables.config.geometry),
+        }
+    }
+
+    /// `background_radiance`'s map part in `balls.wgsl`: the map along world direction `d`
+    /// (level 0, bilinear), times the intensity.
+    pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
+        let uv = crate::environment::direction_to_uv(environment.to_map(d));
+        environment.intensity * self.chain.levels[0].bilinear(uv)
+    }
+}
+
+/// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b` at normal `n`
+/// towards `v` lit by the scene's environment map (zero without one).
+pub fn shade_environment_map(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableRead<'_>,
+    form: FAvgForm,
+    ibl: &CpuEnvironment,
+) -> DVec3 {
+    let Some(environment) = &scene.environment_map else {
+        return DVec3::ZERO;
+    };
+    let roughness = b.roughness;
+    let f0 = b.material.f0;
+    let ms = if b.multiple_scattering { 1.0 } else { 0.0 };
+    let mu_o = n.dot(v).max(0.0);
+    // The shader reads E, E_avg and B in f32.
+    let loss_o = e.loss(mu_o, roughness);
+    let e_o = 1.0 - loss_o;
+    let loss_avg = e.loss_avg(roughness);
+    let f_add = DVec3::new(
+        f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], 1.0 - loss_avg),
+        f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], 1.0 - loss_avg),
+        f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], 1.0 - loss_avg),
+    );
+    let kd = b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick));
+    let intensity = environment.intensity;
+    let r = 2.0 * n.dot(v) * n - v;
+    let n_map = environment.to_map(n);
+    let prefiltered = intensity * ibl.prefiltered.specular(environment.to_map(r), roughness);
+    let irradiance = intensity * ibl.prefiltered.irradiance(n_map);
+    let bias = ibl.split.bias_at(mu_o as f32, roughness as f32) as f64;
+    // split_sum_scale: F0 A + B with A = E - B.
+    let fss_ess = f0 * e_o + (DVec3::ONE - f0) * bias;
+    let single = prefiltered * fss_ess;
+    let mut lo = single + kd * irradiance;
+    if ms > 0.0 {
+        lo += ms
+            * match scene.ibl_term {
+                // ibl_term_turquin
+                IblTerm::Turquin => single * f0 * (1.0 / e_o.max(DIV_EPSILON) - 1.0),
+                // ibl_term_fdez_aguera
+                IblTerm::FdezAguera => {
+                    let f_avg = f0 + (DVec3::ONE - f0) / 21.0;
+                    let denom = (DVec3::ONE - loss_o * f_avg).max(DVec3::splat(DIV_EPSILON));
+                    fss_ess * f_avg * loss_o / denom * irradiance
+                }
+                IblTerm::KullaConty => {
+                    f_add * loss_o * intensity * ibl.prefiltered.multiple(n_map, roughness)
+                }
+            };
     }
     lo
 }

@@ -11,6 +11,7 @@
 
 pub mod builtin;
 mod file;
+pub mod prefilter;
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -19,6 +20,7 @@ use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
 pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+pub use prefilter::{MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
 

@@ -5,6 +5,7 @@
 
 mod bindings;
 mod context;
+pub mod environment;
 mod headless;
 mod pipelines;
 pub mod plan;

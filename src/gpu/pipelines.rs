@@ -54,24 +54,87 @@ pub struct Pipelines {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     made: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    backgrounds: HashMap<PipelineKey, wgpu::RenderPipeline>,
 }
 
 impl Pipelines {
-    pub fn new(device: &wgpu::Device, bindings: &Bindings) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        bindings: &Bindings,
+        environment: &wgpu::BindGroupLayout,
+    ) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("balls"),
             source: wgpu::ShaderSource::Wgsl(shaders::balls_source().into()),
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("balls"),
-            bind_group_layouts: &[Some(&bindings.layout)],
+            bind_group_layouts: &[Some(&bindings.layout), Some(environment)],
             immediate_size: 0,
         });
         Pipelines {
             module,
             layout,
             made: HashMap::new(),
+            backgrounds: HashMap::new(),
         }
+    }
+
+    /// The background pipeline (`fs_background`: the environment map behind the balls)
+    /// for `format` and `variant`'s map, in the per-ball pass (depth attached, untouched).
+    pub fn background(
+        &mut self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        variant: Variant,
+        geometry: Geometry,
+        mu_axis: MuAxis,
+    ) -> &wgpu::RenderPipeline {
+        let key = (format, geometry, mu_axis, true, variant);
+        let (module, layout) = (&self.module, &self.layout);
+        self.backgrounds.entry(key).or_insert_with(|| {
+            let constants = shaders::overrides_for(geometry, is_linear(format), mu_axis, variant);
+            let options = wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            };
+            let fs = if is_bits(format) {
+                shaders::FS_BACKGROUND_BITS
+            } else {
+                shaders::FS_BACKGROUND
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("background"),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some(shaders::VS_MAIN),
+                    compilation_options: options.clone(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some(fs),
+                    compilation_options: options,
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
     }
 
     /// The pipeline of `key`, created on first use.

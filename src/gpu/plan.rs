@@ -17,6 +17,7 @@
 use std::fmt;
 
 use crate::brdf::Geometry;
+use crate::environment::IblTerm;
 use crate::lut::{roughness_coord, BakeConfig, Method};
 use crate::scene::{Scene, MAX_BALLS};
 
@@ -107,6 +108,9 @@ pub struct Variant {
     pub environment: bool,
     /// The directional lights' loop compiled in.
     pub lights: bool,
+    /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, else 1 + the
+    /// scene's [`IblTerm`]'s index in [`IblTerm::ALL`].
+    pub ibl: u8,
 }
 
 /// The plan of one scene.
@@ -133,12 +137,18 @@ impl Plan {
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
         let lights = !scene.lights.is_empty();
+        let ibl = scene.environment_map.as_ref().map_or(0, |_| {
+            1 + IblTerm::ALL
+                .iter()
+                .position(|&t| t == scene.ibl_term)
+                .unwrap_or(0) as u8
+        });
         let uses_term = |b: &crate::scene::Ball| options.term && b.multiple_scattering;
         // Balls that read E: with the term (its lobe), or all of them under an environment
         // (its single-scattering part reads E(mu_o)).
         let mut roughness: Vec<f32> = balls
             .iter()
-            .filter(|b| uses_term(b) || environment)
+            .filter(|b| uses_term(b) || environment || ibl != 0)
             .map(|b| roughness_coord(b.roughness as f32))
             .collect();
         roughness.sort_by(f32::total_cmp);
@@ -159,6 +169,7 @@ impl Plan {
             term,
             environment: !options.per_ball || environment,
             lights: !options.per_ball || lights,
+            ibl,
         };
         let all: Vec<usize> = (0..balls.len()).collect();
         let draws = if !options.term {
@@ -213,7 +224,11 @@ impl fmt::Display for Variant {
             "{term}, {}, {}",
             part(self.lights, "lights"),
             part(self.environment, "environment")
-        )
+        )?;
+        match self.ibl {
+            0 => Ok(()),
+            k => write!(f, ", environment map ({})", IblTerm::ALL[k as usize - 1]),
+        }
     }
 }
 

@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
+use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
 use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
 use super::plan::{DrawOptions, Plan, TablePolicy};
 use super::table_cache::{Bound, TableCache, Upload};
@@ -56,6 +57,65 @@ pub struct Renderer {
     /// The per-ball draw's depth target, the size of the last colour target drawn into
     /// (made again when that size changes).
     depth: Option<Depth>,
+    /// Group 1: the environment map's textures, prefiltered for the latest map drawn.
+    environment: EnvironmentGroup,
+}
+
+/// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
+/// map, and the latest map's prefiltered textures with their bind group.
+struct EnvironmentGroup {
+    layout: wgpu::BindGroupLayout,
+    uniform: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    empty: wgpu::BindGroup,
+    loaded: Option<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
+}
+
+impl EnvironmentGroup {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let layout = env_gpu::layout(device);
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("environment"),
+            size: std::mem::size_of::<EnvUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sampler = env_gpu::sampler(device);
+        let empty =
+            EnvironmentTextures::empty(device, queue).bind(device, &layout, &uniform, &sampler);
+        EnvironmentGroup {
+            layout,
+            uniform,
+            sampler,
+            empty,
+            loaded: None,
+        }
+    }
+
+    /// The bind group for `scene`: its map prefiltered (on the first draw with it, or with
+    /// another G), or the stand-ins.
+    fn bind_group(&mut self, gpu: &Gpu, scene: &Scene, config: BakeConfig) -> wgpu::BindGroup {
+        let Some(environment) = &scene.environment_map else {
+            return self.empty.clone();
+        };
+        let geometry = scene.effective_geometry();
+        let key = EnvironmentKey::new(environment, geometry);
+        if let Some((k, _, group)) = &self.loaded {
+            if *k == key {
+                return group.clone();
+            }
+        }
+        // Dropped first: two maps' textures are never held at once.
+        self.loaded = None;
+        let tables = crate::lut::bake(&BakeConfig { geometry, ..config });
+        let kernels = crate::environment::prefilter::kernels(&tables);
+        let chain = crate::environment::MipChain::new(&environment.map);
+        let split = crate::lut::SplitSum::bake(geometry);
+        let textures = EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+        let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
+        self.loaded = Some((key, textures, group.clone()));
+        group
+    }
 }
 
 /// A depth texture and its view, of a colour target's size.
@@ -95,7 +155,8 @@ impl Renderer {
     /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: [`Gpu::from_device`]).
     pub fn new(gpu: Gpu) -> Self {
         let bindings = Bindings::new(&gpu.device);
-        let pipelines = Pipelines::new(&gpu.device, &bindings);
+        let environment = EnvironmentGroup::new(&gpu.device, &gpu.queue);
+        let pipelines = Pipelines::new(&gpu.device, &bindings, &environment.layout);
         Renderer {
             gpu,
             bindings,
@@ -106,6 +167,7 @@ impl Renderer {
             bake_config: BakeConfig::default(),
             plan: None,
             depth: None,
+            environment,
         }
     }
 
@@ -254,6 +316,22 @@ impl Renderer {
             .map_or(BoundTables::None, |b| b.read.clone())
     }
 
+    /// Wall time of uploading and prefiltering the latest environment map (its mip chain
+    /// and split-sum table included), to the queue's completion; `None` before any.
+    pub fn last_prefilter_time(&self) -> Option<Duration> {
+        self.environment
+            .loaded
+            .as_ref()
+            .map(|(_, t, _)| t.prefilter_time)
+    }
+
+    /// Prefilters `scene`'s environment map now if it has one not yet held (otherwise done
+    /// at the first draw), so that its cost can be timed apart.
+    pub fn prepare_environment(&mut self, scene: &Scene) {
+        self.environment
+            .bind_group(&self.gpu, scene, self.bake_config);
+    }
+
     /// Rows in the memory cache.
     pub fn cached_rows(&self) -> usize {
         self.tables.cached_rows()
@@ -284,6 +362,9 @@ impl Renderer {
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
     ) {
+        let env_group = self
+            .environment
+            .bind_group(&self.gpu, scene, self.bake_config);
         let plan = self.plan_for(scene).clone();
         let bound = self.tables.bound().expect("plan_for binds");
         let read = bound.read.clone();
@@ -297,6 +378,12 @@ impl Renderer {
         if !plan.per_ball && !balls.is_empty() {
             queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
         }
+        let env_uniform = EnvUniform::of(scene);
+        queue.write_buffer(
+            &self.environment.uniform,
+            0,
+            bytemuck::bytes_of(&env_uniform),
+        );
         let lights = uniforms::lights(scene);
         if !lights.is_empty() {
             queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
@@ -326,6 +413,23 @@ impl Renderer {
             let pipeline = self.pipelines.get(&self.gpu.device, key).clone();
             draws.push((pipeline, start..quads.len() as u32));
         }
+        // The map behind the balls: a full-screen draw before the quads (the full-screen
+        // path paints it itself).
+        let shows_map = env_uniform.rotation_intensity[3] == 1.0;
+        let background_pipeline = match plan.draws.first() {
+            Some((variant, _)) if plan.per_ball && shows_map => Some(
+                self.pipelines
+                    .background(
+                        &self.gpu.device,
+                        target.format,
+                        *variant,
+                        plan.geometry,
+                        plan.bake.layout.mu_axis,
+                    )
+                    .clone(),
+            ),
+            _ => None,
+        };
         if !quads.is_empty() {
             let queue = &self.gpu.queue;
             queue.write_buffer(&self.bindings.instances, 0, bytemuck::cast_slice(&quads));
@@ -371,6 +475,11 @@ impl Renderer {
         pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
         pass.set_scissor_rect(0, 0, w, h);
         pass.set_bind_group(0, &bind, &[]);
+        pass.set_bind_group(1, &env_group, &[]);
+        if let Some(pipeline) = background_pipeline {
+            pass.set_pipeline(&pipeline);
+            pass.draw(0..3, 0..1);
+        }
         let stride = std::mem::size_of::<BallInstance>() as u64;
         for (pipeline, range) in draws {
             pass.set_pipeline(&pipeline);
@@ -416,7 +525,7 @@ fn upload<'a>(gpu: &'a Gpu, bindings: &'a Bindings) -> Upload<'a> {
 /// through the display transform). wgpu clears an integer target with each component
 /// `as u32` (Vulkan and GL alike), which keeps a u32 held in an f64 exactly.
 fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
-    let env = scene.environment;
+    let env = scene.background_radiance();
     if is_bits(format) {
         let bits = |c: f64| (c as f32).to_bits() as f64;
         return wgpu::Color {

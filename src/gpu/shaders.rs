@@ -9,19 +9,24 @@ use crate::lut::MuAxis;
 
 /// The library's files (`crate::wgsl::KULLA_CONTY` is their concatenation), then the
 /// renderer's types and bindings: every module starts with these, by file name.
-pub const COMMON: [(&str, &str); 5] = [
+pub const COMMON: [(&str, &str); 6] = [
     (
         "constants.wgsl",
         include_str!("../../shaders/constants.wgsl"),
     ),
     ("brdf.wgsl", include_str!("../../shaders/brdf.wgsl")),
     ("lut.wgsl", include_str!("../../shaders/lut.wgsl")),
+    (
+        "environment.wgsl",
+        include_str!("../../shaders/environment.wgsl"),
+    ),
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
 ];
 const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
 const BALLS: &str = include_str!("../../shaders/balls.wgsl");
 const PROBE: &str = include_str!("../../shaders/probe.wgsl");
+const PREFILTER: &str = include_str!("../../shaders/prefilter.wgsl");
 
 /// Vertex entry point of the ball renderer module's full-screen draw (one triangle over
 /// the viewport).
@@ -36,6 +41,10 @@ pub const FS_BALL: &str = "fs_ball";
 pub const FS_MAIN_BITS: &str = "fs_main_bits";
 /// `FS_BALL` for an `Rgba32Uint` target: the bits of linear radiance (`output_bits`).
 pub const FS_BALL_BITS: &str = "fs_ball_bits";
+/// Fragment entry point of the background draw (the environment map behind the balls).
+pub const FS_BACKGROUND: &str = "fs_background";
+/// `FS_BACKGROUND` for an `Rgba32Uint` target.
+pub const FS_BACKGROUND_BITS: &str = "fs_background_bits";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
@@ -52,6 +61,12 @@ fn concat(parts: &[&str]) -> String {
 /// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`.
 pub fn balls_source() -> String {
     concat(&[LIGHTING, BALLS])
+}
+
+/// The environment prefilter (compute): `constants.wgsl`, `environment.wgsl`,
+/// `prefilter.wgsl` (no renderer bindings).
+pub fn prefilter_source() -> String {
+    [COMMON[0].1, COMMON[3].1, PREFILTER].join("\n")
 }
 
 /// The table probe: common files, `probe.wgsl`.
@@ -85,13 +100,13 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 }
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
-/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`.
+/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`.
 pub fn overrides_for(
     geometry: Geometry,
     linear: bool,
     mu_axis: MuAxis,
     variant: Variant,
-) -> [(&'static str, f64); 6] {
+) -> [(&'static str, f64); 7] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -101,5 +116,6 @@ pub fn overrides_for(
         ("MS_TERM", variant.term as u32 as f64),
         ("HAS_ENVIRONMENT", flag(variant.environment)),
         ("HAS_LIGHTS", flag(variant.lights)),
+        ("IBL", variant.ibl as f64),
     ]
 }

@@ -199,6 +199,12 @@ impl EIntegrand {
 
     /// The integrand in a segment's variable `x` (Jacobian included).
     pub fn at_segment(&self, seg: &Segment, x: f64) -> f64 {
+        let (theta_i, jacobian) = self.theta_at_segment(seg, x);
+        self.at_theta(theta_i) * jacobian
+    }
+
+    /// `theta_i` at a segment's variable `x`, and `d theta_i / dx`.
+    pub fn theta_at_segment(&self, seg: &Segment, x: f64) -> (f64, f64) {
         let (d, jacobian) = match seg.mapping {
             Mapping::Tan => {
                 let w = self.width();
@@ -210,7 +216,7 @@ impl EIntegrand {
                 (d, d)
             }
         };
-        self.at_theta(self.theta_o + seg.sign * d) * jacobian
+        (self.theta_o + seg.sign * d, jacobian)
     }
 
     fn width(&self) -> f64 {

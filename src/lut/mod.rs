@@ -13,6 +13,7 @@ pub mod plain;
 mod quadrature;
 mod reference;
 pub mod rows;
+pub mod split_sum;
 
 use rayon::prelude::*;
 
@@ -26,6 +27,7 @@ pub use layout::{
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
 pub use rows::{bake_rows, Row, RowKey, RowSet};
+pub use split_sum::{e_same_nodes, split_sum, SplitSum, SPLIT_SUM_SIZE};
 
 use crate::brdf::Geometry;
 

@@ -178,6 +178,22 @@ impl Scene {
         }
     }
 
+    /// The fixed part of the background's radiance: the uniform environment under
+    /// [`Background::Environment`] (plus the map along each ray where the scene has one),
+    /// black, or the colour.
+    pub fn background_radiance(&self) -> DVec3 {
+        match self.background {
+            Background::Environment => self.environment,
+            Background::Black => DVec3::ZERO,
+            Background::Colour(c) => c,
+        }
+    }
+
+    /// Whether pixels that miss every ball show the environment map.
+    pub fn background_shows_map(&self) -> bool {
+        self.environment_map.is_some() && self.background == Background::Environment
+    }
+
     /// The G the tables and the shader use: the preset's, or `self.geometry` for
     /// `accurate`.
     pub fn effective_geometry(&self) -> Geometry {

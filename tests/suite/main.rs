@@ -16,6 +16,7 @@ mod golden;
 mod gpu_eval;
 mod gpu_faults;
 mod gpu_stress;
+mod ibl;
 mod ktx2;
 mod layers;
 mod lut;

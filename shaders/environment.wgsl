@@ -1,0 +1,101 @@
+// environment.wgsl: reading a prefiltered environment map (src/environment, docs/design.md
+// section 10). Library functions: no bindings; the textures, the sampler and the split-sum
+// table are arguments. Each has a CPU twin of the same name in src/environment or src/lut.
+
+// Layers of the prefiltered textures (src/environment/prefilter.rs, same names).
+const SPECULAR_LEVELS: u32 = 7u;
+const CONVOLVED_LEVELS: u32 = 9u;
+// Texels of the split-sum bias table along each axis (src/lut/split_sum.rs SPLIT_SUM_SIZE).
+const SPLIT_SUM_SIZE: u32 = 32u;
+
+// (u, v) of unit direction d: u = atan2(x, -z) / 2 pi + 1/2, v = acos(y) / pi (+y up; the
+// convention of src/environment).
+fn direction_to_uv(d: vec3<f32>) -> vec2<f32> {
+    let u = atan2(d.x, -d.z) / (2.0 * PI) + 0.5;
+    let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    return vec2<f32>(u, v);
+}
+
+// The unit direction at (u, v) (direction_to_uv's inverse).
+fn uv_to_direction(uv: vec2<f32>) -> vec3<f32> {
+    let phi = (uv.x - 0.5) * 2.0 * PI;
+    let theta = uv.y * PI;
+    return vec3<f32>(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+}
+
+// A world direction in the map's frame: turned about +y by the angle whose (cos, sin) is
+// `rotation` (Environment::to_map: cos and sin of -rotation_deg).
+fn env_to_map(d: vec3<f32>, rotation: vec2<f32>) -> vec3<f32> {
+    let c = rotation.x;
+    let s = rotation.y;
+    return vec3<f32>(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+}
+
+// The prefiltered specular radiance about map-frame direction r at `roughness`: linear
+// between the two layers around it (Prefiltered::specular).
+fn env_specular(tex: texture_2d_array<f32>, samp: sampler, r: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let uv = direction_to_uv(r);
+    let s = clamp(roughness, 0.0, 1.0) * f32(SPECULAR_LEVELS - 1u);
+    let k0 = min(u32(floor(s)), SPECULAR_LEVELS - 2u);
+    let f = s - f32(k0);
+    let a = textureSampleLevel(tex, samp, uv, k0, 0.0).rgb;
+    let b = textureSampleLevel(tex, samp, uv, k0 + 1u, 0.0).rgb;
+    return mix(a, b, f);
+}
+
+// Irradiance about map-frame normal n over pi (Prefiltered::irradiance): layer 0.
+fn env_irradiance(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>) -> vec3<f32> {
+    return textureSampleLevel(tex, samp, direction_to_uv(n), 0u, 0.0).rgb;
+}
+
+// int (1 - E(mu_i)) mu_i L dw_i / (pi (1 - E_avg)) about map-frame normal n at `roughness`
+// (Prefiltered::multiple): layers 1..=CONVOLVED_LEVELS, linear between the two around it.
+fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let uv = direction_to_uv(n);
+    let s = clamp(roughness, 0.0, 1.0) * f32(CONVOLVED_LEVELS - 1u);
+    let k0 = min(u32(floor(s)), CONVOLVED_LEVELS - 2u);
+    let f = s - f32(k0);
+    let a = textureSampleLevel(tex, samp, uv, k0 + 1u, 0.0).rgb;
+    let b = textureSampleLevel(tex, samp, uv, k0 + 2u, 0.0).rgb;
+    return mix(a, b, f);
+}
+
+// The split sum's bias B(mu, roughness) (SplitSum::bias_at): bilinear between the texels
+// of an R32Float table whose texel (i, j) holds mu = i / (N - 1), roughness = j / (N - 1).
+fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {
+    let n = SPLIT_SUM_SIZE;
+    let x = clamp(mu, 0.0, 1.0) * f32(n - 1u);
+    let y = clamp(roughness, 0.0, 1.0) * f32(n - 1u);
+    let i0 = min(u32(x), n - 2u);
+    let j0 = min(u32(y), n - 2u);
+    let fx = x - f32(i0);
+    let fy = y - f32(j0);
+    let t00 = textureLoad(table, vec2<u32>(i0, j0), 0).r;
+    let t10 = textureLoad(table, vec2<u32>(i0 + 1u, j0), 0).r;
+    let t01 = textureLoad(table, vec2<u32>(i0, j0 + 1u), 0).r;
+    let t11 = textureLoad(table, vec2<u32>(i0 + 1u, j0 + 1u), 0).r;
+    let top = t00 + (t10 - t00) * fx;
+    let bottom = t01 + (t11 - t01) * fx;
+    return top + (bottom - top) * fy;
+}
+
+// The split sum's second factor per channel, F0 A + B with A = E - B (src/lut/split_sum.rs):
+// `e_o` from the E table, so F0 = 1 gives E exactly.
+fn split_sum_scale(f0: vec3<f32>, e_o: f32, bias: f32) -> vec3<f32> {
+    return f0 * e_o + (1.0 - f0) * bias;
+}
+
+// Turquin 2019 ("Practical multiple scattering compensation for microfacet models"): the
+// single-scattering result times 1 + F0 (1 / E - 1); returns the added part.
+fn ibl_term_turquin(single: vec3<f32>, f0: vec3<f32>, e_o: f32) -> vec3<f32> {
+    return single * f0 * (1.0 / max(e_o, DIV_EPSILON) - 1.0);
+}
+
+// Fdez-Aguera 2019 ("A Multiple-Scattering Microfacet Model for Real-Time Image-based
+// Lighting"): FmsEms = FssEss F_avg Ems / (1 - Ems F_avg), F_avg = F0 + (1 - F0) / 21, lit
+// by the irradiance over pi as if diffuse.
+fn ibl_term_fdez_aguera(fss_ess: vec3<f32>, f0: vec3<f32>, loss_o: f32, irradiance: vec3<f32>) -> vec3<f32> {
+    let f_avg = f0 + (1.0 - f0) / 21.0;
+    let fms_ems = fss_ess * f_avg * loss_o / max(1.0 - loss_o * f_avg, vec3<f32>(DIV_EPSILON));
+    return fms_ems * irradiance;
+}

@@ -1,0 +1,143 @@
+// prefilter.wgsl: prefiltering an environment map at load (src/gpu/environment.rs), the
+// GPU twin of src/environment/prefilter.rs (same names, same samples). Put after
+// constants.wgsl and environment.wgsl. Each invocation writes one texel of one layer.
+
+// Mirrors of src/environment/prefilter.rs.
+const SPECULAR_SAMPLES: u32 = 64u;
+const KERNEL_SIZE: u32 = 64u;
+const WEIGHT_EPSILON: f32 = 1e-30;
+const POLE_SIN_MIN: f32 = 1e-4;
+
+struct PrefilterParams {
+    // Output layer size (texels), level-0 size of the map.
+    size: vec4<u32>,
+    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod;
+    // z: the kernel layer of a convolution; w: the mip level it sums over.
+    layer: vec4<f32>,
+}
+
+@group(0) @binding(0) var radiance: texture_2d<f32>;
+@group(0) @binding(1) var radiance_sampler: sampler;
+@group(0) @binding(2) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(3) var<uniform> params: PrefilterParams;
+// The zonal kernels, KERNEL_SIZE samples per layer, four to a vec4 (kernels()).
+@group(0) @binding(4) var<uniform> kernels: array<vec4<f32>, 160>;
+
+// The bits of i mirrored about the binary point (van der Corput).
+fn radical_inverse(i: u32) -> f32 {
+    return f32(reverseBits(i)) / 4294967296.0;
+}
+
+// Two unit vectors completing unit n to a right-handed frame (Duff et al. 2017).
+fn orthonormal_basis(n: vec3<f32>) -> array<vec3<f32>, 2> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return array<vec3<f32>, 2>(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+    );
+}
+
+// The GGX-filtered radiance about r (n = v = r) at alpha: SPECULAR_SAMPLES half-vectors with
+// pdf D cos(theta_h), each read at the mip level its solid angle covers (Krivanek & Colbert
+// 2008), weighted by n.l (prefilter_specular in prefilter.rs).
+fn prefilter_specular(r: vec3<f32>, alpha: f32) -> vec3<f32> {
+    let w0 = f32(params.size.z);
+    let h0 = f32(params.size.w);
+    let basis = orthonormal_basis(r);
+    let a2 = alpha * alpha;
+    let max_lod = f32(textureNumLevels(radiance) - 1u);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var i = 0u; i < SPECULAR_SAMPLES; i++) {
+        let u1 = (f32(i) + 0.5) / f32(SPECULAR_SAMPLES);
+        let u2 = radical_inverse(i);
+        let cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
+        let cos_h = sqrt(cos2);
+        let sin_h = sqrt(max(1.0 - cos2, 0.0));
+        let phi = 2.0 * PI * u2;
+        let h = basis[0] * (sin_h * cos(phi)) + basis[1] * (sin_h * sin(phi)) + r * cos_h;
+        let l = 2.0 * cos_h * h - r;
+        let n_dot_l = dot(l, r);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        let denom = cos2 * (a2 - 1.0) + 1.0;
+        let d = a2 / (PI * denom * denom);
+        let omega_s = 4.0 / (f32(SPECULAR_SAMPLES) * d);
+        let sin_l = max(sqrt(max(1.0 - l.y * l.y, 0.0)), POLE_SIN_MIN);
+        let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
+        let lod = clamp(0.5 * log2(omega_s / omega_p) + 1.0, 0.0, max_lod);
+        sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * n_dot_l;
+        weight += n_dot_l;
+    }
+    return sum / max(weight, WEIGHT_EPSILON);
+}
+
+// Kernel layer `layer` at t (0 below the horizon), linear between its samples (kernel_at).
+fn kernel_at(layer: u32, t: f32) -> f32 {
+    if t <= 0.0 {
+        return 0.0;
+    }
+    let x = min(t, 1.0) * f32(KERNEL_SIZE - 1u);
+    let i0 = min(u32(floor(x)), KERNEL_SIZE - 2u);
+    let f = x - f32(i0);
+    let k0 = layer * KERNEL_SIZE + i0;
+    let a = kernels[k0 / 4u][k0 % 4u];
+    let b = kernels[(k0 + 1u) / 4u][(k0 + 1u) % 4u];
+    return a * (1.0 - f) + b * f;
+}
+
+// The kernel-weighted average of mip level `level` about unit n (prefilter_convolved).
+fn prefilter_convolved(level: u32, layer: u32, n: vec3<f32>) -> vec3<f32> {
+    let size = textureDimensions(radiance, level);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var j = 0u; j < size.y; j++) {
+        let t0 = PI * f32(j) / f32(size.y);
+        let t1 = PI * f32(j + 1u) / f32(size.y);
+        let omega = 2.0 * PI / f32(size.x) * (cos(t0) - cos(t1));
+        for (var i = 0u; i < size.x; i++) {
+            let uv = vec2<f32>((f32(i) + 0.5) / f32(size.x), (f32(j) + 0.5) / f32(size.y));
+            let w = kernel_at(layer, dot(n, uv_to_direction(uv))) * omega;
+            sum += textureLoad(radiance, vec2<u32>(i, j), level).rgb * w;
+            weight += w;
+        }
+    }
+    if weight < WEIGHT_EPSILON {
+        return vec3<f32>(0.0);
+    }
+    return sum / weight;
+}
+
+// The texel's direction, or none outside the layer.
+fn texel_direction(id: vec3<u32>) -> vec3<f32> {
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(params.size.xy);
+    return uv_to_direction(uv);
+}
+
+@compute @workgroup_size(8, 8)
+fn specular_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.size.x || id.y >= params.size.y {
+        return;
+    }
+    let r = texel_direction(id);
+    var value: vec3<f32>;
+    if params.layer.x == 0.0 {
+        value = textureSampleLevel(radiance, radiance_sampler, direction_to_uv(r), params.layer.y).rgb;
+    } else {
+        value = prefilter_specular(r, params.layer.x);
+    }
+    textureStore(output, id.xy, vec4<f32>(value, 1.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn convolved_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.size.x || id.y >= params.size.y {
+        return;
+    }
+    let n = texel_direction(id);
+    let value = prefilter_convolved(u32(params.layer.w), u32(params.layer.z), n);
+    textureStore(output, id.xy, vec4<f32>(value, 1.0));
+}

@@ -1,0 +1,403 @@
+//! Prefiltering an environment map for real-time shading (docs/design.md section 10), on the
+//! CPU: the twin of `shaders/prefilter.wgsl`, which does the same work on the GPU at load.
+//! Both start from the same [`MipChain`] (built here, uploaded as is) and take the same
+//! samples, so the CPU renderer reads what the GPU's prefiltered textures hold.
+//!
+//! Three products, each a weighted average of the map, so a uniform map gives back its
+//! radiance exactly (the furnace holds through the whole path):
+//! - **specular**: [`SPECULAR_LEVELS`] layers, layer `k` the map convolved with the GGX lobe of
+//!   roughness `k / (SPECULAR_LEVELS - 1)` seen with `n = v = R` (Karis 2013, "Real Shading in
+//!   Unreal Engine 4": the split sum's first factor), by [`SPECULAR_SAMPLES`] GGX samples
+//!   weighted by `n.l`, each read from the mip level its solid angle covers (filtered
+//!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
+//!   Importance Sampling"); a read interpolates linearly between the two layers around the
+//!   ball's roughness;
+//! - **irradiance**: layer 0 of the convolved maps, the cosine-weighted average of the map
+//!   about the normal (irradiance over pi);
+//! - **multiple scattering**: layers `1..=CONVOLVED_LEVELS` of the convolved maps, the map
+//!   averaged with the Kulla-Conty zonal kernel `k(t) = (1 - E(t)) t` about the normal at
+//!   roughness `(j - 1) / (CONVOLVED_LEVELS - 1)`: the integral `int (1 - E(mu_i)) mu_i L dw_i`
+//!   of the term's lobe divided by its uniform-environment value `pi (1 - E_avg)`.
+//!   The convolution is a direct sum over the texels of the mip level
+//!   [`CONVOLUTION_SOURCE_WIDTH`] wide, so it has no band limit (spherical harmonics, the
+//!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design.md section 10).
+
+use std::f64::consts::PI;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::{direction_to_uv, uv_to_direction, EnvMap};
+use crate::brdf::alpha_from_roughness;
+use crate::lut::Tables;
+
+/// Layers of the specular prefilter: roughness 0, 1/6, ..., 1.
+pub const SPECULAR_LEVELS: u32 = 7;
+/// Width of each specular layer (height half): the map's own width when narrower.
+pub const SPECULAR_WIDTH: u32 = 256;
+/// GGX samples per specular texel.
+pub const SPECULAR_SAMPLES: u32 = 64;
+/// Kulla-Conty kernel layers: roughness 0, 1/8, ..., 1.
+pub const CONVOLVED_LEVELS: u32 = 9;
+/// Width of each convolved layer (height half).
+pub const CONVOLVED_WIDTH: u32 = 32;
+/// The mip level the convolutions sum over: the first at most this wide.
+pub const CONVOLUTION_SOURCE_WIDTH: u32 = 64;
+/// Samples of each zonal kernel over `t = n.w` in `[0, 1]` (linear between them).
+pub const KERNEL_SIZE: usize = 64;
+/// Largest radiance the f16 textures hold; brighter texels are clamped to it (counted by
+/// [`MipChain::clamped`]).
+pub const F16_MAX: f32 = 65504.0;
+/// A weight sum below this is treated as zero (no texel in the kernel's support).
+pub const WEIGHT_EPSILON: f64 = 1e-30;
+/// Smallest `sin theta` the texel solid angle uses at the poles (filtered importance
+/// sampling's level choice; the equirectangular texel shrinks to nothing there).
+pub const POLE_SIN_MIN: f64 = 1e-4;
+
+/// Round to f16 and back: the value a `Rgba16Float` texel holds.
+fn f16_round(v: f32) -> f32 {
+    half::f16::from_f32(v.min(F16_MAX)).to_f32()
+}
+
+/// One level of an RGBA image in the layout the GPU textures use (alpha unused, 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Row-major, row 0 at the top; each value as its f16 texel holds it.
+    pub texels: Vec<[f32; 4]>,
+}
+
+impl Level {
+    fn texel(&self, i: u32, j: u32) -> DVec3 {
+        let t = self.texels[(j * self.width + i) as usize];
+        DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+    }
+
+    /// Bilinear at `uv` as a linear sampler reads it: texel centres at half-integers, `u`
+    /// repeating, `v` clamped to the edge.
+    pub fn bilinear(&self, uv: DVec2) -> DVec3 {
+        let x = uv.x * self.width as f64 - 0.5;
+        let y = uv.y * self.height as f64 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let w = self.width as i64;
+        let i0 = (x0 as i64).rem_euclid(w) as u32;
+        let i1 = (x0 as i64 + 1).rem_euclid(w) as u32;
+        let h = self.height as i64 - 1;
+        let j0 = (y0 as i64).clamp(0, h) as u32;
+        let j1 = (y0 as i64 + 1).clamp(0, h) as u32;
+        let top = self.texel(i0, j0).lerp(self.texel(i1, j0), fx);
+        let bottom = self.texel(i0, j1).lerp(self.texel(i1, j1), fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// The solid angle of a texel of row `j`.
+    pub fn texel_solid_angle(&self, j: u32) -> f64 {
+        let h = self.height as f64;
+        let (t0, t1) = (PI * j as f64 / h, PI * (j + 1) as f64 / h);
+        2.0 * PI / self.width as f64 * (t0.cos() - t1.cos())
+    }
+}
+
+/// The map and its box-filtered mip levels (each texel the mean of the 2 x 2 below it; odd
+/// sizes drop their last row or column, as a texture's mip sizes do), with f16 values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MipChain {
+    /// Level 0 (the map) first, down to 1 texel on the shorter side.
+    pub levels: Vec<Level>,
+    /// Texel channels above [`F16_MAX`], clamped to it.
+    pub clamped: u64,
+}
+
+impl MipChain {
+    /// Builds the chain of `map`.
+    pub fn new(map: &EnvMap) -> Self {
+        let mut clamped = 0;
+        let texels = map
+            .texels()
+            .iter()
+            .map(|t| {
+                clamped += t.iter().filter(|&&c| c > F16_MAX).count() as u64;
+                [f16_round(t[0]), f16_round(t[1]), f16_round(t[2]), 1.0]
+            })
+            .collect();
+        let mut levels = vec![Level {
+            width: map.width(),
+            height: map.height(),
+            texels,
+        }];
+        while let Some(next) = downsample(levels.last().expect("level 0 is there")) {
+            levels.push(next);
+        }
+        MipChain { levels, clamped }
+    }
+
+    /// Trilinear at direction `d` and level `lod` (clamped to the chain), as
+    /// `textureSampleLevel` with a linear sampler reads it.
+    pub fn sample(&self, d: DVec3, lod: f64) -> DVec3 {
+        let uv = direction_to_uv(d);
+        let lod = lod.clamp(0.0, (self.levels.len() - 1) as f64);
+        let l0 = lod.floor() as usize;
+        let f = lod - l0 as f64;
+        let a = self.levels[l0].bilinear(uv);
+        if f == 0.0 {
+            return a;
+        }
+        a.lerp(self.levels[l0 + 1].bilinear(uv), f)
+    }
+
+    /// The level the convolutions sum over ([`CONVOLUTION_SOURCE_WIDTH`]).
+    pub fn convolution_source(&self) -> u32 {
+        self.levels
+            .iter()
+            .position(|l| l.width <= CONVOLUTION_SOURCE_WIDTH)
+            .unwrap_or(self.levels.len() - 1) as u32
+    }
+}
+
+fn downsample(l: &Level) -> Option<Level> {
+    if l.width < 2 || l.height < 2 {
+        return None;
+    }
+    let (w, h) = (l.width / 2, l.height / 2);
+    let mut texels = Vec::with_capacity((w * h) as usize);
+    for j in 0..h {
+        for i in 0..w {
+            let mut sum = [0f32; 3];
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let t = l.texels[((2 * j + dj) * l.width + 2 * i + di) as usize];
+                for c in 0..3 {
+                    sum[c] += t[c];
+                }
+            }
+            texels.push([
+                f16_round(sum[0] * 0.25),
+                f16_round(sum[1] * 0.25),
+                f16_round(sum[2] * 0.25),
+                1.0,
+            ]);
+        }
+    }
+    Some(Level {
+        width: w,
+        height: h,
+        texels,
+    })
+}
+
+/// The zonal kernels of the convolved layers, [`KERNEL_SIZE`] samples each over `t` in
+/// `[0, 1]`: layer 0 the cosine `t`, layer `j` the Kulla-Conty `(1 - E(t)) t` at roughness
+/// `(j - 1) / (CONVOLVED_LEVELS - 1)`, E as the shader reads it from `tables`.
+pub fn kernels(tables: &Tables) -> Vec<f32> {
+    let mut out = Vec::with_capacity((CONVOLVED_LEVELS as usize + 1) * KERNEL_SIZE);
+    for layer in 0..=CONVOLVED_LEVELS {
+        for i in 0..KERNEL_SIZE {
+            let t = i as f32 / (KERNEL_SIZE - 1) as f32;
+            out.push(if layer == 0 {
+                t
+            } else {
+                let r = convolved_roughness(layer);
+                tables.lut_loss(t, r as f32) * t
+            });
+        }
+    }
+    out
+}
+
+/// The roughness of convolved layer `layer >= 1`.
+pub fn convolved_roughness(layer: u32) -> f64 {
+    (layer - 1) as f64 / (CONVOLVED_LEVELS - 1) as f64
+}
+
+/// The roughness of specular layer `layer`.
+pub fn specular_roughness(layer: u32) -> f64 {
+    layer as f64 / (SPECULAR_LEVELS - 1) as f64
+}
+
+/// `kernel_at` of `prefilter.wgsl`: layer `layer` of `kernels` at `t` (0 below the horizon).
+pub fn kernel_at(kernels: &[f32], layer: u32, t: f64) -> f64 {
+    if t <= 0.0 {
+        return 0.0;
+    }
+    let x = t.min(1.0) * (KERNEL_SIZE - 1) as f64;
+    let i0 = (x.floor() as usize).min(KERNEL_SIZE - 2);
+    let f = x - i0 as f64;
+    let row = &kernels[layer as usize * KERNEL_SIZE..];
+    (row[i0] as f64) * (1.0 - f) + (row[i0 + 1] as f64) * f
+}
+
+/// `radical_inverse` of `prefilter.wgsl`: the bits of `i` mirrored about the binary point
+/// (van der Corput); with `i / n` it gives the Hammersley points.
+pub fn radical_inverse(i: u32) -> f64 {
+    i.reverse_bits() as f64 / 4294967296.0
+}
+
+/// `orthonormal_basis` of `prefilter.wgsl`: two unit vectors completing unit `n` to a
+/// right-handed frame (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
+pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        DVec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// `prefilter_specular` of `prefilter.wgsl`: the GGX-filtered radiance about `r` (`n = v =
+/// r`) at `alpha`, from `chain` whose level 0 is `w0 x h0`.
+pub fn prefilter_specular(chain: &MipChain, r: DVec3, alpha: f64) -> DVec3 {
+    let level0 = &chain.levels[0];
+    let (w0, h0) = (level0.width as f64, level0.height as f64);
+    let (t, b) = orthonormal_basis(r);
+    let a2 = alpha * alpha;
+    let mut sum = DVec3::ZERO;
+    let mut weight = 0.0;
+    for i in 0..SPECULAR_SAMPLES {
+        let u1 = (i as f64 + 0.5) / SPECULAR_SAMPLES as f64;
+        let u2 = radical_inverse(i);
+        // GGX half-vector with pdf D(h) cos(theta_h): cos^2 = (1 - u) / (1 + (a^2 - 1) u).
+        let cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
+        let cos_h = cos2.sqrt();
+        let sin_h = (1.0 - cos2).max(0.0).sqrt();
+        let phi = 2.0 * PI * u2;
+        let h = t * (sin_h * phi.cos()) + b * (sin_h * phi.sin()) + r * cos_h;
+        let v_dot_h = cos_h; // v = r = n
+        let l = 2.0 * v_dot_h * h - r;
+        let n_dot_l = l.dot(r);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        // pdf(l) = D(h) cos(theta_h) / (4 v.h) = D / 4 with n = v; the sample covers
+        // 1 / (N pdf) steradians, a level-0 texel (2 pi / w0)(pi / h0) sin(theta).
+        let denom = cos2 * (a2 - 1.0) + 1.0;
+        let d = a2 / (PI * denom * denom);
+        let omega_s = 4.0 / (SPECULAR_SAMPLES as f64 * d);
+        let sin_l = (1.0 - l.y * l.y).max(0.0).sqrt().max(POLE_SIN_MIN);
+        let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
+        let lod = 0.5 * (omega_s / omega_p).log2() + 1.0;
+        sum += chain.sample(l, lod) * n_dot_l;
+        weight += n_dot_l;
+    }
+    sum / weight.max(WEIGHT_EPSILON)
+}
+
+/// `prefilter_convolved` of `prefilter.wgsl`: the kernel-weighted average of `source`
+/// about unit `n`.
+pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    let mut weight = 0.0;
+    for j in 0..source.height {
+        let omega = source.texel_solid_angle(j);
+        for i in 0..source.width {
+            let uv = DVec2::new(
+                (i as f64 + 0.5) / source.width as f64,
+                (j as f64 + 0.5) / source.height as f64,
+            );
+            let w = kernel_at(kernels, layer, n.dot(uv_to_direction(uv))) * omega;
+            sum += source.texel(i, j) * w;
+            weight += w;
+        }
+    }
+    if weight < WEIGHT_EPSILON {
+        return DVec3::ZERO;
+    }
+    sum / weight
+}
+
+/// Sizes of the prefiltered layers for a map `width` wide.
+pub fn specular_size(width: u32) -> (u32, u32) {
+    let w = width.min(SPECULAR_WIDTH).max(2);
+    (w, w / 2)
+}
+
+/// The prefiltered layers (every value rounded to f16, as the GPU stores them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prefiltered {
+    /// [`SPECULAR_LEVELS`] layers of [`specular_size`].
+    pub specular: Vec<Level>,
+    /// `1 + CONVOLVED_LEVELS` layers, [`CONVOLVED_WIDTH`] wide: irradiance, then the
+    /// multiple-scattering kernels.
+    pub convolved: Vec<Level>,
+}
+
+fn layer(width: u32, height: u32, f: impl Fn(DVec3) -> DVec3 + Sync) -> Level {
+    let texels = (0..width * height)
+        .into_par_iter()
+        .map(|k| {
+            let uv = DVec2::new(
+                ((k % width) as f64 + 0.5) / width as f64,
+                ((k / width) as f64 + 0.5) / height as f64,
+            );
+            let v = f(uv_to_direction(uv)).as_vec3();
+            [f16_round(v.x), f16_round(v.y), f16_round(v.z), 1.0]
+        })
+        .collect();
+    Level {
+        width,
+        height,
+        texels,
+    }
+}
+
+impl Prefiltered {
+    /// Prefilters on the CPU (rayon): what `gpu::EnvironmentTextures` computes on the GPU.
+    pub fn new(chain: &MipChain, kernels: &[f32]) -> Self {
+        let (sw, sh) = specular_size(chain.levels[0].width);
+        let lod0 = (chain.levels[0].width as f64 / sw as f64).log2();
+        let specular = (0..SPECULAR_LEVELS)
+            .map(|k| {
+                if k == 0 {
+                    // Roughness 0: the mirror, the map read at this layer's scale.
+                    layer(sw, sh, |r| chain.sample(r, lod0))
+                } else {
+                    let alpha = alpha_from_roughness(specular_roughness(k));
+                    layer(sw, sh, |r| prefilter_specular(chain, r, alpha))
+                }
+            })
+            .collect();
+        let source = &chain.levels[chain.convolution_source() as usize];
+        let cw = CONVOLVED_WIDTH;
+        let convolved = (0..=CONVOLVED_LEVELS)
+            .map(|j| layer(cw, cw / 2, |n| prefilter_convolved(source, kernels, j, n)))
+            .collect();
+        Prefiltered {
+            specular,
+            convolved,
+        }
+    }
+
+    /// `env_specular` of `environment.wgsl`: the prefiltered radiance about map-frame
+    /// direction `r` at `roughness`, linear between the two layers around it.
+    pub fn specular(&self, r: DVec3, roughness: f64) -> DVec3 {
+        let uv = direction_to_uv(r);
+        let s = roughness.clamp(0.0, 1.0) * (SPECULAR_LEVELS - 1) as f64;
+        let k0 = (s.floor() as usize).min(SPECULAR_LEVELS as usize - 2);
+        let f = s - k0 as f64;
+        let a = self.specular[k0].bilinear(uv);
+        let b = self.specular[k0 + 1].bilinear(uv);
+        a.lerp(b, f)
+    }
+
+    /// `env_irradiance` of `environment.wgsl`: irradiance about map-frame normal `n`, over
+    /// pi (the radiance of a white Lambertian surface).
+    pub fn irradiance(&self, n: DVec3) -> DVec3 {
+        self.convolved[0].bilinear(direction_to_uv(n))
+    }
+
+    /// `env_multiple` of `environment.wgsl`: `int (1 - E(mu_i)) mu_i L dw_i / (pi (1 -
+    /// E_avg))` about map-frame normal `n` at `roughness`, linear between the two layers
+    /// around it.
+    pub fn multiple(&self, n: DVec3, roughness: f64) -> DVec3 {
+        let uv = direction_to_uv(n);
+        let s = roughness.clamp(0.0, 1.0) * (CONVOLVED_LEVELS - 1) as f64;
+        let k0 = (s.floor() as usize).min(CONVOLVED_LEVELS as usize - 2);
+        let f = s - k0 as f64;
+        let a = self.convolved[k0 + 1].bilinear(uv);
+        let b = self.convolved[k0 + 2].bilinear(uv);
+        a.lerp(b, f)
+    }
+}

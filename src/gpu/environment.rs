@@ -1,0 +1,491 @@
+//! An environment map on the GPU: the renderer's group 1 (`shaders/bindings.wgsl`). The map
+//! and its mip chain ([`MipChain`], built on the CPU) and the split-sum table are uploaded;
+//! the specular layers and the convolved layers are prefiltered here, at load, by
+//! `shaders/prefilter.wgsl` (one compute dispatch a layer), the twin of
+//! [`crate::environment::Prefiltered`].
+
+use std::time::{Duration, Instant};
+
+use super::shaders;
+use crate::environment::prefilter::{
+    specular_roughness, specular_size, MipChain, CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
+};
+use crate::environment::Environment;
+use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
+use crate::scene::Scene;
+
+/// The format of the map, its mip chain and the prefiltered layers: filterable on every
+/// backend, and a storage format the compute passes can write.
+pub const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Mirrors `EnvUniform` in `bindings.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EnvUniform {
+    /// cos and sin of `-rotation_deg`, intensity, 1 when the background shows the map.
+    pub rotation_intensity: [f32; 4],
+    /// rgb: the background's fixed radiance (added to the map where it shows).
+    pub background: [f32; 4],
+}
+
+impl EnvUniform {
+    /// The uniform of `scene`.
+    pub fn of(scene: &Scene) -> Self {
+        let (rotation, intensity) = scene
+            .environment_map
+            .as_ref()
+            .map_or((0.0, 0.0), |e| (e.rotation_deg, e.intensity));
+        let (s, c) = (-rotation.to_radians()).sin_cos();
+        let shows_map = scene.background_shows_map();
+        let colour = scene.background_radiance();
+        EnvUniform {
+            rotation_intensity: [
+                c as f32,
+                s as f32,
+                intensity as f32,
+                shows_map as u32 as f32,
+            ],
+            background: [colour.x as f32, colour.y as f32, colour.z as f32, 0.0],
+        }
+    }
+}
+
+/// Group 1's layout: the uniform, the map, the specular and convolved layers, the
+/// split-sum table, the sampler.
+pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let stages = wgpu::ShaderStages::FRAGMENT;
+    let texture = |binding, dim, filterable| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("group 1 (environment)"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: stages,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            texture(1, wgpu::TextureViewDimension::D2, true),
+            texture(2, wgpu::TextureViewDimension::D2Array, true),
+            texture(3, wgpu::TextureViewDimension::D2Array, true),
+            texture(4, wgpu::TextureViewDimension::D2, false),
+            wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: stages,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+        ],
+    })
+}
+
+/// The sampler every environment read uses: linear within and between levels, `u`
+/// repeating (the map wraps in azimuth), `v` clamped.
+pub fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("environment"),
+        address_mode_u: wgpu::AddressMode::Repeat,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    })
+}
+
+/// The textures of one map, prefiltered.
+pub struct EnvironmentTextures {
+    /// The map and its mip chain.
+    pub radiance: wgpu::TextureView,
+    /// [`SPECULAR_LEVELS`] layers.
+    pub specular: wgpu::TextureView,
+    /// `1 + CONVOLVED_LEVELS` layers.
+    pub convolved: wgpu::TextureView,
+    /// The split-sum bias table, `R32Float`.
+    pub split_sum: wgpu::TextureView,
+    /// Wall time of upload and prefiltering, to the queue's completion.
+    pub prefilter_time: Duration,
+}
+
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32, u32),
+    levels: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: size.2,
+        },
+        mip_level_count: levels,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn f16_bytes(texels: &[[f32; 4]]) -> Vec<u8> {
+    texels
+        .iter()
+        .flat_map(|t| t.map(|c| half::f16::from_f32(c).to_bits()))
+        .flat_map(u16::to_le_bytes)
+        .collect()
+}
+
+/// Mirrors `PrefilterParams` in `prefilter.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PrefilterParams {
+    size: [u32; 4],
+    layer: [f32; 4],
+}
+
+impl EnvironmentTextures {
+    /// Uploads `chain` and `split`, prefilters on the GPU with `kernels`
+    /// ([`crate::environment::prefilter::kernels`]) and waits for the queue.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        chain: &MipChain,
+        kernels: &[f32],
+        split: &SplitSum,
+    ) -> Self {
+        let start = Instant::now();
+        let base = &chain.levels[0];
+        let sampled = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+        let radiance = texture(
+            device,
+            "environment map",
+            (base.width, base.height, 1),
+            chain.levels.len() as u32,
+            ENVIRONMENT_FORMAT,
+            sampled,
+        );
+        for (k, level) in chain.levels.iter().enumerate() {
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &radiance,
+                    mip_level: k as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &f16_bytes(&level.texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(level.width * 8),
+                    rows_per_image: Some(level.height),
+                },
+                wgpu::Extent3d {
+                    width: level.width,
+                    height: level.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        let n = SPLIT_SUM_SIZE as u32;
+        let split_tex = texture(
+            device,
+            "split-sum bias",
+            (n, n, 1),
+            1,
+            wgpu::TextureFormat::R32Float,
+            sampled,
+        );
+        queue.write_texture(
+            split_tex.as_image_copy(),
+            bytemuck::cast_slice(&split.bias),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(n * 4),
+                rows_per_image: Some(n),
+            },
+            wgpu::Extent3d {
+                width: n,
+                height: n,
+                depth_or_array_layers: 1,
+            },
+        );
+        let layered = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
+        let (sw, sh) = specular_size(base.width);
+        let specular = texture(
+            device,
+            "specular layers",
+            (sw, sh, SPECULAR_LEVELS),
+            1,
+            ENVIRONMENT_FORMAT,
+            layered,
+        );
+        let cw = CONVOLVED_WIDTH;
+        let convolved = texture(
+            device,
+            "convolved layers",
+            (cw, cw / 2, CONVOLVED_LEVELS + 1),
+            1,
+            ENVIRONMENT_FORMAT,
+            layered,
+        );
+        let radiance_view = radiance.create_view(&Default::default());
+        prefilter(
+            device,
+            queue,
+            &radiance_view,
+            chain,
+            kernels,
+            &specular,
+            &convolved,
+        );
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        let array = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        EnvironmentTextures {
+            radiance: radiance_view,
+            specular: array(&specular),
+            convolved: array(&convolved),
+            split_sum: split_tex.create_view(&Default::default()),
+            prefilter_time: start.elapsed(),
+        }
+    }
+
+    /// Stand-ins for a scene with no map: one black texel each (nothing reads them: the
+    /// pipelines compile the map's reads out), so one pipeline layout serves every scene.
+    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let black = |label, layers| {
+            let t = texture(
+                device,
+                label,
+                (1, 1, layers),
+                1,
+                ENVIRONMENT_FORMAT,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+            );
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(if layers > 1 {
+                    wgpu::TextureViewDimension::D2Array
+                } else {
+                    wgpu::TextureViewDimension::D2
+                }),
+                ..Default::default()
+            })
+        };
+        let split = texture(
+            device,
+            "split-sum bias (none)",
+            (1, 1, 1),
+            1,
+            wgpu::TextureFormat::R32Float,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let _ = queue;
+        EnvironmentTextures {
+            radiance: black("environment map (none)", 1),
+            specular: black("specular layers (none)", 2),
+            convolved: black("convolved layers (none)", 2),
+            split_sum: split.create_view(&Default::default()),
+            prefilter_time: Duration::ZERO,
+        }
+    }
+
+    /// Group 1 of these textures with `uniform` and `sampler`.
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        uniform: &wgpu::Buffer,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("group 1 (environment)"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&self.radiance),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&self.specular),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&self.convolved),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&self.split_sum),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    }
+}
+
+/// One compute dispatch per layer of `specular` and `convolved`.
+fn prefilter(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    radiance: &wgpu::TextureView,
+    chain: &MipChain,
+    kernels: &[f32],
+    specular: &wgpu::Texture,
+    convolved: &wgpu::Texture,
+) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("prefilter"),
+        source: wgpu::ShaderSource::Wgsl(shaders::prefilter_source().into()),
+    });
+    let pipeline = |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    let specular_pipeline = pipeline("specular_main");
+    let convolved_pipeline = pipeline("convolved_main");
+    let sampler = sampler(device);
+    let kernel_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("kernels"),
+        size: 160 * 16,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut padded = kernels.to_vec();
+    padded.resize(160 * 4, 0.0);
+    queue.write_buffer(&kernel_buffer, 0, bytemuck::cast_slice(&padded));
+    let base = &chain.levels[0];
+    let (sw, sh) = specular_size(base.width);
+    let lod0 = (base.width as f64 / sw as f64).log2() as f32;
+    let source = chain.convolution_source() as f32;
+    let cw = CONVOLVED_WIDTH;
+    // (pipeline, target texture, layer, size, layer params)
+    let mut jobs = Vec::new();
+    for k in 0..SPECULAR_LEVELS {
+        let alpha = if k == 0 {
+            0.0
+        } else {
+            crate::brdf::alpha_from_roughness(specular_roughness(k)) as f32
+        };
+        jobs.push((
+            &specular_pipeline,
+            specular,
+            k,
+            (sw, sh),
+            [alpha, lod0, 0.0, 0.0],
+        ));
+    }
+    for j in 0..=CONVOLVED_LEVELS {
+        jobs.push((
+            &convolved_pipeline,
+            convolved,
+            j,
+            (cw, cw / 2),
+            [0.0, 0.0, j as f32, source],
+        ));
+    }
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let mut keep = Vec::new();
+    for (pipeline, target, layer, (w, h), params) in jobs {
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("prefilter params"),
+            size: std::mem::size_of::<PrefilterParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let p = PrefilterParams {
+            size: [w, h, base.width, base.height],
+            layer: params,
+        };
+        queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&p));
+        let view = target.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("prefilter"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(radiance),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: kernel_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        }
+        keep.push((uniform, group));
+    }
+    queue.submit([encoder.finish()]);
+}
+
+/// What the prefiltered textures depend on: the map (by identity: scenes share it through
+/// an `Arc`) and the G of the tables the kernels and the split sum come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EnvironmentKey {
+    map: usize,
+    geometry: crate::brdf::Geometry,
+}
+
+impl EnvironmentKey {
+    /// The key of `environment` shaded with `geometry`.
+    pub fn new(environment: &Environment, geometry: crate::brdf::Geometry) -> Self {
+        EnvironmentKey {
+            map: std::sync::Arc::as_ptr(&environment.map) as usize,
+            geometry,
+        }
+    }
+}
