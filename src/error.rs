@@ -64,6 +64,16 @@ pub enum Error {
         message: String,
     },
 
+    /// An environment map that cannot be read, or is not an equirectangular map this
+    /// renderer takes; `message` is the reason, on one line.
+    #[error("environment map '{}': {message}", path.display())]
+    Environment {
+        /// The map file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+
     /// No adapter for the requested backends.
     #[error("no GPU adapter for {backends}: {message} (for software Vulkan install the package mesa-vulkan-drivers, or use --backend cpu)")]
     NoAdapter {

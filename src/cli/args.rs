@@ -1,5 +1,5 @@
-//! The command line's flags: what `shadeballs bake`, `bench`, `render`, `probe`, `truth`
-//! and `view` accept, and the parsers of their values. The binary (`src/main.rs`) only adds the subcommand
+//! The command line's flags: what `shadeballs bake`, `bench`, `environment`, `render`,
+//! `probe`, `truth` and `view` accept, and the parsers of their values. The binary (`src/main.rs`) only adds the subcommand
 //! names around these; they live in the library so that tests parse argv in-process with
 //! exactly the binary's rules (`clap::Args::augment_args` and `FromArgMatches`), and fuzz
 //! them without starting a process per case. Values are checked here, so a bad flag is one
@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use clap::error::ErrorKind;
 
 use crate::brdf::Geometry;
+use crate::environment::{Background, Builtin, Environment, IblTerm};
 use crate::gpu::Backend;
 use crate::lab::bench::SweepKind;
 use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
@@ -34,7 +35,60 @@ macro_rules! value_enum {
     )+};
 }
 
-value_enum!(Geometry, Method, PointSet, LayoutKind, Storage, Preset, Backend, SweepKind);
+value_enum!(
+    Geometry,
+    Method,
+    PointSet,
+    LayoutKind,
+    Storage,
+    Preset,
+    Backend,
+    SweepKind,
+    IblTerm,
+    Builtin,
+    BackgroundArg,
+);
+
+/// `--background`: what the pixels no ball covers show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackgroundArg {
+    /// The environment along the pixel's ray.
+    Environment,
+    /// Black.
+    Black,
+}
+
+impl BackgroundArg {
+    /// Every value, in the order the help lists them.
+    pub const ALL: [BackgroundArg; 2] = [BackgroundArg::Environment, BackgroundArg::Black];
+
+    /// The name the command line uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackgroundArg::Environment => "environment",
+            BackgroundArg::Black => "black",
+        }
+    }
+
+    /// The scene's background it stands for.
+    pub fn background(self) -> Background {
+        match self {
+            BackgroundArg::Environment => Background::Environment,
+            BackgroundArg::Black => Background::Black,
+        }
+    }
+}
+
+/// The help of `--environment`, naming the built-ins from [`Builtin::ALL`].
+fn environment_help() -> String {
+    let names: Vec<_> = Builtin::ALL.iter().map(|b| b.name()).collect();
+    format!(
+        "Light the balls with this environment map instead of the scene's environment: a \
+         built-in ({}) or an equirectangular .hdr/.exr file (not turned, intensity 1; the \
+         uniform radiance is set to black)",
+        names.join(", ")
+    )
+}
 
 /// Flags of `shadeballs bake`.
 #[derive(clap::Args)]
@@ -101,6 +155,16 @@ pub struct SceneArgs {
     /// scenes use smith-correlated).
     #[arg(long)]
     pub geometry: Option<Geometry>,
+    /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
+    #[arg(long, value_name = "NAME|FILE", help = environment_help())]
+    pub environment: Option<String>,
+    /// How the multiple-scattering term is formed under an environment map (default: the
+    /// scene's, else kulla-conty).
+    #[arg(long)]
+    pub ibl_term: Option<IblTerm>,
+    /// What the pixels no ball covers show (default: the scene's, else environment).
+    #[arg(long)]
+    pub background: Option<BackgroundArg>,
 }
 
 impl SceneArgs {
@@ -112,11 +176,20 @@ impl SceneArgs {
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
+        if let Some(name) = &self.environment {
+            scene.environment_map = Some(Environment::named(name)?);
+            scene.environment = glam::DVec3::ZERO;
+        }
+        scene.ibl_term = self.ibl_term.unwrap_or(scene.ibl_term);
+        if let Some(b) = self.background {
+            scene.background = b.background();
+        }
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");
         }
         if scene.lights.iter().all(|l| l.radiance == glam::DVec3::ZERO)
             && scene.environment == glam::DVec3::ZERO
+            && scene.environment_map.is_none()
         {
             eprintln!(
                 "warning: the scene has no light and a black environment: the balls are black \
@@ -160,6 +233,36 @@ pub struct RenderArgs {
     /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
     #[arg(long)]
     pub verbose: bool,
+}
+
+/// Flags of `shadeballs environment`.
+#[derive(clap::Args)]
+pub struct EnvironmentArgs {
+    /// The built-in to write.
+    #[arg(long)]
+    pub name: Builtin,
+    /// Output file: .exr (f32) or .hdr (Radiance RGBE, about 1 % precision).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Width in texels: even, 2..=8192 (the height is half).
+    #[arg(long, default_value_t = crate::environment::builtin::DEFAULT_BUILTIN_WIDTH,
+          value_parser = parse_map_width, allow_negative_numbers = true)]
+    pub width: u32,
+}
+
+/// `environment --width`: an even whole number in `2..=MAX_BUILTIN_WIDTH`.
+pub fn parse_map_width(s: &str) -> Result<u32, String> {
+    let max = crate::environment::builtin::MAX_BUILTIN_WIDTH;
+    let n: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if !(2..=i64::from(max)).contains(&n) || n % 2 != 0 {
+        return Err(format!(
+            "{n}: the width must be even and in 2..={max} (the height is half)"
+        ));
+    }
+    Ok(n as u32)
 }
 
 /// Flags of `shadeballs probe`.

@@ -6,6 +6,7 @@
 mod args;
 mod bake;
 mod bench;
+mod environment;
 mod memory;
 mod probe;
 mod render;
@@ -35,6 +36,8 @@ enum Command {
     Bake(BakeArgs),
     /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
     Bench(BenchArgs),
+    /// Write a built-in environment map (studio, sky, white) to .exr or .hdr.
+    Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
@@ -99,6 +102,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bake(args) => bake::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
         Command::Probe(args) => probe::run(args),
         Command::Truth(args) => truth::run(args),

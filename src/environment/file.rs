@@ -1,9 +1,18 @@
 //! Reading and writing environment maps: Radiance `.hdr` (RGBE) and OpenEXR, both linear.
+//!
+//! The rules for bad input (docs/design.md section 10): the size is read from the header
+//! before anything is decoded, so a map over [`MAX_MAP_TEXELS`] or not 2:1 is one error
+//! without allocating its texels; a missing, truncated or corrupt file, or one with another
+//! extension, is one error naming the path; NaN, infinite and negative channels are clamped,
+//! counted in [`MapStats`] and reported in one warning.
 
+use std::fs::File;
+use std::io::BufReader;
 use std::path::Path;
 
 use super::EnvMap;
 use crate::error::{Error, Result};
+use crate::output;
 
 /// Most texels a map may have: 8192 x 4096 (384 MiB as f32 RGB on the CPU).
 pub const MAX_MAP_TEXELS: u64 = 8192 * 4096;
@@ -19,18 +28,168 @@ pub struct MapStats {
     pub negative: u64,
 }
 
-/// Reads the equirectangular map at `path` (`.hdr` or `.exr`).
-pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
-    Err(Error::Invalid {
-        what: "environment map",
-        message: format!("{}: TODO", path.display()),
-    })
+impl MapStats {
+    /// Channels clamped in all.
+    pub fn total(&self) -> u64 {
+        self.nan + self.infinite + self.negative
+    }
 }
 
-/// Writes `map` to `path` (`.hdr` or `.exr`), atomically.
-pub fn save(_map: &EnvMap, path: &Path) -> Result<()> {
-    Err(Error::Invalid {
-        what: "environment map",
-        message: format!("{}: TODO", path.display()),
-    })
+fn error(path: &Path, message: impl Into<String>) -> Error {
+    Error::Environment {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// The image format `path` names by its extension: `.hdr` or `.exr`.
+fn format_of(path: &Path) -> Option<image::ImageFormat> {
+    match output::extension(path).as_str() {
+        "hdr" => Some(image::ImageFormat::Hdr),
+        "exr" => Some(image::ImageFormat::OpenExr),
+        _ => None,
+    }
+}
+
+/// One line for an error of the image crate while reading `path`.
+fn decode_error(e: image::ImageError) -> String {
+    match e {
+        image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            "the file ends early (truncated)".to_string()
+        }
+        image::ImageError::IoError(io) => crate::error::one_line(&io.to_string()),
+        e => {
+            let message = crate::error::one_line(&e.to_string());
+            if message.contains("EOF") || message.contains("end of file") {
+                format!("the file ends early (truncated): {message}")
+            } else {
+                format!("corrupt or unsupported data: {message}")
+            }
+        }
+    }
+}
+
+/// Why a `width x height` map is refused, if it is: no texels, more than
+/// [`MAX_MAP_TEXELS`], or not equirectangular (2:1).
+pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
+    let count = u64::from(width) * u64::from(height);
+    if count == 0 {
+        Some(format!("{width}x{height} has no texels"))
+    } else if count > MAX_MAP_TEXELS {
+        Some(format!(
+            "{width}x{height} is more than {MAX_MAP_TEXELS} texels (the largest map is 8192x4096)"
+        ))
+    } else if u64::from(width) != 2 * u64::from(height) {
+        Some(format!(
+            "{width}x{height} is not an equirectangular map: the width must be twice the \
+             height (e.g. 2048x1024)"
+        ))
+    } else {
+        None
+    }
+}
+
+fn reader(path: &Path, format: image::ImageFormat) -> Result<image::ImageReader<BufReader<File>>> {
+    let file = File::open(path).map_err(|e| error(path, crate::error::one_line(&e.to_string())))?;
+    Ok(image::ImageReader::with_format(
+        BufReader::new(file),
+        format,
+    ))
+}
+
+/// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
+/// [`MAX_MAP_TEXELS`] (checked from the header, before decoding). NaN, infinite and
+/// negative channels are clamped (NaN and negative to 0, -inf to 0, +inf to the largest
+/// finite channel of the map, or 0 if none), counted in the [`MapStats`], and reported in
+/// one `log::warn!` line.
+pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
+    let format = format_of(path).ok_or_else(|| {
+        error(
+            path,
+            "expected a .hdr (Radiance RGBE) or .exr (OpenEXR) file",
+        )
+    })?;
+    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        return Err(error(path, "is a folder, not a file"));
+    }
+    let (width, height) = reader(path, format)?
+        .into_dimensions()
+        .map_err(|e| error(path, decode_error(e)))?;
+    if let Some(problem) = size_problem(width, height) {
+        return Err(error(path, problem));
+    }
+    let mut reader = reader(path, format)?;
+    // The size is bounded above: the decoder's own allocation limit (512 MiB) would refuse
+    // an RGBA f32 EXR of the largest size.
+    reader.no_limits();
+    let image = reader
+        .decode()
+        .map_err(|e| error(path, decode_error(e)))?
+        .into_rgb32f();
+    if image.dimensions() != (width, height) {
+        return Err(error(
+            path,
+            format!(
+                "the header says {width}x{height} but the image decoded as {}x{}",
+                image.width(),
+                image.height()
+            ),
+        ));
+    }
+    let mut texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
+    drop(image);
+    let stats = clamp_texels(&mut texels);
+    if stats.total() > 0 {
+        log::warn!(
+            "environment map '{}': clamped {} NaN, {} infinite and {} negative channels \
+             (NaN and negative to 0, +inf to the largest finite value)",
+            path.display(),
+            stats.nan,
+            stats.infinite,
+            stats.negative
+        );
+    }
+    let map = EnvMap::new(width, height, texels).map_err(|e| error(path, e.to_string()))?;
+    Ok((map, stats))
+}
+
+/// Makes every channel finite and non-negative: NaN, -inf and negative values to 0, +inf to
+/// the largest finite channel (0 if there is none); returns what it changed.
+pub(crate) fn clamp_texels(texels: &mut [[f32; 3]]) -> MapStats {
+    let largest = texels
+        .iter()
+        .flatten()
+        .filter(|c| c.is_finite())
+        .fold(0.0f32, |m, &c| m.max(c));
+    let mut stats = MapStats::default();
+    for c in texels.iter_mut().flatten() {
+        if c.is_nan() {
+            stats.nan += 1;
+            *c = 0.0;
+        } else if c.is_infinite() {
+            stats.infinite += 1;
+            *c = if *c > 0.0 { largest } else { 0.0 };
+        } else if *c < 0.0 {
+            stats.negative += 1;
+            *c = 0.0;
+        }
+    }
+    stats
+}
+
+/// Writes `map` to `path` (`.hdr` or `.exr`, f32 RGB), atomically
+/// ([`output::write_atomic_with`]: a failed write leaves no partial file).
+pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
+    let format = format_of(path).ok_or_else(|| Error::Format {
+        path: path.to_path_buf(),
+        expected: output::format_hint(path, "expected .hdr or .exr"),
+    })?;
+    let flat: Vec<f32> = map.texels().iter().flatten().copied().collect();
+    let image = image::Rgb32FImage::from_raw(map.width(), map.height(), flat).ok_or_else(|| {
+        Error::Encode {
+            path: path.to_path_buf(),
+            message: "texel count does not match the size".into(),
+        }
+    })?;
+    output::write_image(path, &image::DynamicImage::ImageRgb32F(image), format)
 }

@@ -156,7 +156,8 @@ pub fn uv_to_direction(uv: DVec2) -> DVec3 {
 pub enum Source {
     /// A generated built-in.
     Builtin(Builtin),
-    /// A file, as the scene or the command line named it.
+    /// A file: the path it was read from (a scene's relative `map` joined to the scene
+    /// file's folder; the command line's path as given).
     File(std::path::PathBuf),
 }
 
@@ -184,6 +185,48 @@ pub struct Environment {
 }
 
 impl Environment {
+    /// A built-in map generated at [`builtin::DEFAULT_BUILTIN_WIDTH`], not turned, intensity
+    /// 1.
+    pub fn builtin(b: Builtin) -> Self {
+        Environment {
+            source: Source::Builtin(b),
+            map: Arc::new(b.generate(builtin::DEFAULT_BUILTIN_WIDTH)),
+            rotation_deg: 0.0,
+            intensity: 1.0,
+        }
+    }
+
+    /// The map in the file at `path` ([`load`]), not turned, intensity 1.
+    pub fn from_file(path: &std::path::Path) -> Result<Self> {
+        let (map, _stats) = load(path)?;
+        Ok(Environment {
+            source: Source::File(path.to_path_buf()),
+            map: Arc::new(map),
+            rotation_deg: 0.0,
+            intensity: 1.0,
+        })
+    }
+
+    /// A built-in by its name (`studio`, `sky`, `white`), else the `.hdr`/`.exr` file at
+    /// that path: what the command line's `--environment` takes.
+    pub fn named(name_or_path: &str) -> Result<Self> {
+        if let Ok(b) = name_or_path.parse::<Builtin>() {
+            return Ok(Self::builtin(b));
+        }
+        let path = std::path::Path::new(name_or_path);
+        if !matches!(crate::output::extension(path).as_str(), "hdr" | "exr") {
+            let names: Vec<_> = Builtin::ALL.iter().map(|b| b.name()).collect();
+            return Err(Error::Invalid {
+                what: "environment",
+                message: format!(
+                    "'{name_or_path}' is neither a built-in ({}) nor a .hdr or .exr file",
+                    names.join(", ")
+                ),
+            });
+        }
+        Self::from_file(path)
+    }
+
     /// A world direction in the map's frame: turned by `-rotation_deg` about `+y`.
     pub fn to_map(&self, world: DVec3) -> DVec3 {
         let (s, c) = (-self.rotation_deg.to_radians()).sin_cos();

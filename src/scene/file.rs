@@ -8,8 +8,14 @@
 //! position = [0, 80, 300]
 //! target = [0, 0, 0]
 //! vfov_deg = 75
-//! [environment]                # optional: black
-//! radiance = [1, 1, 1]
+//! background = "environment"  # optional: environment (default) | black | [r, g, b]
+//! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default)
+//! [environment]                # optional: black. Exactly one of radiance, map, builtin:
+//! radiance = [1, 1, 1]         #   uniform linear radiance, or
+//! # map = "studio.hdr"         #   an equirectangular .hdr/.exr, relative to this file, or
+//! # builtin = "studio"         #   studio | sky | white (generated, 1024 x 512)
+//! rotation_deg = 0             # optional: turns the map about +y
+//! intensity = 1                # optional, >= 0: multiplies the radiance or the map
 //! [[light]]                    # up to MAX_LIGHTS
 //! direction = [0, 0, 1]        # towards the light; normalised on load
 //! radiance = [1, 1, 1]
@@ -23,7 +29,8 @@
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
 //! them with the line and column of the value; checks across fields report the line and
-//! column of their table.
+//! column of their table. A map that cannot be loaded is an error naming the map, its
+//! reason, and the line and column of its `map` key.
 
 use std::ops::Range;
 use std::path::Path;
@@ -32,11 +39,15 @@ use glam::DVec3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::values::{Colour, Direction, Finite3, Fov, Grid, Named, Positive, Radiance, Roughness};
+use super::values::{
+    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, Named, NonNegative, Positive,
+    Radiance, Roughness,
+};
 use super::{
     grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
+use crate::environment::{self, Builtin, Environment, IblTerm, Source};
 use crate::error::{Error, Result};
 
 /// The F0 a dielectric gets when the file gives none (common glass and plastics, ~1.5 IOR).
@@ -48,8 +59,10 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     exposure: Option<Positive>,
+    background: Option<BackgroundValue>,
+    ibl_term: Option<Named<IblTerm>>,
     camera: Option<Spanned<CameraFile>>,
-    environment: Option<EnvironmentFile>,
+    environment: Option<Spanned<EnvironmentFile>>,
     #[serde(default)]
     light: Vec<Spanned<LightFile>>,
     #[serde(default)]
@@ -67,7 +80,11 @@ struct CameraFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct EnvironmentFile {
-    radiance: Radiance,
+    radiance: Option<Radiance>,
+    map: Option<Spanned<String>>,
+    builtin: Option<Named<Builtin>>,
+    rotation_deg: Option<Finite>,
+    intensity: Option<NonNegative>,
 }
 
 #[derive(Deserialize)]
@@ -159,7 +176,8 @@ pub const MAX_SCENE_BYTES: u64 = SCENE_BYTES_OTHER
     + MAX_BALLS as u64 * SCENE_BYTES_PER_BALL
     + MAX_LIGHTS as u64 * SCENE_BYTES_PER_LIGHT;
 
-/// Parses scene text; `path` only names the file in errors.
+/// Parses scene text; `path` names the file in errors, and its folder is where a relative
+/// `map` path is read from.
 pub fn parse(text: &str, path: &Path) -> Result<Scene> {
     let err = |message: String| Error::Scene {
         path: path.to_path_buf(),
@@ -204,7 +222,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene> {
             None => message,
         })
     })?;
-    build(file).map_err(|(span, msg)| err(at(text, span, &msg)))
+    build(file, path).map_err(|(span, msg)| err(at(text, span, &msg)))
 }
 
 /// The key whose value starts at byte `start` of `text` (`radius` in `radius = 0`, `f0` in
@@ -242,7 +260,7 @@ fn at(text: &str, span: Range<usize>, message: &str) -> String {
 
 type Spanned2<T> = std::result::Result<T, (Range<usize>, String)>;
 
-fn build(file: SceneFile) -> Spanned2<Scene> {
+fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
     let reference = Scene::reference();
     let camera = match file.camera {
         None => reference.camera,
@@ -287,18 +305,68 @@ fn build(file: SceneFile) -> Spanned2<Scene> {
             radiance: l.get_ref().radiance.0,
         })
         .collect();
+    let (environment, environment_map) = match file.environment {
+        None => (DVec3::ZERO, None),
+        Some(e) => environment(e, path)?,
+    };
     Ok(Scene {
         balls,
         lights,
-        environment: file.environment.map_or(DVec3::ZERO, |e| e.radiance.0),
-        environment_map: None,
-        background: reference.background,
-        ibl_term: reference.ibl_term,
+        environment,
+        environment_map,
+        background: file.background.map_or(reference.background, |b| b.0),
+        ibl_term: file.ibl_term.map_or(reference.ibl_term, |t| t.0),
         camera,
         exposure: file.exposure.map_or(1.0, |e| e.0),
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
     })
+}
+
+/// The folder a scene file's relative paths start from: the file's own.
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new(""),
+    }
+}
+
+/// `[environment]`: the uniform radiance, or the map it names (loaded or generated).
+fn environment(e: Spanned<EnvironmentFile>, path: &Path) -> Spanned2<(DVec3, Option<Environment>)> {
+    let span = e.span();
+    let e = e.into_inner();
+    let intensity = e.intensity.map_or(1.0, |i| i.0);
+    let rotation_deg = e.rotation_deg.map_or(0.0, |r| r.0);
+    let (source, map) = match (e.radiance, e.map, e.builtin) {
+        (Some(r), None, None) => return Ok((r.0 * intensity, None)),
+        (None, Some(file), None) => {
+            let map_span = file.span();
+            let file = folder_of(path).join(file.into_inner());
+            let (map, _stats) = environment::load(&file).map_err(|e| (map_span, e.to_string()))?;
+            (Source::File(file), map)
+        }
+        (None, None, Some(b)) => (
+            Source::Builtin(b.0),
+            b.0.generate(environment::builtin::DEFAULT_BUILTIN_WIDTH),
+        ),
+        _ => {
+            return Err((
+                span,
+                "[environment] needs exactly one of `radiance` (uniform), `map` (a .hdr or \
+                 .exr file) or `builtin` (a generated map)"
+                    .to_string(),
+            ))
+        }
+    };
+    Ok((
+        DVec3::ZERO,
+        Some(Environment {
+            source,
+            map: std::sync::Arc::new(map),
+            rotation_deg,
+            intensity,
+        }),
+    ))
 }
 
 fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {

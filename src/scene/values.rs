@@ -168,3 +168,77 @@ impl<'de, T: FromStr<Err = crate::Error>> Deserialize<'de> for Named<T> {
         s.parse().map(Named).map_err(serde::de::Error::custom)
     }
 }
+
+/// Any finite number within `MAX_MAGNITUDE` (an angle in degrees).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Finite(pub f64);
+
+impl TryFrom<f64> for Finite {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if v.is_finite() && v.abs() <= MAX_MAGNITUDE {
+            Ok(Finite(v))
+        } else {
+            Err(format!(
+                "{v:?} must be a finite number at most {MAX_MAGNITUDE:e} in magnitude"
+            ))
+        }
+    }
+}
+
+/// A finite number in `[0, MAX_MAGNITUDE]` (an intensity).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct NonNegative(pub f64);
+
+impl TryFrom<f64> for NonNegative {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if v.is_finite() && (0.0..=MAX_MAGNITUDE).contains(&v) {
+            Ok(NonNegative(v))
+        } else {
+            Err(format!(
+                "{v:?} must be a number of at least 0 and at most {MAX_MAGNITUDE:e}"
+            ))
+        }
+    }
+}
+
+/// `background = "black" | "environment" | [r, g, b]` (a radiance).
+#[derive(Clone, Copy, Debug)]
+pub struct BackgroundValue(pub crate::environment::Background);
+
+impl<'de> Deserialize<'de> for BackgroundValue {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use crate::environment::Background;
+        use serde::de::{Error, SeqAccess, Visitor};
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = BackgroundValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"black\", \"environment\" or a radiance [r, g, b]")
+            }
+            fn visit_str<E: Error>(self, s: &str) -> Result<BackgroundValue, E> {
+                match s {
+                    "black" => Ok(BackgroundValue(Background::Black)),
+                    "environment" => Ok(BackgroundValue(Background::Environment)),
+                    _ => Err(E::custom(format!(
+                        "unknown background '{s}': expected black, environment or a radiance \
+                         [r, g, b]"
+                    ))),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<BackgroundValue, A::Error> {
+                let mut v = Vec::new();
+                while let Some(c) = seq.next_element::<f64>()? {
+                    v.push(c);
+                }
+                Radiance::try_from(v)
+                    .map(|r| BackgroundValue(Background::Colour(r.0)))
+                    .map_err(A::Error::custom)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}

@@ -9,6 +9,7 @@ mod cli;
 mod cli_bake;
 mod cli_fuzz;
 mod cli_render;
+mod environment;
 mod example;
 mod extreme_scenes;
 mod fuzz;
