@@ -431,3 +431,36 @@ fn cli_renders_with_the_montecarlo_backend() {
     assert!(!ok);
     assert!(stderr.contains("--spp"), "{stderr}");
 }
+
+/// The figure in docs/design.md ("Monte Carlo backend"): the reference scene at the default
+/// 1280x720 under a uniform 1024x512 map and under the band map, 64 spp, median of three.
+/// `cargo test --release --test suite montecarlo_timing -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn montecarlo_timing() {
+    let uniform = Scene {
+        environment_map: Some(environment(EnvMap::uniform(DVec3::ONE, 1024, 512), 0.0)),
+        ..Scene::reference()
+    };
+    for (name, scene) in [
+        ("uniform 1024x512 map", uniform),
+        ("band map", band_scene(IblTerm::KullaConty)),
+    ] {
+        let tables = tables_for(&scene);
+        let e = TableRead::Lut(&tables);
+        let mut times = Vec::new();
+        let mut noise = 0.0;
+        for _ in 0..3 {
+            let start = std::time::Instant::now();
+            let image = render_montecarlo(&scene, &e, 1280, 720, 64, 1).unwrap();
+            times.push(start.elapsed().as_secs_f64());
+            noise = image.mean_relative_std_error().unwrap();
+        }
+        times.sort_by(f64::total_cmp);
+        println!(
+            "{name}: 1280x720, 64 spp: median {:.2} s, mean relative standard error {:.2} %",
+            times[1],
+            100.0 * noise
+        );
+    }
+}
