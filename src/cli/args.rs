@@ -226,10 +226,19 @@ pub struct RenderArgs {
     /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
     #[arg(long, default_value = "shading_balls.png")]
     pub out: PathBuf,
-    /// Where to render: a GPU backend (auto: any adapter, else the CPU), or the CPU
-    /// reference renderer.
+    /// Where to render: a GPU backend (auto: any adapter, else the CPU), the CPU
+    /// reference renderer, or the CPU Monte Carlo reference (montecarlo: the model
+    /// integrated against the lights and the environment by importance sampling).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
+    /// Samples per pixel of --backend montecarlo, 1..=65536 (ignored by other backends).
+    #[arg(long, default_value_t = 64, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::cpu::montecarlo::MAX_SPP)))]
+    pub spp: u32,
+    /// Random seed of --backend montecarlo (ignored by other backends): the same seed
+    /// gives the same image on any number of threads.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
     #[arg(long)]
     pub verbose: bool,
@@ -375,7 +384,9 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
 /// `probe --backend`: a GPU backend (the probe runs the shader's own reads on the GPU).
 pub fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
     match s.parse::<Backend>() {
-        Ok(Backend::Cpu) => Err("the probe runs on the GPU: use auto, vulkan or gl".to_string()),
+        Ok(Backend::Cpu | Backend::Montecarlo) => {
+            Err("the probe runs on the GPU: use auto, vulkan or gl".to_string())
+        }
         Ok(b) => Ok(b),
         Err(_) => Err(format!("'{s}' is not a backend: use auto, vulkan or gl")),
     }

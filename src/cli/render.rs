@@ -72,9 +72,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         }
         None => {
             check_cpu_size(w, h)?;
+            let montecarlo = args.backend == Backend::Montecarlo;
+            // The Monte Carlo image also keeps a standard error and a coverage flag per pixel.
+            let extra = if montecarlo {
+                MONTECARLO_BYTES_PER_PIXEL
+            } else {
+                0
+            };
             memory::check(
                 &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
-                pixels * cpu_bytes_per_pixel(kind),
+                pixels * (cpu_bytes_per_pixel(kind) + extra),
             )?;
             if args.verbose {
                 eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
@@ -84,8 +91,27 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 ..Default::default()
             });
             phases.mark("bake");
-            let radiance = cpu::render_radiance(&scene, &tables, w, h);
-            phases.mark("render");
+            let radiance = if montecarlo {
+                let started = Instant::now();
+                let e = cpu::TableRead::Lut(&tables);
+                let image = cpu::render_montecarlo(&scene, &e, w, h, args.spp, args.seed)?;
+                phases.mark("render");
+                let noise = image
+                    .mean_relative_std_error()
+                    .map_or("n/a".to_string(), |r| format!("{:.3} %", 100.0 * r));
+                eprintln!(
+                    "montecarlo: {} spp, seed {}, {:.1} ms, mean relative standard error over \
+                     ball pixels {noise}",
+                    args.spp,
+                    args.seed,
+                    started.elapsed().as_secs_f64() * 1e3
+                );
+                image.mean
+            } else {
+                let radiance = cpu::render_radiance(&scene, &tables, w, h);
+                phases.mark("render");
+                radiance
+            };
             // The radiance (24 bytes a pixel) is dropped before the encoder starts.
             match kind {
                 ImageKind::Png => {
@@ -99,7 +125,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     write_exr(&args.out, w, h, rgba)?
                 }
             }
-            "CPU reference renderer".to_string()
+            if montecarlo {
+                "CPU Monte Carlo reference".to_string()
+            } else {
+                "CPU reference renderer".to_string()
+            }
         }
     };
     phases.mark("encode");
@@ -156,6 +186,11 @@ fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
         ImageKind::Exr => 24 + 16,
     }
 }
+
+/// Bytes a pixel the Monte Carlo image adds to the CPU path's: the collected per-pixel
+/// results (mean, standard error, coverage: 56 bytes) split into the image's three vectors
+/// (49 bytes).
+const MONTECARLO_BYTES_PER_PIXEL: u64 = 56 + 49;
 
 /// Peak bytes a pixel on the GPU path, measured on lavapipe (where the GPU's memory is the
 /// host's): the frame, the read-back buffer, its mapped copy and the unpadded image, each

@@ -3,11 +3,13 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
+pub mod montecarlo;
 mod shade;
 
 use glam::DVec3;
 use rayon::prelude::*;
 
+pub use montecarlo::{render_montecarlo, MonteCarloImage};
 pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, TableRead};
 
 use crate::display::{to_unorm8, tone_map};

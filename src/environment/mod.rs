@@ -237,6 +237,13 @@ impl Environment {
         )
     }
 
+    /// A direction of the map's frame in the world: turned by `+rotation_deg` about `+y`
+    /// (the inverse of [`Environment::to_map`]).
+    pub fn from_map(&self, map: DVec3) -> DVec3 {
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        DVec3::new(c * map.x + s * map.z, map.y, -s * map.x + c * map.z)
+    }
+
     /// Radiance arriving from world direction `d` (towards the light): bilinear in the map,
     /// times the intensity.
     pub fn radiance(&self, d: DVec3) -> DVec3 {

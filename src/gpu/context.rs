@@ -23,11 +23,20 @@ pub enum Backend {
     Gl,
     /// The CPU reference renderer.
     Cpu,
+    /// The CPU Monte Carlo reference (`crate::cpu::montecarlo`): the model integrated
+    /// against the lights and the environment by importance sampling.
+    Montecarlo,
 }
 
 impl Backend {
     /// Every backend, in a fixed order.
-    pub const ALL: [Backend; 4] = [Backend::Auto, Backend::Vulkan, Backend::Gl, Backend::Cpu];
+    pub const ALL: [Backend; 5] = [
+        Backend::Auto,
+        Backend::Vulkan,
+        Backend::Gl,
+        Backend::Cpu,
+        Backend::Montecarlo,
+    ];
 
     /// The name used on the command line and in messages.
     pub fn name(self) -> &'static str {
@@ -36,10 +45,11 @@ impl Backend {
             Backend::Vulkan => "vulkan",
             Backend::Gl => "gl",
             Backend::Cpu => "cpu",
+            Backend::Montecarlo => "montecarlo",
         }
     }
 
-    /// The wgpu backends this choice allows (`None` for the CPU renderer).
+    /// The wgpu backends this choice allows (`None` for the CPU renderers).
     pub fn wgpu_backends(self) -> Option<wgpu::Backends> {
         match self {
             Backend::Auto => Some(
@@ -47,7 +57,7 @@ impl Backend {
             ),
             Backend::Vulkan => Some(wgpu::Backends::VULKAN),
             Backend::Gl => Some(wgpu::Backends::GL),
-            Backend::Cpu => None,
+            Backend::Cpu | Backend::Montecarlo => None,
         }
     }
 }

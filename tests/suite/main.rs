@@ -22,6 +22,7 @@ mod ktx2;
 mod layers;
 mod lut;
 mod lut_chebyshev;
+mod montecarlo;
 mod pixels;
 mod plan;
 mod planned;

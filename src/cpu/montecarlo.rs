@@ -1,0 +1,643 @@
+//! The Monte Carlo reference (`render --backend montecarlo`): the chosen model
+//! ([`IblTerm`]) integrated against the directional lights and the environment without any
+//! real-time approximation: no split sum, no harmonics, no prefiltering (docs/design.md,
+//! "Monte Carlo backend").
+//!
+//! The camera, the primary rays (one per pixel, through its centre) and the sphere hits are
+//! those of [`super::render_radiance_with`], and E and E_avg come from the same
+//! [`TableRead`], so an image compares pixel for pixel with the real-time renderers' and
+//! only the integration over incident directions differs. Lights are evaluated directly
+//! (`f_r L mu_i`); the environment is integrated by importance sampling with three
+//! strategies (GGX visible normals, cosine-weighted hemisphere, the map's luminance)
+//! combined by the multi-sample balance heuristic (Veach & Guibas 1995, "Optimally
+//! Combining Sampling Techniques for Monte Carlo Rendering").
+
+use std::f64::consts::PI;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::{intersect_sphere, surface_normal, Bins, TableRead};
+use crate::brdf::{
+    alpha_from_roughness, d_ggx, f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick,
+    Geometry, DIV_EPSILON, GAMES202_EDGE_TINT,
+};
+use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
+use crate::error::{Error, Result};
+use crate::lut::{e_avg_reference, e_reference};
+use crate::scene::{Ball, Scene, MAX_BALLS};
+
+/// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
+pub const MAX_SPP: u32 = 65536;
+
+/// Rec. 709 luminance weights: what the environment strategy samples in proportion to, and
+/// how [`MonteCarloImage::mean_relative_std_error`] reduces a colour to one number.
+pub const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
+
+/// A Monte Carlo image: per pixel (row-major, row 0 at the top) the mean linear radiance of
+/// `spp` independent estimates and the standard error of that mean.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MonteCarloImage {
+    /// Pixels across.
+    pub width: u32,
+    /// Pixels down.
+    pub height: u32,
+    /// Estimates per covered pixel.
+    pub spp: u32,
+    /// Mean radiance per pixel (the background where no ball covers it).
+    pub mean: Vec<DVec3>,
+    /// Standard error of the mean per pixel and channel, `s / sqrt(spp)` with `s` the
+    /// sample standard deviation of the `spp` estimates; 0 where there is no noise (the
+    /// background, a pixel only lights reach) and where `spp < 2` leaves it unknown.
+    pub std_error: Vec<DVec3>,
+    /// Whether a ball covers the pixel.
+    pub covered: Vec<bool>,
+}
+
+impl MonteCarloImage {
+    /// The mean over the covered pixels of `Y(std_error) / Y(mean)` (`Y`: [`LUMINANCE`];
+    /// `Y(std_error)` bounds the standard error of the luminance from above), skipping
+    /// pixels whose mean luminance is below [`DIV_EPSILON`]. `None` when `spp < 2` (no
+    /// variance estimate) or no covered pixel counts.
+    pub fn mean_relative_std_error(&self) -> Option<f64> {
+        if self.spp < 2 {
+            return None;
+        }
+        let (sum, count) = self
+            .mean
+            .iter()
+            .zip(&self.std_error)
+            .zip(&self.covered)
+            .filter(|&(_, &c)| c)
+            .map(|((m, s), _)| (m.dot(LUMINANCE), s.dot(LUMINANCE)))
+            .filter(|&(m, _)| m > DIV_EPSILON)
+            .fold((0.0, 0usize), |(sum, n), (m, s)| (sum + s / m, n + 1));
+        (count > 0).then(|| sum / count as f64)
+    }
+}
+
+/// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
+/// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
+/// from `(seed, px, py)`, so the image does not depend on the number of threads.
+///
+/// Errors when `spp` is outside `1..=MAX_SPP` or the scene's environment map has a
+/// rotation or intensity that is not finite (or a negative intensity).
+pub fn render_montecarlo(
+    scene: &Scene,
+    e: &TableRead<'_>,
+    width: u32,
+    height: u32,
+    spp: u32,
+    seed: u64,
+) -> Result<MonteCarloImage> {
+    if !(1..=MAX_SPP).contains(&spp) {
+        return Err(Error::Invalid {
+            what: "samples per pixel",
+            message: format!("{spp}: --spp must be in 1..={MAX_SPP}"),
+        });
+    }
+    if let Some(env) = &scene.environment_map {
+        if !env.rotation_deg.is_finite() || !env.intensity.is_finite() || env.intensity < 0.0 {
+            return Err(Error::Invalid {
+                what: "environment",
+                message: format!(
+                    "rotation {} and intensity {} must be finite, the intensity >= 0",
+                    env.rotation_deg, env.intensity
+                ),
+            });
+        }
+    }
+    let basis = scene.camera.basis(width, height);
+    let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
+    let bins = Bins::new(&basis, balls, width, height);
+    let lighting = Lighting::new(scene);
+    let (bins, lighting) = (&bins, &lighting);
+    let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
+        .into_par_iter()
+        .flat_map_iter(|py| {
+            (0..width).map(move |px| {
+                let d = basis.ray(px, py, width, height);
+                let o = basis.origin;
+                let mut best: Option<(f64, usize)> = None;
+                for k in bins.candidates(px, py) {
+                    let b = &balls[k];
+                    let t = intersect_sphere(o, d, b.center, b.radius);
+                    if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                        best = Some((t, k));
+                    }
+                }
+                match best {
+                    None => (lighting.background(d), DVec3::ZERO, false),
+                    Some((t, k)) => {
+                        let b = &balls[k];
+                        let n = surface_normal(o + t * d - b.center, d);
+                        let point = ShadingPoint::new(scene, b, n, -d, e);
+                        let mut rng = Rng::for_pixel(seed, px, py);
+                        let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
+                        (mean, err, true)
+                    }
+                }
+            })
+        })
+        .collect();
+    let mut image = MonteCarloImage {
+        width,
+        height,
+        spp,
+        mean: Vec::with_capacity(pixels.len()),
+        std_error: Vec::with_capacity(pixels.len()),
+        covered: Vec::with_capacity(pixels.len()),
+    };
+    for (m, s, c) in pixels {
+        image.mean.push(m);
+        image.std_error.push(s);
+        image.covered.push(c);
+    }
+    Ok(image)
+}
+
+/// `1 - E(mu, roughness)` from `e`: the read [`super::shade`] makes (the same tables, the
+/// same f32 arithmetic).
+fn loss(e: &TableRead<'_>, mu: f64, roughness: f64) -> f64 {
+    match e {
+        TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
+        TableRead::Rows(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
+        TableRead::Reference(g) => 1.0 - e_reference(mu.clamp(0.0, 1.0), roughness, *g),
+    }
+}
+
+/// `1 - E_avg(roughness)` from `e`, as [`super::shade`] reads it.
+fn loss_avg(e: &TableRead<'_>, roughness: f64) -> f64 {
+    match e {
+        TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
+        TableRead::Rows(t) => t.lut_loss_avg(roughness as f32) as f64,
+        TableRead::Reference(g) => 1.0 - e_avg_reference(roughness, *g),
+    }
+}
+
+fn per_channel(v: DVec3, f: impl Fn(f64) -> f64) -> DVec3 {
+    DVec3::new(f(v.x), f(v.y), f(v.z))
+}
+
+/// One visible surface point: the ball's model and what does not depend on the incident
+/// direction (E(mu_o), E_avg, f_add, the diffuse weight), formed once per pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint {
+    /// Unit surface normal.
+    pub n: DVec3,
+    /// Unit direction towards the eye.
+    pub v: DVec3,
+    /// `max(n.v, 0)`.
+    pub mu_o: f64,
+    /// The ball's roughness (the model clamps it).
+    pub roughness: f64,
+    /// `F0` per channel.
+    pub f0: DVec3,
+    /// 1 when the ball has the multiple-scattering term, else 0.
+    pub ms: f64,
+    /// `1 - E(mu_o)`.
+    pub loss_o: f64,
+    /// The Kulla-Conty normalisation `f_ms_norm(1 - E_avg)`.
+    pub norm: f64,
+    /// The preset's Fresnel scale of the Kulla-Conty lobe, per channel.
+    pub f_add: DVec3,
+    /// Diffuse albedo times `1 - F_avg` (zero for a metal).
+    pub kd: DVec3,
+    /// Which multiple-scattering model.
+    pub term: IblTerm,
+    /// The scene's effective G.
+    pub geometry: Geometry,
+}
+
+impl ShadingPoint {
+    /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset,
+    /// geometry and IBL term, with E and E_avg from `e`.
+    pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableRead<'_>) -> Self {
+        let roughness = b.roughness;
+        let f0 = b.material.f0;
+        let mu_o = n.dot(v).max(0.0);
+        let loss_avg = loss_avg(e, roughness);
+        let e_avg = 1.0 - loss_avg;
+        let form = scene.preset.f_avg_form();
+        ShadingPoint {
+            n,
+            v,
+            mu_o,
+            roughness,
+            f0,
+            ms: if b.multiple_scattering { 1.0 } else { 0.0 },
+            loss_o: loss(e, mu_o, roughness),
+            norm: f_ms_norm(loss_avg),
+            f_add: DVec3::new(
+                f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
+                f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], e_avg),
+                f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], e_avg),
+            ),
+            kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
+            term: scene.ibl_term,
+            geometry: scene.effective_geometry(),
+        }
+    }
+}
+
+/// The BRDF `f_r(v, l)` of the point's model, per channel (0 when `l` or `v` is below the
+/// horizon). Every model shares the single-scattering Cook-Torrance lobe `f_micro` with
+/// Schlick's F per channel and the diffuse lobe `kd / pi`; they differ in the
+/// multiple-scattering lobe, present only on balls with the term:
+///
+/// - [`IblTerm::KullaConty`] (Kulla & Conty 2017, "Revisiting Physically Based Shading at
+///   Imageworks"): `f_add f_ms(1 - E(mu_o), 1 - E(mu_i))`, term for term the
+///   directional-light branch of [`super::shade`].
+/// - [`IblTerm::Turquin`] (Turquin 2019, "Practical multiple scattering compensation for
+///   microfacet models"): the single-scattering lobe scaled by `1 + F0 (1 / E(mu_o) - 1)`,
+///   `E` guarded by [`DIV_EPSILON`].
+/// - [`IblTerm::FdezAguera`] (Fdez-Aguera 2019, "A Multiple-Scattering Microfacet Model for
+///   Real-Time Image-based Lighting"): a Lambertian lobe of albedo
+///   `FmsEms = FssEss F_avg Ems / (1 - F_avg Ems)`, `Ems = 1 - E(mu_o)`,
+///   `F_avg = F0 + (1 - F0) / 21`. The paper's `FssEss` (the split-sum scale and bias) is
+///   not in the tables; it is approximated by `F_avg E(mu_o)`, the approximation the
+///   uniform-environment shading already makes for the specular.
+pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
+    let mu_i = p.n.dot(l);
+    if mu_i <= 0.0 || p.mu_o <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return DVec3::ZERO;
+    }
+    let h = sum / len;
+    let v_dot_h = p.v.dot(h);
+    let n_dot_h = p.n.dot(h);
+    let spec = per_channel(p.f0, |f| {
+        f_micro(
+            f_schlick(f, v_dot_h),
+            p.mu_o,
+            mu_i,
+            n_dot_h,
+            p.roughness,
+            p.geometry,
+        )
+    });
+    let diffuse = p.kd / PI;
+    match p.term {
+        IblTerm::KullaConty => {
+            let loss_i = loss(e, mu_i, p.roughness);
+            spec + p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm) + diffuse
+        }
+        IblTerm::Turquin => {
+            let e_o = (1.0 - p.loss_o).max(DIV_EPSILON);
+            let scale = DVec3::ONE + p.ms * p.f0 * (p.loss_o / e_o);
+            spec * scale + diffuse
+        }
+        IblTerm::FdezAguera => {
+            let e_o = 1.0 - p.loss_o;
+            let f_avg = per_channel(p.f0, f_avg_schlick);
+            let fss_ess = f_avg * e_o;
+            let denom = (DVec3::ONE - f_avg * p.loss_o).max(DVec3::splat(DIV_EPSILON));
+            let fms_ems = fss_ess * f_avg * p.loss_o / denom;
+            spec + p.ms * fms_ems / PI + diffuse
+        }
+    }
+}
+
+/// What lights the balls: the directional lights, the uniform environment, the map and
+/// its sampler.
+struct Lighting<'a> {
+    scene: &'a Scene,
+    /// Whether any environment radiance can be non-zero (else the integral is skipped).
+    lit: bool,
+    sampler: Option<EnvSampler<'a>>,
+}
+
+impl<'a> Lighting<'a> {
+    fn new(scene: &'a Scene) -> Self {
+        let map_lit = scene
+            .environment_map
+            .as_ref()
+            .is_some_and(|m| m.intensity > 0.0 && m.map.texels().iter().any(|t| t != &[0.0; 3]));
+        Lighting {
+            scene,
+            lit: map_lit || scene.environment != DVec3::ZERO,
+            sampler: scene.environment_map.as_ref().and_then(EnvSampler::new),
+        }
+    }
+
+    /// Radiance arriving from world direction `w`: the uniform environment plus the map.
+    fn incident(&self, w: DVec3) -> DVec3 {
+        let map = self
+            .scene
+            .environment_map
+            .as_ref()
+            .map_or(DVec3::ZERO, |m| m.radiance(w));
+        self.scene.environment + map
+    }
+
+    fn background(&self, d: DVec3) -> DVec3 {
+        match self.scene.background {
+            Background::Environment => self.incident(d),
+            Background::Black => DVec3::ZERO,
+            Background::Colour(c) => c,
+        }
+    }
+
+    /// The lights' exact contribution plus `spp` estimates of the environment's; returns
+    /// the mean and its standard error.
+    fn estimate(
+        &self,
+        p: &ShadingPoint,
+        e: &TableRead<'_>,
+        spp: u32,
+        rng: &mut Rng,
+    ) -> (DVec3, DVec3) {
+        let mut direct = DVec3::ZERO;
+        for light in &self.scene.lights {
+            let mu_i = p.n.dot(light.direction);
+            if mu_i <= 0.0 || p.mu_o <= 0.0 {
+                continue;
+            }
+            direct += model_brdf(p, light.direction, e) * light.radiance * mu_i;
+        }
+        if !self.lit || p.mu_o <= 0.0 {
+            return (direct, DVec3::ZERO);
+        }
+        let frame = Frame::new(p.n);
+        let v_local = frame.to_local(p.v);
+        let alpha = alpha_from_roughness(p.roughness);
+        // Welford's running mean and sum of squared deviations, per channel.
+        let mut mean = DVec3::ZERO;
+        let mut m2 = DVec3::ZERO;
+        for k in 0..spp {
+            let mut x = DVec3::ZERO;
+            let l = frame.to_world(sample_vndf(v_local, alpha, rng.uniform(), rng.uniform()));
+            x += self.contribution(p, e, l, alpha);
+            let l = frame.to_world(sample_cosine(rng.uniform(), rng.uniform()));
+            x += self.contribution(p, e, l, alpha);
+            if let Some(s) = &self.sampler {
+                let u = [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()];
+                if let Some(l) = s.sample(u) {
+                    x += self.contribution(p, e, l, alpha);
+                }
+            }
+            let delta = x - mean;
+            mean += delta / (k + 1) as f64;
+            m2 += delta * (x - mean);
+        }
+        let err = if spp >= 2 {
+            let n = spp as f64;
+            (m2 / ((n - 1.0) * n)).max(DVec3::ZERO).powf(0.5)
+        } else {
+            DVec3::ZERO
+        };
+        (direct + mean, err)
+    }
+
+    /// One sample's share of the multi-sample balance-heuristic estimator:
+    /// `f_r L mu_i / sum_k pdf_k(l)` (each strategy draws one direction per estimate, so
+    /// the weight `pdf_s / sum_k pdf_k` over `pdf_s` leaves the sum).
+    fn contribution(&self, p: &ShadingPoint, e: &TableRead<'_>, l: DVec3, alpha: f64) -> DVec3 {
+        let mu_i = p.n.dot(l);
+        if mu_i <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let pdf = self.pdf(p, l, mu_i, alpha);
+        if pdf <= DIV_EPSILON {
+            return DVec3::ZERO;
+        }
+        let f = model_brdf(p, l, e);
+        if f == DVec3::ZERO {
+            return DVec3::ZERO;
+        }
+        f * self.incident(l) * (mu_i / pdf)
+    }
+
+    /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`.
+    fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alpha: f64) -> f64 {
+        let mut pdf = pdf_vndf(p, l, alpha) + mu_i / PI;
+        if let Some(s) = &self.sampler {
+            pdf += s.pdf(l);
+        }
+        pdf
+    }
+}
+
+/// Density (solid angle) of [`sample_vndf`] at `l` (Heitz 2018, eq. 17 with the reflection's
+/// Jacobian `1 / (4 v.h)`): `G1(v) D(h) / (4 mu_o)`, written with
+/// `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact Smith G1 for GGX,
+/// whatever G the model uses: it is the distribution the sampler draws from), finite at
+/// grazing `v`.
+fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    let h = sum / len;
+    let c = p.mu_o.clamp(0.0, 1.0);
+    let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
+    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
+    d_ggx(p.n.dot(h), alpha) * g1_over_mu / 4.0
+}
+
+/// A reflected direction (local frame, normal `+z`) whose half vector follows GGX's
+/// distribution of normals visible from `v` (Heitz 2018, "Sampling the GGX Distribution of
+/// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
+/// sample the projected disk, warp to the visible half, unstretch. May lie below the
+/// horizon (the caller's `mu_i <= 0` gives it no weight).
+fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
+    let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
+    let vh = vh / vh.length().max(DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > DIV_EPSILON {
+        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+    } else {
+        DVec3::X
+    };
+    let t2 = vh.cross(t1);
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+    let ne = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0));
+    let h = ne / ne.length().max(DIV_EPSILON);
+    2.0 * v.dot(h) * h - v
+}
+
+/// A cosine-distributed direction about `+z` (Malley's method: the unit disk projected up),
+/// density `mu_i / pi`.
+fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
+}
+
+/// An orthonormal frame about a unit normal (Duff et al. 2017, "Building an Orthonormal
+/// Basis, Revisited", JCGT 6(1)).
+struct Frame {
+    t: DVec3,
+    b: DVec3,
+    n: DVec3,
+}
+
+impl Frame {
+    fn new(n: DVec3) -> Self {
+        let sign = 1.0f64.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Frame {
+            t: DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            b: DVec3::new(b, sign + n.y * n.y * a, -n.y),
+            n,
+        }
+    }
+    fn to_local(&self, w: DVec3) -> DVec3 {
+        DVec3::new(w.dot(self.t), w.dot(self.b), w.dot(self.n))
+    }
+    fn to_world(&self, l: DVec3) -> DVec3 {
+        l.x * self.t + l.y * self.b + l.z * self.n
+    }
+}
+
+/// Draws directions from an environment map in proportion to its radiance: a texel with
+/// probability `w_ij / sum w`, `w_ij = Y_max(i, j) * texel_solid_angle(j)`, then uniformly in
+/// its `(u, v)` rectangle. `Y_max` is the largest luminance of the texel and its eight
+/// neighbours (wrapping in `u`, clamped in `v`): the bilinear read is non-zero wherever a
+/// neighbour is, so every texel rectangle the map lights has a positive density. The
+/// density per solid angle is `p_ij W H / (2 pi^2 sin theta)` (the equirectangular
+/// Jacobian), exactly.
+struct EnvSampler<'a> {
+    env: &'a Environment,
+    width: usize,
+    height: usize,
+    /// Per texel, its weight.
+    weight: Vec<f64>,
+    /// Per texel, the running sum of its row's weights up to and including it.
+    row_cdf: Vec<f64>,
+    /// Per row, the running sum of the rows' weights up to and including it.
+    marginal: Vec<f64>,
+    total: f64,
+}
+
+impl<'a> EnvSampler<'a> {
+    /// `None` for a map that needs no sampler: constant (cosine and VNDF sampling suit a
+    /// uniform environment) or black.
+    fn new(env: &'a Environment) -> Option<Self> {
+        let map = &env.map;
+        let first = map.texels()[0];
+        if env.intensity <= 0.0 || map.texels().iter().all(|t| t == &first) {
+            return None;
+        }
+        let (w, h) = (map.width() as usize, map.height() as usize);
+        let lum: Vec<f64> = map
+            .texels()
+            .iter()
+            .map(|t| LUMINANCE.dot(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)))
+            .collect();
+        // The largest luminance across each row's neighbours (u wraps), then down the rows.
+        let mut across = vec![0.0; w * h];
+        for j in 0..h {
+            let row = &lum[j * w..(j + 1) * w];
+            for i in 0..w {
+                let left = row[(i + w - 1) % w];
+                let right = row[(i + 1) % w];
+                across[j * w + i] = row[i].max(left).max(right);
+            }
+        }
+        let mut weight = vec![0.0; w * h];
+        let mut row_cdf = vec![0.0; w * h];
+        let mut marginal = vec![0.0; h];
+        let mut total = 0.0;
+        for j in 0..h {
+            let up = j.saturating_sub(1);
+            let down = (j + 1).min(h - 1);
+            let omega = map.texel_solid_angle(j as u32);
+            let mut sum = 0.0;
+            for i in 0..w {
+                let y = across[j * w + i]
+                    .max(across[up * w + i])
+                    .max(across[down * w + i]);
+                let wt = y * omega;
+                weight[j * w + i] = wt;
+                sum += wt;
+                row_cdf[j * w + i] = sum;
+            }
+            total += sum;
+            marginal[j] = total;
+        }
+        (total > DIV_EPSILON).then_some(EnvSampler {
+            env,
+            width: w,
+            height: h,
+            weight,
+            row_cdf,
+            marginal,
+            total,
+        })
+    }
+
+    /// A world direction from four uniform numbers in `[0, 1)`; `None` in the rare case
+    /// rounding lands on a texel of zero weight.
+    fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
+        let target = u[0] * self.total;
+        let j = self
+            .marginal
+            .partition_point(|&c| c <= target)
+            .min(self.height - 1);
+        let row = &self.row_cdf[j * self.width..(j + 1) * self.width];
+        let row_target = u[1] * row[self.width - 1];
+        let i = row
+            .partition_point(|&c| c <= row_target)
+            .min(self.width - 1);
+        if self.weight[j * self.width + i] <= 0.0 {
+            return None;
+        }
+        let uv = DVec2::new(
+            (i as f64 + u[2]) / self.width as f64,
+            (j as f64 + u[3]) / self.height as f64,
+        );
+        Some(self.env.from_map(uv_to_direction(uv)))
+    }
+
+    /// The density per solid angle of [`EnvSampler::sample`] at world direction `l`.
+    fn pdf(&self, l: DVec3) -> f64 {
+        let d = self.env.to_map(l);
+        let uv = direction_to_uv(d);
+        let (w, h) = (self.width as f64, self.height as f64);
+        let i = ((uv.x * w).floor() as i64).rem_euclid(self.width as i64) as usize;
+        let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height - 1);
+        let p_texel = self.weight[j * self.width + i] / self.total;
+        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
+        p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
+    }
+}
+
+/// A small generator: SplitMix64 (Steele, Lea & Flood 2014, "Fast Splittable Pseudorandom
+/// Number Generators"), one per pixel.
+struct Rng(u64);
+
+impl Rng {
+    /// The generator of pixel `(px, py)` for `seed`: the seed's first output mixed with the
+    /// pixel's coordinates, then advanced once, so neighbouring pixels start far apart.
+    fn for_pixel(seed: u64, px: u32, py: u32) -> Self {
+        let key = Rng(seed).next_u64();
+        let mut rng = Rng(key ^ ((u64::from(py) << 32) | u64::from(px)));
+        rng.next_u64();
+        rng
+    }
+
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// A uniform number in `[0, 1)` (the top 53 bits).
+    fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}

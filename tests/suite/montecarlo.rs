@@ -1,0 +1,466 @@
+//! The Monte Carlo backend (`cpu::montecarlo`, `render --backend montecarlo`): the white
+//! furnace under a uniform map, lights against the CPU reference renderer, a uniform
+//! environment two ways, determinism, the noise's fall with the sample count, and an
+//! unbiased estimate against a dense quadrature of one pixel's integral.
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use glam::DVec3;
+use shadeballs::brdf::DIV_EPSILON;
+use shadeballs::cpu::montecarlo::{model_brdf, ShadingPoint};
+use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage, TableRead};
+use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
+use shadeballs::lut::{self, BakeConfig, Tables};
+use shadeballs::scene::{Ball, Light, Material, MaterialKind, Preset, Scene};
+
+use crate::cli::{shadeballs, temp_dir};
+
+fn tables_for(scene: &Scene) -> Tables {
+    lut::bake(&BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..Default::default()
+    })
+}
+
+fn environment(map: EnvMap, rotation_deg: f64) -> Environment {
+    Environment {
+        source: Source::Builtin(Builtin::White),
+        map: Arc::new(map),
+        rotation_deg,
+        intensity: 1.0,
+    }
+}
+
+/// The furnace lit by a uniform map of 1 instead of the uniform radiance.
+fn furnace_with_map() -> Scene {
+    Scene {
+        environment: DVec3::ZERO,
+        environment_map: Some(environment(EnvMap::uniform(DVec3::ONE, 64, 32), 0.0)),
+        ..Scene::furnace()
+    }
+}
+
+/// The pixels whose centre ray hits ball `k` first.
+fn ball_pixels(scene: &Scene, k: usize, w: u32, h: u32) -> Vec<usize> {
+    let basis = scene.camera.basis(w, h);
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let d = basis.ray(x, y, w, h);
+            let mut best: Option<(f64, usize)> = None;
+            for (i, b) in scene.balls.iter().enumerate() {
+                let t = cpu::intersect_sphere(basis.origin, d, b.center, b.radius);
+                if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                    best = Some((t, i));
+                }
+            }
+            if best.map(|(_, i)| i) == Some(k) {
+                out.push((y * w + x) as usize);
+            }
+        }
+    }
+    out
+}
+
+/// Mean luminance-free grey of the pixels' means (the furnace is grey) and the standard
+/// error of that mean (independent pixels).
+fn ball_mean(image: &MonteCarloImage, pixels: &[usize]) -> (f64, f64) {
+    let n = pixels.len() as f64;
+    let mean = pixels.iter().map(|&p| image.mean[p].x).sum::<f64>() / n;
+    let var = pixels
+        .iter()
+        .map(|&p| image.std_error[p].x.powi(2))
+        .sum::<f64>();
+    (mean, var.sqrt() / n)
+}
+
+#[test]
+fn furnace_converges_to_one_for_every_ibl_term() {
+    let (w, h) = (160, 90);
+    let base = furnace_with_map();
+    let tables = tables_for(&base);
+    for term in IblTerm::ALL {
+        let scene = Scene {
+            ibl_term: term,
+            ..base.clone()
+        };
+        let image = render_montecarlo(&scene, &TableRead::Lut(&tables), w, h, 32, 7).unwrap();
+        for (k, ball) in scene.balls.iter().enumerate() {
+            let pixels = ball_pixels(&scene, k, w, h);
+            assert!(pixels.len() > 50, "ball {k}: {} pixels", pixels.len());
+            let (mean, err) = ball_mean(&image, &pixels);
+            println!(
+                "{}: ball {k} (r={}, term {}): mean {mean:.5} +- {err:.5}",
+                term.name(),
+                ball.roughness,
+                ball.multiple_scattering
+            );
+            if ball.multiple_scattering {
+                // 4 standard errors, and the tables' own error in E (the integral of f_micro
+                // here is exact; E(mu_o) and E_avg are the baked tables').
+                assert!(
+                    (mean - 1.0).abs() < 4.0 * err + 2e-3,
+                    "{}: ball {k} (r={}): {mean} +- {err}",
+                    term.name(),
+                    ball.roughness
+                );
+            } else if ball.roughness >= 0.7 {
+                assert!(
+                    mean < 0.95,
+                    "{}: ball {k} (r={}) without the term: {mean}",
+                    term.name(),
+                    ball.roughness
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn lights_alone_match_the_cpu_reference_exactly() {
+    let (w, h) = (320, 180);
+    let mut mixed = Scene::reference();
+    mixed.lights.push(Light {
+        direction: DVec3::new(1.0, 1.0, 0.5).normalize(),
+        radiance: DVec3::new(2.0, 1.5, 1.0),
+    });
+    for b in mixed.balls.iter_mut().step_by(2) {
+        b.material = Material {
+            kind: MaterialKind::Dielectric,
+            f0: DVec3::splat(0.04),
+            diffuse: DVec3::new(0.1, 0.4, 0.6),
+        };
+    }
+    let games202 = Scene {
+        preset: Preset::Games202,
+        ..Scene::reference()
+    };
+    for (name, scene) in [
+        ("reference", Scene::reference()),
+        ("mixed", mixed),
+        ("games202", games202),
+    ] {
+        let tables = tables_for(&scene);
+        let want = cpu::render_radiance(&scene, &tables, w, h);
+        let got = render_montecarlo(&scene, &TableRead::Lut(&tables), w, h, 3, 1).unwrap();
+        let mut covered = 0;
+        for (p, (a, b)) in got.mean.iter().zip(&want).enumerate() {
+            let diff = (*a - *b).abs().max_element();
+            assert!(
+                diff <= 1e-9 * b.abs().max_element() + 1e-15,
+                "{name}: pixel {p}: {a} vs {b}"
+            );
+            assert_eq!(got.std_error[p], DVec3::ZERO, "{name}: pixel {p}");
+            covered += got.covered[p] as usize;
+        }
+        assert!(covered > 1000, "{name}: {covered} ball pixels");
+    }
+}
+
+#[test]
+fn uniform_environment_as_radiance_or_as_map_agree() {
+    let (w, h) = (96, 54);
+    let as_map = furnace_with_map();
+    let as_radiance = Scene::furnace();
+    let tables = tables_for(&as_map);
+    let e = TableRead::Lut(&tables);
+    let a = render_montecarlo(&as_map, &e, w, h, 16, 3).unwrap();
+    let b = render_montecarlo(&as_radiance, &e, w, h, 16, 3).unwrap();
+    for p in 0..a.mean.len() {
+        let noise = (a.std_error[p].x.powi(2) + b.std_error[p].x.powi(2)).sqrt();
+        let diff = (a.mean[p] - b.mean[p]).abs().max_element();
+        assert!(
+            diff <= 5.0 * noise + 1e-6,
+            "pixel {p}: {} vs {} (noise {noise})",
+            a.mean[p],
+            b.mean[p]
+        );
+    }
+}
+
+/// A map with a bright warm band above the horizon and a dim sky: non-uniform, so the
+/// map's own strategy is used.
+fn band_map() -> EnvMap {
+    let (w, h) = (64u32, 32u32);
+    let mut texels = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let t = if (9..13).contains(&j) {
+                [20.0, 15.0, 10.0]
+            } else if j < 9 && (20..26).contains(&i) {
+                [40.0, 40.0, 30.0]
+            } else {
+                [0.2, 0.3, 0.5]
+            };
+            texels.push(t);
+        }
+    }
+    EnvMap::new(w, h, texels).unwrap()
+}
+
+fn band_scene(term: IblTerm) -> Scene {
+    Scene {
+        lights: Vec::new(),
+        environment: DVec3::new(0.05, 0.05, 0.05),
+        environment_map: Some(environment(band_map(), 30.0)),
+        ibl_term: term,
+        ..Scene::reference()
+    }
+}
+
+#[test]
+fn same_seed_same_image_on_any_thread_count() {
+    let scene = band_scene(IblTerm::KullaConty);
+    let tables = tables_for(&scene);
+    let e = TableRead::Lut(&tables);
+    let run = |threads: usize, seed: u64| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render_montecarlo(&scene, &e, 128, 72, 4, seed).unwrap())
+    };
+    let one = run(1, 11);
+    assert_eq!(one, run(2, 11));
+    assert_eq!(one, run(3, 11));
+    assert_ne!(one.mean, run(2, 12).mean);
+}
+
+#[test]
+fn standard_error_halves_with_four_times_the_samples() {
+    let scene = band_scene(IblTerm::KullaConty);
+    let tables = tables_for(&scene);
+    let e = TableRead::Lut(&tables);
+    let mean_error = |spp| {
+        let image = render_montecarlo(&scene, &e, 128, 72, spp, 5).unwrap();
+        let covered: Vec<_> = (0..image.mean.len())
+            .filter(|&p| image.covered[p])
+            .collect();
+        covered
+            .iter()
+            .map(|&p| image.std_error[p].element_sum())
+            .sum::<f64>()
+            / covered.len() as f64
+    };
+    let (few, many) = (mean_error(16), mean_error(64));
+    let ratio = few / many;
+    println!("standard error: 16 spp {few:.4e}, 64 spp {many:.4e}, ratio {ratio:.3}");
+    assert!((1.7..2.3).contains(&ratio), "{ratio}");
+}
+
+/// A scene of one ball that the single pixel of a 1x1 image sees at `mu_o = 1/2`.
+fn one_pixel_scene(term: IblTerm, material: Material) -> Scene {
+    let mut scene = band_scene(term);
+    let basis = scene.camera.basis(1, 1);
+    let d = basis.ray(0, 0, 1, 1);
+    let across = d.cross(DVec3::Y).normalize();
+    let n = (0.5 * -d + 0.75f64.sqrt() * (across + 0.3 * DVec3::Y)).normalize();
+    let hit = basis.origin + 300.0 * d;
+    let radius = 35.0;
+    scene.balls = vec![Ball {
+        center: hit - radius * n,
+        radius,
+        roughness: 0.5,
+        material,
+        multiple_scattering: true,
+    }];
+    scene
+}
+
+/// The pixel's integral `int f_r L mu_i` over the hemisphere by the midpoint rule on a
+/// dense `(theta, phi)` grid about the normal.
+fn quadrature(scene: &Scene, e: &TableRead<'_>) -> DVec3 {
+    let basis = scene.camera.basis(1, 1);
+    let d = basis.ray(0, 0, 1, 1);
+    let b = &scene.balls[0];
+    let t = cpu::intersect_sphere(basis.origin, d, b.center, b.radius);
+    let n = cpu::surface_normal(basis.origin + t * d - b.center, d);
+    let point = ShadingPoint::new(scene, b, n, -d, e);
+    let t1 = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+    let t1 = (t1 - n * n.dot(t1)).normalize();
+    let t2 = n.cross(t1);
+    let map = scene.environment_map.as_ref().unwrap();
+    let (n_theta, n_phi) = (600, 1200);
+    let (dt, dp) = (0.5 * PI / n_theta as f64, 2.0 * PI / n_phi as f64);
+    let mut sum = DVec3::ZERO;
+    for i in 0..n_theta {
+        let theta = (i as f64 + 0.5) * dt;
+        let (s, c) = theta.sin_cos();
+        for k in 0..n_phi {
+            let phi = (k as f64 + 0.5) * dp;
+            let l = s * phi.cos() * t1 + s * phi.sin() * t2 + c * n;
+            let radiance = scene.environment + map.radiance(l);
+            sum += model_brdf(&point, l, e) * radiance * c * s * dt * dp;
+        }
+    }
+    sum
+}
+
+#[test]
+fn estimate_is_unbiased_against_a_dense_quadrature() {
+    let copper = Material::metal_srgb(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
+    let plastic = Material {
+        kind: MaterialKind::Dielectric,
+        f0: DVec3::splat(0.04),
+        diffuse: DVec3::new(0.1, 0.4, 0.6),
+    };
+    for term in IblTerm::ALL {
+        for material in [copper, plastic] {
+            let scene = one_pixel_scene(term, material);
+            let tables = tables_for(&scene);
+            let e = TableRead::Lut(&tables);
+            let image = render_montecarlo(&scene, &e, 1, 1, 16384, 9).unwrap();
+            assert!(image.covered[0]);
+            let (mc, err) = (image.mean[0], image.std_error[0]);
+            let want = quadrature(&scene, &e);
+            println!(
+                "{} {:?}: Monte Carlo {mc:.5} +- {err:.5}, quadrature {want:.5}",
+                term.name(),
+                material.kind
+            );
+            for c in 0..3 {
+                assert!(
+                    (mc[c] - want[c]).abs() <= 3.0 * err[c] + 1e-4 * want[c],
+                    "{} {:?} channel {c}: {} +- {} vs {}",
+                    term.name(),
+                    material.kind,
+                    mc[c],
+                    err[c],
+                    want[c]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_sample_counts_and_environments_are_errors() {
+    let scene = Scene::reference();
+    let tables = tables_for(&scene);
+    let e = TableRead::Lut(&tables);
+    for spp in [0, cpu::montecarlo::MAX_SPP + 1] {
+        let err = render_montecarlo(&scene, &e, 8, 8, spp, 1).unwrap_err();
+        assert!(err.to_string().contains("--spp"), "{err}");
+    }
+    for (rotation, intensity) in [(f64::NAN, 1.0), (0.0, f64::INFINITY), (0.0, -1.0)] {
+        let mut env = environment(band_map(), rotation);
+        env.intensity = intensity;
+        let bad = Scene {
+            environment_map: Some(env),
+            ..Scene::reference()
+        };
+        let err = render_montecarlo(&bad, &e, 8, 8, 4, 1).unwrap_err();
+        assert!(err.to_string().contains("environment"), "{err}");
+    }
+}
+
+#[test]
+fn sampler_of_a_large_map_is_built_quickly() {
+    // A 1024x512 map with structure; a 1x1 image whose ray misses every ball, so the time
+    // is the environment sampler's construction.
+    let (w, h) = (1024u32, 512u32);
+    let texels = (0..w * h)
+        .map(|k| {
+            let (i, j) = (k % w, k / w);
+            let v = 0.1 + ((i * 7 + j * 13) % 97) as f32 * DIV_EPSILON as f32 + (j % 50) as f32;
+            [v, 0.5 * v, 0.25 * v]
+        })
+        .collect();
+    let scene = Scene {
+        balls: Vec::new(),
+        environment_map: Some(environment(EnvMap::new(w, h, texels).unwrap(), 10.0)),
+        ..Scene::reference()
+    };
+    let tables = tables_for(&scene);
+    let e = TableRead::Lut(&tables);
+    let mut times = Vec::new();
+    for _ in 0..5 {
+        let start = std::time::Instant::now();
+        render_montecarlo(&scene, &e, 1, 1, 1, 1).unwrap();
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "environment sampler of a 1024x512 map: median {:.1} ms",
+        times[2]
+    );
+    // 50 ms on an idle machine; the margin is for a loaded test run.
+    assert!(times[2] < 250.0, "{times:?}");
+}
+
+#[test]
+fn cli_renders_with_the_montecarlo_backend() {
+    let dir = temp_dir("montecarlo");
+    let scene =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/furnace.toml");
+    for ext in ["png", "exr"] {
+        let out = dir.join(format!("x.{ext}"));
+        let (ok, stderr) = shadeballs(&[
+            "render",
+            "--backend",
+            "montecarlo",
+            "--spp",
+            "4",
+            "--seed",
+            "3",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{stderr}");
+        assert!(stderr.contains("montecarlo: 4 spp, seed 3"), "{stderr}");
+        assert!(stderr.contains("CPU Monte Carlo reference"), "{stderr}");
+        let image = image::open(&out).unwrap();
+        assert_eq!((image.width(), image.height()), (64, 36));
+    }
+    let out = dir.join("bad.png");
+    let (ok, stderr) = shadeballs(&[
+        "render",
+        "--backend",
+        "montecarlo",
+        "--spp",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("--spp"), "{stderr}");
+}
+
+/// The figure in docs/design.md ("Monte Carlo backend"): the reference scene at the default
+/// 1280x720 under a uniform 1024x512 map and under the band map, 64 spp, median of three.
+/// `cargo test --release --test suite montecarlo_timing -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn montecarlo_timing() {
+    let uniform = Scene {
+        environment_map: Some(environment(EnvMap::uniform(DVec3::ONE, 1024, 512), 0.0)),
+        ..Scene::reference()
+    };
+    for (name, scene) in [
+        ("uniform 1024x512 map", uniform),
+        ("band map", band_scene(IblTerm::KullaConty)),
+    ] {
+        let tables = tables_for(&scene);
+        let e = TableRead::Lut(&tables);
+        let mut times = Vec::new();
+        let mut noise = 0.0;
+        for _ in 0..3 {
+            let start = std::time::Instant::now();
+            let image = render_montecarlo(&scene, &e, 1280, 720, 64, 1).unwrap();
+            times.push(start.elapsed().as_secs_f64());
+            noise = image.mean_relative_std_error().unwrap();
+        }
+        times.sort_by(f64::total_cmp);
+        println!(
+            "{name}: 1280x720, 64 spp: median {:.2} s, mean relative standard error {:.2} %",
+            times[1],
+            100.0 * noise
+        );
+    }
+}
