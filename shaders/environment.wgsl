@@ -31,15 +31,23 @@ fn env_to_map(d: vec3<f32>, rotation: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
 }
 
+// The mip level specular layer `layer` is stored at, in a texture of `levels` levels
+// (src/environment/prefilter.rs specular_mip says why).
+fn specular_mip(layer: u32, levels: u32) -> u32 {
+    let m = select(select(2u, 1u, layer == 2u), 0u, layer < 2u);
+    return min(m, levels - 1u);
+}
+
 // The prefiltered specular radiance about map-frame direction r at `roughness`: linear
-// between the two layers around it (Prefiltered::specular).
+// between the two layers around it, each read at its own mip level (Prefiltered::specular).
 fn env_specular(tex: texture_2d_array<f32>, samp: sampler, r: vec3<f32>, roughness: f32) -> vec3<f32> {
     let uv = direction_to_uv(r);
     let s = clamp(roughness, 0.0, 1.0) * f32(SPECULAR_LEVELS - 1u);
     let k0 = min(u32(floor(s)), SPECULAR_LEVELS - 2u);
     let f = s - f32(k0);
-    let a = textureSampleLevel(tex, samp, uv, k0, 0.0).rgb;
-    let b = textureSampleLevel(tex, samp, uv, k0 + 1u, 0.0).rgb;
+    let levels = textureNumLevels(tex);
+    let a = textureSampleLevel(tex, samp, uv, k0, f32(specular_mip(k0, levels))).rgb;
+    let b = textureSampleLevel(tex, samp, uv, k0 + 1u, f32(specular_mip(k0 + 1u, levels))).rgb;
     return mix(a, b, f);
 }
 

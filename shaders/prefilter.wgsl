@@ -11,8 +11,11 @@ const POLE_SIN_MIN: f32 = 1e-4;
 struct PrefilterParams {
     // Output layer size (texels), level-0 size of the map.
     size: vec4<u32>,
-    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod;
-    // z: the kernel layer of a convolution; w: the mip level it sums over.
+    // A convolution's source: the mip level's size, the level, the kernel layer. (The size
+    // is passed rather than asked of textureDimensions: naga's GLSL output of that call
+    // with a level does not compile on Mesa's GL.)
+    source: vec4<u32>,
+    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod.
     layer: vec4<f32>,
 }
 
@@ -89,19 +92,33 @@ fn kernel_at(layer: u32, t: f32) -> f32 {
     return a * (1.0 - f) + b * f;
 }
 
-// The kernel-weighted average of mip level `level` about unit n (prefilter_convolved).
-fn prefilter_convolved(level: u32, layer: u32, n: vec3<f32>) -> vec3<f32> {
-    let size = textureDimensions(radiance, level);
+// The kernel-weighted average of mip level `level` (at most CONVOLUTION_SOURCE_WIDTH wide)
+// about unit n (prefilter_convolved). With n and a texel's direction w in polar angles,
+// n.w = cos(theta_n) cos(theta_w) + sin(theta_n) sin(theta_w) cos(phi_w - phi_n): the
+// polar part once per row, the azimuthal cosine by turning (cos, sin) of phi_w - phi_n one
+// texel's angle a step (no trigonometry in the inner loop; the CPU twin takes the cosine
+// directly, 1e-6 apart after 64 steps in f32).
+fn prefilter_convolved(size: vec2<u32>, level: u32, layer: u32, n: vec3<f32>) -> vec3<f32> {
+    let uv_n = direction_to_uv(n);
+    let cos_n = cos(uv_n.y * PI);
+    let sin_n = sin(uv_n.y * PI);
+    let phi0 = (0.5 / f32(size.x) - uv_n.x) * 2.0 * PI;
+    let step = 2.0 * PI / f32(size.x);
+    let turn = vec2<f32>(cos(step), sin(step));
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     for (var j = 0u; j < size.y; j++) {
         let t0 = PI * f32(j) / f32(size.y);
         let t1 = PI * f32(j + 1u) / f32(size.y);
         let omega = 2.0 * PI / f32(size.x) * (cos(t0) - cos(t1));
+        let theta = (f32(j) + 0.5) / f32(size.y) * PI;
+        let a = cos_n * cos(theta);
+        let b = sin_n * sin(theta);
+        var dphi = vec2<f32>(cos(phi0), sin(phi0));
         for (var i = 0u; i < size.x; i++) {
-            let uv = vec2<f32>((f32(i) + 0.5) / f32(size.x), (f32(j) + 0.5) / f32(size.y));
-            let w = kernel_at(layer, dot(n, uv_to_direction(uv))) * omega;
-            sum += textureLoad(radiance, vec2<u32>(i, j), level).rgb * w;
+            let w = kernel_at(layer, a + b * dphi.x) * omega;
+            dphi = vec2<f32>(dphi.x * turn.x - dphi.y * turn.y, dphi.y * turn.x + dphi.x * turn.y);
+            sum += textureLoad(radiance, vec2<i32>(i32(i), i32(j)), i32(level)).rgb * w;
             weight += w;
         }
     }
@@ -138,6 +155,6 @@ fn convolved_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let n = texel_direction(id);
-    let value = prefilter_convolved(u32(params.layer.w), u32(params.layer.z), n);
+    let value = prefilter_convolved(params.source.xy, params.source.z, params.source.w, n);
     textureStore(output, id.xy, vec4<f32>(value, 1.0));
 }

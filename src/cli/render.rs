@@ -52,6 +52,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
             }
             phases.mark("bake");
+            if scene.environment_map.is_some() {
+                // Mip chain, split-sum table and the GPU's prefiltering of the map.
+                renderer.prepare_environment(&scene);
+                phases.mark("prefilter");
+            }
             match kind {
                 ImageKind::Png => {
                     renderer.prepare(&scene, wgpu::TextureFormat::Rgba8Unorm);

@@ -9,7 +9,7 @@ mod shade;
 use glam::DVec3;
 use rayon::prelude::*;
 
-pub use montecarlo::{render_montecarlo, MonteCarloImage};
+pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
 pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, TableRead};
 
 use crate::display::{to_unorm8, tone_map};

@@ -24,7 +24,7 @@ use crate::brdf::{
 };
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
-use crate::lut::{e_avg_reference, e_reference};
+use crate::lut::{e_avg_reference, e_reference, SplitSum};
 use crate::scene::{Ball, Scene, MAX_BALLS};
 
 /// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
@@ -90,6 +90,29 @@ pub fn render_montecarlo(
     spp: u32,
     seed: u64,
 ) -> Result<MonteCarloImage> {
+    render_montecarlo_part(scene, e, width, height, spp, seed, Part::Whole)
+}
+
+/// Which part of the model a Monte Carlo render integrates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The whole BRDF.
+    Whole,
+    /// The multiple-scattering lobe alone (what the term adds; zero on balls without it).
+    Multiple,
+}
+
+/// [`render_montecarlo`] of one [`Part`] of the model: `Part::Multiple` integrates only
+/// the lobe the term adds, the reference for a real-time method's term alone.
+pub fn render_montecarlo_part(
+    scene: &Scene,
+    e: &TableRead<'_>,
+    width: u32,
+    height: u32,
+    spp: u32,
+    seed: u64,
+    part: Part,
+) -> Result<MonteCarloImage> {
     if !(1..=MAX_SPP).contains(&spp) {
         return Err(Error::Invalid {
             what: "samples per pixel",
@@ -112,6 +135,10 @@ pub fn render_montecarlo(
     let bins = Bins::new(&basis, balls, width, height);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
+    // Fdez-Aguera's FssEss is F0 A + B: the split sum's table, as the real-time method reads.
+    let split =
+        (scene.ibl_term == IblTerm::FdezAguera).then(|| SplitSum::bake(scene.effective_geometry()));
+    let split = &split;
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -131,7 +158,11 @@ pub fn render_montecarlo(
                     Some((t, k)) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        let point = ShadingPoint::new(scene, b, n, -d, e);
+                        let mut point = ShadingPoint::new(scene, b, n, -d, e);
+                        point.part = part;
+                        if let Some(split) = split {
+                            point = point.with_split_sum(split);
+                        }
                         let mut rng = Rng::for_pixel(seed, px, py);
                         let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
                         (mean, err, true)
@@ -207,6 +238,11 @@ pub struct ShadingPoint {
     pub term: IblTerm,
     /// The scene's effective G.
     pub geometry: Geometry,
+    /// Fdez-Aguera's `FssEss`, the single-scattering albedo per channel: `F_avg E(mu_o)`
+    /// unless [`ShadingPoint::with_split_sum`] gives it exactly.
+    pub fss_ess: DVec3,
+    /// Which part of the BRDF [`model_brdf`] returns.
+    pub part: Part,
 }
 
 impl ShadingPoint {
@@ -236,7 +272,18 @@ impl ShadingPoint {
             kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
             term: scene.ibl_term,
             geometry: scene.effective_geometry(),
+            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
+            part: Part::Whole,
         }
+    }
+
+    /// The point with `FssEss = F0 A + B` from the split sum's table (`A = E - B` with E
+    /// from the tables, as `split_sum_scale` in `environment.wgsl`).
+    pub fn with_split_sum(mut self, split: &SplitSum) -> Self {
+        let bias = split.bias_at(self.mu_o as f32, self.roughness as f32) as f64;
+        let e_o = 1.0 - self.loss_o;
+        self.fss_ess = self.f0 * e_o + (DVec3::ONE - self.f0) * bias;
+        self
     }
 }
 
@@ -254,9 +301,9 @@ impl ShadingPoint {
 /// - [`IblTerm::FdezAguera`] (Fdez-Aguera 2019, "A Multiple-Scattering Microfacet Model for
 ///   Real-Time Image-based Lighting"): a Lambertian lobe of albedo
 ///   `FmsEms = FssEss F_avg Ems / (1 - F_avg Ems)`, `Ems = 1 - E(mu_o)`,
-///   `F_avg = F0 + (1 - F0) / 21`. The paper's `FssEss` (the split-sum scale and bias) is
-///   not in the tables; it is approximated by `F_avg E(mu_o)`, the approximation the
-///   uniform-environment shading already makes for the specular.
+///   `F_avg = F0 + (1 - F0) / 21`, `FssEss = F0 A + B` from the split sum's table
+///   ([`ShadingPoint::with_split_sum`], which [`render_montecarlo`] applies; without it
+///   `F_avg E(mu_o)`).
 pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
     let mu_i = p.n.dot(l);
     if mu_i <= 0.0 || p.mu_o <= 0.0 {
@@ -281,24 +328,25 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
         )
     });
     let diffuse = p.kd / PI;
-    match p.term {
+    let multiple = match p.term {
         IblTerm::KullaConty => {
             let loss_i = loss(e, mu_i, p.roughness);
-            spec + p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm) + diffuse
+            p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm)
         }
         IblTerm::Turquin => {
             let e_o = (1.0 - p.loss_o).max(DIV_EPSILON);
-            let scale = DVec3::ONE + p.ms * p.f0 * (p.loss_o / e_o);
-            spec * scale + diffuse
+            spec * p.ms * p.f0 * (p.loss_o / e_o)
         }
         IblTerm::FdezAguera => {
-            let e_o = 1.0 - p.loss_o;
             let f_avg = per_channel(p.f0, f_avg_schlick);
-            let fss_ess = f_avg * e_o;
             let denom = (DVec3::ONE - f_avg * p.loss_o).max(DVec3::splat(DIV_EPSILON));
-            let fms_ems = fss_ess * f_avg * p.loss_o / denom;
-            spec + p.ms * fms_ems / PI + diffuse
+            let fms_ems = p.fss_ess * f_avg * p.loss_o / denom;
+            p.ms * fms_ems / PI
         }
+    };
+    match p.part {
+        Part::Whole => spec + multiple + diffuse,
+        Part::Multiple => multiple,
     }
 }
 

@@ -33,8 +33,12 @@ use crate::lut::Tables;
 
 /// Layers of the specular prefilter: roughness 0, 1/6, ..., 1.
 pub const SPECULAR_LEVELS: u32 = 7;
-/// Width of each specular layer (height half): the map's own width when narrower.
+/// Width of the sharpest specular layers (height half): the map's own width when narrower.
+/// Rougher layers are smaller ([`specular_mip`]).
 pub const SPECULAR_WIDTH: u32 = 256;
+/// Mip levels of the specular texture: layer `k` is stored at level [`specular_mip`]`(k)`,
+/// `SPECULAR_WIDTH >> level` wide.
+pub const SPECULAR_MIP_LEVELS: u32 = 3;
 /// GGX samples per specular texel.
 pub const SPECULAR_SAMPLES: u32 = 64;
 /// Kulla-Conty kernel layers: roughness 0, 1/8, ..., 1.
@@ -286,18 +290,22 @@ pub fn prefilter_specular(chain: &MipChain, r: DVec3, alpha: f64) -> DVec3 {
 }
 
 /// `prefilter_convolved` of `prefilter.wgsl`: the kernel-weighted average of `source`
-/// about unit `n`.
+/// about unit `n`, with `n.w` formed from polar angles as the shader does.
 pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3) -> DVec3 {
+    let uv_n = direction_to_uv(n);
+    let (sin_n, cos_n) = (uv_n.y * PI).sin_cos();
+    let cos_dphi: Vec<f64> = (0..source.width)
+        .map(|i| (((i as f64 + 0.5) / source.width as f64 - uv_n.x) * 2.0 * PI).cos())
+        .collect();
     let mut sum = DVec3::ZERO;
     let mut weight = 0.0;
     for j in 0..source.height {
         let omega = source.texel_solid_angle(j);
-        for i in 0..source.width {
-            let uv = DVec2::new(
-                (i as f64 + 0.5) / source.width as f64,
-                (j as f64 + 0.5) / source.height as f64,
-            );
-            let w = kernel_at(kernels, layer, n.dot(uv_to_direction(uv))) * omega;
+        let (sin_t, cos_t) = ((j as f64 + 0.5) / source.height as f64 * PI).sin_cos();
+        let (a, b) = (cos_n * cos_t, sin_n * sin_t);
+        for (i, cos_dphi) in cos_dphi.iter().enumerate() {
+            let i = i as u32;
+            let w = kernel_at(kernels, layer, a + b * cos_dphi) * omega;
             sum += source.texel(i, j) * w;
             weight += w;
         }
@@ -308,16 +316,37 @@ pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3
     sum / weight
 }
 
-/// Sizes of the prefiltered layers for a map `width` wide.
+/// Size of the specular texture's level 0 for a map `width` wide.
 pub fn specular_size(width: u32) -> (u32, u32) {
     let w = width.min(SPECULAR_WIDTH).max(2);
     (w, w / 2)
 }
 
+/// `specular_mip` of `environment.wgsl`: the mip level specular layer `layer` is stored at
+/// in a texture of `levels` mip levels: roughness 0 and 1/6 at full size, 1/3 at half,
+/// rougher at a quarter (the GGX lobe at roughness 1/2 is about 14 degrees wide, 10 texels
+/// of a 64-wide layer), so the rough layers cost a sixteenth of the samples.
+pub fn specular_mip(layer: u32, levels: u32) -> u32 {
+    let m = match layer {
+        0 | 1 => 0,
+        2 => 1,
+        _ => 2,
+    };
+    m.min(levels - 1)
+}
+
+/// Mip levels of the specular texture for a map `width` wide (fewer for tiny maps: the
+/// smallest level is at least 2 x 1).
+pub fn specular_mip_levels(width: u32) -> u32 {
+    let (_, h) = specular_size(width);
+    SPECULAR_MIP_LEVELS.min(h.ilog2() + 1)
+}
+
 /// The prefiltered layers (every value rounded to f16, as the GPU stores them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prefiltered {
-    /// [`SPECULAR_LEVELS`] layers of [`specular_size`].
+    /// [`SPECULAR_LEVELS`] layers, layer `k` of [`specular_size`] halved
+    /// [`specular_mip`]`(k)` times.
     pub specular: Vec<Level>,
     /// `1 + CONVOLVED_LEVELS` layers, [`CONVOLVED_WIDTH`] wide: irradiance, then the
     /// multiple-scattering kernels.
@@ -348,14 +377,17 @@ impl Prefiltered {
     pub fn new(chain: &MipChain, kernels: &[f32]) -> Self {
         let (sw, sh) = specular_size(chain.levels[0].width);
         let lod0 = (chain.levels[0].width as f64 / sw as f64).log2();
+        let levels = specular_mip_levels(chain.levels[0].width);
         let specular = (0..SPECULAR_LEVELS)
             .map(|k| {
+                let m = specular_mip(k, levels);
+                let (w, h) = (sw >> m, sh >> m);
                 if k == 0 {
                     // Roughness 0: the mirror, the map read at this layer's scale.
-                    layer(sw, sh, |r| chain.sample(r, lod0))
+                    layer(w, h, |r| chain.sample(r, lod0))
                 } else {
                     let alpha = alpha_from_roughness(specular_roughness(k));
-                    layer(sw, sh, |r| prefilter_specular(chain, r, alpha))
+                    layer(w, h, |r| prefilter_specular(chain, r, alpha))
                 }
             })
             .collect();

@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 
 use super::shaders;
 use crate::environment::prefilter::{
-    specular_roughness, specular_size, MipChain, CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
+    specular_mip, specular_mip_levels, specular_roughness, specular_size, MipChain,
+    CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
 };
 use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
@@ -156,6 +157,7 @@ fn f16_bytes(texels: &[[f32; 4]]) -> Vec<u8> {
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct PrefilterParams {
     size: [u32; 4],
+    source: [u32; 4],
     layer: [f32; 4],
 }
 
@@ -230,7 +232,7 @@ impl EnvironmentTextures {
             device,
             "specular layers",
             (sw, sh, SPECULAR_LEVELS),
-            1,
+            specular_mip_levels(base.width),
             ENVIRONMENT_FORMAT,
             layered,
         );
@@ -363,18 +365,73 @@ fn prefilter(
         label: Some("prefilter"),
         source: wgpu::ShaderSource::Wgsl(shaders::prefilter_source().into()),
     });
+    // One layout for both entry points (each leaves one binding unused).
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let uniform = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: compute,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("prefilter"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: compute,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: compute,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: compute,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: ENVIRONMENT_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            },
+            uniform(3),
+            uniform(4),
+        ],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("prefilter"),
+        bind_group_layouts: &[Some(&group_layout)],
+        immediate_size: 0,
+    });
     let pipeline = |entry: &str| {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
-            layout: None,
+            layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
         })
     };
+    let t0 = Instant::now();
     let specular_pipeline = pipeline("specular_main");
     let convolved_pipeline = pipeline("convolved_main");
+    log::debug!(
+        "prefilter pipelines {:.1} ms",
+        t0.elapsed().as_secs_f64() * 1e3
+    );
     let sampler = sampler(device);
     let kernel_buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("kernels"),
@@ -388,9 +445,11 @@ fn prefilter(
     let base = &chain.levels[0];
     let (sw, sh) = specular_size(base.width);
     let lod0 = (base.width as f64 / sw as f64).log2() as f32;
-    let source = chain.convolution_source() as f32;
+    let source_level = chain.convolution_source();
+    let source = &chain.levels[source_level as usize];
     let cw = CONVOLVED_WIDTH;
-    // (pipeline, target texture, layer, size, layer params)
+    let levels = specular_mip_levels(base.width);
+    // (pipeline, target texture, layer, mip level, size, layer params)
     let mut jobs = Vec::new();
     for k in 0..SPECULAR_LEVELS {
         let alpha = if k == 0 {
@@ -398,26 +457,18 @@ fn prefilter(
         } else {
             crate::brdf::alpha_from_roughness(specular_roughness(k)) as f32
         };
-        jobs.push((
-            &specular_pipeline,
-            specular,
-            k,
-            (sw, sh),
-            [alpha, lod0, 0.0, 0.0],
-        ));
+        let m = specular_mip(k, levels);
+        let size = (sw >> m, sh >> m);
+        let params = ([0; 4], [alpha, lod0, 0.0, 0.0]);
+        jobs.push((&specular_pipeline, specular, k, m, size, params));
     }
     for j in 0..=CONVOLVED_LEVELS {
-        jobs.push((
-            &convolved_pipeline,
-            convolved,
-            j,
-            (cw, cw / 2),
-            [0.0, 0.0, j as f32, source],
-        ));
+        let params = ([source.width, source.height, source_level, j], [0.0; 4]);
+        jobs.push((&convolved_pipeline, convolved, j, 0, (cw, cw / 2), params));
     }
     let mut encoder = device.create_command_encoder(&Default::default());
     let mut keep = Vec::new();
-    for (pipeline, target, layer, (w, h), params) in jobs {
+    for (pipeline, target, layer, mip, (w, h), params) in jobs {
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("prefilter params"),
             size: std::mem::size_of::<PrefilterParams>() as u64,
@@ -426,18 +477,21 @@ fn prefilter(
         });
         let p = PrefilterParams {
             size: [w, h, base.width, base.height],
-            layer: params,
+            source: params.0,
+            layer: params.1,
         };
         queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&p));
         let view = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
+            base_mip_level: mip,
+            mip_level_count: Some(1),
             base_array_layer: layer,
             array_layer_count: Some(1),
             ..Default::default()
         });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("prefilter"),
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &group_layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -470,6 +524,12 @@ fn prefilter(
         keep.push((uniform, group));
     }
     queue.submit([encoder.finish()]);
+    let t1 = Instant::now();
+    let _ = device.poll(wgpu::PollType::wait_indefinitely());
+    log::debug!(
+        "prefilter dispatches {:.1} ms",
+        t1.elapsed().as_secs_f64() * 1e3
+    );
 }
 
 /// What the prefiltered textures depend on: the map (by identity: scenes share it through

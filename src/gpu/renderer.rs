@@ -107,11 +107,23 @@ impl EnvironmentGroup {
         }
         // Dropped first: two maps' textures are never held at once.
         self.loaded = None;
+        let start = std::time::Instant::now();
         let tables = crate::lut::bake(&BakeConfig { geometry, ..config });
         let kernels = crate::environment::prefilter::kernels(&tables);
+        let t_kernels = start.elapsed();
         let chain = crate::environment::MipChain::new(&environment.map);
+        let t_chain = start.elapsed();
         let split = crate::lut::SplitSum::bake(geometry);
+        let t_split = start.elapsed();
         let textures = EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+        log::debug!(
+            "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, GPU upload and prefilter {:.1} ms",
+            environment.source,
+            t_kernels.as_secs_f64() * 1e3,
+            (t_chain - t_kernels).as_secs_f64() * 1e3,
+            (t_split - t_chain).as_secs_f64() * 1e3,
+            textures.prefilter_time.as_secs_f64() * 1e3
+        );
         let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
         self.loaded = Some((key, textures, group.clone()));
         group

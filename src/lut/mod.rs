@@ -27,7 +27,9 @@ pub use layout::{
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
 pub use rows::{bake_rows, Row, RowKey, RowSet};
-pub use split_sum::{e_same_nodes, split_sum, SplitSum, SPLIT_SUM_SIZE};
+pub use split_sum::{
+    e_same_nodes, split_sum, split_sum_with, SplitSum, SPLIT_SUM_SIZE, SPLIT_SUM_TABLE_NODES,
+};
 
 use crate::brdf::Geometry;
 

@@ -33,6 +33,7 @@ fn variant(term: TermMode) -> Variant {
         term,
         environment: false,
         lights: true,
+        ibl: 0,
     }
 }
 
@@ -84,7 +85,8 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
         vec![Variant {
             term: TermMode::Out,
             environment: true,
-            lights: false
+            lights: false,
+            ibl: 0
         }]
     );
 }
@@ -125,7 +127,8 @@ fn past_the_threshold_the_2d_table() {
         vec![Variant {
             term: TermMode::Branch,
             environment: true,
-            lights: true
+            lights: true,
+            ibl: 0
         }]
     );
 }
