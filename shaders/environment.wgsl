@@ -68,6 +68,19 @@ fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughne
     return mix(a, b, f);
 }
 
+// The direction the prefiltered specular is read along for a ball of `roughness` at
+// normal n with mirror direction r: r bent towards n as the lobe widens (Lagarde & de
+// Rousiers 2014, "Moving Frostbite to Physically Based Rendering", section 4.9.3: the
+// lobe of a rough surface, clipped by its horizon, leans towards the normal; the split
+// sum centres it on r). specular_direction in src/environment/prefilter.rs.
+fn specular_direction(n: vec3<f32>, r: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let a = clamp(roughness, ROUGHNESS_MIN, 1.0);
+    let alpha = a * a;
+    let smoothness = 1.0 - alpha;
+    let t = smoothness * (sqrt(smoothness) + alpha);
+    return normalize(mix(n, r, t));
+}
+
 // The split sum's bias B(mu, roughness) (SplitSum::bias_at): bilinear between the texels
 // of an R32Float table whose texel (i, j) holds mu = i / (N - 1), roughness = j / (N - 1).
 fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {

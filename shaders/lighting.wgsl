@@ -91,7 +91,8 @@ fn shade_environment_map(
     let intensity = env.rotation_intensity.z;
     let r = 2.0 * dot(n, v) * n - v;
     let n_map = env_to_map(n, rotation);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(r, rotation), roughness);
+    let dominant = specular_direction(n, r, roughness);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
     let fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_o, roughness));

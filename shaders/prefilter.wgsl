@@ -1,9 +1,8 @@
 // prefilter.wgsl: prefiltering an environment map at load (src/gpu/environment.rs), the
 // GPU twin of src/environment/prefilter.rs (same names, same samples). Put after
-// constants.wgsl and environment.wgsl. Each invocation writes one texel of one layer.
+// constants.wgsl, brdf.wgsl and environment.wgsl. Each invocation writes one texel of one layer.
 
 // Mirrors of src/environment/prefilter.rs.
-const SPECULAR_SAMPLES: u32 = 64u;
 const KERNEL_SIZE: u32 = 64u;
 const WEIGHT_EPSILON: f32 = 1e-30;
 const POLE_SIN_MIN: f32 = 1e-4;
@@ -15,8 +14,12 @@ struct PrefilterParams {
     // is passed rather than asked of textureDimensions: naga's GLSL output of that call
     // with a level does not compile on Mesa's GL.)
     source: vec4<u32>,
-    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod.
+    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod; z: its
+    // roughness; w: the G (GEOMETRY_* of constants.wgsl) its samples are weighted by.
     layer: vec4<f32>,
+    // x: samples a texel (specular_samples); y: the coarsest level filtered importance
+    // sampling reads (fis_max_level).
+    limits: vec4<u32>,
 }
 
 @group(0) @binding(0) var radiance: texture_2d<f32>;
@@ -44,17 +47,18 @@ fn orthonormal_basis(n: vec3<f32>) -> array<vec3<f32>, 2> {
 
 // The GGX-filtered radiance about r (n = v = r) at alpha: SPECULAR_SAMPLES half-vectors with
 // pdf D cos(theta_h), each read at the mip level its solid angle covers (Krivanek & Colbert
-// 2008), weighted by n.l (prefilter_specular in prefilter.rs).
-fn prefilter_specular(r: vec3<f32>, alpha: f32) -> vec3<f32> {
+// 2008), weighted by G(1, n.l) of `geometry` at `roughness` (prefilter_specular in
+// prefilter.rs says why not n.l).
+fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, samples: u32) -> vec3<f32> {
     let w0 = f32(params.size.z);
     let h0 = f32(params.size.w);
     let basis = orthonormal_basis(r);
     let a2 = alpha * alpha;
-    let max_lod = f32(textureNumLevels(radiance) - 1u);
+    let max_lod = f32(params.limits.y);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
-    for (var i = 0u; i < SPECULAR_SAMPLES; i++) {
-        let u1 = (f32(i) + 0.5) / f32(SPECULAR_SAMPLES);
+    for (var i = 0u; i < samples; i++) {
+        let u1 = (f32(i) + 0.5) / f32(samples);
         let u2 = radical_inverse(i);
         let cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
         let cos_h = sqrt(cos2);
@@ -68,12 +72,13 @@ fn prefilter_specular(r: vec3<f32>, alpha: f32) -> vec3<f32> {
         }
         let denom = cos2 * (a2 - 1.0) + 1.0;
         let d = a2 / (PI * denom * denom);
-        let omega_s = 4.0 / (f32(SPECULAR_SAMPLES) * d);
+        let omega_s = 4.0 / (f32(samples) * d);
         let sin_l = max(sqrt(max(1.0 - l.y * l.y, 0.0)), POLE_SIN_MIN);
         let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
         let lod = clamp(0.5 * log2(omega_s / omega_p) + 1.0, 0.0, max_lod);
-        sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * n_dot_l;
-        weight += n_dot_l;
+        let g = geometry_g(1.0, n_dot_l, roughness, geometry);
+        sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * g;
+        weight += g;
     }
     return sum / max(weight, WEIGHT_EPSILON);
 }
@@ -144,7 +149,7 @@ fn specular_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if params.layer.x == 0.0 {
         value = textureSampleLevel(radiance, radiance_sampler, direction_to_uv(r), params.layer.y).rgb;
     } else {
-        value = prefilter_specular(r, params.layer.x);
+        value = prefilter_specular(r, params.layer.x, params.layer.z, u32(params.layer.w), params.limits.x);
     }
     textureStore(output, id.xy, vec4<f32>(value, 1.0));
 }

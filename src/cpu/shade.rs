@@ -140,7 +140,7 @@ impl CpuEnvironment {
     pub fn new(environment: &Environment, tables: &Tables) -> Self {
         let chain = MipChain::new(&environment.map);
         let kernels = crate::environment::prefilter::kernels(tables);
-        let prefiltered = Prefiltered::new(&chain, &kernels);
+        let prefiltered = Prefiltered::new(&chain, &kernels, tables.config.geometry);
         CpuEnvironment {
             chain,
             prefiltered,
@@ -187,7 +187,11 @@ pub fn shade_environment_map(
     let intensity = environment.intensity;
     let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
-    let prefiltered = intensity * ibl.prefiltered.specular(environment.to_map(r), roughness);
+    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let prefiltered = intensity
+        * ibl
+            .prefiltered
+            .specular(environment.to_map(dominant), roughness);
     let irradiance = intensity * ibl.prefiltered.irradiance(n_map);
     let bias = ibl.split.bias_at(mu_o as f32, roughness as f32) as f64;
     // split_sum_scale: F0 A + B with A = E - B.

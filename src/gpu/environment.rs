@@ -8,8 +8,8 @@ use std::time::{Duration, Instant};
 
 use super::shaders;
 use crate::environment::prefilter::{
-    specular_mip, specular_mip_levels, specular_roughness, specular_size, MipChain,
-    CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
+    fis_max_level, specular_mip, specular_mip_levels, specular_roughness, specular_samples,
+    specular_size, MipChain, CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
 };
 use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
@@ -116,7 +116,8 @@ pub struct EnvironmentTextures {
     pub convolved: wgpu::TextureView,
     /// The split-sum bias table, `R32Float`.
     pub split_sum: wgpu::TextureView,
-    /// Wall time of upload and prefiltering, to the queue's completion.
+    /// Wall time of upload and prefiltering, to the queue's completion (the renderer
+    /// replaces it by the whole preparation's, CPU work included).
     pub prefilter_time: Duration,
 }
 
@@ -159,6 +160,7 @@ struct PrefilterParams {
     size: [u32; 4],
     source: [u32; 4],
     layer: [f32; 4],
+    limits: [u32; 4],
 }
 
 impl EnvironmentTextures {
@@ -252,6 +254,7 @@ impl EnvironmentTextures {
             &radiance_view,
             chain,
             kernels,
+            split.geometry,
             &specular,
             &convolved,
         );
@@ -358,6 +361,7 @@ fn prefilter(
     radiance: &wgpu::TextureView,
     chain: &MipChain,
     kernels: &[f32],
+    geometry: crate::brdf::Geometry,
     specular: &wgpu::Texture,
     convolved: &wgpu::Texture,
 ) {
@@ -459,11 +463,18 @@ fn prefilter(
         };
         let m = specular_mip(k, levels);
         let size = (sw >> m, sh >> m);
-        let params = ([0; 4], [alpha, lod0, 0.0, 0.0]);
+        let geometry_id = shaders::geometry_id(geometry) as f32;
+        let roughness = specular_roughness(k) as f32;
+        let limits = [specular_samples(k), fis_max_level(chain), 0, 0];
+        let params = ([0; 4], [alpha, lod0, roughness, geometry_id], limits);
         jobs.push((&specular_pipeline, specular, k, m, size, params));
     }
     for j in 0..=CONVOLVED_LEVELS {
-        let params = ([source.width, source.height, source_level, j], [0.0; 4]);
+        let params = (
+            [source.width, source.height, source_level, j],
+            [0.0; 4],
+            [0; 4],
+        );
         jobs.push((&convolved_pipeline, convolved, j, 0, (cw, cw / 2), params));
     }
     let mut encoder = device.create_command_encoder(&Default::default());
@@ -479,6 +490,7 @@ fn prefilter(
             size: [w, h, base.width, base.height],
             source: params.0,
             layer: params.1,
+            limits: params.2,
         };
         queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&p));
         let view = target.create_view(&wgpu::TextureViewDescriptor {

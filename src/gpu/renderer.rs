@@ -115,15 +115,19 @@ impl EnvironmentGroup {
         let t_chain = start.elapsed();
         let split = crate::lut::SplitSum::bake(geometry);
         let t_split = start.elapsed();
-        let textures = EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+        let mut textures =
+            EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
         log::debug!(
-            "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, GPU upload and prefilter {:.1} ms",
+            "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
+             GPU upload and prefilter {:.1} ms",
             environment.source,
-            t_kernels.as_secs_f64() * 1e3,
-            (t_chain - t_kernels).as_secs_f64() * 1e3,
-            (t_split - t_chain).as_secs_f64() * 1e3,
-            textures.prefilter_time.as_secs_f64() * 1e3
+            ms(t_kernels),
+            ms(t_chain - t_kernels),
+            ms(t_split - t_chain),
+            ms(textures.prefilter_time)
         );
+        textures.prefilter_time = start.elapsed();
         let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
         self.loaded = Some((key, textures, group.clone()));
         group
@@ -328,8 +332,9 @@ impl Renderer {
             .map_or(BoundTables::None, |b| b.read.clone())
     }
 
-    /// Wall time of uploading and prefiltering the latest environment map (its mip chain
-    /// and split-sum table included), to the queue's completion; `None` before any.
+    /// Wall time of preparing the latest environment map: the kernels, its mip chain and
+    /// the split-sum table on the CPU, the upload and the GPU's prefiltering to the queue's
+    /// completion; `None` before any.
     pub fn last_prefilter_time(&self) -> Option<Duration> {
         self.environment
             .loaded

@@ -63,10 +63,10 @@ pub fn balls_source() -> String {
     concat(&[LIGHTING, BALLS])
 }
 
-/// The environment prefilter (compute): `constants.wgsl`, `environment.wgsl`,
+/// The environment prefilter (compute): `constants.wgsl`, `brdf.wgsl`, `environment.wgsl`,
 /// `prefilter.wgsl` (no renderer bindings).
 pub fn prefilter_source() -> String {
-    [COMMON[0].1, COMMON[3].1, PREFILTER].join("\n")
+    [COMMON[0].1, COMMON[1].1, COMMON[3].1, PREFILTER].join("\n")
 }
 
 /// The table probe: common files, `probe.wgsl`.

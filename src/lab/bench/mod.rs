@@ -10,6 +10,7 @@
 mod bake;
 pub mod device;
 pub mod exact;
+pub mod ibl;
 mod kernel;
 pub mod lookup;
 mod plan;
@@ -64,10 +65,11 @@ pub enum SweepKind {
     Render,
     Startup,
     Scale,
+    Ibl,
 }
 
 impl SweepKind {
-    pub const ALL: [SweepKind; 7] = [
+    pub const ALL: [SweepKind; 8] = [
         SweepKind::Bake,
         SweepKind::Plan,
         SweepKind::Read,
@@ -75,6 +77,7 @@ impl SweepKind {
         SweepKind::Render,
         SweepKind::Startup,
         SweepKind::Scale,
+        SweepKind::Ibl,
     ];
 
     pub fn name(self) -> &'static str {
@@ -86,6 +89,7 @@ impl SweepKind {
             SweepKind::Render => "render",
             SweepKind::Startup => "startup",
             SweepKind::Scale => "scale",
+            SweepKind::Ibl => "ibl",
         }
     }
 
@@ -93,7 +97,11 @@ impl SweepKind {
     pub fn needs_gpu(self) -> bool {
         matches!(
             self,
-            SweepKind::Lookup | SweepKind::Render | SweepKind::Startup | SweepKind::Scale
+            SweepKind::Lookup
+                | SweepKind::Render
+                | SweepKind::Startup
+                | SweepKind::Scale
+                | SweepKind::Ibl
         )
     }
 }
@@ -161,13 +169,17 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             if options.wants(SweepKind::Lookup) {
                 sweeps.push(read::lookup_sweep(&gpu, quick)?);
             }
-            if options.wants(SweepKind::Render) || options.wants(SweepKind::Scale) {
+            let renders = [SweepKind::Render, SweepKind::Scale, SweepKind::Ibl];
+            if renders.iter().any(|&k| options.wants(k)) {
                 let mut renderer = crate::gpu::Renderer::new(gpu);
                 if options.wants(SweepKind::Render) {
                     sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
                 }
                 if options.wants(SweepKind::Scale) {
                     sweeps.push(scale::scale_sweep(&mut renderer, quick)?);
+                }
+                if options.wants(SweepKind::Ibl) {
+                    sweeps.push(ibl::ibl_sweep(&mut renderer, quick)?);
                 }
             } else {
                 drop(gpu);

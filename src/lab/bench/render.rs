@@ -133,7 +133,7 @@ pub fn measure_alternating(
 /// makes (k = 0, 1) alternating, `repeats` of each after one warm-up frame each (pipeline
 /// creation, the driver's shader compile), 0 first in even rounds and 1 first in odd ones:
 /// the times (ms) per setting, and the median over rounds of the ratio time 0 / time 1.
-fn alternate(
+pub fn alternate(
     renderer: &mut Renderer,
     scene: &Scene,
     repeats: usize,
