@@ -10,6 +10,9 @@
 //! The frame image is copied (or, where the surface forbids copies, drawn) into the window,
 //! and screenshots are read from it.
 
+use std::sync::Arc;
+
+use crate::environment::EnvMap;
 use crate::gpu::{Renderer, Target};
 use crate::lut::BakeConfig;
 use crate::scene::Scene;
@@ -35,9 +38,45 @@ pub struct Overlay {
 /// columns of a `width x height` window.
 #[derive(PartialEq)]
 struct SceneKey {
+    /// The scene without its environment map (in `map`).
     scene: Scene,
+    map: Option<MapKey>,
     bake: BakeConfig,
     size: (u32, u32, u32),
+}
+
+impl SceneKey {
+    fn new(scene: &Scene, bake: BakeConfig, size: (u32, u32, u32)) -> Self {
+        let mut scene = scene.clone();
+        let map = scene.environment_map.take().map(|e| MapKey {
+            map: e.map,
+            rotation_deg: e.rotation_deg,
+            intensity: e.intensity,
+        });
+        SceneKey {
+            scene,
+            map,
+            bake,
+            size,
+        }
+    }
+}
+
+/// An environment map as drawn: the same map is the same `Arc` (comparing the texels every
+/// frame would cost milliseconds for a large map). The key holds the `Arc`, so its address
+/// is not reused while compared.
+struct MapKey {
+    map: Arc<EnvMap>,
+    rotation_deg: f64,
+    intensity: f64,
+}
+
+impl PartialEq for MapKey {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.map, &other.map)
+            && self.rotation_deg == other.rotation_deg
+            && self.intensity == other.intensity
+    }
 }
 
 #[derive(Default)]
@@ -89,11 +128,7 @@ impl Layers {
             self.scene_key = None;
             self.panel_current = false;
         }
-        let key = SceneKey {
-            scene: scene.clone(),
-            bake: renderer.bake_config(),
-            size: (scene_width, width, height),
-        };
+        let key = SceneKey::new(scene, renderer.bake_config(), (scene_width, width, height));
         let scene_changed = self.scene_key.as_ref() != Some(&key);
         let (scene_image, frame_image) = (
             self.scene_image.as_ref().expect("created above"),

@@ -2,7 +2,11 @@
 //! is tested without a window. The viewer holds one `Scene` and draws it as the headless
 //! renderer would; every control is one of these functions applied to it.
 
+use std::sync::Arc;
+
 use glam::DVec3;
+
+use crate::environment::{Background, Builtin, EnvMap, Environment, Source};
 
 use crate::scene::{grid_position, Ball, Light, Material, MaterialKind, Scene};
 use crate::scene::{REFERENCE_ALBEDO_SRGB, REFERENCE_RADIUS};
@@ -238,25 +242,213 @@ impl LightControl {
 /// The white furnace's environment radiance.
 const FURNACE_RADIANCE: DVec3 = DVec3::ONE;
 
-/// The lighting the furnace replaced: the lights and the environment radiance.
-pub type SavedLighting = (Vec<Light>, DVec3);
+/// The lighting the furnace replaced: the lights, the uniform environment radiance, the
+/// environment map and the background.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SavedLighting {
+    /// The scene's lights.
+    pub lights: Vec<Light>,
+    /// The uniform environment radiance.
+    pub environment: DVec3,
+    /// The environment map (its `Arc` kept: back on, it is not prefiltered again).
+    pub environment_map: Option<Environment>,
+    /// What the pixels no ball covers showed.
+    pub background: Background,
+}
 
-/// Key F and the panel's furnace box: a uniform white environment with the lights off, or
-/// back to the lighting in `saved` (which holds it while the furnace is on; no lights and
-/// no environment when nothing was saved, as for a scene file that is the furnace).
+impl Default for SavedLighting {
+    /// No lights, no environment, no map, the background showing the environment.
+    fn default() -> Self {
+        SavedLighting {
+            lights: Vec::new(),
+            environment: DVec3::ZERO,
+            environment_map: None,
+            background: Background::Environment,
+        }
+    }
+}
+
+/// Key F and the panel's furnace box: a uniform white environment with the lights and any
+/// environment map off and the background showing the environment, or back to the
+/// lighting in `saved` (which holds it while the furnace is on; no lights, no environment
+/// and no map when nothing was saved, as for a scene file that is the furnace).
 pub fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Option<SavedLighting>) {
     if on == is_furnace(scene) {
         return;
     }
     if on {
-        *saved = Some((std::mem::take(&mut scene.lights), scene.environment));
+        *saved = Some(SavedLighting {
+            lights: std::mem::take(&mut scene.lights),
+            environment: scene.environment,
+            environment_map: scene.environment_map.take(),
+            background: scene.background,
+        });
         scene.environment = FURNACE_RADIANCE;
+        scene.background = Background::Environment;
     } else {
-        (scene.lights, scene.environment) = saved.take().unwrap_or_default();
+        let s = saved.take().unwrap_or_default();
+        scene.lights = s.lights;
+        scene.environment = s.environment;
+        scene.environment_map = s.environment_map;
+        scene.background = s.background;
     }
 }
 
-/// Whether the scene is the white furnace: the furnace's environment and no lights.
+/// Whether the scene is the white furnace: the furnace's uniform environment, shown as
+/// the background, and no lights and no environment map.
 pub fn is_furnace(scene: &Scene) -> bool {
-    scene.environment == FURNACE_RADIANCE && scene.lights.is_empty()
+    scene.environment == FURNACE_RADIANCE
+        && scene.lights.is_empty()
+        && scene.environment_map.is_none()
+        && scene.background == Background::Environment
+}
+
+/// The environment picker's choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnvironmentChoice {
+    /// No map: the scene's uniform radiance.
+    Uniform,
+    /// A generated built-in map.
+    Builtin(Builtin),
+    /// The map file the scene came with.
+    File,
+}
+
+impl EnvironmentChoice {
+    /// What lights `scene` now.
+    pub fn of(scene: &Scene) -> Self {
+        match scene.environment_map.as_ref().map(|e| &e.source) {
+            None => EnvironmentChoice::Uniform,
+            Some(Source::Builtin(b)) => EnvironmentChoice::Builtin(*b),
+            Some(Source::File(_)) => EnvironmentChoice::File,
+        }
+    }
+
+    /// The choice's label in the panel.
+    pub fn name(self) -> &'static str {
+        match self {
+            EnvironmentChoice::Uniform => "uniform",
+            EnvironmentChoice::Builtin(b) => b.name(),
+            EnvironmentChoice::File => "file (as loaded)",
+        }
+    }
+}
+
+/// What the environment picker keeps between choices: the scene's uniform radiance, the map
+/// file it came with, every built-in generated so far (each generated once, its `Arc` kept so
+/// that the renderer knows it again), and the latest map's rotation and intensity (a new
+/// choice keeps them).
+#[derive(Clone, Debug)]
+pub struct EnvironmentControl {
+    /// The uniform radiance "uniform" restores (the scene's as loaded, or as it was when a
+    /// map was chosen).
+    pub uniform: DVec3,
+    /// The map file the scene came with.
+    pub file: Option<Environment>,
+    /// The built-ins generated so far.
+    builtins: Vec<(Builtin, Arc<EnvMap>)>,
+    /// Rotation in degrees and intensity of the latest map.
+    transform: (f64, f64),
+}
+
+impl EnvironmentControl {
+    /// The control for `scene` as loaded (a built-in it came with counts as generated).
+    pub fn of(scene: &Scene) -> Self {
+        let map = scene.environment_map.as_ref();
+        let builtins = match map {
+            Some(Environment {
+                source: Source::Builtin(b),
+                map,
+                ..
+            }) => vec![(*b, map.clone())],
+            _ => Vec::new(),
+        };
+        EnvironmentControl {
+            uniform: scene.environment,
+            file: map.filter(|e| matches!(e.source, Source::File(_))).cloned(),
+            builtins,
+            transform: map.map_or((0.0, 1.0), |e| (e.rotation_deg, e.intensity)),
+        }
+    }
+
+    /// The choices the picker lists: uniform, the built-ins, and the file if the scene came
+    /// with one.
+    pub fn choices(&self) -> Vec<EnvironmentChoice> {
+        let mut all = vec![EnvironmentChoice::Uniform];
+        all.extend(Builtin::ALL.map(EnvironmentChoice::Builtin));
+        if self.file.is_some() {
+            all.push(EnvironmentChoice::File);
+        }
+        all
+    }
+
+    /// Built-in `b`'s map: generated on the first call, the same `Arc` after.
+    pub fn builtin_map(&mut self, b: Builtin) -> Arc<EnvMap> {
+        if let Some((_, map)) = self.builtins.iter().find(|(c, _)| *c == b) {
+            return map.clone();
+        }
+        let map = Environment::builtin(b).map;
+        self.builtins.push((b, map.clone()));
+        map
+    }
+
+    /// How many built-ins have been generated.
+    pub fn builtins_generated(&self) -> usize {
+        self.builtins.len()
+    }
+}
+
+/// The picker: lights `scene` with `choice`. A map keeps the latest map's rotation and
+/// intensity and zeroes the uniform radiance (kept in `control` for "uniform" to restore,
+/// as a scene file with a map leaves it black); "uniform" removes the map. Choosing what is
+/// already shown, or the file when the scene came with none, changes nothing.
+pub fn set_environment(
+    scene: &mut Scene,
+    choice: EnvironmentChoice,
+    control: &mut EnvironmentControl,
+) {
+    if choice == EnvironmentChoice::of(scene) {
+        return;
+    }
+    let (source, map) = match choice {
+        EnvironmentChoice::Uniform => {
+            if let Some(e) = scene.environment_map.take() {
+                control.transform = (e.rotation_deg, e.intensity);
+            }
+            scene.environment = control.uniform;
+            return;
+        }
+        EnvironmentChoice::Builtin(b) => (Source::Builtin(b), control.builtin_map(b)),
+        EnvironmentChoice::File => match &control.file {
+            Some(file) => (file.source.clone(), file.map.clone()),
+            None => return,
+        },
+    };
+    match &scene.environment_map {
+        Some(e) => control.transform = (e.rotation_deg, e.intensity),
+        None => control.uniform = scene.environment,
+    }
+    scene.environment = DVec3::ZERO;
+    scene.environment_map = Some(Environment {
+        source,
+        map,
+        rotation_deg: control.transform.0,
+        intensity: control.transform.1,
+    });
+}
+
+/// Turns the scene's environment map (if any) to `degrees` about `+y`; the map itself is
+/// kept (the same `Arc`: nothing is prefiltered again).
+pub fn set_map_rotation(scene: &mut Scene, degrees: f64) {
+    if let Some(e) = &mut scene.environment_map {
+        e.rotation_deg = degrees;
+    }
+}
+
+/// Scales the scene's environment map (if any) by `intensity` (negative or NaN: 0); the map
+/// itself is kept.
+pub fn set_map_intensity(scene: &mut Scene, intensity: f64) {
+    if let Some(e) = &mut scene.environment_map {
+        e.intensity = intensity.max(0.0);
+    }
 }

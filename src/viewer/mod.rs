@@ -221,15 +221,23 @@ impl App {
             .renderer
             .last_bake_time()
             .map(|d| d.as_secs_f64() * 1e3);
+        let prefilter_ms = state
+            .renderer
+            .last_prefilter_time()
+            .map(|d| d.as_secs_f64() * 1e3);
         let scene_size = (self.scene_width, state.size().1);
         let fresh = self.clock.settled()
             && self.stats.as_ref().is_some_and(|(at, s)| {
-                at.elapsed() < STATS_PERIOD && s.bake_ms == bake_ms && s.scene_size == scene_size
+                at.elapsed() < STATS_PERIOD
+                    && s.bake_ms == bake_ms
+                    && s.prefilter_ms == prefilter_ms
+                    && s.scene_size == scene_size
             });
         if !fresh {
             let stats = Stats {
                 frame_ms: self.clock.recent_draw_ms(),
                 bake_ms,
+                prefilter_ms,
                 adapter: state.renderer.gpu().describe(),
                 plan: plan_summary(&state.renderer),
                 scene_size,

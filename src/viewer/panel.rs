@@ -2,11 +2,17 @@
 //! viewer's [`Scene`] through [`super::edit`] or the bake settings; the viewer compares
 //! before and after to know what to redo.
 
+use glam::DVec3;
+
 use crate::brdf::Geometry;
+use crate::environment::{Background, IblTerm};
 use crate::lut::{Layout, LayoutKind};
 use crate::scene::{Material, Preset, Scene, MAX_MAGNITUDE};
 
-use super::edit::{self, Grid, LightControl, MaterialChoice, SavedLighting, MAX_BALLS_PER_ROW};
+use super::edit::{
+    self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice, SavedLighting,
+    MAX_BALLS_PER_ROW,
+};
 
 /// The panel's width in points (egui's logical pixels).
 pub const PANEL_WIDTH: f32 = 300.0;
@@ -25,6 +31,11 @@ pub struct Controls {
     pub scene_materials: Vec<Material>,
     pub layout: LayoutKind,
     pub table_size: (usize, usize),
+    /// The environment picker's memory (uniform radiance, map file, built-ins generated).
+    pub environment: EnvironmentControl,
+    /// The scene file's background colour, if it gave one (offered beside environment
+    /// and black).
+    pub background_colour: Option<DVec3>,
 }
 
 impl Controls {
@@ -37,6 +48,11 @@ impl Controls {
             scene_materials: scene.balls.iter().map(|b| b.material).collect(),
             layout: layout.kind,
             table_size: (layout.mu_size, layout.r_size),
+            environment: EnvironmentControl::of(scene),
+            background_colour: match scene.background {
+                Background::Colour(c) => Some(c),
+                _ => None,
+            },
         }
     }
 
@@ -52,6 +68,8 @@ pub struct Stats {
     pub frame_ms: Option<f64>,
     /// The latest bake's wall time, milliseconds.
     pub bake_ms: Option<f64>,
+    /// The latest environment map's upload and prefilter time, milliseconds.
+    pub prefilter_ms: Option<f64>,
     pub adapter: String,
     /// What the plan baked and binds (one line), and the rows held in the cache.
     pub plan: String,
@@ -73,6 +91,8 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
                 ui.separator();
                 lighting(ui, scene, controls);
                 ui.separator();
+                environment(ui, scene, controls);
+                ui.separator();
                 ui.label("Drag: orbit · wheel: zoom · M: term on all · F: furnace · S: screenshot · Esc: quit");
             });
         });
@@ -83,6 +103,12 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
     ui.label(format!("frame {} (median)", ms(stats.frame_ms)));
     ui.label(format!("bake {} (latest change)", ms(stats.bake_ms)));
+    if stats.prefilter_ms.is_some() {
+        ui.label(format!(
+            "environment prefilter {} (latest map)",
+            ms(stats.prefilter_ms)
+        ));
+    }
     ui.label(&stats.plan);
     ui.label(format!(
         "scene {}x{} on {}",
@@ -222,6 +248,67 @@ fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             .clamping(egui::SliderClamping::Edits),
     );
     scene.exposure = scene.exposure.clamp(f64::MIN_POSITIVE, MAX_MAGNITUDE);
+}
+
+fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
+    ui.label("Environment");
+    // The furnace is its own environment: its box turns it off.
+    ui.add_enabled_ui(!edit::is_furnace(scene), |ui| {
+        let current = EnvironmentChoice::of(scene);
+        let mut choice = current;
+        let choices = controls.environment.choices();
+        combo(
+            ui,
+            "environment",
+            &mut choice,
+            &choices,
+            EnvironmentChoice::name,
+        );
+        if choice != current {
+            edit::set_environment(scene, choice, &mut controls.environment);
+        }
+        if let Some(map) = &scene.environment_map {
+            let (mut rotation, mut intensity) = (map.rotation_deg, map.intensity);
+            let rotated = ui
+                .add(
+                    egui::Slider::new(&mut rotation, -180.0..=180.0)
+                        .text("map rotation")
+                        .suffix("°")
+                        .clamping(egui::SliderClamping::Edits),
+                )
+                .changed();
+            if rotated {
+                edit::set_map_rotation(scene, rotation);
+            }
+            let scaled = ui
+                .add(
+                    egui::Slider::new(&mut intensity, 0.0..=10.0)
+                        .logarithmic(true)
+                        .text("map intensity")
+                        .clamping(egui::SliderClamping::Edits),
+                )
+                .changed();
+            if scaled {
+                edit::set_map_intensity(scene, intensity);
+            }
+            combo(ui, "IBL term", &mut scene.ibl_term, &IblTerm::ALL, |t| {
+                t.name()
+            });
+        }
+        let mut backgrounds = vec![Background::Environment, Background::Black];
+        backgrounds.extend(controls.background_colour.map(Background::Colour));
+        combo(
+            ui,
+            "background",
+            &mut scene.background,
+            &backgrounds,
+            |b| match b {
+                Background::Environment => "environment",
+                Background::Black => "black",
+                Background::Colour(_) => "colour (as in the scene)",
+            },
+        );
+    });
 }
 
 fn combo<T: PartialEq + Copy>(

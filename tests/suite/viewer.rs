@@ -5,11 +5,15 @@
 
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use glam::DVec3;
+use shadeballs::environment::{Background, Builtin, Environment, IblTerm, Source};
 use shadeballs::scene::{Camera, Scene};
-use shadeballs::viewer::edit::{self, Grid, LightControl, MaterialChoice};
+use shadeballs::viewer::edit::{
+    self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice,
+};
 use shadeballs::viewer::orbit;
 
 use crate::cli::temp_dir;
@@ -162,6 +166,28 @@ fn window_scene_area_equals_the_headless_render() {
         let what = format!("window on {backend} vs headless on Vulkan");
         assert_scene_matches(&shot, &stderr, &Scene::reference(), &what);
     }
+}
+
+/// `view --environment studio`: the window draws the map (prefiltered on the GPU at the
+/// first frame) and its scene area equals the headless render of the same scene.
+#[test]
+fn window_with_an_environment_map_equals_the_headless_render() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-env");
+    let shot = dir.join("view-studio.png");
+    let args = ["--environment", "studio", "--frames", "3", "--screenshot"];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "viewer with studio failed: {stderr}");
+    assert!(!stderr.contains("error"), "{stderr}");
+    let image = image::open(&shot).unwrap();
+    assert_eq!((image.width(), image.height()), (1280, 720), "{stderr}");
+    // The environment section fits in the panel's 300 points.
+    assert_eq!(scene_area(&stderr), (980, 720), "{stderr}");
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment::builtin(Builtin::Studio));
+    scene.environment = DVec3::ZERO;
+    assert_scene_matches(&shot, &stderr, &scene, "window with studio vs headless");
 }
 
 /// Key M, a resize and an unmap/map (the minimise of a window manager; X11 has no 0x0
@@ -435,7 +461,7 @@ fn term_rows_furnace_and_materials_edit_the_scene() {
     assert!(edit::is_furnace(&scene) && scene.lights.is_empty());
     edit::set_furnace(&mut scene, true, &mut saved);
     assert_eq!(
-        saved.as_ref().map(|(lights, _)| lights.len()),
+        saved.as_ref().map(|s| s.lights.len()),
         Some(1),
         "turning it on twice must not lose the lights"
     );
@@ -480,6 +506,198 @@ fn term_rows_furnace_and_materials_edit_the_scene() {
         MaterialChoice::Copper.material().unwrap(),
         Scene::reference().balls[0].material
     );
+}
+
+/// The panel's environment picker: a built-in replaces the uniform radiance (kept for
+/// "uniform" to restore), is generated once however often it is chosen, and keeps the
+/// latest map's rotation and intensity; rotation and intensity edits keep the map's `Arc`
+/// (the renderer knows a map by it: nothing is prefiltered again).
+#[test]
+fn environment_picker_switches_maps_and_keeps_them() {
+    let mut scene = Scene::reference();
+    let sky = DVec3::new(0.2, 0.3, 0.5);
+    scene.environment = sky;
+    let mut control = EnvironmentControl::of(&scene);
+    assert_eq!(EnvironmentChoice::of(&scene), EnvironmentChoice::Uniform);
+    assert_eq!(
+        control.choices(),
+        [
+            EnvironmentChoice::Uniform,
+            EnvironmentChoice::Builtin(Builtin::Studio),
+            EnvironmentChoice::Builtin(Builtin::Sky),
+            EnvironmentChoice::Builtin(Builtin::White),
+        ],
+        "no file without a scene map file"
+    );
+    // Nothing to pick without a file: no change.
+    edit::set_environment(&mut scene, EnvironmentChoice::File, &mut control);
+    assert!(scene.environment_map.is_none() && scene.environment == sky);
+
+    let studio = EnvironmentChoice::Builtin(Builtin::Studio);
+    edit::set_environment(&mut scene, studio, &mut control);
+    let map = scene.environment_map.clone().expect("studio chosen");
+    assert_eq!(map.source, Source::Builtin(Builtin::Studio));
+    assert_eq!((map.rotation_deg, map.intensity), (0.0, 1.0));
+    assert_eq!(scene.environment, DVec3::ZERO);
+    assert_eq!(EnvironmentChoice::of(&scene), studio);
+    assert_eq!(
+        *map.map,
+        Builtin::Studio.generate(shadeballs::environment::builtin::DEFAULT_BUILTIN_WIDTH)
+    );
+    assert_eq!(scene.lights, Scene::reference().lights, "lights untouched");
+
+    // Rotation and intensity change those fields alone, and keep the same map.
+    let before = scene.clone();
+    edit::set_map_rotation(&mut scene, -90.0);
+    edit::set_map_intensity(&mut scene, 2.5);
+    let e = scene.environment_map.as_ref().unwrap();
+    assert!(
+        Arc::ptr_eq(&e.map, &map.map),
+        "rotation or intensity replaced the map"
+    );
+    assert_eq!((e.rotation_deg, e.intensity), (-90.0, 2.5));
+    assert_eq!(e.source, map.source);
+    let mut same = scene.clone();
+    same.environment_map = before.environment_map.clone();
+    assert_eq!(
+        same, before,
+        "only the map's rotation and intensity changed"
+    );
+    edit::set_map_intensity(&mut scene, -1.0);
+    assert_eq!(scene.environment_map.as_ref().unwrap().intensity, 0.0);
+    edit::set_map_intensity(&mut scene, 2.5);
+
+    // Sky, then studio again: the first studio's map, turned and scaled as last set.
+    edit::set_environment(
+        &mut scene,
+        EnvironmentChoice::Builtin(Builtin::Sky),
+        &mut control,
+    );
+    let e = scene.environment_map.as_ref().unwrap();
+    assert_eq!(e.source, Source::Builtin(Builtin::Sky));
+    assert_eq!((e.rotation_deg, e.intensity), (-90.0, 2.5));
+    edit::set_environment(&mut scene, studio, &mut control);
+    assert!(Arc::ptr_eq(
+        &scene.environment_map.as_ref().unwrap().map,
+        &map.map
+    ));
+    assert_eq!(control.builtins_generated(), 2, "studio generated once");
+    assert!(Arc::ptr_eq(&control.builtin_map(Builtin::Studio), &map.map));
+
+    // Back to uniform: the scene's radiance, no map; studio again keeps its transform.
+    edit::set_environment(&mut scene, EnvironmentChoice::Uniform, &mut control);
+    assert!(scene.environment_map.is_none());
+    assert_eq!(scene.environment, sky);
+    edit::set_environment(&mut scene, studio, &mut control);
+    let e = scene.environment_map.as_ref().unwrap();
+    assert!(Arc::ptr_eq(&e.map, &map.map));
+    assert_eq!((e.rotation_deg, e.intensity), (-90.0, 2.5));
+    edit::set_environment(&mut scene, EnvironmentChoice::Uniform, &mut control);
+    assert_eq!(scene.environment, sky);
+    assert_eq!(control.builtins_generated(), 2);
+
+    // A scene that came with a built-in: the picker starts from it, its map counts as
+    // generated (chosen again, the same Arc).
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment::builtin(Builtin::White));
+    let loaded = scene.environment_map.clone().unwrap();
+    let mut control = EnvironmentControl::of(&scene);
+    assert_eq!(
+        EnvironmentChoice::of(&scene),
+        EnvironmentChoice::Builtin(Builtin::White)
+    );
+    edit::set_environment(&mut scene, EnvironmentChoice::Uniform, &mut control);
+    edit::set_environment(
+        &mut scene,
+        EnvironmentChoice::Builtin(Builtin::White),
+        &mut control,
+    );
+    assert!(Arc::ptr_eq(
+        &scene.environment_map.as_ref().unwrap().map,
+        &loaded.map
+    ));
+    assert_eq!(control.builtins_generated(), 1);
+}
+
+/// A scene that came with a map file lists "file (as loaded)", which brings back that very
+/// map (its Arc) after a built-in; "uniform" gives the scene's uniform radiance (black for
+/// a scene with a map).
+#[test]
+fn environment_picker_offers_the_scene_map_file() {
+    let dir = temp_dir("view-env-file");
+    let path = dir.join("tiny.hdr");
+    let map = Builtin::Sky.generate(32);
+    shadeballs::environment::save(&map, &path).unwrap();
+    let mut scene = Scene::reference();
+    let file = Environment {
+        rotation_deg: 30.0,
+        intensity: 0.5,
+        ..Environment::from_file(&path).unwrap()
+    };
+    scene.environment_map = Some(file.clone());
+    let mut control = EnvironmentControl::of(&scene);
+    assert_eq!(EnvironmentChoice::of(&scene), EnvironmentChoice::File);
+    assert_eq!(control.choices().last(), Some(&EnvironmentChoice::File));
+    assert_eq!(EnvironmentChoice::File.name(), "file (as loaded)");
+    edit::set_environment(
+        &mut scene,
+        EnvironmentChoice::Builtin(Builtin::Sky),
+        &mut control,
+    );
+    let e = scene.environment_map.as_ref().unwrap();
+    assert_eq!((e.rotation_deg, e.intensity), (30.0, 0.5));
+    edit::set_environment(&mut scene, EnvironmentChoice::File, &mut control);
+    let e = scene.environment_map.as_ref().unwrap();
+    assert_eq!(e.source, file.source);
+    assert!(Arc::ptr_eq(&e.map, &file.map));
+    edit::set_environment(&mut scene, EnvironmentChoice::Uniform, &mut control);
+    assert!(scene.environment_map.is_none() && scene.environment == DVec3::ZERO);
+}
+
+/// The furnace with a map: on, the map, lights and a black background are put away (a
+/// uniform white environment shown as the background); off, they come back as they were,
+/// the map the same Arc (not prefiltered again).
+#[test]
+fn furnace_round_trips_a_scene_with_a_map() {
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment {
+        rotation_deg: 45.0,
+        intensity: 3.0,
+        ..Environment::builtin(Builtin::Studio)
+    });
+    scene.background = Background::Black;
+    scene.ibl_term = IblTerm::Turquin;
+    let original = scene.clone();
+    let mut saved = None;
+    assert!(!edit::is_furnace(&scene));
+    edit::set_furnace(&mut scene, true, &mut saved);
+    assert!(edit::is_furnace(&scene));
+    assert!(scene.environment_map.is_none() && scene.lights.is_empty());
+    assert_eq!(scene.environment, DVec3::ONE);
+    assert_eq!(scene.background, Background::Environment);
+    edit::set_furnace(&mut scene, true, &mut saved);
+    assert!(
+        saved.as_ref().unwrap().environment_map.is_some(),
+        "on twice kept the map"
+    );
+    edit::set_furnace(&mut scene, false, &mut saved);
+    assert_eq!(scene, original);
+    assert!(Arc::ptr_eq(
+        &scene.environment_map.as_ref().unwrap().map,
+        &original.environment_map.as_ref().unwrap().map
+    ));
+    assert!(saved.is_none());
+    // A uniform white environment with a map is not the furnace, nor one with a black
+    // background.
+    let mut white_map = original.clone();
+    white_map.lights.clear();
+    white_map.environment = DVec3::ONE;
+    white_map.background = Background::Environment;
+    assert!(!edit::is_furnace(&white_map));
+    white_map.environment_map = None;
+    assert!(edit::is_furnace(&white_map));
+    white_map.background = Background::Black;
+    assert!(!edit::is_furnace(&white_map));
 }
 
 /// The blit that stands in for a copy where the window cannot be copied into (GL) gives the
