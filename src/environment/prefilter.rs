@@ -318,7 +318,7 @@ pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3
 
 /// Size of the specular texture's level 0 for a map `width` wide.
 pub fn specular_size(width: u32) -> (u32, u32) {
-    let w = width.min(SPECULAR_WIDTH).max(2);
+    let w = width.clamp(2, SPECULAR_WIDTH);
     (w, w / 2)
 }
 
