@@ -10,6 +10,7 @@
 mod bake;
 pub mod device;
 pub mod exact;
+pub mod harmonics;
 mod kernel;
 pub mod lookup;
 mod plan;
