@@ -171,7 +171,8 @@ fn harmonics_lab_layers_match_prefiltered() {
 }
 
 /// The measured table of docs/design.md section 10 ("Harmonics or a map per roughness"):
-/// `cargo test --release --test suite harmonics_sweep_table -- --ignored --nocapture`.
+/// `cargo test --release --test suite harmonics_sweep_table -- --ignored --nocapture`
+/// (the plots go to the temporary folder).
 #[test]
 #[ignore]
 fn harmonics_sweep_table() {
@@ -184,6 +185,11 @@ fn harmonics_sweep_table() {
         println!("- {}: {} (met: {})", g.what, g.figure, g.met);
     }
     println!("sweep wall time {:.1} s", started.elapsed().as_secs_f64());
+    for (stem, plot) in &sweep.plots {
+        let path = std::env::temp_dir().join(format!("{stem}.png"));
+        shadeballs::lab::plot::write_plot(plot, &path).unwrap();
+        println!("plot: {}", path.display());
+    }
 }
 
 /// The quick sweep runs and states both goals.

@@ -366,7 +366,7 @@ fn build_sweep(rows: &[Row], interpolation: &[(&str, f64, f64)], normals: usize)
                     .map(|x| (x.size as f64, x.mean.max(1e-9)))
                     .collect();
                 series.push(Series {
-                    label: format!("{method} (bands / width), roughness {r}"),
+                    label: format!("{method}, roughness {r}"),
                     points,
                     colour: Some(colours[k % colours.len()]),
                     style,
