@@ -11,6 +11,7 @@
 
 pub mod builtin;
 mod file;
+pub mod harmonics;
 pub mod prefilter;
 
 use std::f64::consts::PI;

@@ -10,6 +10,7 @@
 mod bake;
 pub mod device;
 pub mod exact;
+pub mod harmonics;
 pub mod ibl;
 mod kernel;
 pub mod lookup;
@@ -180,6 +181,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
                 }
                 if options.wants(SweepKind::Ibl) {
                     sweeps.push(ibl::ibl_sweep(&mut renderer, quick)?);
+                    sweeps.push(harmonics::harmonics_sweep(quick)?);
                 }
             } else {
                 drop(gpu);
