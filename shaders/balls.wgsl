@@ -117,11 +117,14 @@ fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
 
 // What a pixel whose ray (unit direction d) hits no ball shows: the background's fixed
 // radiance, plus the environment map along d where the background shows it (IBL != 0).
+// The map's share is weighted by the 0/1 flag rather than branched on: a branch on a
+// uniform value costs a shader compile per bind on lavapipe (loop_counts says why).
 fn background_radiance(d: vec3<f32>) -> vec3<f32> {
     var c = env.background.rgb;
-    if IBL != 0u && env.rotation_intensity.w == 1.0 {
+    if IBL != 0u {
         let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
-        c += env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+        let shown = env.rotation_intensity.w * env.rotation_intensity.z;
+        c += shown * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
     }
     return c;
 }

@@ -120,7 +120,15 @@ fn bench_only_runs_the_named_sweeps() {
     let (ok, stderr) = shadeballs(&["bench", "--quick", "--only", "plan", "--out", out]);
     assert!(ok, "bench --only plan failed: {stderr}");
     assert!(dir.join("plan.csv").is_file());
-    for other in ["bake", "read", "lookup", "render", "startup", "scale_balls"] {
+    for other in [
+        "bake",
+        "read",
+        "lookup",
+        "render",
+        "startup",
+        "scale_balls",
+        "ibl",
+    ] {
         assert!(
             !dir.join(format!("{other}.csv")).exists(),
             "--only plan wrote {other}.csv"
@@ -128,8 +136,9 @@ fn bench_only_runs_the_named_sweeps() {
     }
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(
-        summary
-            .contains("Not measured: bake, read, lookup, render, startup, scale (not in --only)"),
+        summary.contains(
+            "Not measured: bake, read, lookup, render, startup, scale, ibl (not in --only)"
+        ),
         "{summary}"
     );
     // An unknown sweep is a one-line error naming the choices, before anything runs.
@@ -332,5 +341,66 @@ fn per_ball_read_equals_the_full_read() {
             assert_eq!(q[0], t.stored_loss[j0 * layout.mu_size]);
             assert_eq!(q[2], t.stored_loss[j1 * layout.mu_size]);
         }
+    }
+}
+
+/// `bench --only ibl --quick` (what CI runs of issue 15's measurement): the accuracy table
+/// with the issue's columns, every environment, method, roughness and part; the prefilter
+/// and frame tables; the harmonics table; the goals named in the summary.
+#[test]
+fn quick_ibl_bench_writes_its_tables_and_goals() {
+    let dir = temp_dir("bench-ibl");
+    let (ok, stderr) = shadeballs(&[
+        "bench",
+        "--quick",
+        "--only",
+        "ibl",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "bench --only ibl failed: {stderr}");
+    let read = |name: &str| {
+        std::fs::read_to_string(dir.join(format!("{name}.csv")))
+            .unwrap_or_else(|e| panic!("{name}.csv: {e}"))
+    };
+    let ibl = read("ibl");
+    let mut lines = ibl.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("environment,method,roughness,part,mean_rel_err,p99_rel_err"));
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    // 2 environments x 3 methods x 5 roughness values x 2 parts.
+    assert_eq!(rows.len(), 60, "{ibl}");
+    for row in &rows {
+        for cell in &row[4..] {
+            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{row:?}"));
+            assert!(v.is_finite() && v >= 0.0, "{row:?}");
+        }
+    }
+    for env in ["studio", "sky"] {
+        for method in ["turquin", "fdez-aguera", "kulla-conty"] {
+            for part in ["whole", "ms"] {
+                assert!(
+                    rows.iter()
+                        .any(|r| r[0] == env && r[1] == method && r[3] == part),
+                    "no {env} {method} {part}"
+                );
+            }
+        }
+    }
+    assert!(read("prefilter").starts_with("width,height,samples,ms\n"));
+    assert!(read("ibl_frame").starts_with("method,with_term_ms,without_term_ms,ratio\n"));
+    assert!(read("harmonics").starts_with("environment,roughness,method,size,"));
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    for goal in [
+        "furnace through the map path",
+        "preparing a 1024x512 map",
+        "at most 1.10x the frame without it",
+        "within 2 % mean relative error",
+    ] {
+        assert!(summary.contains(goal), "summary lacks '{goal}'");
     }
 }
