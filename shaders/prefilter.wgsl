@@ -4,6 +4,7 @@
 
 // Mirrors of src/environment/prefilter.rs.
 const KERNEL_SIZE: u32 = 64u;
+const FIS_LOD_BIAS: f32 = 0.0;
 const WEIGHT_EPSILON: f32 = 1e-30;
 const POLE_SIN_MIN: f32 = 1e-4;
 
@@ -75,7 +76,7 @@ fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, s
         let omega_s = 4.0 / (f32(samples) * d);
         let sin_l = max(sqrt(max(1.0 - l.y * l.y, 0.0)), POLE_SIN_MIN);
         let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
-        let lod = clamp(0.5 * log2(omega_s / omega_p) + 1.0, 0.0, max_lod);
+        let lod = clamp(0.5 * log2(omega_s / omega_p) + FIS_LOD_BIAS, 0.0, max_lod);
         let g = geometry_g(1.0, n_dot_l, roughness, geometry);
         sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * g;
         weight += g;

@@ -42,6 +42,9 @@ pub const SPECULAR_MIP_LEVELS: u32 = 3;
 /// GGX samples per texel of the sharpest prefiltered layer (roughness 1/6); rougher
 /// layers take more ([`specular_samples`]).
 pub const SPECULAR_SAMPLES: u32 = 64;
+/// Added to filtered importance sampling's level (Krivanek & Colbert suggest 1: a
+/// smoother result with fewer samples, at the price of a wider lobe).
+pub const FIS_LOD_BIAS: f64 = 0.0;
 /// The coarsest mip level filtered importance sampling reads is at least this wide (22.5
 /// degree texels): a bilinear read of an equirectangular level of 4 x 2 texels spreads a
 /// light over a hemisphere, beyond any lobe. The rough layers take more samples instead
@@ -319,7 +322,7 @@ pub fn prefilter_specular(
         let omega_s = 4.0 / (samples as f64 * d);
         let sin_l = (1.0 - l.y * l.y).max(0.0).sqrt().max(POLE_SIN_MIN);
         let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
-        let lod = (0.5 * (omega_s / omega_p).log2() + 1.0).clamp(0.0, max_lod);
+        let lod = (0.5 * (omega_s / omega_p).log2() + FIS_LOD_BIAS).clamp(0.0, max_lod);
         let g = geometry.g(1.0, n_dot_l, roughness);
         sum += chain.sample(l, lod) * g;
         weight += g;
