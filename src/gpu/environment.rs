@@ -255,8 +255,7 @@ impl EnvironmentTextures {
             chain,
             kernels,
             split.geometry,
-            &specular,
-            &convolved,
+            [&specular, &convolved],
         );
         let _ = device.poll(wgpu::PollType::wait_indefinitely());
         let array = |t: &wgpu::Texture| {
@@ -354,7 +353,7 @@ impl EnvironmentTextures {
     }
 }
 
-/// One compute dispatch per layer of `specular` and `convolved`.
+/// One compute dispatch per layer of the specular and the convolved layers' textures.
 fn prefilter(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -362,8 +361,7 @@ fn prefilter(
     chain: &MipChain,
     kernels: &[f32],
     geometry: crate::brdf::Geometry,
-    specular: &wgpu::Texture,
-    convolved: &wgpu::Texture,
+    [specular, convolved]: [&wgpu::Texture; 2],
 ) {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("prefilter"),
