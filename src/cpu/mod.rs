@@ -62,15 +62,7 @@ pub fn render_radiance_with(
             (0..width).map(move |px| {
                 let d = basis.ray(px, py, width, height);
                 let o = basis.origin;
-                let mut best: Option<(f64, usize)> = None;
-                for k in bins.candidates(px, py) {
-                    let b = &balls[k];
-                    let t = intersect_sphere(o, d, b.center, b.radius);
-                    if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
-                        best = Some((t, k));
-                    }
-                }
-                match (best, ibl) {
+                match (bins.nearest(balls, px, py, o, d), ibl) {
                     (None, Some((environment, map))) if shows_map => {
                         background + map.background(environment, d)
                     }
@@ -136,6 +128,27 @@ impl Bins {
             rects,
             members,
         }
+    }
+
+    /// The nearest of the balls covering pixel `(px, py)` along its ray from `o` in unit
+    /// direction `d`: (distance, index), the lowest index on a tie.
+    fn nearest(
+        &self,
+        balls: &[Ball],
+        px: u32,
+        py: u32,
+        o: DVec3,
+        d: DVec3,
+    ) -> Option<(f64, usize)> {
+        let mut best: Option<(f64, usize)> = None;
+        for k in self.candidates(px, py) {
+            let b = &balls[k];
+            let t = intersect_sphere(o, d, b.center, b.radius);
+            if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                best = Some((t, k));
+            }
+        }
+        best
     }
 
     /// The balls whose bounds cover pixel `(px, py)`, in index order.

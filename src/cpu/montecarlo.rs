@@ -17,14 +17,15 @@ use std::f64::consts::PI;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::{intersect_sphere, surface_normal, Bins, TableRead};
+use super::shade::{f_add_rgb, per_channel};
+use super::{surface_normal, Bins, TableRead};
 use crate::brdf::{
-    alpha_from_roughness, d_ggx, f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick,
-    Geometry, DIV_EPSILON, GAMES202_EDGE_TINT,
+    alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
+    DIV_EPSILON,
 };
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
-use crate::lut::{e_avg_reference, e_reference, SplitSum};
+use crate::lut::SplitSum;
 use crate::scene::{Ball, Scene, MAX_BALLS};
 
 /// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
@@ -145,15 +146,7 @@ pub fn render_montecarlo_part(
             (0..width).map(move |px| {
                 let d = basis.ray(px, py, width, height);
                 let o = basis.origin;
-                let mut best: Option<(f64, usize)> = None;
-                for k in bins.candidates(px, py) {
-                    let b = &balls[k];
-                    let t = intersect_sphere(o, d, b.center, b.radius);
-                    if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
-                        best = Some((t, k));
-                    }
-                }
-                match best {
+                match bins.nearest(balls, px, py, o, d) {
                     None => (lighting.background(d), DVec3::ZERO, false),
                     Some((t, k)) => {
                         let b = &balls[k];
@@ -185,29 +178,6 @@ pub fn render_montecarlo_part(
         image.covered.push(c);
     }
     Ok(image)
-}
-
-/// `1 - E(mu, roughness)` from `e`: the read [`super::shade`] makes (the same tables, the
-/// same f32 arithmetic).
-fn loss(e: &TableRead<'_>, mu: f64, roughness: f64) -> f64 {
-    match e {
-        TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
-        TableRead::Rows(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
-        TableRead::Reference(g) => 1.0 - e_reference(mu.clamp(0.0, 1.0), roughness, *g),
-    }
-}
-
-/// `1 - E_avg(roughness)` from `e`, as [`super::shade`] reads it.
-fn loss_avg(e: &TableRead<'_>, roughness: f64) -> f64 {
-    match e {
-        TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
-        TableRead::Rows(t) => t.lut_loss_avg(roughness as f32) as f64,
-        TableRead::Reference(g) => 1.0 - e_avg_reference(roughness, *g),
-    }
-}
-
-fn per_channel(v: DVec3, f: impl Fn(f64) -> f64) -> DVec3 {
-    DVec3::new(f(v.x), f(v.y), f(v.z))
 }
 
 /// One visible surface point: the ball's model and what does not depend on the incident
@@ -252,7 +222,7 @@ impl ShadingPoint {
         let roughness = b.roughness;
         let f0 = b.material.f0;
         let mu_o = n.dot(v).max(0.0);
-        let loss_avg = loss_avg(e, roughness);
+        let loss_avg = e.loss_avg(roughness);
         let e_avg = 1.0 - loss_avg;
         let form = scene.preset.f_avg_form();
         ShadingPoint {
@@ -262,17 +232,13 @@ impl ShadingPoint {
             roughness,
             f0,
             ms: if b.multiple_scattering { 1.0 } else { 0.0 },
-            loss_o: loss(e, mu_o, roughness),
+            loss_o: e.loss(mu_o, roughness),
             norm: f_ms_norm(loss_avg),
-            f_add: DVec3::new(
-                f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
-                f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], e_avg),
-                f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], e_avg),
-            ),
+            f_add: f_add_rgb(form, f0, e_avg),
             kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
             term: scene.ibl_term,
             geometry: scene.effective_geometry(),
-            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
+            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - e.loss(mu_o, roughness)),
             part: Part::Whole,
         }
     }
@@ -330,7 +296,7 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
     let diffuse = p.kd / PI;
     let multiple = match p.term {
         IblTerm::KullaConty => {
-            let loss_i = loss(e, mu_i, p.roughness);
+            let loss_i = e.loss(mu_i, p.roughness);
             p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm)
         }
         IblTerm::Turquin => {

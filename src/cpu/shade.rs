@@ -23,7 +23,7 @@ pub enum TableRead<'a> {
 
 impl TableRead<'_> {
     /// `1 - E(mu, roughness)`.
-    fn loss(&self, mu: f64, roughness: f64) -> f64 {
+    pub(crate) fn loss(&self, mu: f64, roughness: f64) -> f64 {
         match self {
             TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
             TableRead::Rows(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
@@ -31,7 +31,7 @@ impl TableRead<'_> {
         }
     }
     /// `1 - E_avg(roughness)`.
-    fn loss_avg(&self, roughness: f64) -> f64 {
+    pub(crate) fn loss_avg(&self, roughness: f64) -> f64 {
         match self {
             TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
             TableRead::Rows(t) => t.lut_loss_avg(roughness as f32) as f64,
@@ -65,8 +65,18 @@ pub fn intersect_sphere(o: DVec3, d: DVec3, center: DVec3, r: f64) -> f64 {
     }
 }
 
-fn per_channel(v: DVec3, f: impl Fn(f64) -> f64) -> DVec3 {
+/// `f` applied to each channel of `v`.
+pub(crate) fn per_channel(v: DVec3, f: impl Fn(f64) -> f64) -> DVec3 {
     DVec3::new(f(v.x), f(v.y), f(v.z))
+}
+
+/// `f_add_preset` per channel of `f0` (the games202 form's edge tint per channel).
+pub(crate) fn f_add_rgb(form: FAvgForm, f0: DVec3, e_avg: f64) -> DVec3 {
+    DVec3::new(
+        f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
+        f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], e_avg),
+        f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], e_avg),
+    )
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`
@@ -90,11 +100,7 @@ pub fn shade(
     let e_avg = 1.0 - loss_avg;
     let norm = f_ms_norm(loss_avg);
     let f_avg_ss = per_channel(f0, f_avg_schlick);
-    let f_add = DVec3::new(
-        f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], e_avg),
-        f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], e_avg),
-        f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], e_avg),
-    );
+    let f_add = f_add_rgb(form, f0, e_avg);
     let kd = b.material.diffuse * (DVec3::ONE - f_avg_ss);
 
     let mut lo = scene.environment * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
@@ -178,11 +184,7 @@ pub fn shade_environment_map(
     let loss_o = e.loss(mu_o, roughness);
     let e_o = 1.0 - loss_o;
     let loss_avg = e.loss_avg(roughness);
-    let f_add = DVec3::new(
-        f_add_preset(form, f0.x, GAMES202_EDGE_TINT[0], 1.0 - loss_avg),
-        f_add_preset(form, f0.y, GAMES202_EDGE_TINT[1], 1.0 - loss_avg),
-        f_add_preset(form, f0.z, GAMES202_EDGE_TINT[2], 1.0 - loss_avg),
-    );
+    let f_add = f_add_rgb(form, f0, 1.0 - loss_avg);
     let kd = b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick));
     let intensity = environment.intensity;
     let r = 2.0 * n.dot(v) * n - v;

@@ -415,7 +415,9 @@ pub struct Prefiltered {
     pub convolved: Vec<Level>,
 }
 
-fn layer(width: u32, height: u32, f: impl Fn(DVec3) -> DVec3 + Sync) -> Level {
+/// A `width x height` layer whose texels are `f` of their centres' directions, rounded to
+/// f16 as the GPU stores them (rayon over the texels).
+pub fn layer(width: u32, height: u32, f: impl Fn(DVec3) -> DVec3 + Sync) -> Level {
     let texels = (0..width * height)
         .into_par_iter()
         .map(|k| {

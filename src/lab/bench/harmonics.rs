@@ -26,8 +26,8 @@ use super::table::{sci, Table};
 use super::{median, Goal, Sweep};
 use crate::environment::harmonics::{convolve_eval, project, zonal_coefficients};
 use crate::environment::prefilter::{
-    convolved_roughness, kernels, prefilter_convolved, Level, CONVOLVED_LEVELS, CONVOLVED_WIDTH,
-    F16_MAX,
+    convolved_roughness, kernels, layer, prefilter_convolved, Level, CONVOLVED_LEVELS,
+    CONVOLVED_WIDTH,
 };
 use crate::environment::{uv_to_direction, Builtin, EnvMap, MipChain, Prefiltered};
 use crate::error::Result;
@@ -124,27 +124,11 @@ pub fn direct_convolution(
 /// (height half) from `source`: `prefilter_convolved` at each texel centre, rounded to f16
 /// as the GPU stores them. At [`CONVOLVED_WIDTH`] this is what `Prefiltered::new` builds.
 pub fn convolved_layers(source: &Level, kernels: &[f32], width: u32) -> Vec<Level> {
-    let height = width / 2;
     (0..=CONVOLVED_LEVELS)
-        .map(|layer| {
-            let texels = (0..width * height)
-                .into_par_iter()
-                .map(|k| {
-                    let uv = DVec2::new(
-                        ((k % width) as f64 + 0.5) / width as f64,
-                        ((k / width) as f64 + 0.5) / height as f64,
-                    );
-                    let v =
-                        prefilter_convolved(source, kernels, layer, uv_to_direction(uv)).as_vec3();
-                    let f = |c: f32| half::f16::from_f32(c.min(F16_MAX)).to_f32();
-                    [f(v.x), f(v.y), f(v.z), 1.0]
-                })
-                .collect();
-            Level {
-                width,
-                height,
-                texels,
-            }
+        .map(|j| {
+            layer(width, width / 2, |n| {
+                prefilter_convolved(source, kernels, j, n)
+            })
         })
         .collect()
 }
