@@ -26,8 +26,10 @@
 //!
 //! Layers (docs/design.md, section 7), each importing only those listed before it, and the
 //! utilities [`error`], [`output`] (atomic file writes, images) and [`stats`]:
-//! [`brdf`] (the maths), [`lut`] (baking and reading the tables), [`scene`], then the
-//! renderers [`gpu`] and [`cpu`] with [`display`]. The front ends sit on top: `cli` (feature `cli`, the binary) and `viewer` (feature `viewer`); the measurement
+//! [`brdf`] (the maths), [`lut`] (baking and reading the tables), [`environment`] (maps,
+//! their prefiltering on the CPU, harmonics), [`scene`], then the renderers [`gpu`] and
+//! [`cpu`] with [`display`]. The front ends sit on top: `cli` (feature `cli`, the binary)
+//! and `viewer` (feature `viewer`); the measurement
 //! lab, `lab` (feature `lab`), imports the library, and only the command line imports it.
 //! With `default-features = false` the crate is the library alone (no winit, egui, clap or
 //! plotting crate).
