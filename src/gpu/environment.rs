@@ -275,7 +275,7 @@ impl EnvironmentTextures {
 
     /// Stand-ins for a scene with no map: one black texel each (nothing reads them: the
     /// pipelines compile the map's reads out), so one pipeline layout serves every scene.
-    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+    pub fn empty(device: &wgpu::Device) -> Self {
         let black = |label, layers| {
             let t = texture(
                 device,
@@ -302,7 +302,6 @@ impl EnvironmentTextures {
             wgpu::TextureFormat::R32Float,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        let _ = queue;
         EnvironmentTextures {
             radiance: black("environment map (none)", 1),
             specular: black("specular layers (none)", 2),

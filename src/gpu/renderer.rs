@@ -72,7 +72,7 @@ struct EnvironmentGroup {
 }
 
 impl EnvironmentGroup {
-    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+    fn new(device: &wgpu::Device) -> Self {
         let layout = env_gpu::layout(device);
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("environment"),
@@ -81,8 +81,7 @@ impl EnvironmentGroup {
             mapped_at_creation: false,
         });
         let sampler = env_gpu::sampler(device);
-        let empty =
-            EnvironmentTextures::empty(device, queue).bind(device, &layout, &uniform, &sampler);
+        let empty = EnvironmentTextures::empty(device).bind(device, &layout, &uniform, &sampler);
         EnvironmentGroup {
             layout,
             uniform,
@@ -171,7 +170,7 @@ impl Renderer {
     /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: [`Gpu::from_device`]).
     pub fn new(gpu: Gpu) -> Self {
         let bindings = Bindings::new(&gpu.device);
-        let environment = EnvironmentGroup::new(&gpu.device, &gpu.queue);
+        let environment = EnvironmentGroup::new(&gpu.device);
         let pipelines = Pipelines::new(&gpu.device, &bindings, &environment.layout);
         Renderer {
             gpu,
