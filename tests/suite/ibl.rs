@@ -303,3 +303,21 @@ fn rotating_the_environment_rotates_the_highlights() {
         moved.report("turned vs unturned")
     );
 }
+
+/// The map path on GL (llvmpipe through EGL: a fresh machine's `--backend auto`) against
+/// the CPU twin, the same bound as Vulkan: the prefilter's compute passes, the array
+/// textures and the background pass compile and agree there too.
+#[test]
+fn gl_matches_the_cpu_twin_under_a_map() {
+    let mut r = crate::pixels::renderer(wgpu::Backends::GL);
+    let (w, h) = (640, 360);
+    for term in IblTerm::ALL {
+        let scene = under(
+            Scene::reference(),
+            Environment::builtin(Builtin::Studio),
+            term,
+        );
+        let (gpu, cpu) = both(&mut r, &scene, w, h);
+        assert_close(&compare(&gpu, &cpu, w), &format!("GL, studio, {term}"));
+    }
+}
