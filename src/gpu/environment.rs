@@ -542,18 +542,25 @@ fn prefilter(
 }
 
 /// What the prefiltered textures depend on: the map (by identity: scenes share it through
-/// an `Arc`) and the G of the tables the kernels and the split sum come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// an `Arc`; the key holds a clone, so the address cannot be reused by another map while
+/// the textures are kept) and the G of the tables the kernels and the split sum come from.
+#[derive(Clone, Debug)]
 pub struct EnvironmentKey {
-    map: usize,
+    map: std::sync::Arc<crate::environment::EnvMap>,
     geometry: crate::brdf::Geometry,
+}
+
+impl PartialEq for EnvironmentKey {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.map, &other.map) && self.geometry == other.geometry
+    }
 }
 
 impl EnvironmentKey {
     /// The key of `environment` shaded with `geometry`.
     pub fn new(environment: &Environment, geometry: crate::brdf::Geometry) -> Self {
         EnvironmentKey {
-            map: std::sync::Arc::as_ptr(&environment.map) as usize,
+            map: environment.map.clone(),
             geometry,
         }
     }

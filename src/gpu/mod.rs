@@ -22,7 +22,7 @@ pub use headless::{HdrImage, LdrImage};
 pub use pipelines::{is_bits, is_linear};
 pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target, QUAD_PAD_PX};
+pub use renderer::{Renderer, Target, MAX_PREFILTERED_MAPS, QUAD_PAD_PX};
 pub use table_cache::MAX_CACHED_ROWS;
 pub use uniforms::BoundTables;
 pub use upload::{loss_quads, GpuTables};

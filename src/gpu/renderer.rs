@@ -57,18 +57,26 @@ pub struct Renderer {
     /// The per-ball draw's depth target, the size of the last colour target drawn into
     /// (made again when that size changes).
     depth: Option<Depth>,
-    /// Group 1: the environment map's textures, prefiltered for the latest map drawn.
+    /// Group 1: the environment maps' textures, prefiltered for the latest maps drawn.
     environment: EnvironmentGroup,
 }
 
+/// Prefiltered maps a renderer keeps (the viewer's picker switches between built-ins
+/// without preparing one again): a few megabytes each at 1024 x 512 (the map's f16 mip
+/// chain and the prefiltered layers), the least recently drawn dropped first.
+pub const MAX_PREFILTERED_MAPS: usize = 4;
+
 /// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
-/// map, and the latest map's prefiltered textures with their bind group.
+/// map, and the latest maps' prefiltered textures with their bind groups, most recently
+/// drawn first.
 struct EnvironmentGroup {
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
     sampler: wgpu::Sampler,
     empty: wgpu::BindGroup,
-    loaded: Option<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
+    loaded: Vec<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
+    /// Wall time of the latest preparation.
+    last_prepared: Option<Duration>,
 }
 
 impl EnvironmentGroup {
@@ -87,7 +95,8 @@ impl EnvironmentGroup {
             uniform,
             sampler,
             empty,
-            loaded: None,
+            loaded: Vec::new(),
+            last_prepared: None,
         }
     }
 
@@ -99,13 +108,14 @@ impl EnvironmentGroup {
         };
         let geometry = scene.effective_geometry();
         let key = EnvironmentKey::new(environment, geometry);
-        if let Some((k, _, group)) = &self.loaded {
-            if *k == key {
-                return group.clone();
-            }
+        if let Some(i) = self.loaded.iter().position(|(k, _, _)| *k == key) {
+            let entry = self.loaded.remove(i);
+            let group = entry.2.clone();
+            self.loaded.insert(0, entry);
+            return group;
         }
-        // Dropped first: two maps' textures are never held at once.
-        self.loaded = None;
+        // Dropped first: at most MAX_PREFILTERED_MAPS maps' textures at once.
+        self.loaded.truncate(MAX_PREFILTERED_MAPS - 1);
         let start = std::time::Instant::now();
         let tables = crate::lut::bake(&BakeConfig { geometry, ..config });
         let kernels = crate::environment::prefilter::kernels(&tables);
@@ -127,8 +137,9 @@ impl EnvironmentGroup {
             ms(textures.prefilter_time)
         );
         textures.prefilter_time = start.elapsed();
+        self.last_prepared = Some(textures.prefilter_time);
         let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
-        self.loaded = Some((key, textures, group.clone()));
+        self.loaded.insert(0, (key, textures, group.clone()));
         group
     }
 }
@@ -331,14 +342,12 @@ impl Renderer {
             .map_or(BoundTables::None, |b| b.read.clone())
     }
 
-    /// Wall time of preparing the latest environment map: the kernels, its mip chain and
-    /// the split-sum table on the CPU, the upload and the GPU's prefiltering to the queue's
-    /// completion; `None` before any.
+    /// Wall time of the latest preparation of an environment map: the kernels, its mip
+    /// chain and the split-sum table on the CPU, the upload and the GPU's prefiltering to
+    /// the queue's completion; `None` before any. A map drawn again while held (up to
+    /// [`MAX_PREFILTERED_MAPS`]) is not prepared again.
     pub fn last_prefilter_time(&self) -> Option<Duration> {
-        self.environment
-            .loaded
-            .as_ref()
-            .map(|(_, t, _)| t.prefilter_time)
+        self.environment.last_prepared
     }
 
     /// Prefilters `scene`'s environment map now if it has one not yet held (otherwise done

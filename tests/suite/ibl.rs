@@ -321,3 +321,40 @@ fn gl_matches_the_cpu_twin_under_a_map() {
         assert_close(&compare(&gpu, &cpu, w), &format!("GL, studio, {term}"));
     }
 }
+
+/// The renderer keeps up to MAX_PREFILTERED_MAPS prepared maps: drawing one of them again
+/// prepares nothing (the latest preparation's time stays that of the map prepared last),
+/// a further map is prepared, and a map dropped and made again (a new `Arc`, possibly at
+/// the old address) is prepared again, never served stale textures.
+#[test]
+fn prepared_maps_are_kept_and_reused() {
+    use shadeballs::gpu::MAX_PREFILTERED_MAPS;
+    let mut r = vulkan();
+    let (w, h) = (64, 36);
+    let maps: Vec<Environment> = (0..MAX_PREFILTERED_MAPS)
+        .map(|k| map_environment(EnvMap::uniform(DVec3::splat(0.2 + k as f64), 32, 16), 0.0))
+        .collect();
+    let draw = |r: &mut shadeballs::Renderer, e: &Environment| {
+        let scene = under(Scene::furnace(), e.clone(), IblTerm::KullaConty);
+        r.render_hdr(&scene, w, h).unwrap().rgba
+    };
+    let mut images = Vec::new();
+    for e in &maps {
+        images.push(draw(&mut r, e));
+    }
+    let last = r.last_prefilter_time().unwrap();
+    for (e, image) in maps.iter().zip(&images) {
+        assert_eq!(&draw(&mut r, e), image, "a kept map draws as before");
+        assert_eq!(
+            r.last_prefilter_time().unwrap(),
+            last,
+            "nothing prepared again"
+        );
+    }
+    // A map of another radiance, made anew: prepared, and drawn with its own radiance.
+    let fresh = map_environment(EnvMap::uniform(DVec3::splat(9.0), 32, 16), 0.0);
+    let image = draw(&mut r, &fresh);
+    assert_ne!(r.last_prefilter_time().unwrap(), last);
+    let centre = ((h / 2 * w + w / 2) * 4) as usize;
+    assert!((image[centre] - 9.0).abs() < 0.05, "{}", image[centre]);
+}
