@@ -137,8 +137,8 @@ pub fn render_montecarlo_part(
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
     // Fdez-Aguera's FssEss is F0 A + B: the split sum's table, as the real-time method reads.
-    let split =
-        (scene.ibl_term == IblTerm::FdezAguera).then(|| SplitSum::bake(scene.effective_geometry()));
+    let split = (scene.ibl_term == IblTerm::FdezAguera)
+        .then(|| SplitSum::shipped(scene.effective_geometry()));
     let split = &split;
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()

@@ -150,7 +150,7 @@ impl CpuEnvironment {
         CpuEnvironment {
             chain,
             prefiltered,
-            split: SplitSum::bake(tables.config.geometry),
+            split: SplitSum::shipped(tables.config.geometry),
         }
     }
 

@@ -129,14 +129,15 @@ pub struct MipChain {
 impl MipChain {
     /// Builds the chain of `map`.
     pub fn new(map: &EnvMap) -> Self {
-        let mut clamped = 0;
+        let clamped = map
+            .texels()
+            .par_iter()
+            .map(|t| t.iter().filter(|&&c| c > F16_MAX).count() as u64)
+            .sum();
         let texels = map
             .texels()
-            .iter()
-            .map(|t| {
-                clamped += t.iter().filter(|&&c| c > F16_MAX).count() as u64;
-                [f16_round(t[0]), f16_round(t[1]), f16_round(t[2]), 1.0]
-            })
+            .par_iter()
+            .map(|t| [f16_round(t[0]), f16_round(t[1]), f16_round(t[2]), 1.0])
             .collect();
         let mut levels = vec![Level {
             width: map.width(),
@@ -181,28 +182,30 @@ fn downsample(l: &Level) -> Option<Level> {
         return None;
     }
     let (w, h) = (l.width / 2, l.height / 2);
-    let mut texels = Vec::with_capacity((w * h) as usize);
-    for j in 0..h {
-        let w0 = l.texel_solid_angle(2 * j) as f32;
-        let w1 = l.texel_solid_angle(2 * j + 1) as f32;
-        let norm = 0.5 / (w0 + w1).max(f32::MIN_POSITIVE);
-        for i in 0..w {
-            let mut sum = [0f32; 3];
-            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let t = l.texels[((2 * j + dj) * l.width + 2 * i + di) as usize];
-                let weight = if dj == 0 { w0 } else { w1 };
-                for c in 0..3 {
-                    sum[c] += t[c] * weight;
+    let texels = (0..h)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let w0 = l.texel_solid_angle(2 * j) as f32;
+            let w1 = l.texel_solid_angle(2 * j + 1) as f32;
+            let norm = 0.5 / (w0 + w1).max(f32::MIN_POSITIVE);
+            (0..w).map(move |i| {
+                let mut sum = [0f32; 3];
+                for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let t = l.texels[((2 * j + dj) * l.width + 2 * i + di) as usize];
+                    let weight = if dj == 0 { w0 } else { w1 };
+                    for c in 0..3 {
+                        sum[c] += t[c] * weight;
+                    }
                 }
-            }
-            texels.push([
-                f16_round(sum[0] * norm),
-                f16_round(sum[1] * norm),
-                f16_round(sum[2] * norm),
-                1.0,
-            ]);
-        }
-    }
+                [
+                    f16_round(sum[0] * norm),
+                    f16_round(sum[1] * norm),
+                    f16_round(sum[2] * norm),
+                    1.0,
+                ]
+            })
+        })
+        .collect();
     Some(Level {
         width: w,
         height: h,

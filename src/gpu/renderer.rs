@@ -122,7 +122,7 @@ impl EnvironmentGroup {
         let t_kernels = start.elapsed();
         let chain = crate::environment::MipChain::new(&environment.map);
         let t_chain = start.elapsed();
-        let split = crate::lut::SplitSum::bake(geometry);
+        let split = crate::lut::SplitSum::shipped(geometry);
         let t_split = start.elapsed();
         let mut textures =
             EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);

@@ -186,6 +186,33 @@ impl SplitSum {
         SplitSum { geometry, bias }
     }
 
+    /// The table as shipped with the crate (`assets/split_sum_bias.bin`: every G's table,
+    /// in `Geometry::ALL` order, little-endian f32), what the renderers use: no bake at
+    /// startup. A test holds it bit for bit equal to [`SplitSum::bake`].
+    pub fn shipped(geometry: Geometry) -> Self {
+        const BYTES: &[u8] = include_bytes!("../../assets/split_sum_bias.bin");
+        let n = SPLIT_SUM_SIZE * SPLIT_SUM_SIZE;
+        let index = Geometry::ALL
+            .iter()
+            .position(|&g| g == geometry)
+            .unwrap_or(0);
+        let bias = BYTES[index * n * 4..(index + 1) * n * 4]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        SplitSum { geometry, bias }
+    }
+
+    /// Every G's table as [`SplitSum::shipped`] reads them (what the test writes when the
+    /// bake changes).
+    pub fn shipped_bytes() -> Vec<u8> {
+        Geometry::ALL
+            .iter()
+            .flat_map(|&g| SplitSum::bake(g).bias)
+            .flat_map(f32::to_le_bytes)
+            .collect()
+    }
+
     /// `split_sum_bias` of `shaders/environment.wgsl`: B at `(mu, roughness)`, bilinear
     /// between the texels around it (clamped to the table), in f32 as the shader does.
     pub fn bias_at(&self, mu: f32, roughness: f32) -> f32 {

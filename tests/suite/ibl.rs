@@ -358,3 +358,22 @@ fn prepared_maps_are_kept_and_reused() {
     let centre = ((h / 2 * w + w / 2) * 4) as usize;
     assert!((image[centre] - 9.0).abs() < 0.05, "{}", image[centre]);
 }
+
+/// The split-sum tables shipped in `assets/split_sum_bias.bin` are the bake's, bit for bit
+/// (run with SHADEBALLS_UPDATE_GOLDENS=1 to write them again after a change to the bake).
+#[test]
+fn shipped_split_sum_tables_are_the_bake() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/split_sum_bias.bin");
+    let baked = SplitSum::shipped_bytes();
+    if std::env::var("SHADEBALLS_UPDATE_GOLDENS").is_ok_and(|v| v == "1") {
+        std::fs::write(&path, &baked).unwrap();
+    }
+    let shipped = std::fs::read(&path).unwrap();
+    assert!(
+        shipped == baked,
+        "assets/split_sum_bias.bin differs from the bake"
+    );
+    for g in Geometry::ALL {
+        assert_eq!(SplitSum::shipped(g), SplitSum::bake(g));
+    }
+}
