@@ -70,8 +70,9 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
 }
 
 // Radiance leaving ball b at normal n towards v lit by the environment map (docs/design.md
-// section 10): the split sum (prefiltered radiance about the mirror direction times
-// F0 A + B), the Lambertian base lit by the irradiance, and the multiple-scattering term
+// section 10): the split sum (the prefiltered radiance along the mirror direction bent
+// towards the normal, specular_direction, times F0 A + B), the Lambertian base lit by the
+// irradiance, and the multiple-scattering term
 // as IBL chooses, weighted by `ms`. `loss_o` is 1 - E(mu_o) as read from the E table; f_add
 // the ball's (zero with the term compiled out). Mirrored by src/cpu/shade.rs
 // shade_environment_map.
