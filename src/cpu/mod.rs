@@ -10,7 +10,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
-pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, TableRead};
+pub use shade::{
+    intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms, TableRead,
+};
+
+use shade::shade_with_terms;
 
 use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
@@ -70,10 +74,10 @@ pub fn render_radiance_with(
                     (Some((t, k)), _) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        let lo = shade(scene, b, n, -d, e, form, geometry);
+                        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, form, geometry);
                         match ibl {
                             Some((_, map)) => {
-                                lo + shade_environment_map(scene, b, n, -d, e, form, map)
+                                lo + shade_environment_map(scene, b, n, -d, &terms, map)
                             }
                             None => lo,
                         }

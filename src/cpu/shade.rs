@@ -79,8 +79,9 @@ pub(crate) fn f_add_rgb(form: FAvgForm, f0: DVec3, e_avg: f64) -> DVec3 {
     )
 }
 
-/// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`
-/// (see the shader for the model and the environment approximation).
+/// `shade` of `lighting.wgsl` without the environment map's part: radiance leaving ball `b`
+/// at unit normal `n` towards `v` (see the shader for the model and the environment
+/// approximation). [`shade_environment_map`] adds the map's.
 pub fn shade(
     scene: &Scene,
     b: &Ball,
@@ -90,6 +91,35 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
+    shade_with_terms(scene, b, n, v, e, form, geometry).0
+}
+
+/// What `shade` forms once per pixel and the environment map's part takes from it, as
+/// `lighting.wgsl` hands them to `shade_environment_map`.
+#[derive(Clone, Copy, Debug)]
+pub struct PointTerms {
+    /// `max(n.v, 0)`.
+    pub mu_o: f64,
+    /// `1 - E(mu_o)` as read.
+    pub loss_o: f64,
+    /// 1 with the multiple-scattering term, else 0.
+    pub ms: f64,
+    /// `f_add` of the preset per channel.
+    pub f_add: DVec3,
+    /// The Lambertian base's weight, `diffuse (1 - F_avg)`.
+    pub kd: DVec3,
+}
+
+/// [`shade`], and the terms it formed.
+pub(super) fn shade_with_terms(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableRead<'_>,
+    form: FAvgForm,
+    geometry: Geometry,
+) -> (DVec3, PointTerms) {
     let roughness = b.roughness;
     let f0 = b.material.f0;
     let ms = if b.multiple_scattering { 1.0 } else { 0.0 };
@@ -127,7 +157,14 @@ pub fn shade(
         let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, norm) + kd / std::f64::consts::PI;
         lo += f_r * light.radiance * mu_i;
     }
-    lo
+    let terms = PointTerms {
+        mu_o,
+        loss_o,
+        ms,
+        f_add,
+        kd,
+    };
+    (lo, terms)
 }
 
 /// An environment map prepared for the CPU renderer: the same mip chain, prefiltered
@@ -163,14 +200,14 @@ impl CpuEnvironment {
 }
 
 /// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b` at normal `n`
-/// towards `v` lit by the scene's environment map (zero without one).
+/// towards `v` lit by the scene's environment map (zero without one), from the terms
+/// [`shade`] formed at the point.
 pub fn shade_environment_map(
     scene: &Scene,
     b: &Ball,
     n: DVec3,
     v: DVec3,
-    e: &TableRead<'_>,
-    form: FAvgForm,
+    terms: &PointTerms,
     ibl: &CpuEnvironment,
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
@@ -178,14 +215,14 @@ pub fn shade_environment_map(
     };
     let roughness = b.roughness;
     let f0 = b.material.f0;
-    let ms = if b.multiple_scattering { 1.0 } else { 0.0 };
-    let mu_o = n.dot(v).max(0.0);
-    // The shader reads E, E_avg and B in f32.
-    let loss_o = e.loss(mu_o, roughness);
+    let PointTerms {
+        mu_o,
+        loss_o,
+        ms,
+        f_add,
+        kd,
+    } = *terms;
     let e_o = 1.0 - loss_o;
-    let loss_avg = e.loss_avg(roughness);
-    let f_add = f_add_rgb(form, f0, 1.0 - loss_avg);
-    let kd = b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick));
     let intensity = environment.intensity;
     let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
