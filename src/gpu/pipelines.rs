@@ -93,120 +93,123 @@ impl Pipelines {
         let key = (format, geometry, mu_axis, true, variant);
         let (module, layout) = (&self.module, &self.layout);
         self.backgrounds.entry(key).or_insert_with(|| {
-            let constants = shaders::overrides_for(geometry, is_linear(format), mu_axis, variant);
-            let options = wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            };
             let fs = if is_bits(format) {
                 shaders::FS_BACKGROUND_BITS
             } else {
                 shaders::FS_BACKGROUND
             };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("background"),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(shaders::VS_MAIN),
-                    compilation_options: options.clone(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(fs),
-                    compilation_options: options,
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            let shape = Shape {
+                label: "background",
+                vs: shaders::VS_MAIN,
+                fs,
+                buffers: &[],
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                depth: Some((false, wgpu::CompareFunction::Always)),
+            };
+            create(device, layout, module, key, shape)
         })
     }
 
     /// The pipeline of `key`, created on first use.
     pub fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let (format, geometry, mu_axis, per_ball, variant) = key;
+        let (format, _, _, per_ball, _) = key;
         let (module, layout) = (&self.module, &self.layout);
         self.made.entry(key).or_insert_with(|| {
-            let linear = is_linear(format);
-            let constants = shaders::overrides_for(geometry, linear, mu_axis, variant);
-            let options = wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            };
             let bits = is_bits(format);
-            let (vs, fs, buffers): (_, _, &[Option<wgpu::VertexBufferLayout>]) = if per_ball {
-                (
-                    shaders::VS_BALL,
-                    if bits {
+            let shape = if per_ball {
+                Shape {
+                    label: "balls",
+                    vs: shaders::VS_BALL,
+                    fs: if bits {
                         shaders::FS_BALL_BITS
                     } else {
                         shaders::FS_BALL
                     },
-                    &[Some(BallInstance::LAYOUT)],
-                )
+                    buffers: &[Some(BallInstance::LAYOUT)],
+                    // A quad a ball: one strip of two triangles an instance (4 vertices,
+                    // not 6).
+                    topology: wgpu::PrimitiveTopology::TriangleStrip,
+                    // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
+                    depth: Some((true, wgpu::CompareFunction::Less)),
+                }
             } else {
-                let fs = if bits {
-                    shaders::FS_MAIN_BITS
-                } else {
-                    shaders::FS_MAIN
-                };
-                (shaders::VS_MAIN, fs, &[])
-            };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("balls"),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(vs),
-                    compilation_options: options.clone(),
-                    buffers,
-                },
-                // A quad a ball: one strip of two triangles an instance (4 vertices, not 6).
-                primitive: wgpu::PrimitiveState {
-                    topology: if per_ball {
-                        wgpu::PrimitiveTopology::TriangleStrip
+                Shape {
+                    label: "balls",
+                    vs: shaders::VS_MAIN,
+                    fs: if bits {
+                        shaders::FS_MAIN_BITS
                     } else {
-                        wgpu::PrimitiveTopology::TriangleList
+                        shaders::FS_MAIN
                     },
-                    ..Default::default()
-                },
-                // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
-                depth_stencil: per_ball.then(|| wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(fs),
-                    compilation_options: options,
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                    buffers: &[],
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    depth: None,
+                }
+            };
+            create(device, layout, module, key, shape)
         })
     }
+}
+
+/// What differs between the ball module's pipelines: entry points, vertex buffers,
+/// topology, and the depth test (`(write, compare)` against [`DEPTH_FORMAT`], or none).
+struct Shape<'a> {
+    label: &'a str,
+    vs: &'a str,
+    fs: &'a str,
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    topology: wgpu::PrimitiveTopology,
+    depth: Option<(bool, wgpu::CompareFunction)>,
+}
+
+/// A pipeline of the ball module of `shape`, compiled with the override constants of
+/// `key` (its G, mu axis and variant; linear or bits output for its format) into its
+/// format.
+fn create(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    key: PipelineKey,
+    shape: Shape<'_>,
+) -> wgpu::RenderPipeline {
+    let (format, geometry, mu_axis, _, variant) = key;
+    let constants = shaders::overrides_for(geometry, is_linear(format), mu_axis, variant);
+    let options = wgpu::PipelineCompilationOptions {
+        constants: &constants,
+        ..Default::default()
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(shape.label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(shape.vs),
+            compilation_options: options.clone(),
+            buffers: shape.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: shape.topology,
+            ..Default::default()
+        },
+        depth_stencil: shape.depth.map(|(write, compare)| wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(shape.fs),
+            compilation_options: options,
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
