@@ -11,7 +11,7 @@ use shadeballs::cpu::montecarlo::{model_brdf, ShadingPoint};
 use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage, TableRead};
 use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::{self, BakeConfig, Tables};
-use shadeballs::scene::{Ball, Light, Material, MaterialKind, Preset, Scene};
+use shadeballs::scene::{Ball, Material, MaterialKind, Preset, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 
@@ -119,18 +119,7 @@ fn furnace_converges_to_one_for_every_ibl_term() {
 #[test]
 fn lights_alone_match_the_cpu_reference_exactly() {
     let (w, h) = (320, 180);
-    let mut mixed = Scene::reference();
-    mixed.lights.push(Light {
-        direction: DVec3::new(1.0, 1.0, 0.5).normalize(),
-        radiance: DVec3::new(2.0, 1.5, 1.0),
-    });
-    for b in mixed.balls.iter_mut().step_by(2) {
-        b.material = Material {
-            kind: MaterialKind::Dielectric,
-            f0: DVec3::splat(0.04),
-            diffuse: DVec3::new(0.1, 0.4, 0.6),
-        };
-    }
+    let mixed = crate::render::mixed_scene();
     let games202 = Scene {
         preset: Preset::Games202,
         ..Scene::reference()

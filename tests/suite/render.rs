@@ -45,14 +45,10 @@ fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {
     );
 }
 
-/// Every G variant, a dielectric, two lights and an environment at once.
-#[test]
-fn every_geometry_and_material_matches_cpu() {
-    use shadeballs::brdf::Geometry;
+/// The reference scene with a second, coloured light and every other ball a dielectric.
+pub fn mixed_scene() -> Scene {
     use shadeballs::scene::{Light, Material, MaterialKind};
-    let mut r = vulkan();
     let mut scene = Scene::reference();
-    scene.environment = DVec3::new(0.1, 0.12, 0.15);
     scene.lights.push(Light {
         direction: DVec3::new(1.0, 1.0, 0.5).normalize(),
         radiance: DVec3::new(2.0, 1.5, 1.0),
@@ -64,6 +60,16 @@ fn every_geometry_and_material_matches_cpu() {
             diffuse: DVec3::new(0.1, 0.4, 0.6),
         };
     }
+    scene
+}
+
+/// Every G variant, a dielectric, two lights and an environment at once.
+#[test]
+fn every_geometry_and_material_matches_cpu() {
+    use shadeballs::brdf::Geometry;
+    let mut r = vulkan();
+    let mut scene = mixed_scene();
+    scene.environment = DVec3::new(0.1, 0.12, 0.15);
     for geometry in Geometry::ALL {
         scene.geometry = geometry;
         let (w, h) = (640, 360);
