@@ -164,3 +164,21 @@ fn f_micro(fresnel: vec3<f32>, mu_o: f32, mu_i: f32, n_dot_h: f32, roughness: f3
     let g = geometry_g(mu_o, mu_i, roughness, geometry);
     return fresnel * (g * d / max(4.0 * mu_i * mu_o, DIV_EPSILON));
 }
+
+// The multiple-scattering compensations other than Kulla-Conty's lobe (f_ms in lut.wgsl's
+// neighbour, lighting.wgsl), per channel as src/brdf/compensation.rs.
+//
+// Turquin 2019 ("Practical multiple scattering compensation for microfacet models"): the
+// single-scattering result `single` times 1 + F0 (1 / E - 1); returns the added part.
+fn term_turquin(single: vec3<f32>, f0: vec3<f32>, e_o: f32) -> vec3<f32> {
+    return single * f0 * (1.0 / max(e_o, DIV_EPSILON) - 1.0);
+}
+
+// Fdez-Aguera 2019 ("A Multiple-Scattering Microfacet Model for Real-Time Image-based
+// Lighting"): the multiple-scattering energy FmsEms = FssEss F_avg Ems / (1 - Ems F_avg),
+// Ems = 1 - E(mu_o), F_avg = F0 + (1 - F0) / 21; it reflects light as if diffuse (times the
+// irradiance, or 1 / pi per unit of light and cosine).
+fn term_fdez_aguera(fss_ess: vec3<f32>, f0: vec3<f32>, loss_o: f32) -> vec3<f32> {
+    let f_avg = f_avg_schlick(f0);
+    return fss_ess * f_avg * loss_o / max(1.0 - loss_o * f_avg, vec3<f32>(DIV_EPSILON));
+}

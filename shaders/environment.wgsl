@@ -105,18 +105,3 @@ fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {
 fn split_sum_scale(f0: vec3<f32>, e_o: f32, bias: f32) -> vec3<f32> {
     return f0 * e_o + (1.0 - f0) * bias;
 }
-
-// Turquin 2019 ("Practical multiple scattering compensation for microfacet models"): the
-// single-scattering result times 1 + F0 (1 / E - 1); returns the added part.
-fn ibl_term_turquin(single: vec3<f32>, f0: vec3<f32>, e_o: f32) -> vec3<f32> {
-    return single * f0 * (1.0 / max(e_o, DIV_EPSILON) - 1.0);
-}
-
-// Fdez-Aguera 2019 ("A Multiple-Scattering Microfacet Model for Real-Time Image-based
-// Lighting"): FmsEms = FssEss F_avg Ems / (1 - Ems F_avg), F_avg = F0 + (1 - F0) / 21, lit
-// by the irradiance over pi as if diffuse.
-fn ibl_term_fdez_aguera(fss_ess: vec3<f32>, f0: vec3<f32>, loss_o: f32, irradiance: vec3<f32>) -> vec3<f32> {
-    let f_avg = f0 + (1.0 - f0) / 21.0;
-    let fms_ems = fss_ess * f_avg * loss_o / max(1.0 - loss_o * f_avg, vec3<f32>(DIV_EPSILON));
-    return fms_ems * irradiance;
-}

@@ -6,19 +6,22 @@
 // buffer: balls.wgsl loop_counts says why).
 //
 // Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
-// + ms f_add f_ms + diffuse / pi; Lo += f_r L mu_i.
+// + the ball's term + diffuse / pi; Lo += f_r L mu_i. The term (ball_term) is Kulla-Conty's
+// lobe f_add f_ms, Turquin's f_micro F0 (1 / E(mu_o) - 1), or Fdez-Aguera's FmsEms / pi.
 //
 // Uniform environment L_env: the cosine-weighted hemispherical integral of f_r. The
-// multiple-scattering lobe integrates exactly to f_add (1 - E(mu_o)) (its construction),
-// the Lambertian base to its albedo. The single-scattering part with Schlick F has no
-// table of its own: it is approximated by F_avg_schlick(F0) E(mu_o), i.e. F replaced by its
-// cosine-weighted average. That is exact when F is constant (F0 = 1, the furnace, where it
-// gives E(mu_o) and Lo = L_env exactly with the term on) and otherwise an approximation
-// of the split-sum kind (Karis 2013 keeps a second table for the (1 - F0) part instead).
+// Kulla-Conty lobe integrates exactly to f_add (1 - E(mu_o)) (its construction), the
+// Lambertian base to its albedo, Fdez-Aguera's lobe to FmsEms. The single-scattering part
+// with Schlick F, FssEss, has no table of its own without a map: it is approximated by
+// F_avg_schlick(F0) E(mu_o), i.e. F replaced by its cosine-weighted average. That is exact
+// when F is constant (F0 = 1, the furnace, where it gives E(mu_o) and Lo = L_env exactly
+// with the term on) and otherwise an approximation of the split-sum kind; with a map bound
+// FssEss is the split sum's F0 A + B (Karis 2013's second table).
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let ms = term_weight(b);
+    let term = u32(b.lut_row.w);
     let mu_o = max(dot(n, v), 0.0);
     // E(mu_o) is read for the term and for the environment's part, not otherwise.
     var loss_o = 0.0;
@@ -36,13 +39,30 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         f_add = b.f_add_ms_norm.xyz;
     }
     let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
+    // The single-scattering albedo: the split sum with a map bound, else F_avg E(mu_o).
+    var fss_ess = f_avg_ss * e_o;
+    if IBL != 0u {
+        fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_o, roughness));
+    }
+    // Fdez-Aguera's energy, formed once for every light (zero for the other terms).
+    var fms_ems = vec3<f32>(0.0);
+    if MS_TERM != 0u && term == TERM_FDEZ_AGUERA {
+        fms_ems = term_fdez_aguera(fss_ess, f0, loss_o);
+    }
 
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
-        lo = globals.environment.xyz * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+        let single = f_avg_ss * e_o;
+        var added = f_add * loss_o;
+        if term == TERM_TURQUIN {
+            added = term_turquin(single, f0, e_o);
+        } else if term == TERM_FDEZ_AGUERA {
+            added = fms_ems;
+        }
+        lo = globals.environment.xyz * (single + ms * added + kd);
     }
     if IBL != 0u {
-        lo += shade_environment_map(b, n, v, mu_o, loss_o, ms, f_add, kd);
+        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add, kd);
     }
     if HAS_LIGHTS == 0u {
         return lo;
@@ -58,10 +78,16 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
         var lobe = vec3<f32>(0.0);
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
-        // its E read.
+        // its E read; then a branch on the ball's own term.
         if MS_TERM == 2u || (MS_TERM == 1u && ms > 0.0) {
-            let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
-            lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
+            if term == TERM_TURQUIN {
+                lobe = ms * term_turquin(spec, f0, e_o);
+            } else if term == TERM_FDEZ_AGUERA {
+                lobe = ms * fms_ems / PI;
+            } else {
+                let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
+                lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
+            }
         }
         let f_r = spec + lobe + kd / PI;
         lo += f_r * lights[k].radiance.xyz * mu_i;
@@ -72,16 +98,17 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
 // Radiance leaving ball b at normal n towards v lit by the environment map (docs/design.md
 // section 10): the split sum (the prefiltered radiance along the mirror direction bent
 // towards the normal, specular_direction, times F0 A + B), the Lambertian base lit by the
-// irradiance, and the multiple-scattering term
-// as IBL chooses, weighted by `ms`. `loss_o` is 1 - E(mu_o) as read from the E table; f_add
-// the ball's (zero with the term compiled out). Mirrored by src/cpu/shade.rs
-// shade_environment_map.
+// irradiance, and the ball's multiple-scattering term, weighted by `ms`. `loss_o` is
+// 1 - E(mu_o) as read from the E table; `fss_ess` the split sum's F0 A + B; `fms_ems`
+// Fdez-Aguera's energy (zero for the other terms); f_add the ball's (zero with the term
+// compiled out). Mirrored by src/cpu/shade.rs shade_environment_map.
 fn shade_environment_map(
     b: Ball,
     n: vec3<f32>,
     v: vec3<f32>,
-    mu_o: f32,
     loss_o: f32,
+    fss_ess: vec3<f32>,
+    fms_ems: vec3<f32>,
     ms: f32,
     f_add: vec3<f32>,
     kd: vec3<f32>,
@@ -96,14 +123,14 @@ fn shade_environment_map(
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
-    let fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_o, roughness));
     let single = prefiltered * fss_ess;
     var lo = single + kd * irradiance;
     if ms > 0.0 {
-        if IBL == IBL_TURQUIN {
-            lo += ms * ibl_term_turquin(single, f0, e_o);
-        } else if IBL == IBL_FDEZ_AGUERA {
-            lo += ms * ibl_term_fdez_aguera(fss_ess, f0, loss_o, irradiance);
+        let term = u32(b.lut_row.w);
+        if term == TERM_TURQUIN {
+            lo += ms * term_turquin(single, f0, e_o);
+        } else if term == TERM_FDEZ_AGUERA {
+            lo += ms * fms_ems * irradiance;
         } else {
             let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
             lo += ms * f_add * loss_o * multiple;

@@ -25,12 +25,13 @@ override MS_TERM: u32 = 1u;
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
-// 1, 2, 3: the map with the multiple-scattering term formed as turquin, fdez-aguera or
-// kulla-conty (IblTerm).
+// 1: the map.
 override IBL: u32 = 0u;
-const IBL_TURQUIN: u32 = 1u;
-const IBL_FDEZ_AGUERA: u32 = 2u;
-const IBL_KULLA_CONTY: u32 = 3u;
+// A ball's multiple-scattering term (Ball.lut_row.w; src/scene Model): each ball's
+// own, so one pipeline draws every model (a branch per ball, coherent over its pixels).
+const TERM_KULLA_CONTY: u32 = 1u;
+const TERM_TURQUIN: u32 = 2u;
+const TERM_FDEZ_AGUERA: u32 = 3u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {
@@ -62,8 +63,9 @@ struct Ball {
     // the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm of 1 - E_avg at
     // the ball's roughness as read: lut_loss_avg of the 2-D table, or its own row's.
     f_add_ms_norm: vec4<f32>,
-    // The roughness half of an E read at the ball's roughness (Tables::lut_row; lut_loss_row
-    // in lut.wgsl): first row index, weight of the next row, alpha, unused.
+    // xyz: the roughness half of an E read at the ball's roughness (Tables::lut_row;
+    // lut_loss_row in lut.wgsl): first row index, weight of the next row, alpha. w: the
+    // ball's term (TERM_*; 0 without one).
     lut_row: vec4<f32>,
 }
 

@@ -26,7 +26,8 @@
 //!
 //! Layers (docs/design.md, section 7), each importing only those listed before it, and the
 //! utilities [`error`], [`output`] (atomic file writes, images) and [`stats`]:
-//! [`brdf`] (the maths), [`lut`] (baking and reading the tables), [`environment`] (maps,
+//! [`brdf`] (the maths), [`lut`] (baking and reading the tables), [`walk`] (the random
+//! walk on the microsurface, the truth), [`environment`] (maps,
 //! their prefiltering on the CPU, harmonics), [`scene`], then the renderers [`gpu`] and
 //! [`cpu`] with [`display`]. The front ends sit on top: `cli` (feature `cli`, the binary)
 //! and `viewer` (feature `viewer`); the measurement
@@ -46,6 +47,7 @@ pub mod lut;
 pub mod output;
 pub mod scene;
 pub mod stats;
+pub mod walk;
 pub mod wgsl;
 
 #[cfg(feature = "cli")]

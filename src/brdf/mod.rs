@@ -5,11 +5,13 @@
 //! `mu_o = n.v`, `mu_i = n.l`, `alpha = roughness^2`. Nothing in this layer knows of
 //! tables, files or the GPU.
 
+mod compensation;
 mod fresnel;
 mod geometry;
 mod kulla_conty;
 mod ndf;
 
+pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{f_avg_games202, f_avg_schlick, f_schlick, GAMES202_EDGE_TINT};
 pub use geometry::{
     g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,

@@ -180,7 +180,9 @@ impl SceneArgs {
             scene.environment_map = Some(Environment::named(name)?);
             scene.environment = glam::DVec3::ZERO;
         }
-        scene.ibl_term = self.ibl_term.unwrap_or(scene.ibl_term);
+        if let Some(term) = self.ibl_term {
+            scene.set_term(term);
+        }
         if let Some(b) = self.background {
             scene.background = b.background();
         }
@@ -227,16 +229,22 @@ pub struct RenderArgs {
     #[arg(long, default_value = "shading_balls.png")]
     pub out: PathBuf,
     /// Where to render: a GPU backend (auto: any adapter, else the CPU), the CPU
-    /// reference renderer, or the CPU Monte Carlo reference (montecarlo: the model
-    /// integrated against the lights and the environment by importance sampling).
+    /// reference renderer, the CPU Monte Carlo reference (montecarlo: the model
+    /// integrated against the lights and the environment by importance sampling), or the
+    /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
-    /// Samples per pixel of --backend montecarlo, 1..=65536 (ignored by other backends).
-    #[arg(long, default_value_t = 64, allow_negative_numbers = true,
+    /// Samples per pixel of --backend montecarlo and truth, 1..=65536 (ignored by other
+    /// backends). Default 64; for truth with --stderr, the cap (default 65536).
+    #[arg(long, allow_negative_numbers = true,
           value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::cpu::montecarlo::MAX_SPP)))]
-    pub spp: u32,
-    /// Random seed of --backend montecarlo (ignored by other backends): the same seed
-    /// gives the same image on any number of threads.
+    pub spp: Option<u32>,
+    /// --backend truth stops once every ball's mean radiance has this relative standard
+    /// error: a fraction (0.005) or a percentage (0.5%), from 0.01% to 100%.
+    #[arg(long, value_parser = parse_stderr)]
+    pub stderr: Option<f64>,
+    /// Random seed of --backend montecarlo and truth (ignored by other backends): the same
+    /// seed gives the same image on any number of threads.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
@@ -381,10 +389,26 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
     Ok(n as u32)
 }
 
+/// `--stderr`: a fraction (`0.005`) or a percentage (`0.5%`) in `[MIN_STDERR, 1]`.
+pub fn parse_stderr(s: &str) -> Result<f64, String> {
+    let (number, scale) = match s.trim().strip_suffix('%') {
+        Some(p) => (p.trim(), 0.01),
+        None => (s.trim(), 1.0),
+    };
+    let min = crate::cpu::truth::MIN_STDERR;
+    match number.parse::<f64>() {
+        Ok(v) if (min..=1.0).contains(&(v * scale)) => Ok(v * scale),
+        _ => Err(format!(
+            "'{s}' is not a relative standard error in {min}..=1 (a fraction: 0.005, or a \
+             percentage: 0.5%)"
+        )),
+    }
+}
+
 /// `probe --backend`: a GPU backend (the probe runs the shader's own reads on the GPU).
 pub fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
     match s.parse::<Backend>() {
-        Ok(Backend::Cpu | Backend::Montecarlo) => {
+        Ok(Backend::Cpu | Backend::Montecarlo | Backend::Truth) => {
             Err("the probe runs on the GPU: use auto, vulkan or gl".to_string())
         }
         Ok(b) => Ok(b),

@@ -78,8 +78,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         None => {
             check_cpu_size(w, h)?;
             let montecarlo = args.backend == Backend::Montecarlo;
-            // The Monte Carlo image also keeps a standard error and a coverage flag per pixel.
-            let extra = if montecarlo {
+            let truth = args.backend == Backend::Truth;
+            // The Monte Carlo image also keeps a standard error and a coverage flag per pixel
+            // (the truth also its running sums per covered pixel: counted as twice that).
+            let extra = if truth {
+                2 * MONTECARLO_BYTES_PER_PIXEL
+            } else if montecarlo {
                 MONTECARLO_BYTES_PER_PIXEL
             } else {
                 0
@@ -96,10 +100,21 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 ..Default::default()
             });
             phases.mark("bake");
-            let radiance = if montecarlo {
+            let radiance = if truth {
+                let e = cpu::TableRead::Lut(&tables);
+                let image = render_truth(&scene, &e, &args)?;
+                phases.mark("render");
+                if kind == ImageKind::Exr {
+                    let path = stderr_path(&args.out);
+                    write_exr(&path, w, h, cpu::to_rgba_f32(&image.image.std_error))?;
+                    eprintln!("per-pixel standard error -> {}", path.display());
+                }
+                image.image.mean
+            } else if montecarlo {
                 let started = Instant::now();
                 let e = cpu::TableRead::Lut(&tables);
-                let image = cpu::render_montecarlo(&scene, &e, w, h, args.spp, args.seed)?;
+                let spp = args.spp.unwrap_or(DEFAULT_SPP);
+                let image = cpu::render_montecarlo(&scene, &e, w, h, spp, args.seed)?;
                 phases.mark("render");
                 let noise = image
                     .mean_relative_std_error()
@@ -107,7 +122,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 eprintln!(
                     "montecarlo: {} spp, seed {}, {:.1} ms, mean relative standard error over \
                      ball pixels {noise}",
-                    args.spp,
+                    spp,
                     args.seed,
                     started.elapsed().as_secs_f64() * 1e3
                 );
@@ -130,7 +145,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     write_exr(&args.out, w, h, rgba)?
                 }
             }
-            if montecarlo {
+            if truth {
+                "CPU truth (random walk)".to_string()
+            } else if montecarlo {
                 "CPU Monte Carlo reference".to_string()
             } else {
                 "CPU reference renderer".to_string()
@@ -146,6 +163,75 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     Ok(())
+}
+
+/// Samples per pixel of the Monte Carlo backends without `--spp` (and of the truth without
+/// `--stderr`).
+const DEFAULT_SPP: u32 = 64;
+
+/// `--backend truth`: the render with a progress line on stderr (redrawn in place on a
+/// terminal) and a summary of every ball's mean and its standard error.
+fn render_truth(
+    scene: &crate::scene::Scene,
+    e: &cpu::TableRead<'_>,
+    args: &RenderArgs,
+) -> Result<cpu::TruthImage> {
+    use std::io::IsTerminal as _;
+    let settings = cpu::TruthSettings {
+        spp: args.spp.unwrap_or(if args.stderr.is_some() {
+            cpu::montecarlo::MAX_SPP
+        } else {
+            DEFAULT_SPP
+        }),
+        stderr: args.stderr,
+        seed: args.seed,
+        max_order: u32::MAX,
+    };
+    let terminal = std::io::stderr().is_terminal();
+    let line = |p: &cpu::TruthProgress| {
+        let worst = p
+            .worst_stderr
+            .map_or("n/a".to_string(), |s| format!("{:.3} %", 100.0 * s));
+        format!(
+            "truth: {} spp, worst ball standard error {worst}, {:.1} s",
+            p.spp, p.seconds
+        )
+    };
+    let image = cpu::render_truth(scene, e, args.width, args.height, settings, |p| {
+        if terminal {
+            eprint!("\r{}   ", line(p));
+        }
+        true
+    })?;
+    if terminal {
+        eprintln!();
+    }
+    if let Some(last) = image.passes.last() {
+        let target = settings
+            .stderr
+            .map_or(String::new(), |s| format!(" (target {:.3} %)", 100.0 * s));
+        eprintln!("{}{target}, seed {}", line(last), settings.seed);
+    }
+    for (k, b) in image.balls.iter().enumerate() {
+        if let Some(rel) = b.relative_std_error() {
+            eprintln!(
+                "  ball {k}: mean radiance [{:.5}, {:.5}, {:.5}] +- {:.3} %",
+                b.mean.x,
+                b.mean.y,
+                b.mean.z,
+                100.0 * rel
+            );
+        }
+    }
+    Ok(image)
+}
+
+/// The sidecar of a truth `.exr`: `NAME.stderr.exr` beside `NAME.exr`.
+pub fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
+    let stem = out.file_stem().map_or_else(Default::default, |s| s.to_os_string());
+    let mut name = stem;
+    name.push(".stderr.exr");
+    out.with_file_name(name)
 }
 
 /// Wall time per phase since the previous mark, for the one-line report ("name 12.3 ms,

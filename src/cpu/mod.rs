@@ -5,16 +5,18 @@
 
 pub mod montecarlo;
 mod shade;
+pub mod truth;
 
 use glam::DVec3;
 use rayon::prelude::*;
 
 pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
+pub use truth::{render_truth, BallMean, TruthImage, TruthProgress, TruthSettings};
 pub use shade::{
     intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms, TableRead,
 };
 
-use shade::shade_with_terms;
+use shade::{shade_with_terms, Forms};
 
 use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
@@ -74,7 +76,12 @@ pub fn render_radiance_with(
                     (Some((t, k)), _) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, form, geometry);
+                        let forms = Forms {
+                            form,
+                            geometry,
+                            split: ibl.as_ref().map(|(_, map)| &map.split),
+                        };
+                        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, &forms);
                         match ibl {
                             Some((_, map)) => {
                                 lo + shade_environment_map(scene, b, n, -d, &terms, map)

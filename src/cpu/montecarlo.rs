@@ -26,7 +26,8 @@ use crate::brdf::{
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
 use crate::lut::SplitSum;
-use crate::scene::{Ball, Scene, MAX_BALLS};
+use crate::scene::{Ball, Model, Scene, MAX_BALLS};
+use crate::walk::Rng;
 
 /// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
 pub const MAX_SPP: u32 = 65536;
@@ -136,9 +137,11 @@ pub fn render_montecarlo_part(
     let bins = Bins::new(&basis, balls, width, height);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
-    // Fdez-Aguera's FssEss is F0 A + B: the split sum's table, as the real-time method reads.
-    let split = (scene.ibl_term == IblTerm::FdezAguera)
-        .then(|| SplitSum::shipped(scene.effective_geometry()));
+    // Fdez-Aguera's FssEss is F0 A + B where the scene has a map: the split sum's table, as
+    // the real-time renderers read it (they bind it with the map).
+    let split = (scene.environment_map.is_some()
+        && scene.balls.iter().any(|b| b.model == Model::FdezAguera))
+    .then(|| SplitSum::shipped(scene.effective_geometry()));
     let split = &split;
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()
@@ -156,7 +159,7 @@ pub fn render_montecarlo_part(
                         if let Some(split) = split {
                             point = point.with_split_sum(split);
                         }
-                        let mut rng = Rng::for_pixel(seed, px, py);
+                        let mut rng = Rng::new(&[seed, u64::from(px), u64::from(py)]);
                         let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
                         (mean, err, true)
                     }
@@ -216,8 +219,8 @@ pub struct ShadingPoint {
 }
 
 impl ShadingPoint {
-    /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset,
-    /// geometry and IBL term, with E and E_avg from `e`.
+    /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
+    /// and geometry and the ball's model, with E and E_avg from `e`.
     pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableRead<'_>) -> Self {
         let roughness = b.roughness;
         let f0 = b.material.f0;
@@ -231,12 +234,12 @@ impl ShadingPoint {
             mu_o,
             roughness,
             f0,
-            ms: if b.multiple_scattering { 1.0 } else { 0.0 },
+            ms: if b.model.has_term() { 1.0 } else { 0.0 },
             loss_o: e.loss(mu_o, roughness),
             norm: f_ms_norm(loss_avg),
             f_add: f_add_rgb(form, f0, e_avg),
             kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
-            term: scene.ibl_term,
+            term: b.model.term().unwrap_or(IblTerm::KullaConty),
             geometry: scene.effective_geometry(),
             fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - e.loss(mu_o, roughness)),
             part: Part::Whole,
@@ -318,7 +321,7 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
 
 /// What lights the balls: the directional lights, the uniform environment, the map and
 /// its sampler.
-struct Lighting<'a> {
+pub(super) struct Lighting<'a> {
     scene: &'a Scene,
     /// Whether any environment radiance can be non-zero (else the integral is skipped).
     lit: bool,
@@ -326,7 +329,7 @@ struct Lighting<'a> {
 }
 
 impl<'a> Lighting<'a> {
-    fn new(scene: &'a Scene) -> Self {
+    pub(super) fn new(scene: &'a Scene) -> Self {
         let map_lit = scene
             .environment_map
             .as_ref()
@@ -348,7 +351,7 @@ impl<'a> Lighting<'a> {
         self.scene.environment + map
     }
 
-    fn background(&self, d: DVec3) -> DVec3 {
+    pub(super) fn background(&self, d: DVec3) -> DVec3 {
         match self.scene.background {
             Background::Environment => self.incident(d),
             Background::Black => DVec3::ZERO,
@@ -358,7 +361,7 @@ impl<'a> Lighting<'a> {
 
     /// The lights' exact contribution plus `spp` estimates of the environment's; returns
     /// the mean and its standard error.
-    fn estimate(
+    pub(super) fn estimate(
         &self,
         p: &ShadingPoint,
         e: &TableRead<'_>,
@@ -490,14 +493,14 @@ fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
 
 /// An orthonormal frame about a unit normal (Duff et al. 2017, "Building an Orthonormal
 /// Basis, Revisited", JCGT 6(1)).
-struct Frame {
+pub(super) struct Frame {
     t: DVec3,
     b: DVec3,
     n: DVec3,
 }
 
 impl Frame {
-    fn new(n: DVec3) -> Self {
+    pub(super) fn new(n: DVec3) -> Self {
         let sign = 1.0f64.copysign(n.z);
         let a = -1.0 / (sign + n.z);
         let b = n.x * n.y * a;
@@ -507,10 +510,10 @@ impl Frame {
             n,
         }
     }
-    fn to_local(&self, w: DVec3) -> DVec3 {
+    pub(super) fn to_local(&self, w: DVec3) -> DVec3 {
         DVec3::new(w.dot(self.t), w.dot(self.b), w.dot(self.n))
     }
-    fn to_world(&self, l: DVec3) -> DVec3 {
+    pub(super) fn to_world(&self, l: DVec3) -> DVec3 {
         l.x * self.t + l.y * self.b + l.z * self.n
     }
 }
@@ -625,33 +628,5 @@ impl<'a> EnvSampler<'a> {
         let p_texel = self.weight[j * self.width + i] / self.total;
         let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
         p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
-    }
-}
-
-/// A small generator: SplitMix64 (Steele, Lea & Flood 2014, "Fast Splittable Pseudorandom
-/// Number Generators"), one per pixel.
-struct Rng(u64);
-
-impl Rng {
-    /// The generator of pixel `(px, py)` for `seed`: the seed's first output mixed with the
-    /// pixel's coordinates, then advanced once, so neighbouring pixels start far apart.
-    fn for_pixel(seed: u64, px: u32, py: u32) -> Self {
-        let key = Rng(seed).next_u64();
-        let mut rng = Rng(key ^ ((u64::from(py) << 32) | u64::from(px)));
-        rng.next_u64();
-        rng
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A uniform number in `[0, 1)` (the top 53 bits).
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 }

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use crate::brdf::{
-    f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, FAvgForm, Geometry,
-    DIV_EPSILON, GAMES202_EDGE_TINT,
+    f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
+    term_turquin, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
 use crate::environment::{Environment, IblTerm, MipChain, Prefiltered};
 use crate::lut::{e_avg_reference, e_reference, RowSet, SplitSum, Tables};
@@ -91,7 +91,20 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
-    shade_with_terms(scene, b, n, v, e, form, geometry).0
+    let forms = Forms {
+        form,
+        geometry,
+        split: None,
+    };
+    shade_with_terms(scene, b, n, v, e, &forms).0
+}
+
+/// The scene-wide choices a point's shading takes: the preset's forms, G, and the split
+/// sum's table where the scene has a map (it gives `FssEss`).
+pub(super) struct Forms<'a> {
+    pub form: FAvgForm,
+    pub geometry: Geometry,
+    pub split: Option<&'a SplitSum>,
 }
 
 /// What `shade` forms once per pixel and the environment map's part takes from it, as
@@ -104,6 +117,13 @@ pub struct PointTerms {
     pub loss_o: f64,
     /// 1 with the multiple-scattering term, else 0.
     pub ms: f64,
+    /// The ball's term (Kulla-Conty when it has none: `ms` is then 0).
+    pub term: IblTerm,
+    /// The single-scattering albedo per channel: the split sum's `F0 A + B` where the
+    /// scene has a map, else `F_avg E(mu_o)`.
+    pub fss_ess: DVec3,
+    /// Fdez-Aguera's energy `FmsEms` (zero for the other terms).
+    pub fms_ems: DVec3,
     /// `f_add` of the preset per channel.
     pub f_add: DVec3,
     /// The Lambertian base's weight, `diffuse (1 - F_avg)`.
@@ -117,12 +137,17 @@ pub(super) fn shade_with_terms(
     n: DVec3,
     v: DVec3,
     e: &TableRead<'_>,
-    form: FAvgForm,
-    geometry: Geometry,
+    forms: &Forms<'_>,
 ) -> (DVec3, PointTerms) {
+    let Forms {
+        form,
+        geometry,
+        split,
+    } = *forms;
     let roughness = b.roughness;
     let f0 = b.material.f0;
-    let ms = if b.multiple_scattering { 1.0 } else { 0.0 };
+    let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+    let term = b.model.term().unwrap_or(IblTerm::KullaConty);
     let mu_o = n.dot(v).max(0.0);
     let loss_o = e.loss(mu_o, roughness);
     let e_o = 1.0 - loss_o;
@@ -132,8 +157,31 @@ pub(super) fn shade_with_terms(
     let f_avg_ss = per_channel(f0, f_avg_schlick);
     let f_add = f_add_rgb(form, f0, e_avg);
     let kd = b.material.diffuse * (DVec3::ONE - f_avg_ss);
+    let fss_ess = match split {
+        Some(split) => {
+            let bias = split.bias_at(mu_o as f32, roughness as f32) as f64;
+            // split_sum_scale: F0 A + B with A = E - B.
+            f0 * e_o + (DVec3::ONE - f0) * bias
+        }
+        None => f_avg_ss * e_o,
+    };
+    let fms_ems = if term == IblTerm::FdezAguera {
+        DVec3::new(
+            term_fdez_aguera(fss_ess.x, f0.x, loss_o),
+            term_fdez_aguera(fss_ess.y, f0.y, loss_o),
+            term_fdez_aguera(fss_ess.z, f0.z, loss_o),
+        )
+    } else {
+        DVec3::ZERO
+    };
 
-    let mut lo = scene.environment * (f_avg_ss * e_o + ms * f_add * loss_o + kd);
+    let single = f_avg_ss * e_o;
+    let added = match term {
+        IblTerm::KullaConty => f_add * loss_o,
+        IblTerm::Turquin => turquin_rgb(single, f0, e_o),
+        IblTerm::FdezAguera => fms_ems,
+    };
+    let mut lo = scene.environment * (single + ms * added + kd);
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -153,14 +201,21 @@ pub(super) fn shade_with_terms(
                 geometry,
             )
         });
-        let loss_i = e.loss(mu_i, roughness);
-        let f_r = spec + ms * f_add * f_ms(loss_o, loss_i, norm) + kd / std::f64::consts::PI;
+        let lobe = match term {
+            IblTerm::KullaConty => f_add * f_ms(loss_o, e.loss(mu_i, roughness), norm),
+            IblTerm::Turquin => turquin_rgb(spec, f0, e_o),
+            IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
+        };
+        let f_r = spec + ms * lobe + kd / std::f64::consts::PI;
         lo += f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {
         mu_o,
         loss_o,
         ms,
+        term,
+        fss_ess,
+        fms_ems,
         f_add,
         kd,
     };
@@ -216,11 +271,14 @@ pub fn shade_environment_map(
     let roughness = b.roughness;
     let f0 = b.material.f0;
     let PointTerms {
-        mu_o,
         loss_o,
         ms,
+        term,
+        fss_ess,
+        fms_ems,
         f_add,
         kd,
+        ..
     } = *terms;
     let e_o = 1.0 - loss_o;
     let intensity = environment.intensity;
@@ -232,26 +290,26 @@ pub fn shade_environment_map(
             .prefiltered
             .specular(environment.to_map(dominant), roughness);
     let irradiance = intensity * ibl.prefiltered.irradiance(n_map);
-    let bias = ibl.split.bias_at(mu_o as f32, roughness as f32) as f64;
-    // split_sum_scale: F0 A + B with A = E - B.
-    let fss_ess = f0 * e_o + (DVec3::ONE - f0) * bias;
     let single = prefiltered * fss_ess;
     let mut lo = single + kd * irradiance;
     if ms > 0.0 {
         lo += ms
-            * match scene.ibl_term {
-                // ibl_term_turquin
-                IblTerm::Turquin => single * f0 * (1.0 / e_o.max(DIV_EPSILON) - 1.0),
-                // ibl_term_fdez_aguera
-                IblTerm::FdezAguera => {
-                    let f_avg = f0 + (DVec3::ONE - f0) / 21.0;
-                    let denom = (DVec3::ONE - loss_o * f_avg).max(DVec3::splat(DIV_EPSILON));
-                    fss_ess * f_avg * loss_o / denom * irradiance
-                }
+            * match term {
+                IblTerm::Turquin => turquin_rgb(single, f0, e_o),
+                IblTerm::FdezAguera => fms_ems * irradiance,
                 IblTerm::KullaConty => {
                     f_add * loss_o * intensity * ibl.prefiltered.multiple(n_map, roughness)
                 }
             };
     }
     lo
+}
+
+/// [`term_turquin`] per channel.
+fn turquin_rgb(single: DVec3, f0: DVec3, e_o: f64) -> DVec3 {
+    DVec3::new(
+        term_turquin(single.x, f0.x, e_o),
+        term_turquin(single.y, f0.y, e_o),
+        term_turquin(single.z, f0.z, e_o),
+    )
 }

@@ -26,16 +26,19 @@ pub enum Backend {
     /// The CPU Monte Carlo reference (`crate::cpu::montecarlo`): the model integrated
     /// against the lights and the environment by importance sampling.
     Montecarlo,
+    /// The CPU truth (`crate::cpu::truth`): every ball shaded with the random walk.
+    Truth,
 }
 
 impl Backend {
     /// Every backend, in a fixed order.
-    pub const ALL: [Backend; 5] = [
+    pub const ALL: [Backend; 6] = [
         Backend::Auto,
         Backend::Vulkan,
         Backend::Gl,
         Backend::Cpu,
         Backend::Montecarlo,
+        Backend::Truth,
     ];
 
     /// The name used on the command line and in messages.
@@ -46,6 +49,7 @@ impl Backend {
             Backend::Gl => "gl",
             Backend::Cpu => "cpu",
             Backend::Montecarlo => "montecarlo",
+            Backend::Truth => "truth",
         }
     }
 
@@ -57,7 +61,7 @@ impl Backend {
             ),
             Backend::Vulkan => Some(wgpu::Backends::VULKAN),
             Backend::Gl => Some(wgpu::Backends::GL),
-            Backend::Cpu | Backend::Montecarlo => None,
+            Backend::Cpu | Backend::Montecarlo | Backend::Truth => None,
         }
     }
 }

@@ -17,7 +17,6 @@
 use std::fmt;
 
 use crate::brdf::Geometry;
-use crate::environment::IblTerm;
 use crate::lut::{roughness_coord, BakeConfig, Method};
 use crate::scene::{Scene, MAX_BALLS};
 
@@ -108,8 +107,8 @@ pub struct Variant {
     pub environment: bool,
     /// The directional lights' loop compiled in.
     pub lights: bool,
-    /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, else 1 + the
-    /// scene's [`IblTerm`]'s index in [`IblTerm::ALL`].
+    /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, 1 with one
+    /// (each ball's term is its own, `Ball.lut_row.w`).
     pub ibl: u8,
 }
 
@@ -137,13 +136,8 @@ impl Plan {
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
         let lights = !scene.lights.is_empty();
-        let ibl = scene.environment_map.as_ref().map_or(0, |_| {
-            1 + IblTerm::ALL
-                .iter()
-                .position(|&t| t == scene.ibl_term)
-                .unwrap_or(0) as u8
-        });
-        let uses_term = |b: &crate::scene::Ball| options.term && b.multiple_scattering;
+        let ibl = u8::from(scene.environment_map.is_some());
+        let uses_term = |b: &crate::scene::Ball| options.term && b.model.has_term();
         // Balls that read E: with the term (its lobe), or all of them under an environment
         // (its single-scattering part reads E(mu_o)).
         let mut roughness: Vec<f32> = balls
@@ -179,7 +173,7 @@ impl Plan {
             vec![(variant(TermMode::Branch), all)]
         } else {
             let (with, without): (Vec<usize>, Vec<usize>) =
-                all.into_iter().partition(|&k| balls[k].multiple_scattering);
+                all.into_iter().partition(|&k| balls[k].model.has_term());
             [
                 (variant(TermMode::In), with),
                 (variant(TermMode::Out), without),
@@ -227,7 +221,7 @@ impl fmt::Display for Variant {
         )?;
         match self.ibl {
             0 => Ok(()),
-            k => write!(f, ", environment map ({})", IblTerm::ALL[k as usize - 1]),
+            _ => write!(f, ", environment map"),
         }
     }
 }

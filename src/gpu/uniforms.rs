@@ -7,7 +7,8 @@ use std::sync::Arc;
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
 use crate::lut::{roughness_coord, Layout, LutParams, MuAxis, RowSet, Tables};
-use crate::scene::{Scene, MAX_BALLS, MAX_LIGHTS};
+use crate::environment::IblTerm;
+use crate::scene::{Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
 #[derive(Clone, Debug)]
@@ -162,7 +163,7 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
         .map(|b| {
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
-            let f_add_ms_norm = if b.multiple_scattering {
+            let f_add_ms_norm = if b.model.has_term() {
                 let loss_avg = tables.loss_avg(b.roughness as f32);
                 let e_avg = 1.0 - loss_avg as f64;
                 let f0 = b.material.f0.to_array();
@@ -178,13 +179,27 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
                 f0_roughness: v4(b.material.f0, b.roughness),
                 diffuse_ms: v4(
                     b.material.diffuse,
-                    if b.multiple_scattering { 1.0 } else { 0.0 },
+                    if b.model.has_term() { 1.0 } else { 0.0 },
                 ),
                 f_add_ms_norm,
-                lut_row: tables.lut_row(b.roughness as f32),
+                lut_row: {
+                    let [row, weight, alpha, _] = tables.lut_row(b.roughness as f32);
+                    [row, weight, alpha, term_code(b.model)]
+                },
             }
         })
         .collect()
+}
+
+/// A ball's term as `lighting.wgsl` reads it from `lut_row.w` (`TERM_*` in
+/// `types.wgsl`; 0 without one).
+pub fn term_code(model: Model) -> f32 {
+    match model.term() {
+        None => 0.0,
+        Some(IblTerm::KullaConty) => 1.0,
+        Some(IblTerm::Turquin) => 2.0,
+        Some(IblTerm::FdezAguera) => 3.0,
+    }
 }
 
 /// The lights array (the used prefix of the uniform array).

@@ -9,7 +9,8 @@
 //! target = [0, 0, 0]
 //! vfov_deg = 75
 //! background = "environment"  # optional: environment (default) | black | [r, g, b]
-//! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default)
+//! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
+//!                              # the model of balls that name none
 //! [environment]                # optional: black. Exactly one of radiance, map, builtin:
 //! radiance = [1, 1, 1]         #   uniform linear radiance, or
 //! # map = "studio.hdr"         #   an equirectangular .hdr/.exr, relative to this file, or
@@ -23,7 +24,9 @@
 //! grid = [0, 0]                # [row, col] (see `grid_position`), or position = [x, y, z]
 //! radius = 35
 //! roughness = 0.15             # in [0, 1]
-//! multiple_scattering = true   # optional, default true
+//! model = "kulla-conty"       # optional: none | kulla-conty | turquin | fdez-aguera | truth
+//!                              # (default: the scene's ibl_term, kulla-conty unless set);
+//! # multiple_scattering = true #   shorthand: true = that default, false = "none"
 //! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
 //! ```
 //!
@@ -44,7 +47,8 @@ use super::values::{
     Radiance, Roughness,
 };
 use super::{
-    grid_position, Ball, Camera, Light, Material, MaterialKind, Scene, MAX_BALLS, MAX_LIGHTS,
+    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, MAX_BALLS,
+    MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
 use crate::environment::{self, Builtin, Environment, IblTerm, Source};
@@ -101,13 +105,9 @@ struct BallFile {
     grid: Option<Grid>,
     radius: Positive,
     roughness: Roughness,
-    #[serde(default = "yes")]
-    multiple_scattering: bool,
+    multiple_scattering: Option<bool>,
+    model: Option<Named<Model>>,
     material: Spanned<MaterialFile>,
-}
-
-fn yes() -> bool {
-    true
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -292,10 +292,11 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         let span = file.light[MAX_LIGHTS].span();
         return Err((span, format!("more than {MAX_LIGHTS} lights")));
     }
+    let term = file.ibl_term.map_or(IblTerm::KullaConty, |t| t.0);
     let balls = file
         .ball
         .into_iter()
-        .map(ball)
+        .map(|b| ball(b, term))
         .collect::<Spanned2<Vec<_>>>()?;
     let lights = file
         .light
@@ -315,7 +316,6 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         environment,
         environment_map,
         background: file.background.map_or(reference.background, |b| b.0),
-        ibl_term: file.ibl_term.map_or(reference.ibl_term, |t| t.0),
         camera,
         exposure: file.exposure.map_or(1.0, |e| e.0),
         preset: file.preset.map_or(reference.preset, |p| p.0),
@@ -369,7 +369,9 @@ fn environment(e: Spanned<EnvironmentFile>, path: &Path) -> Spanned2<(DVec3, Opt
     ))
 }
 
-fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {
+/// One `[[ball]]`; `term` is the model of a ball that names none (or says
+/// `multiple_scattering = true`): the scene's `ibl_term`.
+fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
     let span = b.span();
     let b = b.into_inner();
     let center = match (b.position, b.grid) {
@@ -382,13 +384,24 @@ fn ball(b: Spanned<BallFile>) -> Spanned2<Ball> {
             ))
         }
     };
+    let model = match (b.model, b.multiple_scattering) {
+        (Some(m), None) => m.0,
+        (None, Some(false)) => Model::None,
+        (None, Some(true) | None) => Model::from_term(term),
+        (Some(_), Some(_)) => {
+            return Err((
+                span,
+                "a ball takes `model` or its shorthand `multiple_scattering`, not both".to_string(),
+            ))
+        }
+    };
     let material = material(b.material)?;
     Ok(Ball {
         center,
         radius: b.radius.0,
         roughness: b.roughness.0,
         material,
-        multiple_scattering: b.multiple_scattering,
+        model,
     })
 }
 

@@ -7,6 +7,7 @@
 
 mod camera;
 mod file;
+mod model;
 mod preset;
 mod values;
 
@@ -14,6 +15,7 @@ use glam::DVec3;
 
 pub use camera::{Camera, CameraBasis, BOUNDS_PAD_PX};
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
+pub use model::Model;
 pub use preset::Preset;
 
 use crate::brdf::Geometry;
@@ -91,8 +93,8 @@ pub struct Ball {
     pub roughness: f64,
     /// What the ball is made of.
     pub material: Material,
-    /// Whether the Kulla-Conty term `f_add * f_ms` is added.
-    pub multiple_scattering: bool,
+    /// The BRDF model it is shaded with.
+    pub model: Model,
 }
 
 /// A directional light.
@@ -119,8 +121,6 @@ pub struct Scene {
     pub environment_map: Option<Environment>,
     /// What the pixels no ball covers show.
     pub background: Background,
-    /// How the multiple-scattering term is formed under an environment map.
-    pub ibl_term: IblTerm,
     /// The camera the image is seen through.
     pub camera: Camera,
     /// Multiplies radiance before tone mapping.
@@ -153,7 +153,6 @@ impl Scene {
             environment: DVec3::ZERO,
             environment_map: None,
             background: Background::Environment,
-            ibl_term: IblTerm::KullaConty,
             camera: Camera::reference(),
             exposure: 1.0,
             preset: Preset::Accurate,
@@ -194,6 +193,37 @@ impl Scene {
         self.environment_map.is_some() && self.background == Background::Environment
     }
 
+    /// Gives every ball with a real-time term (`kulla-conty`, `turquin` or `fdez-aguera`)
+    /// the term `term` (`--ibl-term`; the scene file's `ibl_term` is the term of the balls
+    /// that name none).
+    pub fn set_term(&mut self, term: IblTerm) {
+        for b in &mut self.balls {
+            if b.model.has_term() {
+                b.model = Model::from_term(term);
+            }
+        }
+    }
+
+    /// The scene with [`Scene::set_term`] applied.
+    pub fn with_term(mut self, term: IblTerm) -> Self {
+        self.set_term(term);
+        self
+    }
+
+    /// The term of the first ball with one (what the viewer's picker shows), else
+    /// Kulla-Conty.
+    pub fn term(&self) -> IblTerm {
+        self.balls
+            .iter()
+            .find_map(|b| b.model.term())
+            .unwrap_or(IblTerm::KullaConty)
+    }
+
+    /// Whether any ball is the random-walk truth.
+    pub fn has_truth(&self) -> bool {
+        self.balls.iter().any(|b| b.model == Model::Truth)
+    }
+
     /// The G the tables and the shader use: the preset's, or `self.geometry` for
     /// `accurate`.
     pub fn effective_geometry(&self) -> Geometry {
@@ -212,7 +242,11 @@ fn two_rows(material: Material) -> Vec<Ball> {
                     radius: REFERENCE_RADIUS,
                     roughness,
                     material,
-                    multiple_scattering: row == 0,
+                    model: if row == 0 {
+                        Model::KullaConty
+                    } else {
+                        Model::None
+                    },
                 })
         })
         .collect()

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::environment::{Background, Builtin, EnvMap, Environment, Source};
 
-use crate::scene::{grid_position, Ball, Light, Material, MaterialKind, Scene};
+use crate::scene::{Model, grid_position, Ball, Light, Material, MaterialKind, Scene};
 use crate::scene::{REFERENCE_ALBEDO_SRGB, REFERENCE_RADIUS};
 
 /// Most balls per row the panel offers (two rows stay within [`crate::scene::MAX_BALLS`]).
@@ -114,21 +114,40 @@ pub fn rows(scene: &Scene) -> Vec<Vec<usize>> {
 
 /// Whether every ball of `row` (indices from [`rows`]) has the term.
 pub fn row_has_term(scene: &Scene, row: &[usize]) -> bool {
-    row.iter().all(|&i| scene.balls[i].multiple_scattering)
+    row.iter().all(|&i| scene.balls[i].model.has_term())
 }
 
-/// Turns the term on or off for the balls of `row`.
+/// Turns the term on (the scene's, [`Scene::term`]) or off (model `none`) for the balls
+/// of `row`; the truth stays the truth.
 pub fn set_row_term(scene: &mut Scene, row: &[usize], on: bool) {
+    let model = term_model(scene, on);
     for &i in row {
-        scene.balls[i].multiple_scattering = on;
+        if scene.balls[i].model != Model::Truth {
+            scene.balls[i].model = model;
+        }
     }
 }
 
-/// Key M: the term on every ball, or off on every ball if all had it.
+/// Key M: the term on every ball, or off on every ball if all had it (the truth stays).
 pub fn toggle_term(scene: &mut Scene) {
-    let on = !scene.balls.iter().all(|b| b.multiple_scattering);
+    let on = !scene
+        .balls
+        .iter()
+        .all(|b| b.model.has_term() || b.model == Model::Truth);
+    let model = term_model(scene, on);
     for ball in &mut scene.balls {
-        ball.multiple_scattering = on;
+        if ball.model != Model::Truth {
+            ball.model = model;
+        }
+    }
+}
+
+/// The model a ball gets when its term is turned on or off.
+fn term_model(scene: &Scene, on: bool) -> Model {
+    if on {
+        Model::from_term(scene.term())
+    } else {
+        Model::None
     }
 }
 
@@ -181,7 +200,11 @@ impl Grid {
                         radius: REFERENCE_RADIUS * scale,
                         roughness: low + (high - low) * t,
                         material,
-                        multiple_scattering: row == 0,
+                        model: if row == 0 {
+                            Model::KullaConty
+                        } else {
+                            Model::None
+                        },
                     }
                 })
             })

@@ -291,9 +291,12 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             if scaled {
                 edit::set_map_intensity(scene, intensity);
             }
-            combo(ui, "IBL term", &mut scene.ibl_term, &IblTerm::ALL, |t| {
-                t.name()
-            });
+            // The term of every ball with one (Scene::set_term, as --ibl-term).
+            let mut term = scene.term();
+            combo(ui, "IBL term", &mut term, &IblTerm::ALL, |t| t.name());
+            if term != scene.term() {
+                scene.set_term(term);
+            }
         }
         let mut backgrounds = vec![Background::Environment, Background::Black];
         backgrounds.extend(controls.background_colour.map(Background::Colour));

@@ -8,7 +8,7 @@ use shadeballs::brdf::Geometry;
 use shadeballs::lab::bench::exact::exact_tables;
 use shadeballs::lab::bench::{bake_errors, display_error, lookup, HOMEWORK};
 use shadeballs::lut::{self, e_avg_reference, e_reference, BakeConfig, Method};
-use shadeballs::scene::Scene;
+use shadeballs::scene::{Scene, Model};
 
 use crate::cli::{shadeballs, temp_dir};
 
@@ -290,7 +290,7 @@ fn gpu_lookup_and_term_switch() {
     let scene = Scene::reference();
     let mut flags_off = scene.clone();
     for b in &mut flags_off.balls {
-        b.multiple_scattering = false;
+        b.model = Model::None;
     }
     let expected = renderer.render_ldr(&flags_off, 320, 180).unwrap().rgba;
     let with_term = renderer.render_ldr(&scene, 320, 180).unwrap().rgba;

@@ -423,7 +423,7 @@ fn scene_environment_builtin_radiance_and_intensity() {
     // Defaults.
     let s = parse(BALL, Path::new("s.toml")).unwrap();
     assert_eq!(s.background, Background::Environment);
-    assert_eq!(s.ibl_term, IblTerm::KullaConty);
+    assert_eq!(s.term(), IblTerm::KullaConty);
     assert!(s.environment_map.is_none());
 }
 
@@ -444,7 +444,7 @@ fn scene_background_and_ibl_term() {
     }
     for t in IblTerm::ALL {
         let s = parse(&format!("ibl_term = \"{t}\"\n{BALL}"), Path::new("s.toml")).unwrap();
-        assert_eq!(s.ibl_term, t);
+        assert_eq!(s.term(), t);
     }
     let msg = scene_error(&format!("ibl_term = \"split-sum\"\n{BALL}"));
     assert!(msg.contains("turquin, fdez-aguera, kulla-conty"), "{msg}");
@@ -604,10 +604,10 @@ fn render_and_view_flags_override_the_scenes_environment() {
     let s = args.scene.load().unwrap();
     assert_eq!(s.environment, DVec3::ZERO);
     assert_eq!(
-        s.environment_map.unwrap().source,
+        s.environment_map.as_ref().unwrap().source,
         Source::Builtin(Builtin::Sky)
     );
-    assert_eq!(s.ibl_term, IblTerm::Turquin);
+    assert_eq!(s.term(), IblTerm::Turquin);
     assert_eq!(s.background, Background::Black);
     // No flags: the scene's own.
     let s = parse(&["render", "--scene", furnace.to_str().unwrap()])

@@ -103,7 +103,7 @@ use glam::{DVec2, DVec3};
 use shadeballs::cpu;
 use shadeballs::environment::prefilter::{MipChain, Prefiltered};
 use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
-use shadeballs::scene::{Material, MaterialKind, Scene};
+use shadeballs::scene::{Model, Material, MaterialKind, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::render::both;
@@ -114,9 +114,9 @@ fn under(scene: Scene, environment: Environment, term: IblTerm) -> Scene {
         lights: Vec::new(),
         environment: DVec3::ZERO,
         environment_map: Some(environment),
-        ibl_term: term,
         ..scene
     }
+    .with_term(term)
 }
 
 fn map_environment(map: EnvMap, rotation_deg: f64) -> Environment {
@@ -155,7 +155,7 @@ fn furnace_through_the_map_path_holds_for_every_term() {
                 let d = basis.ray(x, y, w, h);
                 for b in &scene.balls {
                     if cpu::intersect_sphere(basis.origin, d, b.center, b.radius) > 0.0 {
-                        if b.multiple_scattering {
+                        if b.model.has_term() {
                             worst_top = worst_top.max(px[0].abs_diff(background));
                         } else if b.roughness >= 0.75 {
                             darkest_bottom = darkest_bottom.min(px[0]);
@@ -189,7 +189,7 @@ fn gpu_matches_its_cpu_twin_under_maps() {
             f0: DVec3::splat(0.04),
             diffuse: DVec3::new(0.6, 0.1, 0.1),
         };
-        b.multiple_scattering = true;
+        b.model = Model::KullaConty;
     }
     let base = Scene {
         balls,
@@ -239,7 +239,7 @@ fn prefiltering_a_constant_map_gives_the_constant() {
     let mut checked = 0;
     for (k, px) in hdr.rgba.chunks_exact(4).enumerate() {
         let d = basis.ray(k as u32 % w, k as u32 / w, w, h);
-        let top = scene.balls.iter().filter(|b| b.multiple_scattering);
+        let top = scene.balls.iter().filter(|b| b.model.has_term());
         if top
             .into_iter()
             .any(|b| cpu::intersect_sphere(basis.origin, d, b.center, b.radius) > 0.0)

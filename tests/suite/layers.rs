@@ -9,10 +9,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 12] = [
+const LIBRARY: [&str; 13] = [
     "crate",
     "brdf",
     "lut",
+    "walk",
     "environment",
     "scene",
     "gpu",
@@ -30,8 +31,9 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
     const FRONT: [&str; 3] = ["lab", "cli", "viewer"];
     let below = |extra: &[&'static str]| FRONT.iter().chain(extra).copied().collect();
     Some(match module {
-        "brdf" => below(&["lut", "environment", "scene", "gpu", "cpu"]),
-        "lut" => below(&["environment", "scene", "gpu", "cpu"]),
+        "brdf" => below(&["lut", "walk", "environment", "scene", "gpu", "cpu"]),
+        "lut" => below(&["walk", "environment", "scene", "gpu", "cpu"]),
+        "walk" => below(&["environment", "scene", "gpu", "cpu"]),
         "environment" => below(&["scene", "gpu", "cpu"]),
         "scene" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),

@@ -11,7 +11,7 @@ use shadeballs::cpu::montecarlo::{model_brdf, ShadingPoint};
 use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage, TableRead};
 use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::{self, BakeConfig, Tables};
-use shadeballs::scene::{Ball, Material, MaterialKind, Preset, Scene};
+use shadeballs::scene::{Model, Ball, Material, MaterialKind, Preset, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 
@@ -80,10 +80,7 @@ fn furnace_converges_to_one_for_every_ibl_term() {
     let base = furnace_with_map();
     let tables = tables_for(&base);
     for term in IblTerm::ALL {
-        let scene = Scene {
-            ibl_term: term,
-            ..base.clone()
-        };
+        let scene = base.clone().with_term(term);
         let image = render_montecarlo(&scene, &TableRead::Lut(&tables), w, h, 32, 7).unwrap();
         for (k, ball) in scene.balls.iter().enumerate() {
             let pixels = ball_pixels(&scene, k, w, h);
@@ -93,9 +90,9 @@ fn furnace_converges_to_one_for_every_ibl_term() {
                 "{}: ball {k} (r={}, term {}): mean {mean:.5} +- {err:.5}",
                 term.name(),
                 ball.roughness,
-                ball.multiple_scattering
+                ball.model.has_term()
             );
-            if ball.multiple_scattering {
+            if ball.model.has_term() {
                 // 4 standard errors, and the tables' own error in E (the integral of f_micro
                 // here is exact; E(mu_o) and E_avg are the baked tables').
                 assert!(
@@ -192,9 +189,9 @@ fn band_scene(term: IblTerm) -> Scene {
         lights: Vec::new(),
         environment: DVec3::new(0.05, 0.05, 0.05),
         environment_map: Some(environment(band_map(), 30.0)),
-        ibl_term: term,
         ..Scene::reference()
     }
+    .with_term(term)
 }
 
 #[test]
@@ -251,7 +248,7 @@ fn one_pixel_scene(term: IblTerm, material: Material) -> Scene {
         radius,
         roughness: 0.5,
         material,
-        multiple_scattering: true,
+        model: Model::KullaConty,
     }];
     scene
 }

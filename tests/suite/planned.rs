@@ -8,7 +8,7 @@ use shadeballs::cpu::{self, TableRead};
 use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::gpu::{DrawOptions, TablePolicy, MAX_PLANNED_ROWS};
 use shadeballs::lut::BakeConfig;
-use shadeballs::scene::Scene;
+use shadeballs::scene::{Scene, Model};
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::plan::scene_with_roughness;
@@ -35,7 +35,7 @@ fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
 fn environment_scene() -> Scene {
     let mut s = Scene::reference();
     s.environment = DVec3::new(0.2, 0.25, 0.3);
-    s.balls[3].multiple_scattering = false;
+    s.balls[3].model = Model::None;
     s
 }
 

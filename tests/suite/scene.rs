@@ -82,7 +82,7 @@ material = { kind = "dielectric", albedo = [0.5, 0.5, 0.5] }
         s.balls[0].material.f0,
         glam::DVec3::splat(scene::DIELECTRIC_F0)
     );
-    assert!(!s.balls[0].multiple_scattering);
+    assert!(!s.balls[0].model.has_term());
 }
 
 #[test]

@@ -224,7 +224,7 @@ fn keys_resize_and_unmap_through_the_window_system() {
     assert_eq!(scene_area(&stderr), (960 - 450, 540), "{stderr}");
     let mut scene = Scene::reference();
     edit::toggle_term(&mut scene);
-    assert!(scene.balls.iter().all(|b| b.multiple_scattering));
+    assert!(scene.balls.iter().all(|b| b.model.has_term()));
     assert_scene_matches(
         &shots[0],
         &stderr,
@@ -419,7 +419,7 @@ fn reference_grid_and_light_controls_reproduce_the_reference_scene() {
         assert!((a.center - b.center).length() < 1e-12, "{a:?} {b:?}");
         assert!((a.roughness - b.roughness).abs() < 1e-12);
         assert_eq!(a.radius, b.radius);
-        assert_eq!(a.multiple_scattering, b.multiple_scattering);
+        assert_eq!(a.model.has_term(), b.model.has_term());
     }
     let lights = LightControl::of(&reference).lights();
     assert_eq!(lights.len(), 1);
@@ -450,11 +450,11 @@ fn term_rows_furnace_and_materials_edit_the_scene() {
     assert_eq!(rows.len(), 2);
     assert!(edit::row_has_term(&scene, &rows[0]) && !edit::row_has_term(&scene, &rows[1]));
     edit::set_row_term(&mut scene, &rows[1], true);
-    assert!(scene.balls.iter().all(|b| b.multiple_scattering));
+    assert!(scene.balls.iter().all(|b| b.model.has_term()));
     edit::toggle_term(&mut scene);
-    assert!(scene.balls.iter().all(|b| !b.multiple_scattering));
+    assert!(scene.balls.iter().all(|b| !b.model.has_term()));
     edit::toggle_term(&mut scene);
-    assert!(scene.balls.iter().all(|b| b.multiple_scattering));
+    assert!(scene.balls.iter().all(|b| b.model.has_term()));
 
     let mut saved = None;
     edit::set_furnace(&mut scene, true, &mut saved);
@@ -666,7 +666,7 @@ fn furnace_round_trips_a_scene_with_a_map() {
         ..Environment::builtin(Builtin::Studio)
     });
     scene.background = Background::Black;
-    scene.ibl_term = IblTerm::Turquin;
+    scene.set_term(IblTerm::Turquin);
     let original = scene.clone();
     let mut saved = None;
     assert!(!edit::is_furnace(&scene));

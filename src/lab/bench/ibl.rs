@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::gpu::{Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
-use crate::scene::{Material, MaterialKind, Scene, REFERENCE_ROUGHNESS};
+use crate::scene::{Model, Material, MaterialKind, Scene, REFERENCE_ROUGHNESS};
 
 /// Luminance weights (Rec. 709) of the relative errors.
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
@@ -40,20 +40,19 @@ const LUMINANCE_FLOOR: f64 = 1e-4;
 pub fn ibl_scene(environment: Environment, term: IblTerm) -> Scene {
     let mut scene = Scene::reference();
     for b in scene.balls.iter_mut() {
-        if !b.multiple_scattering {
+        if !b.model.has_term() {
             b.material = Material {
                 kind: MaterialKind::Metal,
                 f0: DVec3::splat(0.95),
                 diffuse: DVec3::ZERO,
             };
         }
-        b.multiple_scattering = true;
+        b.model = Model::from_term(term);
     }
     Scene {
         lights: Vec::new(),
         environment: DVec3::ZERO,
         environment_map: Some(environment),
-        ibl_term: term,
         ..scene
     }
 }
@@ -268,13 +267,13 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     // Furnace through the map path.
     let mut furnace_worst = 0u8;
     for term in IblTerm::ALL {
-        let scene = Scene {
+        let mut scene = Scene {
             lights: Vec::new(),
             environment: DVec3::ZERO,
             environment_map: Some(Environment::builtin(Builtin::White)),
-            ibl_term: term,
             ..Scene::furnace()
         };
+        scene.set_term(term);
         let (fw, fh) = (320, 180);
         let image = renderer.render_ldr(&scene, fw, fh)?.rgba;
         let basis = scene.camera.basis(fw, fh);
@@ -282,7 +281,7 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         for (k, px) in image.chunks_exact(4).enumerate() {
             let d = basis.ray(k as u32 % fw, k as u32 / fw, fw, fh);
             let on_term_ball = scene.balls.iter().any(|b| {
-                b.multiple_scattering
+                b.model.has_term()
                     && cpu::intersect_sphere(basis.origin, d, b.center, b.radius) > 0.0
             });
             if on_term_ball {

@@ -177,7 +177,7 @@ pub fn close_up() -> Scene {
     let mut scene = Scene::reference();
     scene
         .balls
-        .retain(|b| b.multiple_scattering && (b.roughness - 0.55).abs() < 1e-9);
+        .retain(|b| b.model.has_term() && (b.roughness - 0.55).abs() < 1e-9);
     let centre = scene.balls.first().map_or(DVec3::ZERO, |b| b.center);
     scene.camera.position = centre + DVec3::new(0.0, 0.0, 60.0);
     scene.camera.target = centre;

@@ -17,13 +17,13 @@ use crate::gpu::Renderer;
 use crate::gpu::{DrawOptions, TablePlan, TermMode};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::{BakeConfig, Layout, LayoutKind};
-use crate::scene::{Preset, Scene};
+use crate::scene::{Model, Preset, Scene};
 
 /// The default scene with every ball's term off.
 pub fn no_term() -> Scene {
     let mut s = Scene::reference();
     for b in &mut s.balls {
-        b.multiple_scattering = false;
+        b.model = Model::None;
     }
     s
 }

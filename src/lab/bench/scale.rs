@@ -17,7 +17,7 @@ use crate::error::Result;
 use crate::gpu::{Plan, Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
-use crate::scene::{Ball, Camera, Light, Material, Scene};
+use crate::scene::{Model, Ball, Camera, Light, Material, Scene};
 
 /// Side of the square the chart's ball centres span, in world units.
 const CHART_SPAN: f64 = 400.0;
@@ -58,7 +58,7 @@ pub fn chart(n: u32, lights: usize, roughness_values: Option<u32>) -> Scene {
                     f0,
                     ..Material::metal_srgb([0.0; 3])
                 },
-                multiple_scattering: true,
+                model: Model::KullaConty,
             });
         }
     }

@@ -21,6 +21,12 @@ pub enum Fresnel {
     Conductor { eta: f64, k: f64 },
 }
 
+impl crate::walk::Reflectance for Fresnel {
+    fn eval(&self, cos: f64) -> f64 {
+        Fresnel::eval(*self, cos)
+    }
+}
+
 impl Fresnel {
     /// Reflectance for a cosine `cos` between the incident direction and the facet normal.
     pub fn eval(self, cos: f64) -> f64 {

@@ -18,12 +18,12 @@ pub mod figures;
 pub mod fresnel;
 pub mod lobe_report;
 pub mod lobes;
-pub mod microsurface;
 pub mod models;
 pub mod report;
-pub mod rng;
-pub mod single;
 pub mod walk;
+
+// The walk's building blocks live in the library (the truth renderer uses them too).
+pub use crate::walk::{microsurface, rng, single};
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

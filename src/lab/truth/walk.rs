@@ -20,78 +20,9 @@ use glam::DVec3;
 
 use super::estimate::{chunked, Stat};
 use super::fresnel::Fresnel;
-use super::microsurface::{reflect, Microsurface};
-use super::rng::Rng;
-
-/// Most colour channels one walk carries (each path's Fresnel weights live on the stack).
-pub const MAX_CHANNELS: usize = 16;
-
-/// Below this common weight a path plays Russian roulette: it survives with probability
-/// `weight / RR_BELOW` and then carries `RR_BELOW`.
-const RR_BELOW: f64 = 0.05;
-
-/// Scattering events after which a path is cut (and counted): never reached in practice,
-/// a guard against a walk stuck at the bottom of the surface.
-pub const MAX_ORDER: u32 = 10_000;
-
-/// One path, one event at a time. `on_escape(order, mass, weights)`: an upward ray leaves
-/// with probability mass `mass` after `order` scattering events; `weights` are the
-/// per-channel Fresnel products so far. `on_event(order, wi_k, c, carry, weights)`: the
-/// `order`-th scattering event at height `c`, `wi_k` pointing back along the arriving ray,
-/// `carry` the probability mass that reached it, `weights` before this event's Fresnel.
-/// Returns false if the path was cut at [`MAX_ORDER`].
-fn trace(
-    s: &Microsurface,
-    wi: DVec3,
-    channels: &[Fresnel],
-    rng: &mut Rng,
-    mut on_escape: impl FnMut(u32, f64, &[f64]),
-    mut on_event: impl FnMut(u32, DVec3, f64, f64, &[f64]),
-) -> bool {
-    let n = channels.len();
-    let mut w = [1.0; MAX_CHANNELS];
-    let mut dir = -wi;
-    let mut c = 1.0;
-    let mut carry = 1.0;
-    let mut order = 0u32;
-    loop {
-        if dir.z > 0.0 {
-            let escape = s.g1(dir.z, c);
-            on_escape(order, carry * escape, &w[..n]);
-            carry *= 1.0 - escape;
-            if carry <= 0.0 {
-                return true;
-            }
-        }
-        c = s.next_height(dir.z, c, rng.uniform());
-        order += 1;
-        if order > MAX_ORDER {
-            return false;
-        }
-        let wi_k = -dir;
-        on_event(order, wi_k, c, carry, &w[..n]);
-        let m = s.sample_visible_normal(wi_k, rng.uniform(), rng.uniform());
-        let cos = wi_k.dot(m).max(0.0);
-        for (wk, f) in w.iter_mut().zip(channels) {
-            *wk *= f.eval(cos);
-        }
-        dir = reflect(dir, m);
-        if carry < RR_BELOW {
-            if rng.uniform() * RR_BELOW < carry {
-                carry = RR_BELOW;
-            } else {
-                return true;
-            }
-        }
-    }
-}
-
-/// The incident direction of cosine `mu` in the xz plane, `x <= 0` (so the mirror
-/// direction has `x >= 0`).
-pub fn incident(mu: f64) -> DVec3 {
-    let mu = mu.clamp(0.0, 1.0);
-    DVec3::new(-(1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
-}
+use crate::walk::microsurface::Microsurface;
+use crate::walk::Rng;
+pub use crate::walk::{incident, trace, MAX_CHANNELS, MAX_ORDER};
 
 /// Directional albedo per channel, split into single scattering (order 1) and multiple
 /// scattering (order >= 2).
@@ -145,8 +76,9 @@ pub fn albedo(
                 s,
                 wi,
                 channels,
+                u32::MAX,
                 rng,
-                |order, mass, w| {
+                |order, _, mass, w| {
                     let acc = if order <= 1 {
                         &mut single
                     } else {
@@ -199,8 +131,9 @@ pub fn lobe(
                 s,
                 wi,
                 channels,
+                u32::MAX,
                 rng,
-                |_, _, _| {},
+                |_, _, _, _| {},
                 |order, wi_k, c, carry, w| {
                     let acc = if order <= 1 {
                         &mut single
@@ -252,8 +185,9 @@ pub fn albedo_next_event(
                 s,
                 wi,
                 &[channel],
+                u32::MAX,
                 rng,
-                |_, _, _| {},
+                |_, _, _, _| {},
                 |_, wi_k, c, carry, w| {
                     for ((wo, weight), lambda) in rule.iter().zip(&lambdas) {
                         let (p, cos) = s.phase(wi_k, *wo);

@@ -1,7 +1,7 @@
-//! A small seeded generator for the Monte Carlo walks: SplitMix64 (Steele, Lea and Flood
-//! 2014, "Fast Splittable Pseudorandom Number Generators"). Every chunk of paths gets its
-//! own stream from a hashed (study, cell, chunk) seed, so results do not depend on how
-//! rayon schedules the chunks or on the number of threads.
+//! A small seeded generator for the Monte Carlo estimators: SplitMix64 (Steele, Lea and
+//! Flood 2014, "Fast Splittable Pseudorandom Number Generators"). Every stream comes from
+//! hashed keys (the study's (study, cell, chunk), a render's (seed, pixel)), so results do
+//! not depend on how rayon schedules the work or on the number of threads.
 
 /// SplitMix64: a 64-bit state advanced by a Weyl constant and mixed on output.
 #[derive(Clone, Debug)]
@@ -29,6 +29,7 @@ impl Rng {
         Self { state: h }
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(GOLDEN_GAMMA);
         mix(self.state)

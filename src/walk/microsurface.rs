@@ -15,6 +15,7 @@ use crate::brdf::{alpha_from_roughness, d_ggx, lambda_smith, DIV_EPSILON};
 /// An isotropic GGX microsurface of one roughness.
 #[derive(Clone, Copy, Debug)]
 pub struct Microsurface {
+    /// GGX `alpha` (`roughness^2`, clamped).
     pub alpha: f64,
 }
 

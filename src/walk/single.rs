@@ -14,12 +14,13 @@
 
 use glam::DVec3;
 
-use super::fresnel::Fresnel;
+use super::Reflectance;
 use crate::brdf::{alpha_from_roughness, d_ggx, Geometry};
 use crate::lut::{gauss_legendre_unit, EIntegrand, Mapping, PEAK_WIDTH_PER_ALPHA};
 
-/// Gauss-Legendre nodes per `theta_i` segment and for the azimuth.
+/// Gauss-Legendre nodes per `theta_i` segment.
 pub const THETA_NODES: usize = 48;
+/// Gauss-Legendre nodes per segment of the azimuth.
 pub const PHI_NODES: usize = 48;
 
 /// The azimuth's peak segment reaches `PHI_PEAK_SPAN` half widths; the rest is mapped by
@@ -48,7 +49,7 @@ pub fn phi_fresnel(
     (s_o, mu_o): (f64, f64),
     (s_i, mu_i): (f64, f64),
     alpha: f64,
-    channels: &[Fresnel],
+    channels: &[impl Reflectance],
     scale: f64,
     out: &mut [f64],
 ) {
@@ -102,7 +103,7 @@ pub fn single_albedo(
     rules: &Rules,
     mu_o: f64,
     roughness: f64,
-    channels: &[Fresnel],
+    channels: &[impl Reflectance],
     geometries: &[Geometry],
 ) -> Vec<Vec<f64>> {
     let integrand = EIntegrand::new(mu_o, roughness, Geometry::SmithCorrelated);

@@ -1,0 +1,486 @@
+//! The truth, pictured (`render --backend truth`): every ball shaded with the random walk
+//! of Heitz et al. 2016 on its microsurface ([`crate::walk`]), the exact multiple scattering
+//! the real-time models approximate (docs/design.md, "The truth renderer").
+//!
+//! The camera, the primary rays and the sphere hits are those of the other CPU renderers,
+//! so a truth image compares pixel for pixel with theirs. Per covered pixel:
+//!
+//! - **Single scattering, exactly, once.** The lights: `f_micro` (Schlick F, GGX D,
+//!   height-correlated Smith G, the walk's own) plus the Lambertian base of a dielectric,
+//!   times `L mu_i`. The uniform environment: its radiance times the single-scattering
+//!   albedo with Schlick F by deterministic quadrature (`walk::single`, tabulated over `mu`
+//!   per distinct ball) plus the base's albedo.
+//! - **Multiple scattering, by the walk.** Each estimate traces one path entering along
+//!   the view direction (reciprocity: the BRDF is symmetric) and keeps only what its
+//!   second and later events give: next-event estimates towards every light
+//!   (`f(v, l) mu_l`) and the escaping mass times the radiance arriving from the escape
+//!   direction (the uniform environment and the map).
+//! - **The map's single scattering** by the Monte Carlo backend's estimator of the
+//!   single-scattering model (three strategies, balance heuristic), one draw each per
+//!   estimate.
+//!
+//! Progressive: passes of estimates per pixel, each pixel seeding its generator from
+//! `(seed, pixel, pass)`, so the image depends on neither the number of threads nor when
+//! the render stops, only on the passes done. It stops at `spp` estimates or when every
+//! ball's mean radiance has a relative standard error below the target.
+//!
+//! A dielectric's walk is its specular layer (`F0` about 0.04); its Lambertian base is the
+//! models' (`diffuse (1 - F_avg) / pi`), so the truth differs from them only in the
+//! specular layer's multiple scattering.
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::montecarlo::{Frame, Lighting, MonteCarloImage, ShadingPoint, LUMINANCE, MAX_SPP};
+use super::shade::per_channel;
+use super::{surface_normal, Bins, TableRead};
+use crate::brdf::{f_avg_schlick, Geometry, DIV_EPSILON};
+use crate::error::{Error, Result};
+use crate::scene::{Ball, Model, Scene, MAX_BALLS};
+use crate::walk::microsurface::Microsurface;
+use crate::walk::single::{single_albedo, Rules};
+use crate::walk::{trace, Reflectance, Rng, Schlick};
+
+/// Smallest relative standard error `--stderr` accepts (0.01 %): below it a render of the
+/// reference scene would need more than [`MAX_SPP`] estimates a pixel.
+pub const MIN_STDERR: f64 = 1e-4;
+
+/// Nodes of the tabulated single-scattering albedo over `mu` (uniform, linear
+/// interpolation: within 1e-4 of the quadrature between nodes at the roughness clamp).
+const SINGLE_NODES: usize = 129;
+
+/// What a truth render does and when it stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TruthSettings {
+    /// Most estimates per covered pixel (`1..=MAX_SPP`).
+    pub spp: u32,
+    /// Stop once every ball's mean radiance has a relative standard error below this
+    /// (`None`: run all `spp`).
+    pub stderr: Option<f64>,
+    /// The seed of every pixel's generators.
+    pub seed: u64,
+    /// Scattering events a path may have (`u32::MAX`: unlimited; 1 leaves single
+    /// scattering only, a check of the renderer).
+    pub max_order: u32,
+}
+
+impl Default for TruthSettings {
+    fn default() -> Self {
+        TruthSettings {
+            spp: 64,
+            stderr: None,
+            seed: 0,
+            max_order: u32::MAX,
+        }
+    }
+}
+
+/// Where a progressive truth render stands after a pass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TruthProgress {
+    /// Estimates per covered pixel so far.
+    pub spp: u32,
+    /// The most any ball's mean radiance has of relative standard error (`None` before a
+    /// variance is known, under 2 estimates).
+    pub worst_stderr: Option<f64>,
+    /// Seconds since the render started.
+    pub seconds: f64,
+}
+
+/// A truth image: the Monte Carlo image of every pixel, and per ball the mean radiance of
+/// its pixels with that mean's standard error.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TruthImage {
+    /// Mean radiance and its standard error per pixel.
+    pub image: MonteCarloImage,
+    /// Per ball (scene order): the mean over its pixels and its standard error, per channel.
+    pub balls: Vec<BallMean>,
+    /// Progress after each pass (the curve of error against time).
+    pub passes: Vec<TruthProgress>,
+}
+
+/// The mean radiance over a ball's pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BallMean {
+    /// Pixels of the ball (nearest hit).
+    pub pixels: u64,
+    /// Mean radiance over them.
+    pub mean: DVec3,
+    /// Standard error of that mean, per channel: `sqrt(sum s_p^2) / pixels`, `s_p` the
+    /// standard error of pixel `p`'s mean.
+    pub std_error: DVec3,
+}
+
+impl BallMean {
+    /// `Y(std_error) / Y(mean)` (Rec. 709 luminance); 0 for a black ball with no noise,
+    /// `None` for a ball no pixel sees.
+    pub fn relative_std_error(&self) -> Option<f64> {
+        if self.pixels == 0 {
+            return None;
+        }
+        let (m, s) = (self.mean.dot(LUMINANCE), self.std_error.dot(LUMINANCE));
+        Some(if m > DIV_EPSILON { s / m } else { s })
+    }
+}
+
+/// A covered pixel's fixed part and its running sums.
+struct Pixel {
+    index: usize,
+    px: u32,
+    py: u32,
+    ball: usize,
+    n: DVec3,
+    v: DVec3,
+    /// The single scattering of the lights and the uniform environment.
+    fixed: DVec3,
+    sum: DVec3,
+    sum_sq: DVec3,
+}
+
+/// Renders every ball of `scene` with the random walk at `width x height`. `progress` is
+/// called after each pass; returning false stops the render there (the image holds the
+/// passes done).
+///
+/// Errors when `spp` is outside `1..=MAX_SPP`, `stderr` outside `[MIN_STDERR, 1]`, or
+/// `max_order` is 0.
+pub fn render_truth(
+    scene: &Scene,
+    e: &TableRead<'_>,
+    width: u32,
+    height: u32,
+    settings: TruthSettings,
+    mut progress: impl FnMut(&TruthProgress) -> bool,
+) -> Result<TruthImage> {
+    let invalid = |what, message: String| Err(Error::Invalid { what, message });
+    if !(1..=MAX_SPP).contains(&settings.spp) {
+        return invalid(
+            "samples per pixel",
+            format!("{}: --spp must be in 1..={MAX_SPP}", settings.spp),
+        );
+    }
+    if let Some(s) = settings.stderr {
+        if !(MIN_STDERR..=1.0).contains(&s) {
+            return invalid(
+                "standard error",
+                format!("{s}: --stderr must be in {MIN_STDERR}..=1 (a fraction: 0.005 is 0.5 %)"),
+            );
+        }
+    }
+    if settings.max_order == 0 {
+        return invalid("scattering order", "0: a path needs at least one event".into());
+    }
+    let started = Instant::now();
+    let basis = scene.camera.basis(width, height);
+    let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
+    let bins = Bins::new(&basis, balls, width, height);
+    // The map's single scattering: the Monte Carlo estimator of the single-scattering
+    // model under the map alone.
+    let map_scene = Scene {
+        lights: Vec::new(),
+        environment: DVec3::ZERO,
+        ..scene.clone()
+    };
+    let map_lighting = scene
+        .environment_map
+        .is_some()
+        .then(|| Lighting::new(&map_scene));
+    let background = Lighting::new(scene);
+    let singles = SingleAlbedos::new(scene, balls);
+
+    let mut mean = vec![DVec3::ZERO; (width * height) as usize];
+    let mut covered = vec![false; mean.len()];
+    let mut pixels: Vec<Pixel> = Vec::new();
+    for py in 0..height {
+        for px in 0..width {
+            let index = (py * width + px) as usize;
+            let d = basis.ray(px, py, width, height);
+            let o = basis.origin;
+            match bins.nearest(balls, px, py, o, d) {
+                None => mean[index] = background.background(d),
+                Some((t, k)) => {
+                    let b = &balls[k];
+                    let n = surface_normal(o + t * d - b.center, d);
+                    let fixed = single_fixed(scene, b, n, -d, e, &singles);
+                    covered[index] = true;
+                    pixels.push(Pixel {
+                        index,
+                        px,
+                        py,
+                        ball: k,
+                        n,
+                        v: -d,
+                        fixed,
+                        sum: DVec3::ZERO,
+                        sum_sq: DVec3::ZERO,
+                    });
+                }
+            }
+        }
+    }
+
+    let mut done = 0u32;
+    let mut passes = Vec::new();
+    let mut ball_means = vec![BallMean::default(); balls.len()];
+    while done < settings.spp {
+        // Passes double (1, 1, 2, 4, ...) up to 16 estimates, so a stopping test comes
+        // often early and rarely costs much late.
+        let batch = done.clamp(1, 16).min(settings.spp - done);
+        let pass = done;
+        pixels.par_iter_mut().for_each(|p| {
+            let b = &balls[p.ball];
+            for k in 0..batch {
+                let mut rng = Rng::new(&[
+                    settings.seed,
+                    u64::from(p.px),
+                    u64::from(p.py),
+                    u64::from(pass + k),
+                ]);
+                let x = estimate(scene, b, p, e, map_lighting.as_ref(), settings, &mut rng);
+                p.sum += x;
+                p.sum_sq += x * x;
+            }
+        });
+        done += batch;
+        ball_means = means(&pixels, balls.len(), done);
+        let worst_stderr = (done >= 2).then(|| {
+            ball_means
+                .iter()
+                .filter_map(BallMean::relative_std_error)
+                .fold(0.0, f64::max)
+        });
+        let state = TruthProgress {
+            spp: done,
+            worst_stderr,
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        let go_on = progress(&state);
+        passes.push(state);
+        let converged = matches!(
+            (settings.stderr, worst_stderr),
+            (Some(target), Some(worst)) if worst <= target
+        );
+        if !go_on || converged {
+            break;
+        }
+    }
+
+    let n = f64::from(done.max(1));
+    let mut std_error = vec![DVec3::ZERO; mean.len()];
+    for p in &pixels {
+        let m = p.sum / n;
+        mean[p.index] = p.fixed + m;
+        std_error[p.index] = pixel_std_error(p, done);
+    }
+    Ok(TruthImage {
+        image: MonteCarloImage {
+            width,
+            height,
+            spp: done,
+            mean,
+            std_error,
+            covered,
+        },
+        balls: ball_means,
+        passes,
+    })
+}
+
+/// The standard error of a pixel's mean after `n` estimates (0 under 2).
+fn pixel_std_error(p: &Pixel, n: u32) -> DVec3 {
+    if n < 2 {
+        return DVec3::ZERO;
+    }
+    let n = f64::from(n);
+    let m = p.sum / n;
+    let var = ((p.sum_sq - n * m * m) / (n - 1.0)).max(DVec3::ZERO);
+    (var / n).powf(0.5)
+}
+
+/// Each ball's mean over its pixels and the standard error of that mean.
+fn means(pixels: &[Pixel], count: usize, n: u32) -> Vec<BallMean> {
+    let mut sums = vec![(0u64, DVec3::ZERO, DVec3::ZERO); count];
+    for p in pixels {
+        let s = pixel_std_error(p, n);
+        let entry = &mut sums[p.ball];
+        entry.0 += 1;
+        entry.1 += p.fixed + p.sum / f64::from(n.max(1));
+        entry.2 += s * s;
+    }
+    sums.into_iter()
+        .map(|(pixels, sum, var)| {
+            let k = pixels.max(1) as f64;
+            BallMean {
+                pixels,
+                mean: sum / k,
+                std_error: var.powf(0.5) / k,
+            }
+        })
+        .collect()
+}
+
+/// The single-scattering albedo with Schlick F and the walk's G, tabulated over `mu` per
+/// distinct (roughness, F0) of the scene's balls (only under a uniform environment).
+struct SingleAlbedos {
+    tables: HashMap<[u64; 4], Vec<DVec3>>,
+}
+
+impl SingleAlbedos {
+    fn key(b: &Ball) -> [u64; 4] {
+        let f0 = b.material.f0;
+        [b.roughness, f0.x, f0.y, f0.z].map(f64::to_bits)
+    }
+
+    fn new(scene: &Scene, balls: &[Ball]) -> Self {
+        let mut keys: Vec<([u64; 4], Ball)> = Vec::new();
+        if scene.environment != DVec3::ZERO {
+            for b in balls {
+                let key = Self::key(b);
+                if !keys.iter().any(|(k, _)| *k == key) {
+                    keys.push((key, *b));
+                }
+            }
+        }
+        let rules = Rules::default();
+        let tables = keys
+            .into_par_iter()
+            .map(|(key, b)| {
+                let channels = b.material.f0.to_array().map(Schlick);
+                let table = (0..SINGLE_NODES)
+                    .map(|i| {
+                        let mu = i as f64 / (SINGLE_NODES - 1) as f64;
+                        let a = single_albedo(
+                            &rules,
+                            mu,
+                            b.roughness,
+                            &channels,
+                            &[Geometry::SmithCorrelated],
+                        );
+                        DVec3::from_slice(&a[0])
+                    })
+                    .collect();
+                (key, table)
+            })
+            .collect();
+        SingleAlbedos { tables }
+    }
+
+    /// The albedo of ball `b` at `mu` (linear between nodes).
+    fn at(&self, b: &Ball, mu: f64) -> DVec3 {
+        let Some(t) = self.tables.get(&Self::key(b)) else {
+            return DVec3::ZERO;
+        };
+        let x = mu.clamp(0.0, 1.0) * (SINGLE_NODES - 1) as f64;
+        let i = (x as usize).min(SINGLE_NODES - 2);
+        let f = x - i as f64;
+        t[i] * (1.0 - f) + t[i + 1] * f
+    }
+}
+
+/// The single-scattering model at a point (no term, the walk's G).
+fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableRead<'_>) -> ShadingPoint {
+    let none = Ball {
+        model: Model::None,
+        ..*b
+    };
+    let mut point = ShadingPoint::new(scene, &none, n, v, e);
+    point.geometry = Geometry::SmithCorrelated;
+    point
+}
+
+/// The exact single scattering of the lights and the uniform environment at a point.
+fn single_fixed(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableRead<'_>,
+    singles: &SingleAlbedos,
+) -> DVec3 {
+    let point = single_point(scene, b, n, v, e);
+    let mut lo = DVec3::ZERO;
+    for light in &scene.lights {
+        let mu_i = n.dot(light.direction);
+        if mu_i > 0.0 && point.mu_o > 0.0 {
+            lo += super::montecarlo::model_brdf(&point, light.direction, e)
+                * light.radiance
+                * mu_i;
+        }
+    }
+    if scene.environment != DVec3::ZERO && point.mu_o > 0.0 {
+        let kd = b.material.diffuse * (DVec3::ONE - per_channel(b.material.f0, f_avg_schlick));
+        lo += scene.environment * (singles.at(b, point.mu_o) + kd);
+    }
+    lo
+}
+
+/// One estimate of what the fixed part leaves out: the walk's second and later events
+/// towards the lights and out to the environment, and the map's single scattering.
+fn estimate(
+    scene: &Scene,
+    b: &Ball,
+    p: &Pixel,
+    e: &TableRead<'_>,
+    map: Option<&Lighting<'_>>,
+    settings: TruthSettings,
+    rng: &mut Rng,
+) -> DVec3 {
+    let mu_o = p.n.dot(p.v);
+    if mu_o <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let mut x = DVec3::ZERO;
+    let mut escaped = DVec3::ZERO;
+    if let Some(map) = map {
+        let point = single_point(scene, b, p.n, p.v, e);
+        x += map.estimate(&point, e, 1, rng).0;
+    }
+    let frame = Frame::new(p.n);
+    let surface = Microsurface::new(b.roughness);
+    let channels = b.material.f0.to_array().map(Schlick);
+    // Lights above the horizon, in the local frame, with Lambda of their direction.
+    let mut lights = [(DVec3::ZERO, DVec3::ZERO, 0.0); crate::scene::MAX_LIGHTS];
+    let mut count = 0;
+    for light in &scene.lights {
+        let l = frame.to_local(light.direction);
+        if l.z > 0.0 {
+            lights[count] = (l, light.radiance, surface.lambda(l.z));
+            count += 1;
+        }
+    }
+    let lights = &lights[..count];
+    let env = scene.environment;
+    let map_env = scene.environment_map.as_ref();
+    let lit_above = env != DVec3::ZERO || map_env.is_some();
+    trace(
+        &surface,
+        frame.to_local(p.v),
+        &channels,
+        settings.max_order,
+        rng,
+        |order, dir, mass, w| {
+            if order >= 2 && lit_above {
+                let world = frame.to_world(dir);
+                let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
+                escaped += mass * DVec3::from_slice(w) * arriving;
+            }
+        },
+        |order, wi_k, c, carry, w| {
+            if order < 2 {
+                return;
+            }
+            for &(l, radiance, lambda) in lights {
+                let (phase, cos) = surface.phase(wi_k, l);
+                if phase <= 0.0 {
+                    continue;
+                }
+                let base = carry * phase * c.powf(lambda);
+                let f = DVec3::from_array(channels.map(|f| f.eval(cos)));
+                x += base * DVec3::from_slice(w) * f * radiance;
+            }
+        },
+    );
+    x + escaped
+}
