@@ -228,7 +228,9 @@ fn render_truth(
 
 /// The sidecar of a truth `.exr`: `NAME.stderr.exr` beside `NAME.exr`.
 pub fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
-    let stem = out.file_stem().map_or_else(Default::default, |s| s.to_os_string());
+    let stem = out
+        .file_stem()
+        .map_or_else(Default::default, |s| s.to_os_string());
     let mut name = stem;
     name.push(".stderr.exr");
     out.with_file_name(name)

@@ -11,10 +11,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
-pub use truth::{render_truth, BallMean, TruthImage, TruthProgress, TruthSettings};
 pub use shade::{
     intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms, TableRead,
 };
+pub use truth::{render_truth, BallMean, TruthImage, TruthProgress, TruthSettings};
 
 use shade::{shade_with_terms, Forms};
 

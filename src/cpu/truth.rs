@@ -170,7 +170,10 @@ pub fn render_truth(
         }
     }
     if settings.max_order == 0 {
-        return invalid("scattering order", "0: a path needs at least one event".into());
+        return invalid(
+            "scattering order",
+            "0: a path needs at least one event".into(),
+        );
     }
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
@@ -404,9 +407,7 @@ fn single_fixed(
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
         if mu_i > 0.0 && point.mu_o > 0.0 {
-            lo += super::montecarlo::model_brdf(&point, light.direction, e)
-                * light.radiance
-                * mu_i;
+            lo += super::montecarlo::model_brdf(&point, light.direction, e) * light.radiance * mu_i;
         }
     }
     if scene.environment != DVec3::ZERO && point.mu_o > 0.0 {

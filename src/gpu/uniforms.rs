@@ -6,8 +6,8 @@ use bytemuck::{Pod, Zeroable};
 use std::sync::Arc;
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
-use crate::lut::{roughness_coord, Layout, LutParams, MuAxis, RowSet, Tables};
 use crate::environment::IblTerm;
+use crate::lut::{roughness_coord, Layout, LutParams, MuAxis, RowSet, Tables};
 use crate::scene::{Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.

@@ -47,8 +47,7 @@ use super::values::{
     Radiance, Roughness,
 };
 use super::{
-    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, MAX_BALLS,
-    MAX_LIGHTS,
+    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
 use crate::environment::{self, Builtin, Environment, IblTerm, Source};

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::environment::{Background, Builtin, EnvMap, Environment, Source};
 
-use crate::scene::{Model, grid_position, Ball, Light, Material, MaterialKind, Scene};
+use crate::scene::{grid_position, Ball, Light, Material, MaterialKind, Model, Scene};
 use crate::scene::{REFERENCE_ALBEDO_SRGB, REFERENCE_RADIUS};
 
 /// Most balls per row the panel offers (two rows stay within [`crate::scene::MAX_BALLS`]).

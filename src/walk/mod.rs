@@ -112,4 +112,3 @@ pub fn incident(mu: f64) -> DVec3 {
     let mu = mu.clamp(0.0, 1.0);
     DVec3::new(-(1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
 }
-

@@ -8,7 +8,7 @@ use shadeballs::brdf::Geometry;
 use shadeballs::lab::bench::exact::exact_tables;
 use shadeballs::lab::bench::{bake_errors, display_error, lookup, HOMEWORK};
 use shadeballs::lut::{self, e_avg_reference, e_reference, BakeConfig, Method};
-use shadeballs::scene::{Scene, Model};
+use shadeballs::scene::{Model, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 

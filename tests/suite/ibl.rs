@@ -103,7 +103,7 @@ use glam::{DVec2, DVec3};
 use shadeballs::cpu;
 use shadeballs::environment::prefilter::{MipChain, Prefiltered};
 use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
-use shadeballs::scene::{Model, Material, MaterialKind, Scene};
+use shadeballs::scene::{Material, MaterialKind, Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::render::both;

@@ -11,7 +11,7 @@ use shadeballs::cpu::montecarlo::{model_brdf, ShadingPoint};
 use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage, TableRead};
 use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::{self, BakeConfig, Tables};
-use shadeballs::scene::{Model, Ball, Material, MaterialKind, Preset, Scene};
+use shadeballs::scene::{Ball, Material, MaterialKind, Model, Preset, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 

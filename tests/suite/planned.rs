@@ -8,7 +8,7 @@ use shadeballs::cpu::{self, TableRead};
 use shadeballs::gpu::{BoundTables, Renderer};
 use shadeballs::gpu::{DrawOptions, TablePolicy, MAX_PLANNED_ROWS};
 use shadeballs::lut::BakeConfig;
-use shadeballs::scene::{Scene, Model};
+use shadeballs::scene::{Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::plan::scene_with_roughness;

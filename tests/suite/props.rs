@@ -17,7 +17,7 @@ use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRu
 use shadeballs::brdf::{f_ms, f_ms_norm, FAvgForm, Geometry, ROUGHNESS_MIN};
 use shadeballs::cpu::{shade, TableRead};
 use shadeballs::lut::{adaptive, bake, e_reference, BakeConfig, Tables};
-use shadeballs::scene::{Model, Ball, Light, Material, MaterialKind, Scene};
+use shadeballs::scene::{Ball, Light, Material, MaterialKind, Model, Scene};
 
 /// The default tables of each geometry, baked once for every test here.
 fn tables(g: Geometry) -> &'static Tables {

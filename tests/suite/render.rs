@@ -221,7 +221,8 @@ fn furnace_balls_vanish_with_the_term_and_darken_without() {
         let mean = px.iter().map(|&p| image[4 * p] as f64).sum::<f64>() / px.len() as f64;
         println!(
             "furnace ball r={:.2} term={}: mean {mean:.1} vs background {bg}, max |diff| {worst}",
-            ball.roughness, ball.model.has_term()
+            ball.roughness,
+            ball.model.has_term()
         );
         if ball.model.has_term() {
             assert!(

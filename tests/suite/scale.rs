@@ -6,7 +6,7 @@ use glam::DVec3;
 use shadeballs::cpu;
 use shadeballs::gpu::{BoundTables, DrawOptions, Renderer};
 use shadeballs::lab::bench::scale::chart;
-use shadeballs::scene::{Model, self, Ball, Material, MaterialKind, Scene, MAX_BALLS};
+use shadeballs::scene::{self, Ball, Material, MaterialKind, Model, Scene, MAX_BALLS};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
 use crate::render::both;

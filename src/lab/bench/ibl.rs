@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::gpu::{Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
-use crate::scene::{Model, Material, MaterialKind, Scene, REFERENCE_ROUGHNESS};
+use crate::scene::{Material, MaterialKind, Model, Scene, REFERENCE_ROUGHNESS};
 
 /// Luminance weights (Rec. 709) of the relative errors.
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);

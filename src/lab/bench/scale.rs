@@ -17,7 +17,7 @@ use crate::error::Result;
 use crate::gpu::{Plan, Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
-use crate::scene::{Model, Ball, Camera, Light, Material, Scene};
+use crate::scene::{Ball, Camera, Light, Material, Model, Scene};
 
 /// Side of the square the chart's ball centres span, in world units.
 const CHART_SPAN: f64 = 400.0;
