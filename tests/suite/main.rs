@@ -36,5 +36,6 @@ mod scene_gen;
 mod shaders;
 mod stress;
 mod truth;
+mod truth_render;
 mod uniform_flow;
 mod viewer;
