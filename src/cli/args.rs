@@ -351,6 +351,46 @@ pub struct TruthArgs {
     pub out: PathBuf,
 }
 
+/// `shadeballs compare`.
+#[derive(clap::Args)]
+pub struct CompareArgs {
+    /// The scene: its roughness values, first material, lights and environment.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Folder for compare.csv, compare.png, heatmaps.png, time_vs_error.png, summary.md.
+    #[arg(long, default_value = "compare-results")]
+    pub out: PathBuf,
+    /// Estimates per pixel of the truth row, 2..=65536 (default 256; --quick 32).
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::cpu::montecarlo::MAX_SPP)))]
+    pub spp: Option<u32>,
+    /// Random seed of the truth.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Smaller rows (64 pixels a ball instead of 160), 32 truth estimates a pixel, frame
+    /// times at 640x360: seconds instead of a minute.
+    #[arg(long)]
+    pub quick: bool,
+    /// Where the models render (auto: any GPU adapter, else the CPU reference renderer).
+    #[arg(long, default_value_t = Backend::Auto, value_parser = parse_compare_backend)]
+    pub backend: Backend,
+}
+
+/// `compare --backend`: a GPU backend or the CPU reference renderer (the truth always
+/// runs on the CPU).
+pub fn parse_compare_backend(s: &str) -> Result<Backend, String> {
+    match s.parse::<Backend>() {
+        Ok(Backend::Montecarlo | Backend::Truth) => Err(
+            "the models render on auto, vulkan, gl or cpu (the truth row is always the CPU's)"
+                .to_string(),
+        ),
+        Ok(b) => Ok(b),
+        Err(_) => Err(format!(
+            "'{s}' is not a backend: use auto, vulkan, gl or cpu"
+        )),
+    }
+}
+
 /// `--size`: `N` or `MUxR`, each side a whole number in `2..=MAX_TABLE_SIDE`.
 pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let one = |t: &str| -> Result<usize, String> {

@@ -6,6 +6,7 @@
 mod args;
 mod bake;
 mod bench;
+mod compare;
 mod environment;
 mod memory;
 mod probe;
@@ -36,6 +37,9 @@ enum Command {
     Bake(BakeArgs),
     /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
     Bench(BenchArgs),
+    /// Render every model's row of balls beside the truth's (a random walk) and measure
+    /// each image's error against it (CSV, labelled PNG, heatmaps, a time-error plot).
+    Compare(CompareArgs),
     /// Write a built-in environment map (studio, sky, white) to .exr or .hdr.
     Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
@@ -102,6 +106,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bake(args) => bake::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
         Command::Probe(args) => probe::run(args),

@@ -3,5 +3,6 @@
 //! library; the library never imports it.
 
 pub mod bench;
+pub mod compare;
 pub mod plot;
 pub mod truth;

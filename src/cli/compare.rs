@@ -1,0 +1,52 @@
+//! `shadeballs compare`: each model's picture against the truth's (the lab's
+//! [`crate::lab::compare`]).
+
+use std::time::Instant;
+
+use super::args::CompareArgs;
+use crate::gpu::{Gpu, Renderer};
+use crate::lab::compare::{self, CompareOptions};
+
+pub fn run(args: CompareArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    super::check_wgpu_backend_env(args.backend)?;
+    let scene = args.scene.load()?;
+    let mut renderer = match args.backend.wgpu_backends() {
+        None => None,
+        Some(backends) => match Gpu::new(backends) {
+            Ok(gpu) => Some(Renderer::new(gpu)),
+            Err(e @ crate::Error::NoAdapter { .. })
+                if args.backend == crate::gpu::Backend::Auto =>
+            {
+                eprintln!("warning: {e}; the models render on the CPU reference renderer");
+                None
+            }
+            Err(e) => return Err(e.into()),
+        },
+    };
+    let options = CompareOptions {
+        scene,
+        out: args.out,
+        spp: args.spp.unwrap_or(if args.quick { 32 } else { 256 }),
+        seed: args.seed,
+        cell: if args.quick { 64 } else { 160 },
+        timing_size: if args.quick { (640, 360) } else { (1280, 720) },
+    };
+    let comparison = compare::run(&options, renderer.as_mut())?;
+    super::print_stdout(&compare::summary(&comparison));
+    let headline = comparison.headline().map_or(String::new(), |(err, floor)| {
+        format!(
+            "accurate preset's mean relative image error {:.2} % (truth noise {:.2} %), ",
+            100.0 * err,
+            100.0 * floor
+        )
+    });
+    eprintln!(
+        "compare: {headline}truth {} spp in {:.1} s, {:.1} s in all -> {}",
+        comparison.truth_spp,
+        comparison.truth_seconds,
+        start.elapsed().as_secs_f64(),
+        options.out.display()
+    );
+    Ok(())
+}
