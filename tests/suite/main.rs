@@ -9,6 +9,7 @@ mod cli;
 mod cli_bake;
 mod cli_fuzz;
 mod cli_render;
+mod compare;
 mod environment;
 mod example;
 mod extreme_scenes;
