@@ -48,6 +48,8 @@ struct SceneKey {
 impl SceneKey {
     fn new(scene: &Scene, bake: BakeConfig, size: (u32, u32, u32)) -> Self {
         let mut scene = scene.clone();
+        // The labels are egui's, drawn over the scene image: not part of it.
+        scene.labels = false;
         let map = scene.environment_map.take().map(|e| MapKey {
             map: e.map,
             rotation_deg: e.rotation_deg,

@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 12] = [
+const LIBRARY: [&str; 13] = [
     "crate",
     "brdf",
     "lut",
@@ -18,6 +18,7 @@ const LIBRARY: [&str; 12] = [
     "gpu",
     "cpu",
     "display",
+    "labels",
     "output",
     "stats",
     "error",
@@ -36,6 +37,8 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
         "scene" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),
         "gpu" => below(&["cpu"]),
+        // Labels are laid out from the scene alone and drawn into any RGBA8 image.
+        "labels" => below(&["gpu", "cpu"]),
         m if LIBRARY.contains(&m) => below(&[]),
         "lab" => vec!["cli", "viewer"],
         "viewer" => vec!["cli", "lab"],
