@@ -125,8 +125,10 @@ impl Label {
         let k = OUTLINE_PER_FONT_PX;
         let fit_w = (self.room.width() - 2.0 * EDGE_PX) / (per_px + 2.0 * k);
         let fit_h = (self.room.height() - 2.0 * EDGE_PX) / (1.0 + 2.0 * k);
-        let size = self.size_px.min(fit_w).min(fit_h);
-        if !(size >= MIN_FONT_PX) {
+        // A hair under the fit, so that rounding never puts the outer box past the room.
+        let size = self.size_px.min(fit_w.min(fit_h) * (1.0 - 1e-5));
+        // And a hair of tolerance at the smallest size (a room made for it).
+        if !(size >= MIN_FONT_PX * (1.0 - 1e-4)) {
             return None;
         }
         let margin = k * size + EDGE_PX;
