@@ -128,7 +128,8 @@ impl Label {
         // A hair under the fit, so that rounding never puts the outer box past the room.
         let size = self.size_px.min(fit_w.min(fit_h) * (1.0 - 1e-5));
         // And a hair of tolerance at the smallest size (a room made for it).
-        if !(size >= MIN_FONT_PX * (1.0 - 1e-4)) {
+        // (NaN, from a room with NaN edges, fails this too.)
+        if size.is_nan() || size < MIN_FONT_PX * (1.0 - 1e-4) {
             return None;
         }
         let margin = k * size + EDGE_PX;

@@ -29,7 +29,7 @@ fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
     let all: Vec<&Label> = l.iter().collect();
     for (i, label) in all.iter().enumerate() {
         let r = &label.room;
-        if !image.contains(r) || !(r.width() > 0.0 && r.height() > 0.0) {
+        if !(image.contains(r) && r.width() > 0.0 && r.height() > 0.0) {
             return Err(format!("{w}x{h}: room {r:?} of {:?}", label.text));
         }
         if let Some(b) = balls.iter().find(|b| b.overlaps(r)) {
