@@ -43,6 +43,7 @@ pub mod display;
 pub mod environment;
 pub mod error;
 pub mod gpu;
+pub mod labels;
 pub mod lut;
 pub mod output;
 pub mod scene;

@@ -165,6 +165,14 @@ pub struct SceneArgs {
     /// What the pixels no ball covers show (default: the scene's, else environment).
     #[arg(long)]
     pub background: Option<BackgroundArg>,
+    /// Draw the chart's labels: the roughness under each column, the row's model at its
+    /// left, a caption line (preset, G, environment); into a .png (never an .exr) and the
+    /// viewer. Default: the scene's `labels` (on in the built-in scenes).
+    #[arg(long, overrides_with = "no_labels")]
+    pub labels: bool,
+    /// Draw no labels (the opposite of --labels; the last one given wins).
+    #[arg(long, overrides_with = "labels")]
+    pub no_labels: bool,
 }
 
 impl SceneArgs {
@@ -185,6 +193,9 @@ impl SceneArgs {
         }
         if let Some(b) = self.background {
             scene.background = b.background();
+        }
+        if self.labels || self.no_labels {
+            scene.labels = self.labels;
         }
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");

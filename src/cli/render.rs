@@ -9,8 +9,10 @@ use super::memory;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
+use crate::labels;
 use crate::lut::{self, BakeConfig};
 use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
+use crate::scene::Scene;
 
 fn open(backend: Backend) -> Result<Option<Renderer>> {
     let Some(backends) = backend.wgpu_backends() else {
@@ -61,9 +63,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 ImageKind::Png => {
                     renderer.prepare(&scene, wgpu::TextureFormat::Rgba8Unorm);
                     phases.mark("pipeline");
-                    let image = renderer.render_ldr(&scene, w, h)?;
+                    let mut rgba = renderer.render_ldr(&scene, w, h)?.rgba;
                     phases.mark("render");
-                    write_png(&args.out, w, h, image.rgba)?
+                    draw_labels(&scene, w, h, &mut rgba, &mut phases)?;
+                    write_png(&args.out, w, h, rgba)?
                 }
                 ImageKind::Exr => {
                     // The pipeline is created at the first draw (its float format is
@@ -135,8 +138,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             // The radiance (24 bytes a pixel) is dropped before the encoder starts.
             match kind {
                 ImageKind::Png => {
-                    let rgba = cpu::to_rgba8(&radiance, scene.exposure);
+                    let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
                     drop(radiance);
+                    draw_labels(&scene, w, h, &mut rgba, &mut phases)?;
                     write_png(&args.out, w, h, rgba)?
                 }
                 ImageKind::Exr => {
@@ -234,6 +238,16 @@ pub fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
     let mut name = stem;
     name.push(".stderr.exr");
     out.with_file_name(name)
+}
+
+/// The chart's labels over a picture's display pixels, when the scene asks for them (a
+/// `.png` only: an `.exr` holds radiance).
+fn draw_labels(scene: &Scene, w: u32, h: u32, rgba: &mut [u8], phases: &mut Phases) -> Result<()> {
+    if scene.labels {
+        labels::draw_labels(rgba, w, h, &labels::layout(scene, w, h))?;
+        phases.mark("labels");
+    }
+    Ok(())
 }
 
 /// Wall time per phase since the previous mark, for the one-line report ("name 12.3 ms,

@@ -4,13 +4,15 @@
 //! preset = "accurate"          # optional: accurate | games202
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! exposure = 1.0               # optional, > 0
+//! background = "environment"   # optional: environment (default) | black | [r, g, b]
+//! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
+//!                              #   the model of balls that name none
+//! labels = true                # optional, default false: roughness, row model and a
+//!                              #   caption drawn into PNG pictures and the viewer
 //! [camera]                     # optional: the reference camera
 //! position = [0, 80, 300]
 //! target = [0, 0, 0]
 //! vfov_deg = 75
-//! background = "environment"  # optional: environment (default) | black | [r, g, b]
-//! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
-//!                              # the model of balls that name none
 //! [environment]                # optional: black. Exactly one of radiance, map, builtin:
 //! radiance = [1, 1, 1]         #   uniform linear radiance, or
 //! # map = "studio.hdr"         #   an equirectangular .hdr/.exr, relative to this file, or
@@ -64,6 +66,8 @@ struct SceneFile {
     exposure: Option<Positive>,
     background: Option<BackgroundValue>,
     ibl_term: Option<Named<IblTerm>>,
+    #[serde(default)]
+    labels: bool,
     camera: Option<Spanned<CameraFile>>,
     environment: Option<Spanned<EnvironmentFile>>,
     #[serde(default)]
@@ -319,6 +323,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         exposure: file.exposure.map_or(1.0, |e| e.0),
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
+        labels: file.labels,
     })
 }
 

@@ -131,6 +131,11 @@ pub struct Scene {
     /// The G the `accurate` preset uses (`games202` always uses schlick); default
     /// height-correlated Smith.
     pub geometry: Geometry,
+    /// Whether the chart's labels (roughness under each column, the row's model, a
+    /// caption) are drawn into PNG pictures and the viewer (`crate::labels`); the
+    /// renderers themselves never draw them. On in the built-in scenes, off by default in
+    /// a scene file.
+    pub labels: bool,
 }
 
 /// The reference scene's metal albedo (sRGB, docs/design.md section 4).
@@ -158,6 +163,7 @@ impl Scene {
             preset: Preset::Accurate,
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
+            labels: true,
         }
     }
 

@@ -25,6 +25,9 @@ fn fits(t: &Option<wgpu::Texture>, size: (u32, u32), format: wgpu::TextureFormat
 
 /// What the panel drew this frame, in egui's terms.
 pub struct Overlay {
+    /// The chart's labels, drawn into the scene image over the balls (its own renderer).
+    pub labels: Vec<egui::ClippedPrimitive>,
+    /// The panel (and any popup).
     pub primitives: Vec<egui::ClippedPrimitive>,
     pub textures: egui::TexturesDelta,
     pub pixels_per_point: f32,
@@ -111,7 +114,7 @@ impl Layers {
     pub fn update(
         &mut self,
         renderer: &mut Renderer,
-        egui: &mut egui_wgpu::Renderer,
+        (egui, egui_labels): (&mut egui_wgpu::Renderer, &mut egui_wgpu::Renderer),
         format: wgpu::TextureFormat,
         (width, height): (u32, u32),
         scene: &Scene,
@@ -143,6 +146,10 @@ impl Layers {
                 height,
             };
             renderer.encode(scene, target, encoder);
+            if !overlay.labels.is_empty() {
+                let labels = (&overlay.labels[..], overlay.pixels_per_point);
+                draw_egui(renderer, egui_labels, labels, scene_image, size, encoder);
+            }
             // The tables may have been re-baked for this scene: key on the settings held now.
             self.scene_key = Some(SceneKey {
                 bake: renderer.bake_config(),
@@ -152,14 +159,8 @@ impl Layers {
         }
         if redraw_panel {
             copy(encoder, scene_image, frame_image, (width, height));
-            draw_panel(
-                renderer,
-                egui,
-                overlay,
-                frame_image,
-                (width, height),
-                encoder,
-            );
+            let panel = (&overlay.primitives[..], overlay.pixels_per_point);
+            draw_egui(renderer, egui, panel, frame_image, size, encoder);
             self.panel_current = overlay.panel_only;
             self.panel_draws += 1;
         } else if scene_changed {
@@ -169,32 +170,28 @@ impl Layers {
     }
 }
 
-/// egui's output over `texture`.
-fn draw_panel(
+/// egui's `primitives` at `pixels_per_point` over `texture`. Each list drawn in one
+/// frame needs its own `egui` renderer: its buffers are written when recorded, not when
+/// the pass runs.
+fn draw_egui(
     renderer: &Renderer,
     egui: &mut egui_wgpu::Renderer,
-    overlay: &Overlay,
+    (primitives, pixels_per_point): (&[egui::ClippedPrimitive], f32),
     texture: &wgpu::Texture,
     (width, height): (u32, u32),
     encoder: &mut wgpu::CommandEncoder,
 ) {
     let screen = egui_wgpu::ScreenDescriptor {
         size_in_pixels: [width, height],
-        pixels_per_point: overlay.pixels_per_point,
+        pixels_per_point,
     };
     let gpu = renderer.gpu();
-    let extra = egui.update_buffers(
-        &gpu.device,
-        &gpu.queue,
-        encoder,
-        &overlay.primitives,
-        &screen,
-    );
+    let extra = egui.update_buffers(&gpu.device, &gpu.queue, encoder, primitives, &screen);
     // egui paints no callbacks here, so there are no extra command buffers to submit.
     debug_assert!(extra.is_empty());
     let view = texture.create_view(&Default::default());
     let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("panel"),
+        label: Some("egui"),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
             view: &view,
             depth_slice: None,
@@ -206,7 +203,7 @@ fn draw_panel(
         })],
         ..Default::default()
     });
-    egui.render(&mut pass.forget_lifetime(), &overlay.primitives, &screen);
+    egui.render(&mut pass.forget_lifetime(), primitives, &screen);
 }
 
 /// Copies the top-left `width x height` of `from` into `to`.

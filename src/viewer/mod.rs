@@ -13,6 +13,7 @@ mod clock;
 mod compose;
 pub mod edit;
 mod events;
+mod labels;
 pub mod orbit;
 mod panel;
 mod state;
@@ -248,9 +249,12 @@ impl App {
         let input = egui_winit.take_egui_input(&state.window);
         let (scene, controls) = (&mut self.scene, &mut self.controls);
         let mut free_width = 0.0;
+        let mut label_shapes = Vec::new();
+        let window_height = state.size().1;
         let output = self.egui_ctx.run_ui(input, |ui| {
             panel::show(ui, scene, controls, stats);
             free_width = ui.available_rect_before_wrap().max.x;
+            label_shapes = labels::shapes(ui, scene, free_width, window_height);
         });
         egui_winit.handle_platform_output(&state.window, output.platform_output);
         let ppp = output.pixels_per_point;
@@ -279,6 +283,7 @@ impl App {
             Vec::new()
         };
         let overlay = Overlay {
+            labels: self.egui_ctx.tessellate(label_shapes, ppp),
             primitives,
             textures: output.textures_delta,
             pixels_per_point: ppp,

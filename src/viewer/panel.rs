@@ -212,6 +212,7 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             None => edit::restore_materials(scene, &controls.scene_materials),
         }
     }
+    ui.checkbox(&mut scene.labels, "labels (roughness, row model, caption)");
 }
 
 fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {

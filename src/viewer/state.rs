@@ -32,6 +32,9 @@ pub struct State {
     config: wgpu::SurfaceConfiguration,
     pub renderer: Renderer,
     egui: egui_wgpu::Renderer,
+    /// egui's renderer of the chart's labels (drawn into the scene image in the same frame
+    /// as the panel: each needs its own buffers).
+    egui_labels: egui_wgpu::Renderer,
     layers: Layers,
     /// The draw that puts the frame image into a surface that cannot be copied into.
     blit: Option<Blit>,
@@ -55,14 +58,17 @@ impl State {
         let config = surface_config(&surface, &gpu, 0, 0)?;
         let blit = (!config.usage.contains(wgpu::TextureUsages::COPY_DST))
             .then(|| Blit::new(&gpu.device, config.format));
-        let egui = egui_wgpu::Renderer::new(
-            &gpu.device,
-            config.format,
-            egui_wgpu::RendererOptions {
-                dithering: false,
-                ..Default::default()
-            },
-        );
+        let egui_renderer = || {
+            egui_wgpu::Renderer::new(
+                &gpu.device,
+                config.format,
+                egui_wgpu::RendererOptions {
+                    dithering: false,
+                    ..Default::default()
+                },
+            )
+        };
+        let (egui, egui_labels) = (egui_renderer(), egui_renderer());
         let size = window.inner_size();
         let mut state = State {
             window,
@@ -71,6 +77,7 @@ impl State {
             config,
             renderer: Renderer::new(gpu),
             egui,
+            egui_labels,
             layers: Layers::default(),
             blit,
             stale: false,
@@ -123,11 +130,13 @@ impl State {
         for (id, deltas) in &overlay.textures.set {
             for delta in deltas {
                 self.egui.update_texture(device, queue, *id, delta);
+                self.egui_labels.update_texture(device, queue, *id, delta);
             }
         }
         let frame = self.draw_frame(scene, scene_width, overlay, capture);
         for id in &overlay.textures.free {
             self.egui.free_texture(id);
+            self.egui_labels.free_texture(id);
         }
         frame
     }
@@ -175,7 +184,7 @@ impl State {
         let mut encoder = device.create_command_encoder(&Default::default());
         let frame_image = self.layers.update(
             &mut self.renderer,
-            &mut self.egui,
+            (&mut self.egui, &mut self.egui_labels),
             self.config.format,
             (width, height),
             scene,

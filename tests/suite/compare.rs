@@ -11,7 +11,12 @@ use crate::cli::{shadeballs, temp_dir};
 /// A 4-pixel "image": two pixels of ball 0 (luminance 1 and 3), one of ball 1, one
 /// background; the truth's standard error 1 % of its mean.
 fn truth() -> (Vec<Option<usize>>, MonteCarloImage) {
-    let mean = vec![DVec3::ONE, DVec3::splat(3.0), DVec3::splat(2.0), DVec3::ZERO];
+    let mean = vec![
+        DVec3::ONE,
+        DVec3::splat(3.0),
+        DVec3::splat(2.0),
+        DVec3::ZERO,
+    ];
     let image = MonteCarloImage {
         width: 4,
         height: 1,
@@ -30,7 +35,10 @@ fn relative_errors_and_the_noise_floor() {
     // The truth itself: no error, so within noise.
     let same = ball_errors(2, &index, &truth.mean, &truth, &flip);
     assert_eq!(same[0].mean_rel, 0.0);
-    assert_eq!(BallError::figure(same[0].mean_rel, same[0].floor_mean), "within noise");
+    assert_eq!(
+        BallError::figure(same[0].mean_rel, same[0].floor_mean),
+        "within noise"
+    );
     assert_eq!(same[0].pixels, 2);
     assert!((same[0].flip_mean - 0.25).abs() < 1e-12);
     assert!((same[1].flip_mean - 1.0).abs() < 1e-12);
@@ -45,7 +53,10 @@ fn relative_errors_and_the_noise_floor() {
     assert!((e[0].floor_mean - 0.01).abs() < 1e-3, "{:?}", e[0]);
     // ... so 2 % is within noise and 4 % is a figure.
     assert_eq!(BallError::figure(0.02, 0.01), "within noise");
-    assert_eq!(BallError::figure(NOISE_FACTOR * 0.01 + 0.01, 0.01), "0.04000");
+    assert_eq!(
+        BallError::figure(NOISE_FACTOR * 0.01 + 0.01, 0.01),
+        "0.04000"
+    );
 }
 
 #[test]
@@ -65,7 +76,7 @@ fn a_row_is_the_scene_s_roughness_values_with_one_model() {
         assert!(w[0].center.x < w[1].center.x && w[0].roughness < w[1].roughness);
     }
     for b in &row.balls {
-        let bounds = basis.sphere_bounds(b.center, b.radius, 500, 100);
+        let bounds = basis.sphere_bounds(b.center, b.radius, 500, 100, 0.0);
         assert!(bounds.is_some(), "{b:?}");
     }
     let names: Vec<String> = rows().into_iter().map(|r| r.name).collect();
@@ -85,8 +96,17 @@ fn compare_writes_its_files_and_the_truth_favours_the_term_on_rough_balls() {
         out.to_str().unwrap(),
     ]);
     assert!(ok, "{stderr}");
-    assert!(stderr.contains("accurate preset's mean relative image error"), "{stderr}");
-    for f in ["compare.csv", "compare.png", "heatmaps.png", "time_vs_error.png", "summary.md"] {
+    assert!(
+        stderr.contains("accurate preset's mean relative image error"),
+        "{stderr}"
+    );
+    for f in [
+        "compare.csv",
+        "compare.png",
+        "heatmaps.png",
+        "time_vs_error.png",
+        "summary.md",
+    ] {
         assert!(out.join(f).exists(), "{f}: {stderr}");
     }
     let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
@@ -110,10 +130,17 @@ fn compare_writes_its_files_and_the_truth_favours_the_term_on_rough_balls() {
     );
     let png = image::open(out.join("compare.png")).unwrap();
     // Six rows (five models and the truth) of one 64-pixel cell each, or more with labels.
-    assert!(png.height() >= 6 * 64 && png.width() >= 5 * 64, "{:?}", (png.width(), png.height()));
+    assert!(
+        png.height() >= 6 * 64 && png.width() >= 5 * 64,
+        "{:?}",
+        (png.width(), png.height())
+    );
     for (args, needle) in [
         (vec!["--spp", "1"], "--spp"),
-        (vec!["--backend", "truth"], "the truth row is always the CPU's"),
+        (
+            vec!["--backend", "truth"],
+            "the truth row is always the CPU's",
+        ),
     ] {
         let mut all = vec!["compare", "--quick", "--out", out.to_str().unwrap()];
         all.extend(args.iter().copied());

@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 13] = [
+const LIBRARY: [&str; 14] = [
     "crate",
     "brdf",
     "lut",
@@ -19,6 +19,7 @@ const LIBRARY: [&str; 13] = [
     "gpu",
     "cpu",
     "display",
+    "labels",
     "output",
     "stats",
     "error",
@@ -38,6 +39,8 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
         "scene" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),
         "gpu" => below(&["cpu"]),
+        // Labels are laid out from the scene alone and drawn into any RGBA8 image.
+        "labels" => below(&["gpu", "cpu"]),
         m if LIBRARY.contains(&m) => below(&[]),
         "lab" => vec!["cli", "viewer"],
         "viewer" => vec!["cli", "lab"],

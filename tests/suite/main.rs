@@ -21,6 +21,7 @@ mod gpu_stress;
 mod harmonics;
 mod ibl;
 mod ktx2;
+mod labels;
 mod layers;
 mod lut;
 mod lut_chebyshev;

@@ -49,6 +49,14 @@ fn name(valid: &'static [&'static str], noise: bool) -> impl Strategy<Value = St
     ]
 }
 
+/// `true` or `false`; with `noise`, sometimes not a boolean.
+fn flag(noise: bool) -> impl Strategy<Value = String> {
+    prop_oneof![
+        6 => select(vec!["true", "false"]).prop_map(String::from),
+        noise as u32 => select(vec!["\"yes\"", "1", "\"true\"", "[true]"]).prop_map(String::from),
+    ]
+}
+
 /// `key = value` lines of a table; with `noise`, a field is sometimes missing or repeated,
 /// and the table sometimes has an unknown key.
 fn fields(all: Vec<BoxedStrategy<String>>, noise: bool) -> impl Strategy<Value = String> {
@@ -159,6 +167,7 @@ fn structured(noise: bool) -> impl Strategy<Value = String> {
                 name(&["schlick", "smith", "smith-correlated"], noise),
             ),
             kv("exposure", number(0.1, 4.0, noise)),
+            kv("labels", flag(noise)),
         ],
         noise,
     );

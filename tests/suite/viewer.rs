@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use shadeballs::environment::{Background, Builtin, Environment, IblTerm, Source};
+use shadeballs::labels;
 use shadeballs::scene::{Camera, Scene};
 use shadeballs::viewer::edit::{
     self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice,
@@ -134,11 +135,53 @@ fn crop(rgba: &[u8], width: u32, (w, h): (u32, u32)) -> Vec<u8> {
 /// for the window, RGBA headless) and agrees exactly; a GL window is another driver, 6 of
 /// 705,600 pixels off by 1/255 when measured. The bound is the render issue's GPU-vs-CPU
 /// bound (`assert_close`).
+///
+/// With the scene's labels on (the built-in scene's default), the viewer paints them over
+/// the scene area with egui in the rooms of `labels::layout`: each room must differ from
+/// the bare render (the labels are there), and the comparison covers every pixel outside
+/// the rooms (which the layout keeps off the balls).
 fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
     let image = image::open(shot).unwrap().to_rgba8();
     let area = scene_area(stderr);
-    let window = crop(image.as_raw(), image.width(), area);
-    let headless = vulkan().render_ldr(scene, area.0, area.1).unwrap().rgba;
+    let mut window = crop(image.as_raw(), image.width(), area);
+    let mut headless = vulkan().render_ldr(scene, area.0, area.1).unwrap().rgba;
+    if scene.labels {
+        let layout = labels::layout(scene, area.0, area.1);
+        let mut changed = vec![0usize; layout.iter().count()];
+        for (i, (a, b)) in window
+            .chunks_exact_mut(4)
+            .zip(headless.chunks_exact_mut(4))
+            .enumerate()
+        {
+            let (x, y) = ((i as u32 % area.0) as f32, (i as u32 / area.0) as f32);
+            let room = layout.iter().position(|l| {
+                let r = &l.room;
+                x + 1.0 > r.x0 && x < r.x1 && y + 1.0 > r.y0 && y < r.y1
+            });
+            if let Some(k) = room {
+                changed[k] += (a != b) as usize;
+                a.copy_from_slice(b);
+            }
+        }
+        println!("{what}: pixels the labels changed, per label: {changed:?}");
+        // Every label that fits its room (at the PNG font's width: egui's Ubuntu Light is
+        // the same font) is drawn; one that does not is left out.
+        let fits: Vec<bool> = layout
+            .iter()
+            .map(|l| {
+                l.place(labels::text_width(&l.text, l.size_px).unwrap())
+                    .is_some()
+            })
+            .collect();
+        assert!(fits.iter().any(|&f| f), "{what}: no label fits");
+        for ((l, n), fit) in layout.iter().zip(&changed).zip(fits) {
+            assert!(
+                !fit || *n >= 20,
+                "{what}: {:?} missing: {changed:?}",
+                l.text
+            );
+        }
+    }
     assert_close(&compare(&window, &headless, area.0), what);
 }
 

@@ -23,6 +23,7 @@ use crate::cpu::{self, TableRead, TruthSettings};
 use crate::error::{Error, Result};
 use crate::gpu::Renderer;
 use crate::lab::plot::{write_plot, Plot, Series, Style};
+use crate::labels::{self, Align, Label, Labels, Rect};
 use crate::lut::{self, BakeConfig};
 use crate::output::{write_atomic, write_png};
 use crate::scene::{Ball, Camera, Model, Preset, Scene};
@@ -262,26 +263,119 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
         &options.out.join("compare.csv"),
         csv(&comparison).as_bytes(),
     )?;
-    let stacked = |images: &[Vec<u8>]| images.concat();
-    let rows_total = pictures.len() as u32;
-    write_png(
-        &options.out.join("compare.png"),
-        w,
-        h * rows_total,
-        stacked(&pictures),
-    )?;
-    write_png(
-        &options.out.join("heatmaps.png"),
-        w,
-        h * heatmaps.len() as u32,
-        stacked(&heatmaps),
-    )?;
+    let mut names: Vec<String> = comparison.rows.iter().map(|r| r.row.name.clone()).collect();
+    names.push(format!("truth ({} spp)", truth.image.spp));
+    // The scene's caption without its preset: the rows are under their own.
+    let lighting = labels::caption(&options.scene);
+    let lighting = lighting
+        .split_once(" \u{b7} ")
+        .map_or(lighting.as_str(), |(_, rest)| rest)
+        .to_string();
+    let caption = format!("models against the truth (random walk) \u{b7} {lighting}");
+    let (cw, ch, picture) = chart(&pictures, &names, &comparison.roughness, (w, h), &caption)?;
+    write_png(&options.out.join("compare.png"), cw, ch, picture)?;
+    names.pop();
+    names.push("truth's own noise".to_string());
+    let caption = format!(
+        "relative error against the truth, magma from 0 to {:.0} % \u{b7} {lighting}",
+        100.0 * HEATMAP_FULL_SCALE
+    );
+    let (cw, ch, picture) = chart(&heatmaps, &names, &comparison.roughness, (w, h), &caption)?;
+    write_png(&options.out.join("heatmaps.png"), cw, ch, picture)?;
     write_plot(&plot(&comparison), &options.out.join("time_vs_error.png"))?;
     write_atomic(
         &options.out.join("summary.md"),
         summary(&comparison).as_bytes(),
     )?;
     Ok(comparison)
+}
+
+/// Pixels left of the rows for their names.
+const NAMES_PX: u32 = 190;
+/// Pixels above the rows (the caption) and below them (the roughness).
+const MARGIN_PX: u32 = 26;
+/// The chart's background.
+const CHART_GREY: [u8; 4] = [24, 24, 24, 255];
+
+/// The row pictures (`size` each) stacked on a grey canvas with each row's name at its
+/// left, each column's roughness under the last row and the caption above; RGBA8.
+fn chart(
+    pictures: &[Vec<u8>],
+    names: &[String],
+    roughness: &[f64],
+    size: (u32, u32),
+    caption: &str,
+) -> Result<(u32, u32, Vec<u8>)> {
+    let (w, h) = size;
+    let width = NAMES_PX + w;
+    let height = 2 * MARGIN_PX + h * pictures.len() as u32;
+    let mut canvas: Vec<u8> = CHART_GREY.repeat((width * height) as usize);
+    for (k, picture) in pictures.iter().enumerate() {
+        let top = MARGIN_PX + k as u32 * h;
+        for y in 0..h {
+            let from = (y * w * 4) as usize;
+            let to = (((top + y) * width + NAMES_PX) * 4) as usize;
+            canvas[to..to + (w * 4) as usize]
+                .copy_from_slice(&picture[from..from + (w * 4) as usize]);
+        }
+    }
+    let size_px = 15.0;
+    let label = |text: String, room: Rect, align| Label {
+        text,
+        room,
+        align,
+        size_px,
+    };
+    let cell = w as f32 / roughness.len().max(1) as f32;
+    let bottom = (MARGIN_PX + h * pictures.len() as u32) as f32;
+    let layout = Labels {
+        columns: roughness
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let x0 = NAMES_PX as f32 + k as f32 * cell;
+                label(
+                    labels::column_label(&[*r]),
+                    Rect {
+                        x0,
+                        y0: bottom,
+                        x1: x0 + cell,
+                        y1: height as f32,
+                    },
+                    [Align::Centre, Align::Centre],
+                )
+            })
+            .collect(),
+        rows: names
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                let y0 = (MARGIN_PX + k as u32 * h) as f32;
+                label(
+                    name.clone(),
+                    Rect {
+                        x0: 0.0,
+                        y0,
+                        x1: NAMES_PX as f32 - 4.0,
+                        y1: y0 + h as f32,
+                    },
+                    [Align::End, Align::Centre],
+                )
+            })
+            .collect(),
+        caption: vec![label(
+            caption.to_string(),
+            Rect {
+                x0: 0.0,
+                y0: 0.0,
+                x1: width as f32,
+                y1: MARGIN_PX as f32,
+            },
+            [Align::Start, Align::Centre],
+        )],
+    };
+    labels::draw_labels(&mut canvas, width, height, &layout)?;
+    Ok((width, height, canvas))
 }
 
 /// Linear radiance of `scene` on the GPU (its float target) or the CPU reference renderer.

@@ -1,0 +1,258 @@
+//! The labels a shading-ball chart is read with: the roughness under each column of balls,
+//! the row's model at the left of each row, and a caption with the preset, the geometry
+//! term and the environment.
+//!
+//! Two halves, so that any drawer uses the same places:
+//! - *where* ([`layout`], always built): from a [`Scene`] and the image size, a [`Labels`]
+//!   of [`Label`]s, each a text with the room it may take in pixels (never over a ball) and
+//!   a preferred font size; [`Label::place`] shrinks the text to its room, or drops it.
+//!   Another picture (a comparison chart) builds its own [`Labels`] by hand.
+//! - *drawing*: [`draw_labels`] (feature `labels`) rasterises them into an RGBA8 image with
+//!   `ab_glyph` and the Ubuntu Light font of `epaint_default_fonts`; the viewer paints the
+//!   same [`Labels`] with egui. Light text with a dark outline, readable on black and on a
+//!   white furnace background.
+//!
+//! Labels are drawn into PNG pictures only: an `.exr` holds radiance, and text is not.
+
+mod layout;
+#[cfg(feature = "labels")]
+mod raster;
+
+pub use layout::{ball_rects, layout};
+#[cfg(feature = "labels")]
+pub use raster::{draw_labels, text_width};
+
+use crate::scene::{Ball, Model, Scene};
+
+/// The preferred font size per pixel of image height: 16 px at 720 (a line is the font's
+/// ascent minus its descent, [`Label::size_px`]).
+pub const FONT_PX_PER_HEIGHT: f32 = 1.0 / 45.0;
+/// The smallest font drawn: a label that fits its room only smaller is left out.
+pub const MIN_FONT_PX: f32 = 8.0;
+/// The dark outline's width around the glyphs, per pixel of font size.
+pub const OUTLINE_PER_FONT_PX: f32 = 0.07;
+/// Free pixels kept around a label's outline (for the glyphs' anti-aliased edges).
+pub const EDGE_PX: f32 = 1.0;
+/// The gap between a ball's bounds and its label, per pixel of font size.
+pub const GAP_PER_FONT_PX: f32 = 0.4;
+
+/// How a text sits in its room along one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Align {
+    /// Left (horizontal) or top (vertical).
+    Start,
+    /// Centred.
+    Centre,
+    /// Right (horizontal) or bottom (vertical).
+    End,
+}
+
+/// A rectangle in pixels of the image: `x` right, `y` down, `(0, 0)` the image's top-left
+/// corner; pixel `(i, j)` covers `[i, i + 1] x [j, j + 1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    /// Left edge.
+    pub x0: f32,
+    /// Top edge.
+    pub y0: f32,
+    /// Right edge.
+    pub x1: f32,
+    /// Bottom edge.
+    pub y1: f32,
+}
+
+impl Rect {
+    /// Width (zero when empty).
+    pub fn width(&self) -> f32 {
+        (self.x1 - self.x0).max(0.0)
+    }
+
+    /// Height (zero when empty).
+    pub fn height(&self) -> f32 {
+        (self.y1 - self.y0).max(0.0)
+    }
+
+    /// Whether the two rectangles share an area (touching edges do not count).
+    pub fn overlaps(&self, other: &Rect) -> bool {
+        self.x0 < other.x1 && other.x0 < self.x1 && self.y0 < other.y1 && other.y0 < self.y1
+    }
+
+    /// Whether `other` lies inside this rectangle.
+    pub fn contains(&self, other: &Rect) -> bool {
+        other.x0 >= self.x0 && other.x1 <= self.x1 && other.y0 >= self.y0 && other.y1 <= self.y1
+    }
+}
+
+/// One line of text and the room it may take.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Label {
+    /// The text (one line).
+    pub text: String,
+    /// Where the text may go, its outline included: a drawer draws nothing outside it.
+    pub room: Rect,
+    /// How the text sits in its room: horizontally, vertically.
+    pub align: [Align; 2],
+    /// The preferred font size in pixels (the height of a line); smaller if the text does
+    /// not fit its room ([`Label::place`]).
+    pub size_px: f32,
+}
+
+/// Where a label's text goes once fitted to its room.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// The font size in pixels: the label's, or smaller to fit.
+    pub size_px: f32,
+    /// The text's own box: its width at that size by one line's height.
+    pub text: Rect,
+    /// The text's box with the outline and [`EDGE_PX`] around it: inside the room.
+    pub outer: Rect,
+}
+
+impl Label {
+    /// The font size and boxes of this label's text, given the text's width in pixels at
+    /// [`Label::size_px`] (a line's width grows in proportion to its font size). The font
+    /// shrinks until the text with its outline fits the room; `None` when that needs a font
+    /// under [`MIN_FONT_PX`], or for an empty text or a bad width.
+    pub fn place(&self, width_at_size: f32) -> Option<Placement> {
+        if self.text.trim().is_empty()
+            || !(width_at_size.is_finite() && width_at_size > 0.0)
+            || !(self.size_px.is_finite() && self.size_px > 0.0)
+        {
+            return None;
+        }
+        // Outer width at font size s: s (w / size + 2 k) + 2 e; height: s (1 + 2 k) + 2 e.
+        let per_px = width_at_size / self.size_px;
+        let k = OUTLINE_PER_FONT_PX;
+        let fit_w = (self.room.width() - 2.0 * EDGE_PX) / (per_px + 2.0 * k);
+        let fit_h = (self.room.height() - 2.0 * EDGE_PX) / (1.0 + 2.0 * k);
+        // A hair under the fit, so that rounding never puts the outer box past the room.
+        let size = self.size_px.min(fit_w.min(fit_h) * (1.0 - 1e-5));
+        // And a hair of tolerance at the smallest size (a room made for it).
+        // (NaN, from a room with NaN edges, fails this too.)
+        if size.is_nan() || size < MIN_FONT_PX * (1.0 - 1e-4) {
+            return None;
+        }
+        let margin = k * size + EDGE_PX;
+        let (w, h) = (per_px * size + 2.0 * margin, size + 2.0 * margin);
+        let start = |lo: f32, hi: f32, len: f32, align: Align| match align {
+            Align::Start => lo,
+            Align::Centre => 0.5 * (lo + hi - len),
+            Align::End => hi - len,
+        };
+        let x0 = start(self.room.x0, self.room.x1, w, self.align[0]);
+        let y0 = start(self.room.y0, self.room.y1, h, self.align[1]);
+        let outer = Rect {
+            x0,
+            y0,
+            x1: x0 + w,
+            y1: y0 + h,
+        };
+        Some(Placement {
+            size_px: size,
+            text: Rect {
+                x0: x0 + margin,
+                y0: y0 + margin,
+                x1: x0 + w - margin,
+                y1: y0 + h - margin,
+            },
+            outer,
+        })
+    }
+}
+
+/// A chart's labels, in pixels of one image size.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Labels {
+    /// Under each column of balls: its roughness, left to right.
+    pub columns: Vec<Label>,
+    /// At the left of each row of balls: its model ([`row_label`]), top to bottom.
+    pub rows: Vec<Label>,
+    /// The caption line(s): preset, geometry term and environment ([`caption`]).
+    pub caption: Vec<Label>,
+}
+
+impl Labels {
+    /// Every label: columns, rows, then the caption.
+    pub fn iter(&self) -> impl Iterator<Item = &Label> {
+        self.columns.iter().chain(&self.rows).chain(&self.caption)
+    }
+
+    /// Whether there is no label at all.
+    pub fn is_empty(&self) -> bool {
+        self.iter().next().is_none()
+    }
+}
+
+/// The text at the left of the row a ball heads: what the ball's model is. The one place
+/// that names a row's model.
+pub fn row_label(ball: &Ball) -> String {
+    match ball.model {
+        Model::None => "no term".to_string(),
+        Model::KullaConty => "Kulla-Conty".to_string(),
+        Model::Turquin => "Turquin".to_string(),
+        Model::FdezAguera => "Fdez-Aguera".to_string(),
+        Model::Truth => "truth".to_string(),
+    }
+}
+
+/// The text under a column of balls of these roughness values (top to bottom): `r = 0.15`,
+/// or each distinct value in order (`r = 0.15 / 0.35`).
+pub fn column_label(roughness: &[f64]) -> String {
+    let mut values: Vec<String> = Vec::new();
+    for r in roughness {
+        let text = number(*r);
+        if !values.contains(&text) {
+            values.push(text);
+        }
+    }
+    format!("r = {}", values.join(" / "))
+}
+
+/// The caption: `accurate preset · smith-correlated G · environment`, where the
+/// environment is `no environment`, `uniform environment 1` (or `uniform environment
+/// (r, g, b)`) or the map's name with the term formed under it (`studio map, kulla-conty
+/// term`).
+pub fn caption(scene: &Scene) -> String {
+    let environment = match &scene.environment_map {
+        Some(e) => {
+            let name = match &e.source {
+                crate::environment::Source::Builtin(b) => b.to_string(),
+                crate::environment::Source::File(p) => p
+                    .file_name()
+                    .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into()),
+            };
+            format!("{name} map")
+        }
+        None => {
+            let c = scene.environment;
+            if c == glam::DVec3::ZERO {
+                "no environment".to_string()
+            } else if c.x == c.y && c.y == c.z {
+                format!("uniform environment {}", number(c.x))
+            } else {
+                format!(
+                    "uniform environment ({}, {}, {})",
+                    number(c.x),
+                    number(c.y),
+                    number(c.z)
+                )
+            }
+        }
+    };
+    format!(
+        "{} preset \u{b7} {} G \u{b7} {environment}",
+        scene.preset,
+        scene.effective_geometry()
+    )
+}
+
+/// A number with up to three decimals and no trailing zeros (`0.15`, `0.5`, `1`).
+fn number(v: f64) -> String {
+    let text = format!("{v:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_string()
+    } else {
+        text.to_string()
+    }
+}
