@@ -130,6 +130,17 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     started.elapsed().as_secs_f64() * 1e3
                 );
                 image.mean
+            } else if scene.has_truth() {
+                // Truth balls by the walk, the others by the reference renderer.
+                let settings = cpu::TruthSettings {
+                    spp: args.spp.unwrap_or(DEFAULT_SPP),
+                    seed: args.seed,
+                    ..Default::default()
+                };
+                let e = cpu::TableRead::Lut(&tables);
+                let radiance = cpu::render_radiance_with_truth(&scene, &e, w, h, settings)?;
+                phases.mark("render");
+                radiance
             } else {
                 let radiance = cpu::render_radiance(&scene, &tables, w, h);
                 phases.mark("render");
@@ -190,6 +201,7 @@ fn render_truth(
         stderr: args.stderr,
         seed: args.seed,
         max_order: u32::MAX,
+        every_ball: true,
     };
     let terminal = std::io::stderr().is_terminal();
     let line = |p: &cpu::TruthProgress| {

@@ -14,7 +14,9 @@ pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage,
 pub use shade::{
     intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms, TableRead,
 };
-pub use truth::{render_truth, BallMean, TruthImage, TruthProgress, TruthSettings};
+pub use truth::{
+    render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
+};
 
 use shade::{shade_with_terms, Forms};
 

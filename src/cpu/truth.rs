@@ -65,6 +65,10 @@ pub struct TruthSettings {
     /// Scattering events a path may have (`u32::MAX`: unlimited; 1 leaves single
     /// scattering only, a check of the renderer).
     pub max_order: u32,
+    /// Every ball by the walk (`--backend truth`), or only those whose model is
+    /// [`Model::Truth`] (the others' pixels are left uncovered, for
+    /// [`render_radiance_with_truth`] to fill).
+    pub every_ball: bool,
 }
 
 impl Default for TruthSettings {
@@ -74,6 +78,7 @@ impl Default for TruthSettings {
             stderr: None,
             seed: 0,
             max_order: u32::MAX,
+            every_ball: true,
         }
     }
 }
@@ -203,6 +208,7 @@ pub fn render_truth(
             let o = basis.origin;
             match bins.nearest(balls, px, py, o, d) {
                 None => mean[index] = background.background(d),
+                Some((_, k)) if !settings.every_ball && balls[k].model != Model::Truth => {}
                 Some((t, k)) => {
                     let b = &balls[k];
                     let n = surface_normal(o + t * d - b.center, d);
@@ -484,4 +490,34 @@ fn estimate(
         },
     );
     x + escaped
+}
+
+/// The CPU reference renderer's image of a scene with truth balls: every other ball as
+/// [`super::render_radiance_with`] shades it, the truth balls by the walk with `settings`
+/// (`every_ball` is ignored).
+pub fn render_radiance_with_truth(
+    scene: &Scene,
+    e: &TableRead<'_>,
+    width: u32,
+    height: u32,
+    settings: TruthSettings,
+) -> Result<Vec<DVec3>> {
+    let mut radiance = super::render_radiance_with(scene, e, width, height);
+    if scene.has_truth() {
+        let settings = TruthSettings {
+            every_ball: false,
+            ..settings
+        };
+        let truth = render_truth(scene, e, width, height, settings, |_| true)?;
+        for ((r, t), covered) in radiance
+            .iter_mut()
+            .zip(&truth.image.mean)
+            .zip(&truth.image.covered)
+        {
+            if *covered {
+                *r = *t;
+            }
+        }
+    }
+    Ok(radiance)
 }

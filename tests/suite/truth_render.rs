@@ -39,6 +39,7 @@ fn settings(spp: u32, max_order: u32) -> TruthSettings {
         stderr: None,
         seed: 3,
         max_order,
+        every_ball: true,
     }
 }
 
