@@ -245,8 +245,9 @@ pub struct RenderArgs {
     /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
-    /// Samples per pixel of --backend montecarlo and truth, 1..=65536 (ignored by other
-    /// backends). Default 64; for truth with --stderr, the cap (default 65536).
+    /// Samples per pixel of --backend montecarlo and truth, 1..=65536; on a GPU backend,
+    /// the frames accumulated for balls with model = "truth", 1..=1024 (otherwise
+    /// ignored). Default 64; for truth with --stderr, the cap (default 65536).
     #[arg(long, allow_negative_numbers = true,
           value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::cpu::montecarlo::MAX_SPP)))]
     pub spp: Option<u32>,

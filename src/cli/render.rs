@@ -59,6 +59,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 renderer.prepare_environment(&scene);
                 phases.mark("prefilter");
             }
+            if scene.has_truth() {
+                let spp = args.spp.unwrap_or(DEFAULT_SPP);
+                accumulate_gpu_truth(&mut renderer, &scene, w, h, spp)?;
+                phases.mark("truth");
+            }
             match kind {
                 ImageKind::Png => {
                     renderer.prepare(&scene, wgpu::TextureFormat::Rgba8Unorm);
@@ -240,6 +245,52 @@ fn render_truth(
         }
     }
     Ok(image)
+}
+
+/// A GPU render of a scene with truth balls: `spp - 1` frames of their estimates, each
+/// waited for and timed (the draw that writes the image adds the last), and a line on
+/// stderr with the median frame time (docs/benchmarks.md, "GPU truth").
+fn accumulate_gpu_truth(
+    renderer: &mut Renderer,
+    scene: &crate::scene::Scene,
+    w: u32,
+    h: u32,
+    spp: u32,
+) -> Result<()> {
+    if !(1..=crate::gpu::MAX_TRUTH_SPP).contains(&spp) {
+        return Err(Error::Invalid {
+            what: "samples per pixel",
+            message: format!(
+                "{spp}: --spp must be in 1..={} on the GPU",
+                crate::gpu::MAX_TRUTH_SPP
+            ),
+        });
+    }
+    renderer.reset_truth();
+    let mut times = Vec::new();
+    for _ in 1..spp {
+        let t = Instant::now();
+        renderer.accumulate_truth(scene, w, h)?;
+        let _ = renderer
+            .gpu()
+            .device
+            .poll(wgpu::PollType::wait_indefinitely());
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times.get(times.len() / 2).copied();
+    let rate = median.map_or("n/a".to_string(), |m| {
+        format!(
+            "median {:.1} ms a frame ({:.1} frames/s)",
+            m * 1e3,
+            1.0 / m.max(1e-9)
+        )
+    });
+    eprintln!(
+        "gpu truth: {spp} spp at {w}x{h}, {rate} over {} frames",
+        times.len()
+    );
+    Ok(())
 }
 
 /// The sidecar of a truth `.exr`: `NAME.stderr.exr` beside `NAME.exr`.

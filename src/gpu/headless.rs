@@ -25,6 +25,14 @@ pub struct HdrImage {
     pub rgba: Vec<f32>,
 }
 
+/// Most estimates a pixel of a GPU truth render: the sums are f32, whose count (alpha)
+/// is exact to 2^24, and whose relative rounding per addition stays near 2^-24 times the
+/// count (6e-5 at this cap, under the noise of any such render).
+pub const MAX_TRUTH_SPP: u32 = 1024;
+
+/// Truth frames queued before the headless render waits for the device.
+const FRAMES_IN_FLIGHT: u32 = 8;
+
 impl Renderer {
     /// Renders `scene` into an `Rgba8Unorm` texture (not sRGB: gamma is applied in the
     /// shader) and reads it back.
@@ -60,6 +68,68 @@ impl Renderer {
         })
     }
 
+    /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a
+    /// pixel (the sums started again from zero; the other balls as always).
+    pub fn render_truth_ldr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        spp: u32,
+    ) -> Result<LdrImage> {
+        self.accumulate_frames(scene, width, height, spp)?;
+        self.render_ldr(scene, width, height)
+    }
+
+    /// [`Renderer::render_hdr`] with the truth balls' image the mean of `spp` estimates a
+    /// pixel (the sums started again from zero; the other balls as always).
+    pub fn render_truth_hdr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        spp: u32,
+    ) -> Result<HdrImage> {
+        self.accumulate_frames(scene, width, height, spp)?;
+        self.render_hdr(scene, width, height)
+    }
+
+    /// Starts the truth's sums again and adds `spp - 1` frames of estimates (the draw
+    /// that follows adds the last). Waits for the device every [`FRAMES_IN_FLIGHT`]
+    /// frames, so that no more are queued.
+    fn accumulate_frames(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        spp: u32,
+    ) -> Result<()> {
+        if !(1..=MAX_TRUTH_SPP).contains(&spp) {
+            return Err(Error::Invalid {
+                what: "samples per pixel",
+                message: format!("{spp}: --spp must be in 1..={MAX_TRUTH_SPP}"),
+            });
+        }
+        self.gpu().check_size(width, height)?;
+        if scene.has_truth() && !self.truth_supported() {
+            return Err(Error::Gpu {
+                message: format!(
+                    "{} cannot render to Rgba32Float, which the truth's sums need \
+                     (use --backend vulkan)",
+                    self.gpu().describe()
+                ),
+            });
+        }
+        self.reset_truth();
+        for k in 1..spp {
+            self.accumulate_truth(scene, width, height)?;
+            if k % FRAMES_IN_FLIGHT == 0 {
+                let _ = self.gpu().device.poll(wgpu::PollType::wait_indefinitely());
+            }
+        }
+        Ok(())
+    }
+
     fn render_readback(
         &mut self,
         scene: &Scene,
@@ -69,6 +139,15 @@ impl Renderer {
     ) -> Result<Vec<u8>> {
         self.gpu().check_size(width, height)?;
         self.gpu().check()?;
+        if scene.has_truth() && !self.truth_supported() {
+            return Err(Error::Gpu {
+                message: format!(
+                    "{} cannot render to Rgba32Float, which the truth balls' sums need \
+                     (use --backend vulkan)",
+                    self.gpu().describe()
+                ),
+            });
+        }
         let device = self.gpu().device.clone();
         let readback = Readback::new(&device, format, (width, height))?;
         let scopes = super::Scopes::push(&device);

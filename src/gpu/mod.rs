@@ -14,11 +14,12 @@ pub mod readback;
 mod renderer;
 pub mod shaders;
 mod table_cache;
+mod truth;
 pub mod uniforms;
 mod upload;
 
 pub use context::{Backend, Gpu};
-pub use headless::{HdrImage, LdrImage};
+pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
 pub use pipelines::{is_bits, is_linear};
 pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};

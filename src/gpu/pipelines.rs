@@ -80,6 +80,11 @@ impl Pipelines {
         }
     }
 
+    /// The ball module (the truth's pipelines use it with their own layout).
+    pub fn module(&self) -> &wgpu::ShaderModule {
+        &self.module
+    }
+
     /// The background pipeline (`fs_background`: the environment map behind the balls)
     /// for `format` and `variant`'s map, in the per-ball pass (depth attached, untouched).
     pub fn background(

@@ -10,6 +10,10 @@
 //!   per-ball flag; a scene without lights or without an environment compiles that part
 //!   out.
 //!
+//! - The truth: balls with `model = "truth"` read no table and are path traced by their
+//!   own pipelines (`walk.wgsl`, [`crate::gpu::Renderer`]'s accumulation); the per-ball
+//!   draws leave them out.
+//!
 //! Planning is a pass over the balls (a sort of at most [`crate::scene::MAX_BALLS`] values): cheap
 //! enough to redo on every frame of the viewer, which re-bakes only when the plan's rows
 //! change.
@@ -18,7 +22,7 @@ use std::fmt;
 
 use crate::brdf::Geometry;
 use crate::lut::{roughness_coord, BakeConfig, Method};
-use crate::scene::{Scene, MAX_BALLS};
+use crate::scene::{Model, Scene, MAX_BALLS};
 
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
@@ -125,6 +129,13 @@ pub struct Plan {
     pub draws: Vec<(Variant, Vec<usize>)>,
     /// Whether each ball is drawn over its screen-space bounds ([`DrawOptions::per_ball`]).
     pub per_ball: bool,
+    /// The truth balls (scene order), path traced and accumulated (`walk.wgsl`); the
+    /// per-ball draws leave them out (the full-screen one shades them, and the truth's
+    /// resolve draws over them).
+    pub truth: Vec<usize>,
+    /// The variant the truth's pipelines are compiled with (no term; the scene's lights,
+    /// environment and map).
+    pub truth_variant: Variant,
 }
 
 impl Plan {
@@ -138,11 +149,12 @@ impl Plan {
         let lights = !scene.lights.is_empty();
         let ibl = u8::from(scene.environment_map.is_some());
         let uses_term = |b: &crate::scene::Ball| options.term && b.model.has_term();
-        // Balls that read E: with the term (its lobe), or all of them under an environment
-        // (its single-scattering part reads E(mu_o)).
+        let is_truth = |b: &crate::scene::Ball| b.model == Model::Truth;
+        // Balls that read E: with the term (its lobe), or all of them but the truth under an
+        // environment (its single-scattering part reads E(mu_o)).
         let mut roughness: Vec<f32> = balls
             .iter()
-            .filter(|b| uses_term(b) || environment || ibl != 0)
+            .filter(|b| !is_truth(b) && (uses_term(b) || environment || ibl != 0))
             .map(|b| roughness_coord(b.roughness as f32))
             .collect();
         roughness.sort_by(f32::total_cmp);
@@ -165,7 +177,11 @@ impl Plan {
             lights: !options.per_ball || lights,
             ibl,
         };
-        let all: Vec<usize> = (0..balls.len()).collect();
+        let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
+        // The per-ball draws leave the truth out; the full-screen triangle covers every ball.
+        let all: Vec<usize> = (0..balls.len())
+            .filter(|&k| !options.per_ball || !is_truth(&balls[k]))
+            .collect();
         let draws = if !options.term {
             vec![(variant(TermMode::Out), all)]
         } else if !options.variants || !options.per_ball {
@@ -188,6 +204,13 @@ impl Plan {
             tables,
             draws,
             per_ball: options.per_ball,
+            truth,
+            truth_variant: Variant {
+                term: TermMode::Out,
+                environment,
+                lights,
+                ibl,
+            },
         }
     }
 
@@ -263,6 +286,14 @@ impl fmt::Display for Plan {
         write!(f, "draw: {how}; pipelines:")?;
         for (v, balls) in &self.draws {
             write!(f, "\n  {v}: {} balls", balls.len())?;
+        }
+        if !self.truth.is_empty() {
+            write!(
+                f,
+                "\n  truth (random walk, accumulated), {}: {} balls",
+                self.truth_variant,
+                self.truth.len()
+            )?;
         }
         Ok(())
     }

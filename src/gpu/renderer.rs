@@ -14,6 +14,7 @@ use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, Environmen
 use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
 use super::plan::{DrawOptions, Plan, TablePolicy};
 use super::table_cache::{Bound, TableCache, Upload};
+use super::truth::{Draw, TruthPass, SUM_FORMAT};
 use super::uniforms::{self, BoundTables, GpuBall};
 use crate::brdf::Geometry;
 use crate::error::Result;
@@ -59,6 +60,8 @@ pub struct Renderer {
     depth: Option<Depth>,
     /// Group 1: the environment maps' textures, prefiltered for the latest maps drawn.
     environment: EnvironmentGroup,
+    /// The truth balls' accumulation (`walk.wgsl`, `truth.rs`).
+    truth: TruthPass,
 }
 
 /// Prefiltered maps a renderer keeps (the viewer's picker switches between built-ins
@@ -183,6 +186,7 @@ impl Renderer {
         let bindings = Bindings::new(&gpu.device);
         let environment = EnvironmentGroup::new(&gpu.device);
         let pipelines = Pipelines::new(&gpu.device, &bindings, &environment.layout);
+        let truth = TruthPass::new(&gpu.device, &bindings.layout, &environment.layout);
         Renderer {
             gpu,
             bindings,
@@ -194,6 +198,7 @@ impl Renderer {
             plan: None,
             depth: None,
             environment,
+            truth,
         }
     }
 
@@ -368,9 +373,20 @@ impl Renderer {
         (&self.bindings, self.tables.bound())
     }
 
-    /// Draws `scene` into `target` and submits.
+    /// Draws `scene` into `target` and submits. Truth balls (`model = "truth"`) are path
+    /// traced: each draw of an unchanged scene at the same size adds one estimate a pixel
+    /// to their sums and shows the mean ([`Renderer::truth_samples`]).
     pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
         self.gpu.check()?;
+        if scene.has_truth() && !self.truth_supported() {
+            return Err(crate::error::Error::Gpu {
+                message: format!(
+                    "{} cannot render to Rgba32Float, which the truth balls' sums need \
+                     (use --backend vulkan)",
+                    self.gpu.describe()
+                ),
+            });
+        }
         let scopes = super::Scopes::push(&self.gpu.device);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         self.encode(scene, target, &mut encoder);
@@ -387,32 +403,14 @@ impl Renderer {
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
     ) {
-        let env_group = self
-            .environment
-            .bind_group(&self.gpu, scene, self.bake_config);
-        let plan = self.plan_for(scene).clone();
-        let bound = self.tables.bound().expect("plan_for binds");
-        let read = bound.read.clone();
-        let bind = bound.bind.clone();
-        let queue = &self.gpu.queue;
         let (w, h) = (target.width, target.height);
-        let globals = uniforms::globals(scene, &read, w, h);
-        queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
-        let balls = uniforms::balls(scene, &read);
-        // Only the full-screen path reads the balls buffer; the quads carry their ball.
-        if !plan.per_ball && !balls.is_empty() {
-            queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
-        }
-        let env_uniform = EnvUniform::of(scene);
-        queue.write_buffer(
-            &self.environment.uniform,
-            0,
-            bytemuck::bytes_of(&env_uniform),
-        );
-        let lights = uniforms::lights(scene);
-        if !lights.is_empty() {
-            queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
-        }
+        let Frame {
+            plan,
+            group0: bind,
+            group1: env_group,
+            balls,
+            env_uniform,
+        } = self.prepare_frame(scene, w, h);
         // Per variant: its pipeline and the range of its quads in the instance buffer.
         let mut draws = Vec::new();
         let mut quads: Vec<BallInstance> = Vec::new();
@@ -519,6 +517,169 @@ impl Renderer {
                 pass.draw(0..3, 0..1);
             }
         }
+        drop(pass);
+        if !plan.truth.is_empty() {
+            let frame = Frame {
+                plan,
+                group0: bind,
+                group1: env_group,
+                balls,
+                env_uniform,
+            };
+            if self.truth_frame(scene, &frame, (w, h), encoder) {
+                let draw = truth_draw(&self.gpu, &self.pipelines, &frame);
+                self.truth
+                    .resolve(&draw, encoder, target.view, target.format, (w, h));
+            }
+        }
+    }
+
+    /// Plans `scene`, binds its tables and map, and uploads the uniforms of a `w x h`
+    /// frame.
+    fn prepare_frame(&mut self, scene: &Scene, w: u32, h: u32) -> Frame {
+        let env_group = self
+            .environment
+            .bind_group(&self.gpu, scene, self.bake_config);
+        let plan = self.plan_for(scene).clone();
+        let bound = self.tables.bound().expect("plan_for binds");
+        let read = bound.read.clone();
+        let bind = bound.bind.clone();
+        let queue = &self.gpu.queue;
+        let globals = uniforms::globals(scene, &read, w, h);
+        queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
+        let balls = uniforms::balls(scene, &read);
+        // Only the full-screen path reads the balls buffer; the quads carry their ball.
+        if !plan.per_ball && !balls.is_empty() {
+            queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
+        }
+        let env_uniform = EnvUniform::of(scene);
+        queue.write_buffer(
+            &self.environment.uniform,
+            0,
+            bytemuck::bytes_of(&env_uniform),
+        );
+        let lights = uniforms::lights(scene);
+        if !lights.is_empty() {
+            queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
+        }
+        Frame {
+            plan,
+            group0: bind,
+            group1: env_group,
+            balls,
+            env_uniform,
+        }
+    }
+
+    /// Whether this device can accumulate the truth: it renders to `Rgba32Float` (GL
+    /// does not).
+    pub fn truth_supported(&self) -> bool {
+        self.gpu.renderable(SUM_FORMAT)
+    }
+
+    /// Records one frame of the truth balls' estimates (returns false, logging why, where
+    /// the device cannot: [`Renderer::truth_supported`]).
+    fn truth_frame(
+        &mut self,
+        scene: &Scene,
+        frame: &Frame,
+        size: (u32, u32),
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> bool {
+        if !self.truth_supported() {
+            log::error!(
+                "{} cannot render to Rgba32Float: the truth balls are not drawn",
+                self.gpu.describe()
+            );
+            return false;
+        }
+        let (w, h) = size;
+        let basis = scene.camera.basis(w, h);
+        let hidden = hidden_duplicates(&frame.balls);
+        let (mut truth, mut others) = (Vec::new(), Vec::new());
+        for (k, b) in scene.balls.iter().take(frame.balls.len()).enumerate() {
+            if hidden[k] {
+                continue;
+            }
+            let Some(rect) = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX) else {
+                continue;
+            };
+            let quad = BallInstance {
+                rect: rect.map(|v| v as f32),
+                ball: frame.balls[k],
+            };
+            if b.model == crate::scene::Model::Truth {
+                truth.push(quad);
+            } else {
+                others.push(quad);
+            }
+        }
+        let draw = truth_draw(&self.gpu, &self.pipelines, frame);
+        self.truth
+            .accumulate(&draw, encoder, scene, size, (&truth, &others));
+        true
+    }
+
+    /// Adds one frame of estimates to the truth balls' sums of `scene` at `w x h` (starting
+    /// them again if the scene or the size changed) without drawing an image, and submits.
+    /// A scene without truth balls does nothing.
+    pub fn accumulate_truth(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
+        self.gpu.check()?;
+        let scopes = super::Scopes::push(&self.gpu.device);
+        let frame = self.prepare_frame(scene, w, h);
+        if frame.plan.truth.is_empty() {
+            scopes.pop()?;
+            return Ok(());
+        }
+        if !self.truth_supported() {
+            return Err(crate::error::Error::Gpu {
+                message: format!(
+                    "{} cannot render to Rgba32Float, which the truth's sums need (use \
+                     --backend vulkan)",
+                    self.gpu.describe()
+                ),
+            });
+        }
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.truth_frame(scene, &frame, (w, h), &mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        scopes.pop()?;
+        self.gpu.check()
+    }
+
+    /// Estimates per pixel the truth balls' image holds now (after the latest draw or
+    /// [`Renderer::accumulate_truth`]); `None` before any scene with truth balls.
+    pub fn truth_samples(&self) -> Option<u32> {
+        self.truth.frames()
+    }
+
+    /// Starts the truth balls' sums again from zero at the next frame (they restart by
+    /// themselves when the scene or the size changes).
+    pub fn reset_truth(&mut self) {
+        self.truth.reset();
+    }
+}
+
+/// What a frame draws with: the plan, bind groups 0 and 1, the balls and the map's uniform.
+struct Frame {
+    plan: Plan,
+    group0: wgpu::BindGroup,
+    group1: wgpu::BindGroup,
+    balls: Vec<GpuBall>,
+    env_uniform: EnvUniform,
+}
+
+/// The truth passes' device, module, groups and compile-time choices for `frame`.
+fn truth_draw<'a>(gpu: &'a Gpu, pipelines: &'a Pipelines, frame: &'a Frame) -> Draw<'a> {
+    Draw {
+        device: &gpu.device,
+        queue: &gpu.queue,
+        module: pipelines.module(),
+        group0: &frame.group0,
+        group1: &frame.group1,
+        geometry: frame.plan.geometry,
+        mu_axis: frame.plan.bake.layout.mu_axis,
+        variant: frame.plan.truth_variant,
     }
 }
 

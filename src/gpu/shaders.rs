@@ -25,6 +25,7 @@ pub const COMMON: [(&str, &str); 6] = [
 ];
 const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
 const BALLS: &str = include_str!("../../shaders/balls.wgsl");
+const WALK: &str = include_str!("../../shaders/walk.wgsl");
 const PROBE: &str = include_str!("../../shaders/probe.wgsl");
 const PREFILTER: &str = include_str!("../../shaders/prefilter.wgsl");
 
@@ -45,6 +46,14 @@ pub const FS_BALL_BITS: &str = "fs_ball_bits";
 pub const FS_BACKGROUND: &str = "fs_background";
 /// `FS_BACKGROUND` for an `Rgba32Uint` target.
 pub const FS_BACKGROUND_BITS: &str = "fs_background_bits";
+/// Fragment entry point of a truth ball's quad in the accumulation pass (`walk.wgsl`).
+pub const FS_TRUTH: &str = "fs_truth";
+/// Fragment entry point of another ball's quad in the accumulation pass (depth, zero sum).
+pub const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
+/// Fragment entry point of the truth's resolve (the mean of each truth pixel's estimates).
+pub const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
+/// `FS_TRUTH_RESOLVE` for an `Rgba32Uint` target.
+pub const FS_TRUTH_RESOLVE_BITS: &str = "fs_truth_resolve_bits";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
@@ -58,9 +67,10 @@ fn concat(parts: &[&str]) -> String {
         .join("\n")
 }
 
-/// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`.
+/// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`, `walk.wgsl` (the truth
+/// on the GPU: its accumulation and resolve entry points).
 pub fn balls_source() -> String {
-    concat(&[LIGHTING, BALLS])
+    concat(&[LIGHTING, BALLS, WALK])
 }
 
 /// The environment prefilter (compute): `constants.wgsl`, `brdf.wgsl`, `environment.wgsl`,

@@ -233,6 +233,7 @@ impl App {
                     && s.bake_ms == bake_ms
                     && s.prefilter_ms == prefilter_ms
                     && s.scene_size == scene_size
+                    && s.truth_samples.is_none()
             });
         if !fresh {
             let stats = Stats {
@@ -242,6 +243,11 @@ impl App {
                 adapter: state.renderer.gpu().describe(),
                 plan: plan_summary(&state.renderer),
                 scene_size,
+                truth_samples: if self.scene.has_truth() {
+                    state.renderer.truth_samples()
+                } else {
+                    None
+                },
             };
             self.stats = Some((start, stats));
         }
@@ -330,8 +336,16 @@ impl App {
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
+        // Truth balls keep accumulating while nothing changes (each draw of an unchanged
+        // scene adds an estimate a pixel), up to the headless cap.
+        let accumulating = self.scene.has_truth()
+            && self.state.as_ref().is_some_and(|s| {
+                s.renderer
+                    .truth_samples()
+                    .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP)
+            });
         // A deadline is kept until it is reached (`new_events`) or replaced.
-        if delay.is_zero() {
+        if delay.is_zero() || accumulating {
             self.request_redraw();
         } else {
             event_loop.set_control_flow(match Instant::now().checked_add(delay) {

@@ -75,6 +75,8 @@ pub struct Stats {
     pub plan: String,
     /// The scene area in pixels.
     pub scene_size: (u32, u32),
+    /// Estimates a pixel the truth balls' image holds (`None` without truth balls).
+    pub truth_samples: Option<u32>,
 }
 
 /// Shows the panel on the right of `ui`.
@@ -110,6 +112,11 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
         ));
     }
     ui.label(&stats.plan);
+    if let Some(n) = stats.truth_samples {
+        ui.label(format!(
+            "truth: {n} samples a pixel (accumulating while nothing changes)"
+        ));
+    }
     ui.label(format!(
         "scene {}x{} on {}",
         stats.scene_size.0, stats.scene_size.1, stats.adapter

@@ -18,6 +18,7 @@ mod golden;
 mod gpu_eval;
 mod gpu_faults;
 mod gpu_stress;
+mod gpu_truth;
 mod harmonics;
 mod ibl;
 mod ktx2;

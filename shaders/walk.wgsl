@@ -1,0 +1,332 @@
+// walk.wgsl: the truth on the GPU. Balls with model = "truth" are path traced with the
+// random walk on their microsurface (Heitz, Hanika, d'Eon and Dachsbacher 2016,
+// "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
+// src/walk (microsurface.rs, mod.rs trace), one estimate per pixel and frame, summed in
+// an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design.md, "Truth on the
+// GPU"). Concatenated after lighting.wgsl and balls.wgsl (src/gpu/shaders.rs).
+//
+// A pixel's estimate: the lights' single scattering exactly (f_micro with Schlick F, GGX
+// D, height-correlated Smith G, plus the dielectric's Lambertian base), the base's
+// albedo under the uniform environment exactly, and one walk entering along the view
+// direction (reciprocity) that gives
+// - every escape, from the first event on, times the radiance arriving from its direction
+//   (uniform environment plus map): the environment's single scattering is carried by
+//   the walk's order-1 escape (unbiased; the CPU tabulates it by quadrature instead);
+// - next-event estimates towards every light from the second event on.
+// With a map, the base's share under it is one cosine-distributed draw.
+// Differences from the CPU walk: f32; a path ends after WALK_MAX_EVENTS events (the CPU's
+// guard is 10 000); the generator is a PCG hash, not SplitMix64.
+
+// Scattering events a GPU path may have (a cut, not a roulette: it loses the energy of
+// longer paths, a bias the furnace test of tests/suite/gpu_truth.rs bounds; docs/design.md
+// gives the share of longer paths); the loop's cost grows with the longest path of a SIMD
+// group.
+const WALK_MAX_EVENTS: u32 = 32u;
+// Russian roulette below this path mass (src/walk RR_BELOW).
+const WALK_RR_BELOW: f32 = 0.05;
+// Smallest C1 value and exponent guard of walk_pow (f32: 1e-30 keeps log2 finite).
+const WALK_TINY: f32 = 1e-30;
+
+// The generator (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering", JCGT
+// 9(3)): PCG's state step and its RXS-M-XS output permutation, 32 bits.
+fn pcg_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// A pixel's stream for its `frame`-th estimate: the keys hashed in turn.
+fn rng_seed(px: u32, py: u32, frame: u32) -> u32 {
+    return pcg_hash(px ^ pcg_hash(py ^ pcg_hash(frame ^ 0x5348u)));
+}
+
+// Uniform in [0, 1) with 24 random bits; advances the stream.
+fn rng_uniform(state: ptr<function, u32>) -> f32 {
+    *state = *state * 747796405u + 2891336453u;
+    let s = *state;
+    let word = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return f32(((word >> 22u) ^ word) >> 8u) * (1.0 / 16777216.0);
+}
+
+// x^y for x in [0, 1] (x clamped away from 0, where pow is undefined).
+fn walk_pow(x: f32, y: f32) -> f32 {
+    return exp2(y * log2(max(x, WALK_TINY)));
+}
+
+// The microsurface (Heitz et al. 2016; src/walk/microsurface.rs, name for name).
+// Smith's Lambda of a direction of cosine z, signed below the horizon:
+// Lambda(-w) = -1 - Lambda(w).
+fn walk_lambda(z: f32, alpha: f32) -> f32 {
+    if z > 0.0 {
+        return lambda_smith(z, alpha);
+    }
+    return -1.0 - lambda_smith(-z, alpha);
+}
+
+// Probability that a ray leaving height c = C1(h) along an upward direction of cosine
+// dir_z escapes: c^Lambda (0 at or below the horizon).
+fn walk_g1(dir_z: f32, c: f32, alpha: f32) -> f32 {
+    if dir_z <= 0.0 {
+        return 0.0;
+    }
+    return walk_pow(c, walk_lambda(dir_z, alpha));
+}
+
+// C1 of the next intersection of a ray from c along a direction of cosine dir_z, given
+// that it hits, from u uniform in [0, 1): upward, u scaled into [0, 1 - G1) and
+// (c / c')^Lambda inverted; downward (Lambda <= -1) always a hit.
+fn walk_next_height(dir_z: f32, c: f32, u: f32, alpha: f32) -> f32 {
+    let lambda = walk_lambda(dir_z, alpha);
+    if dir_z > 0.0 {
+        let escape = walk_pow(c, lambda);
+        let v = u * (1.0 - escape);
+        let inv = 1.0 / max(lambda, DIV_EPSILON);
+        return min(c / max(walk_pow(1.0 - v, inv), WALK_TINY), 1.0);
+    }
+    return c * walk_pow(1.0 - u, -1.0 / min(lambda, -1.0));
+}
+
+// Projected area of the microsurface along a direction of cosine z (Heitz 2014).
+fn walk_projected_area(z_in: f32, alpha: f32) -> f32 {
+    let z = clamp(z_in, -1.0, 1.0);
+    return 0.5 * (z + sqrt(z * z + alpha * alpha * (1.0 - z * z)));
+}
+
+// The conductor's phase function without Fresnel, D(h) / (4 A(wi)), h = normalize(wi +
+// wo), wi pointing back along the arriving ray; returns (p, wi.h), p = 0 where h faces
+// down or away from wi.
+fn walk_phase(wi: vec3<f32>, wo: vec3<f32>, alpha: f32) -> vec2<f32> {
+    let sum = wi + wo;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return vec2<f32>(0.0);
+    }
+    let h = sum / len;
+    let cos = dot(wi, h);
+    if h.z <= 0.0 || cos <= 0.0 {
+        return vec2<f32>(0.0);
+    }
+    let area = max(walk_projected_area(wi.z, alpha), DIV_EPSILON);
+    return vec2<f32>(d_ggx(h.z, alpha) / (4.0 * area), cos);
+}
+
+// A microfacet normal from the distribution of normals visible from wi (Heitz 2018,
+// "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), wi on either side of
+// the horizon.
+fn walk_sample_visible_normal(wi: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let vh = normalize(vec3<f32>(alpha * wi.x, alpha * wi.y, wi.z));
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if lensq > 0.0 {
+        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let lift = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    let nh = p1 * t1 + p2 * t2 + lift * vh;
+    let m = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
+    return m / max(length(m), DIV_EPSILON);
+}
+
+// An orthonormal frame about unit n (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited", JCGT 6(1)); src/cpu/montecarlo.rs Frame. Columns t, b, n.
+fn walk_frame(n: vec3<f32>) -> mat3x3<f32> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let bt = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
+    return mat3x3<f32>(t, bt, n);
+}
+
+// Radiance arriving from world direction d: the uniform environment plus the map.
+fn walk_arriving(d: vec3<f32>) -> vec3<f32> {
+    var c = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        c = globals.environment.xyz;
+    }
+    if IBL != 0u {
+        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
+        c += env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+    }
+    return c;
+}
+
+// One walk entering along v (local wi, wi.z > 0) on a conductor of Schlick F0 `f0`: the
+// escapes from the first event on times the arriving radiance, and next-event estimates
+// to the first `n_lights` lights from the second event on (src/walk trace with the
+// callbacks of src/cpu/truth.rs estimate). An upward ray deposits its escape mass and
+// continues with the rest, down to a Russian roulette (src/walk/mod.rs).
+fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+    let to_local = transpose(frame);
+    var x = vec3<f32>(0.0);
+    var w = vec3<f32>(1.0);
+    var dir = -wi;
+    var c = 1.0;
+    var carry = 1.0;
+    var order = 0u;
+    loop {
+        if dir.z > 0.0 {
+            let escape = walk_g1(dir.z, c, alpha);
+            if HAS_ENVIRONMENT == 1u || IBL != 0u {
+                x += (carry * escape) * w * walk_arriving(frame * dir);
+            }
+            carry *= 1.0 - escape;
+            if carry <= 0.0 {
+                break;
+            }
+        }
+        if order >= WALK_MAX_EVENTS {
+            break;
+        }
+        c = walk_next_height(dir.z, c, rng_uniform(rng), alpha);
+        order += 1u;
+        let wi_k = -dir;
+        if HAS_LIGHTS == 1u && order >= 2u {
+            for (var k = 0u; k < n_lights; k++) {
+                let l = to_local * lights[k].direction.xyz;
+                if l.z <= 0.0 {
+                    continue;
+                }
+                let p = walk_phase(wi_k, l, alpha);
+                if p.x <= 0.0 {
+                    continue;
+                }
+                let base = carry * p.x * walk_pow(c, walk_lambda(l.z, alpha));
+                x += base * w * f_schlick(f0, p.y) * lights[k].radiance.xyz;
+            }
+        }
+        let u1 = rng_uniform(rng);
+        let u2 = rng_uniform(rng);
+        let m = walk_sample_visible_normal(wi_k, alpha, u1, u2);
+        w *= f_schlick(f0, max(dot(wi_k, m), 0.0));
+        dir = dir - 2.0 * dot(dir, m) * m;
+        if carry < WALK_RR_BELOW {
+            if rng_uniform(rng) * WALK_RR_BELOW < carry {
+                carry = WALK_RR_BELOW;
+            } else {
+                break;
+            }
+        }
+    }
+    return x;
+}
+
+// One estimate of the radiance leaving truth ball b at unit normal n towards v, lit by
+// the first `n_lights` lights (what src/cpu/truth.rs single_fixed + estimate give, with
+// the environment's single scattering drawn instead of tabulated).
+fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+    let mu_o = dot(n, v);
+    if mu_o <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let roughness = b.f0_roughness.w;
+    let alpha = alpha_from_roughness(roughness);
+    let f0 = b.f0_roughness.xyz;
+    let kd = b.diffuse_ms.xyz * (1.0 - f_avg_schlick(f0));
+    var lo = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        lo = globals.environment.xyz * kd;
+    }
+    if HAS_LIGHTS == 1u {
+        for (var k = 0u; k < n_lights; k++) {
+            let l = lights[k].direction.xyz;
+            let mu_i = dot(n, l);
+            if mu_i <= 0.0 {
+                continue;
+            }
+            let h = normalize(v + l);
+            let spec = f_micro(f_schlick(f0, dot(v, h)), mu_o, mu_i, dot(n, h), roughness, GEOMETRY_SMITH_CORRELATED);
+            lo += (spec + kd / PI) * lights[k].radiance.xyz * mu_i;
+        }
+    }
+    let frame = walk_frame(n);
+    if IBL != 0u {
+        // The base under the map: one cosine-distributed direction (density mu / pi), so
+        // (kd / pi) L mu / (mu / pi) = kd L.
+        let u1 = rng_uniform(rng);
+        let u2 = rng_uniform(rng);
+        let r = sqrt(u1);
+        let phi = 2.0 * PI * u2;
+        let d = frame * vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
+        lo += kd * env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+    }
+    let wi = transpose(frame) * v;
+    return lo + walk_estimate(frame, wi, f0, alpha, n_lights, rng);
+}
+
+// The running sum of the truth pixels (Rgba32Float: rgb the sum of estimates, a their
+// count), read at the pixel by the accumulation (the previous frame's) and the resolve
+// (this frame's): group 2 of the truth pipelines (src/gpu/truth.rs).
+@group(2) @binding(0) var truth_sum: texture_2d<f32>;
+
+struct TruthFragment {
+    @location(0) sum: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// One more estimate at a truth ball's pixel: the previous sum plus this frame's, seeded
+// by the pixel and the number of estimates so far (the sum's alpha), so the fragment
+// stage reads no frame counter from a uniform buffer. A non-finite estimate (never seen;
+// a guard) counts as 0 rather than poisoning the sum.
+@fragment
+fn fs_truth(in: BallOut) -> TruthFragment {
+    let ray = primary_ray(in.position.xy);
+    let t = ball_distance(in, ray);
+    if !(t > 0.0) {
+        discard;
+    }
+    let p = vec2<i32>(in.position.xy);
+    let previous = textureLoad(truth_sum, p, 0i);
+    var rng = rng_seed(u32(p.x), u32(p.y), u32(previous.w));
+    let b = ball_of(in);
+    let n = surface_normal(ray[0] + t * ray[1] - b.center_radius.xyz, ray[1]);
+    var x = shade_truth(b, n, -ray[1], in.counts.y, &rng);
+    let finite = all(abs(x) < vec3<f32>(3.0e38));
+    x = select(vec3<f32>(0.0), x, finite);
+    var out: TruthFragment;
+    out.sum = vec4<f32>(previous.rgb + x, previous.w + 1.0);
+    out.depth = t * DEPTH_SCALE;
+    return out;
+}
+
+// A ball of another model in the accumulation pass: it hides the truth balls behind it
+// (depth) and leaves a zero sum, which the resolve skips.
+@fragment
+fn fs_truth_occluder(in: BallOut) -> TruthFragment {
+    let ray = primary_ray(in.position.xy);
+    let t = ball_distance(in, ray);
+    if !(t > 0.0) {
+        discard;
+    }
+    var out: TruthFragment;
+    out.sum = vec4<f32>(0.0);
+    out.depth = t * DEPTH_SCALE;
+    return out;
+}
+
+// The mean of a truth pixel's estimates (sum / count) into the target; other pixels (a
+// zero count) keep what the ball pass drew.
+@fragment
+fn fs_truth_resolve(in: VsOut) -> @location(0) vec4<f32> {
+    let s = textureLoad(truth_sum, vec2<i32>(in.position.xy), 0i);
+    if !(s.w > 0.0) {
+        discard;
+    }
+    return output_value(s.rgb / s.w);
+}
+
+// fs_truth_resolve for an Rgba32Uint target (output_bits).
+@fragment
+fn fs_truth_resolve_bits(in: VsOut) -> @location(0) vec4<u32> {
+    let s = textureLoad(truth_sum, vec2<i32>(in.position.xy), 0i);
+    if !(s.w > 0.0) {
+        discard;
+    }
+    return output_bits(s.rgb / s.w);
+}

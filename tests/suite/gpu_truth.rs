@@ -1,0 +1,326 @@
+//! The truth on the GPU (`walk.wgsl`, src/gpu/truth.rs) against the CPU truth
+//! (`cpu::render_truth`): per ball, the mean radiance over the ball's inner pixels within 4
+//! combined standard errors, on a scene with two lights, a uniform environment, metals and
+//! dielectrics; the white furnace equal to its environment within 4 standard errors; the
+//! progressive sums (restart on a change, count per draw); GL either agrees or refuses.
+//!
+//! The GPU's standard error comes from its own frames by batch means: the sums are read
+//! back every `BATCH` frames, and each batch's mean is the difference of two read-backs.
+
+use glam::DVec3;
+use shadeballs::cpu::{self, intersect_sphere, TableRead, TruthSettings};
+use shadeballs::gpu::Renderer;
+use shadeballs::lut::{self, BakeConfig};
+use shadeballs::scene::{Model, Scene};
+
+use crate::pixels::{renderer, vulkan};
+
+const W: u32 = 320;
+const H: u32 = 180;
+/// Frames a batch, and batches: 32 batch means give the standard error with 31 degrees of
+/// freedom, so 4 of them is a two-sided tail of about 4e-4 of Student's t.
+const BATCH: u32 = 4;
+const BATCHES: u32 = 32;
+/// The agreement bound: 4 combined standard errors (the brief's).
+const Z_MAX: f64 = 4.0;
+/// A floor on each comparison's standard error, relative to the CPU's mean: the exact
+/// part (the lights' single scattering) is evaluated in f32 on the GPU and f64 on the
+/// CPU, where a ball whose walk adds almost nothing has a standard error far below the
+/// f32 rounding of its mean (1e-4 is about 800 f32 ulps, and the order of what the f32
+/// normal of a hit point moves the lights' term by).
+const F32_FLOOR: f64 = 1e-4;
+
+fn all_truth(mut scene: Scene) -> Scene {
+    for b in &mut scene.balls {
+        b.model = Model::Truth;
+    }
+    scene
+}
+
+/// Per pixel, the ball whose pixel it is and whose eight neighbours are its too (the
+/// silhouettes, where the f32 and f64 rays may pick different balls, are left out).
+fn inner_pixels(scene: &Scene) -> Vec<Option<usize>> {
+    let basis = scene.camera.basis(W, H);
+    let nearest: Vec<Option<usize>> = (0..W * H)
+        .map(|i| {
+            let d = basis.ray(i % W, i / W, W, H);
+            let mut best: Option<(f64, usize)> = None;
+            for (k, b) in scene.balls.iter().enumerate() {
+                let t = intersect_sphere(basis.origin, d, b.center, b.radius);
+                if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                    best = Some((t, k));
+                }
+            }
+            best.map(|(_, k)| k)
+        })
+        .collect();
+    (0..W * H)
+        .map(|i| {
+            let (x, y) = ((i % W) as i64, (i / W) as i64);
+            let k = nearest[i as usize]?;
+            let inner = (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    (0..W as i64).contains(&nx)
+                        && (0..H as i64).contains(&ny)
+                        && nearest[(ny * W as i64 + nx) as usize] == Some(k)
+                })
+            });
+            inner.then_some(k)
+        })
+        .collect()
+}
+
+/// A ball's mean radiance and its standard error, per channel.
+#[derive(Clone, Copy, Debug)]
+struct Estimate {
+    mean: DVec3,
+    std_error: DVec3,
+}
+
+/// Mean over each ball's inner pixels of an RGBA f32 image.
+fn ball_means(rgba: &[f32], owner: &[Option<usize>], balls: usize) -> Vec<DVec3> {
+    let mut sums = vec![(DVec3::ZERO, 0u32); balls];
+    for (i, k) in owner.iter().enumerate() {
+        if let Some(k) = *k {
+            let p = &rgba[4 * i..4 * i + 3];
+            sums[k].0 += DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            sums[k].1 += 1;
+        }
+    }
+    sums.into_iter()
+        .map(|(s, n)| s / f64::from(n.max(1)))
+        .collect()
+}
+
+/// The GPU truth per ball by batch means over `BATCHES` batches of `BATCH` frames.
+fn gpu_truth(r: &mut Renderer, scene: &Scene, owner: &[Option<usize>]) -> Vec<Estimate> {
+    let n = scene.balls.len();
+    r.reset_truth();
+    let mut previous = vec![DVec3::ZERO; n];
+    let mut batch_means: Vec<Vec<DVec3>> = Vec::new();
+    for b in 1..=BATCHES {
+        for _ in 1..BATCH {
+            r.accumulate_truth(scene, W, H).unwrap();
+        }
+        // The draw adds the batch's last frame.
+        let image = r.render_hdr(scene, W, H).unwrap();
+        assert_eq!(r.truth_samples(), Some(b * BATCH));
+        let means = ball_means(&image.rgba, owner, n);
+        let frames = f64::from(b * BATCH);
+        let batch: Vec<DVec3> = (0..n)
+            .map(|k| {
+                (means[k] * frames - previous[k] * (frames - f64::from(BATCH))) / f64::from(BATCH)
+            })
+            .collect();
+        previous = means;
+        batch_means.push(batch);
+    }
+    let m = f64::from(BATCHES);
+    (0..n)
+        .map(|k| {
+            let mean = batch_means.iter().map(|b| b[k]).sum::<DVec3>() / m;
+            let var = batch_means
+                .iter()
+                .map(|b| (b[k] - mean) * (b[k] - mean))
+                .sum::<DVec3>()
+                / (m - 1.0);
+            Estimate {
+                mean,
+                std_error: (var / m).powf(0.5),
+            }
+        })
+        .collect()
+}
+
+/// The CPU truth per ball over the same inner pixels (the standard error of that mean
+/// from its pixels' own).
+fn cpu_truth(scene: &Scene, owner: &[Option<usize>], spp: u32) -> Vec<Estimate> {
+    let tables = lut::bake(&BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..Default::default()
+    });
+    let settings = TruthSettings {
+        spp,
+        seed: 3,
+        ..Default::default()
+    };
+    let image = cpu::render_truth(scene, &TableRead::Lut(&tables), W, H, settings, |_| true)
+        .unwrap()
+        .image;
+    let n = scene.balls.len();
+    let mut sums = vec![(DVec3::ZERO, DVec3::ZERO, 0u32); n];
+    for (i, k) in owner.iter().enumerate() {
+        if let Some(k) = *k {
+            let s = image.std_error[i];
+            sums[k].0 += image.mean[i];
+            sums[k].1 += s * s;
+            sums[k].2 += 1;
+        }
+    }
+    sums.into_iter()
+        .map(|(mean, var, count)| {
+            let c = f64::from(count.max(1));
+            Estimate {
+                mean: mean / c,
+                std_error: var.powf(0.5) / c,
+            }
+        })
+        .collect()
+}
+
+/// Per ball and channel, |GPU - expected| in combined standard errors (with the f32 floor
+/// relative to the expected value); the largest, and the report of every ball.
+fn z_scores(gpu: &[Estimate], expected: &[Estimate]) -> (f64, String) {
+    let mut worst = 0.0f64;
+    let mut report = String::new();
+    for (k, (g, c)) in gpu.iter().zip(expected).enumerate() {
+        let floor = c.mean.abs() * F32_FLOOR;
+        let se = (g.std_error * g.std_error + c.std_error * c.std_error + floor * floor)
+            .powf(0.5)
+            .max(DVec3::splat(1e-30));
+        let z = (g.mean - c.mean).abs() / se;
+        worst = worst.max(z.max_element());
+        report += &format!(
+            "\n  ball {k}: gpu {} +- {}, expected {} +- {}, z {}",
+            show(g.mean, "{:.5}"),
+            show(g.std_error, "{:.1e}"),
+            show(c.mean, "{:.5}"),
+            show(c.std_error, "{:.1e}"),
+            show(z, "{:.2}")
+        );
+    }
+    (worst, report)
+}
+
+/// A vector's channels, each formatted like `{:.5}` (`fmt`) or in exponent form (`{:.1e}`).
+fn show(v: DVec3, fmt: &str) -> String {
+    let one = |x: f64| match fmt {
+        "{:.1e}" => format!("{x:.1e}"),
+        "{:.2}" => format!("{x:.2}"),
+        _ => format!("{x:.5}"),
+    };
+    format!("[{}, {}, {}]", one(v.x), one(v.y), one(v.z))
+}
+
+/// Two lights, a uniform environment, metals and dielectrics at five roughnesses: every
+/// part of the GPU truth (the lights' exact single scattering, the walk's next-event
+/// estimates, its escapes into the environment, the dielectric's base).
+fn agreement_scene() -> Scene {
+    let mut scene = all_truth(crate::render::mixed_scene());
+    scene.environment = DVec3::new(0.3, 0.25, 0.2);
+    scene
+}
+
+fn agrees_with_cpu(r: &mut Renderer, what: &str) {
+    let scene = agreement_scene();
+    let owner = inner_pixels(&scene);
+    let gpu = gpu_truth(r, &scene, &owner);
+    let cpu = cpu_truth(&scene, &owner, 64);
+    let (worst, report) = z_scores(&gpu, &cpu);
+    eprintln!("{what} truth vs CPU truth (worst {worst:.2} standard errors):{report}");
+    assert!(
+        worst < Z_MAX,
+        "{what} truth differs from the CPU truth by {worst:.2} standard errors:{report}"
+    );
+}
+
+#[test]
+fn gpu_truth_agrees_with_the_cpu_truth_per_ball() {
+    agrees_with_cpu(&mut vulkan(), "Vulkan");
+}
+
+#[test]
+fn gpu_truth_white_furnace_is_the_environment() {
+    let mut r = vulkan();
+    let scene = all_truth(Scene::furnace());
+    let owner = inner_pixels(&scene);
+    let gpu = gpu_truth(&mut r, &scene, &owner);
+    // F0 = 1 loses nothing: every ball's radiance is the environment's, exactly.
+    let exact: Vec<Estimate> = gpu
+        .iter()
+        .map(|_| Estimate {
+            mean: scene.environment,
+            std_error: DVec3::ZERO,
+        })
+        .collect();
+    let (worst, report) = z_scores(&gpu, &exact);
+    eprintln!("GPU truth furnace (worst {worst:.2} standard errors):{report}");
+    assert!(
+        worst < Z_MAX,
+        "the GPU truth's furnace is not its environment ({worst:.2} standard errors):{report}"
+    );
+}
+
+#[test]
+fn gpu_truth_on_gl_agrees_or_refuses() {
+    let mut r = renderer(wgpu::Backends::GL);
+    if r.truth_supported() {
+        agrees_with_cpu(&mut r, "GL");
+    } else {
+        let scene = agreement_scene();
+        let err = r.render_hdr(&scene, W, H).err().expect("GL must refuse");
+        assert!(err.to_string().contains("Rgba32Float"), "{err}");
+    }
+}
+
+#[test]
+fn truth_sums_count_draws_and_restart_on_a_change() {
+    let mut r = vulkan();
+    let mut scene = all_truth(Scene::reference());
+    for k in 1..=3 {
+        r.render_ldr(&scene, 64, 36).unwrap();
+        assert_eq!(r.truth_samples(), Some(k));
+    }
+    // The exposure is the resolve's: the sums go on.
+    scene.exposure = 2.0;
+    r.render_ldr(&scene, 64, 36).unwrap();
+    assert_eq!(r.truth_samples(), Some(4));
+    // A change of the scene or of the size starts again.
+    scene.balls[0].roughness = 0.5;
+    r.render_ldr(&scene, 64, 36).unwrap();
+    assert_eq!(r.truth_samples(), Some(1));
+    r.render_ldr(&scene, 48, 36).unwrap();
+    assert_eq!(r.truth_samples(), Some(1));
+    let image = r.render_truth_ldr(&scene, 64, 36, 5).unwrap();
+    assert_eq!(r.truth_samples(), Some(5));
+    assert_eq!(image.rgba.len(), 64 * 36 * 4);
+}
+
+#[test]
+fn a_truth_ball_is_not_drawn_as_none() {
+    // Before the GPU truth, a truth ball was drawn with the `none` model: the walk's
+    // multiple scattering adds light at high roughness, so the truth ball is brighter.
+    let mut r = vulkan();
+    let mut scene = Scene::reference();
+    for b in &mut scene.balls {
+        b.model = Model::None;
+    }
+    let owner = inner_pixels(&scene);
+    let none = ball_means(&r.render_hdr(&scene, W, H).unwrap().rgba, &owner, 10);
+    let truth_scene = all_truth(scene);
+    let truth = ball_means(
+        &r.render_truth_hdr(&truth_scene, W, H, 16).unwrap().rgba,
+        &owner,
+        10,
+    );
+    // The roughest balls (roughness 0.95, the fifth of each row) gain most.
+    for k in [4, 9] {
+        assert!(
+            truth[k].x > none[k].x * 1.02,
+            "ball {k}: truth {:?} vs none {:?}",
+            truth[k],
+            none[k]
+        );
+    }
+}
+
+#[test]
+fn truth_spp_is_checked() {
+    let mut r = vulkan();
+    let scene = all_truth(Scene::reference());
+    assert!(r.render_truth_ldr(&scene, 32, 18, 0).is_err());
+    assert!(r
+        .render_truth_ldr(&scene, 32, 18, shadeballs::gpu::MAX_TRUTH_SPP + 1)
+        .is_err());
+}
