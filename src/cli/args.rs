@@ -47,7 +47,35 @@ value_enum!(
     IblTerm,
     Builtin,
     BackgroundArg,
+    OnOff,
 );
+
+/// `--aa`: a switch spelled `on` or `off`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+impl OnOff {
+    /// Every value, in the order the help lists them.
+    pub const ALL: [OnOff; 2] = [OnOff::On, OnOff::Off];
+
+    /// The name the command line uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            OnOff::On => "on",
+            OnOff::Off => "off",
+        }
+    }
+
+    /// Whether it is on.
+    pub fn is_on(self) -> bool {
+        self == OnOff::On
+    }
+}
 
 /// `--background`: what the pixels no ball covers show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,6 +193,10 @@ pub struct SceneArgs {
     /// What the pixels no ball covers show (default: the scene's, else environment).
     #[arg(long)]
     pub background: Option<BackgroundArg>,
+    /// Antialiased silhouettes: edge pixels average sub-pixel samples in linear radiance
+    /// (default: the scene's, else on; off: one ray through each pixel's centre).
+    #[arg(long, value_name = "on|off")]
+    pub aa: Option<OnOff>,
 }
 
 impl SceneArgs {
@@ -183,6 +215,9 @@ impl SceneArgs {
         scene.ibl_term = self.ibl_term.unwrap_or(scene.ibl_term);
         if let Some(b) = self.background {
             scene.background = b.background();
+        }
+        if let Some(aa) = self.aa {
+            scene.antialias = aa.is_on();
         }
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");

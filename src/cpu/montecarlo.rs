@@ -133,7 +133,8 @@ pub fn render_montecarlo_part(
     }
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    let bins = Bins::new(&basis, balls, width, height);
+    // One ray through each pixel's centre, antialiased or not (no sub-pixel samples).
+    let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
     // Fdez-Aguera's FssEss is F0 A + B: the split sum's table, as the real-time method reads.

@@ -111,6 +111,8 @@ pub struct Variant {
     /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, else 1 + the
     /// scene's [`IblTerm`]'s index in [`IblTerm::ALL`].
     pub ibl: u8,
+    /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
+    pub aa: bool,
 }
 
 /// The plan of one scene.
@@ -170,6 +172,7 @@ impl Plan {
             environment: !options.per_ball || environment,
             lights: !options.per_ball || lights,
             ibl,
+            aa: scene.antialias,
         };
         let all: Vec<usize> = (0..balls.len()).collect();
         let draws = if !options.term {
@@ -228,7 +231,11 @@ impl fmt::Display for Variant {
         match self.ibl {
             0 => Ok(()),
             k => write!(f, ", environment map ({})", IblTerm::ALL[k as usize - 1]),
+        }?;
+        if !self.aa {
+            write!(f, ", no antialiasing")?;
         }
+        Ok(())
     }
 }
 

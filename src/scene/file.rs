@@ -4,6 +4,7 @@
 //! preset = "accurate"          # optional: accurate | games202
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! exposure = 1.0               # optional, > 0
+//! antialias = true             # optional: antialiased silhouettes (default true)
 //! [camera]                     # optional: the reference camera
 //! position = [0, 80, 300]
 //! target = [0, 0, 0]
@@ -59,6 +60,7 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     exposure: Option<Positive>,
+    antialias: Option<bool>,
     background: Option<BackgroundValue>,
     ibl_term: Option<Named<IblTerm>>,
     camera: Option<Spanned<CameraFile>>,
@@ -320,6 +322,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         exposure: file.exposure.map_or(1.0, |e| e.0),
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
+        antialias: file.antialias.unwrap_or(reference.antialias),
     })
 }
 

@@ -12,7 +12,7 @@ mod values;
 
 use glam::DVec3;
 
-pub use camera::{Camera, CameraBasis, BOUNDS_PAD_PX};
+pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use preset::Preset;
 
@@ -131,6 +131,11 @@ pub struct Scene {
     /// The G the `accurate` preset uses (`games202` always uses schlick); default
     /// height-correlated Smith.
     pub geometry: Geometry,
+    /// Antialiased silhouettes (default on): a pixel a ball's silhouette crosses mixes the
+    /// ball and the background by the fraction of it the ball covers, computed analytically,
+    /// in linear radiance (docs/design.md section 11); off, one ray through each pixel's
+    /// centre.
+    pub antialias: bool,
 }
 
 /// The reference scene's metal albedo (sRGB, docs/design.md section 4).
@@ -159,6 +164,7 @@ impl Scene {
             preset: Preset::Accurate,
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
+            antialias: true,
         }
     }
 
