@@ -193,8 +193,9 @@ pub struct SceneArgs {
     /// What the pixels no ball covers show (default: the scene's, else environment).
     #[arg(long)]
     pub background: Option<BackgroundArg>,
-    /// Antialiased silhouettes: edge pixels average sub-pixel samples in linear radiance
-    /// (default: the scene's, else on; off: one ray through each pixel's centre).
+    /// Antialiased silhouettes: a pixel a ball's edge crosses mixes ball and background by
+    /// the fraction it covers, in linear radiance (default: the scene's, else on; off: one
+    /// ray through each pixel's centre).
     #[arg(long, value_name = "on|off")]
     pub aa: Option<OnOff>,
 }

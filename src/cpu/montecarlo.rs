@@ -133,7 +133,8 @@ pub fn render_montecarlo_part(
     }
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    // One ray through each pixel's centre, antialiased or not (no sub-pixel samples).
+    // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
+    // backend does not antialias silhouettes: docs/design.md section 11).
     let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
