@@ -32,6 +32,10 @@ override IBL: u32 = 0u;
 const TERM_KULLA_CONTY: u32 = 1u;
 const TERM_TURQUIN: u32 = 2u;
 const TERM_FDEZ_AGUERA: u32 = 3u;
+// 1 (default): antialiased silhouettes (balls.wgsl ball_footprint: a pixel the silhouette
+// crosses mixes the ball and the background by the fraction it covers); 0: one ray through
+// each pixel's centre, the image of before (src/scene Scene::antialias).
+override AA: u32 = 1u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {

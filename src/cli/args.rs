@@ -47,7 +47,35 @@ value_enum!(
     IblTerm,
     Builtin,
     BackgroundArg,
+    OnOff,
 );
+
+/// `--aa`: a switch spelled `on` or `off`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+impl OnOff {
+    /// Every value, in the order the help lists them.
+    pub const ALL: [OnOff; 2] = [OnOff::On, OnOff::Off];
+
+    /// The name the command line uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            OnOff::On => "on",
+            OnOff::Off => "off",
+        }
+    }
+
+    /// Whether it is on.
+    pub fn is_on(self) -> bool {
+        self == OnOff::On
+    }
+}
 
 /// `--background`: what the pixels no ball covers show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -173,6 +201,11 @@ pub struct SceneArgs {
     /// Draw no labels (the opposite of --labels; the last one given wins).
     #[arg(long, overrides_with = "labels")]
     pub no_labels: bool,
+    /// Antialiased silhouettes: a pixel a ball's edge crosses mixes ball and background by
+    /// the fraction it covers, in linear radiance (default: the scene's, else on; off: one
+    /// ray through each pixel's centre).
+    #[arg(long, value_name = "on|off")]
+    pub aa: Option<OnOff>,
 }
 
 impl SceneArgs {
@@ -196,6 +229,9 @@ impl SceneArgs {
         }
         if self.labels || self.no_labels {
             scene.labels = self.labels;
+        }
+        if let Some(aa) = self.aa {
+            scene.antialias = aa.is_on();
         }
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");

@@ -22,7 +22,7 @@ use shade::{shade_with_terms, Forms};
 
 use crate::display::{to_unorm8, tone_map};
 use crate::lut::Tables;
-use crate::scene::{Ball, CameraBasis, Scene, BOUNDS_PAD_PX, MAX_BALLS};
+use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALLS};
 
 /// Linear radiance of every pixel, row-major, row 0 at the top; rows on rayon's pool.
 pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Vec<DVec3> {
@@ -33,7 +33,7 @@ pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) 
 ///
 /// Each pixel intersects only the balls whose screen-space bounds cover it (the bounds the
 /// GPU's quads use, [`CameraBasis::sphere_bounds`], widened by the same
-/// [`BOUNDS_PAD_PX`]), found through square screen bins of [`BIN_PX`] pixels: the cost
+/// [`crate::scene::BOUNDS_PAD_PX`], or [`crate::scene::AA_BOUNDS_PAD_PX`] with antialiasing), found through square screen bins of [`BIN_PX`] pixels: the cost
 /// follows the pixels the balls cover, not their number. Candidates are tried in index
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
@@ -47,7 +47,7 @@ pub fn render_radiance_with(
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
     let geometry = scene.effective_geometry();
-    let bins = Bins::new(&basis, balls, width, height);
+    let bins = Bins::new(&basis, balls, width, height, bounds_pad_px(scene.antialias));
     let bins = &bins;
     // The map prepared as the GPU prepares it (E for its kernels from the 2-D table of the
     // scene's G, whatever `e` reads).
@@ -64,37 +64,220 @@ pub fn render_radiance_with(
     let ibl = &ibl;
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
+    // What a ray in unit direction d that hits no ball sees (`background_radiance`).
+    let background_along = move |d: DVec3| match ibl {
+        Some((environment, map)) if shows_map => background + map.background(environment, d),
+        _ => background,
+    };
+    // Radiance leaving ball k, hit at distance t along the ray (o, d), towards the eye.
+    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize| {
+        let b = &balls[k];
+        let n = surface_normal(o + t * d - b.center, d);
+        let forms = Forms {
+            form,
+            geometry,
+            split: ibl.as_ref().map(|(_, map)| &map.split),
+        };
+        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, &forms);
+        match ibl {
+            Some((_, map)) => lo + shade_environment_map(scene, b, n, -d, &terms, map),
+            None => lo,
+        }
+    };
+    let o = basis.origin;
+    let size = (width, height);
     (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
             (0..width).map(move |px| {
-                let d = basis.ray(px, py, width, height);
-                let o = basis.origin;
-                match (bins.nearest(balls, px, py, o, d), ibl) {
-                    (None, Some((environment, map))) if shows_map => {
-                        background + map.background(environment, d)
+                if !scene.antialias {
+                    let d = basis.ray(px, py, width, height);
+                    return match bins.nearest(balls, px, py, o, d) {
+                        None => background_along(d),
+                        Some((t, k)) => shade_hit(o, d, t, k),
+                    };
+                }
+                // As the per-ball draw's depth test keeps: the footprint of the nearest
+                // shading distance, the lowest index on a tie (`radiance_at`).
+                let frag = (px as f64 + 0.5, py as f64 + 0.5);
+                let mut best: Option<(Footprint, usize)> = None;
+                for k in bins.candidates(px, py) {
+                    let b = &balls[k];
+                    let f = ball_footprint(&basis, size, true, frag, b.center, b.radius);
+                    if f.t > 0.0 && best.as_ref().is_none_or(|(bf, _)| f.t < bf.t) {
+                        best = Some((f, k));
                     }
-                    (None, _) => background,
-                    (Some((t, k)), _) => {
-                        let b = &balls[k];
-                        let n = surface_normal(o + t * d - b.center, d);
-                        let forms = Forms {
-                            form,
-                            geometry,
-                            split: ibl.as_ref().map(|(_, map)| &map.split),
-                        };
-                        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, &forms);
-                        match ibl {
-                            Some((_, map)) => {
-                                lo + shade_environment_map(scene, b, n, -d, &terms, map)
-                            }
-                            None => lo,
-                        }
+                }
+                match best {
+                    None => background_along(basis.ray(px, py, width, height)),
+                    Some((f, k)) => {
+                        let ray = |(x, y): (f64, f64)| basis.ray_at(x, y, width, height);
+                        let lo = shade_hit(o, ray(f.hit), f.t, k);
+                        footprint_radiance(&f, lo, || background_along(ray(f.miss)))
                     }
                 }
             })
         })
         .collect()
+}
+
+/// What a pixel sees of one ball (`Footprint` in `balls.wgsl`): the distance of the hit it
+/// is shaded at (not `> 0`: the ball covers none of the pixel), the image positions (pixels)
+/// of the ray the ball is shaded along and of the ray the background is seen along, and
+/// the fraction of the pixel the ball covers (1: the centre ray alone).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    /// Distance along the shading ray.
+    pub t: f64,
+    /// Image position of the ray the ball is shaded along.
+    pub hit: (f64, f64),
+    /// Image position of the ray the background is seen along.
+    pub miss: (f64, f64),
+    /// Fraction of the pixel the ball covers.
+    pub coverage: f64,
+}
+
+/// `ray_distance` of `balls.wgsl`: the distance of the primary ray in unit direction `d`
+/// through image position `q` (pixels) of a `size` image from point `c`, and its
+/// derivatives along x and y per pixel (y down), analytic: with `D` the unnormalised
+/// direction, `dd = (dD - d (d . dD)) / |D|` (`dD = 2 right / w` or `-2 up / h`), and the
+/// perpendicular `P = oc - (oc . d) d` moves by `dP = -(oc . dd) d - (oc . d) dd`, its
+/// length by `P . dP / |P|`.
+pub fn ray_distance(
+    basis: &CameraBasis,
+    size: (u32, u32),
+    q: (f64, f64),
+    d: DVec3,
+    c: DVec3,
+) -> (f64, f64, f64) {
+    let (w, h) = (size.0 as f64, size.1 as f64);
+    let oc = basis.origin - c;
+    let b = oc.dot(d);
+    let p = oc - b * d;
+    let len = p.length();
+    let ndc_x = 2.0 * q.0 / w - 1.0;
+    let ndc_y = 1.0 - 2.0 * q.1 / h;
+    let inv = 1.0 / (basis.forward + ndc_x * basis.right + ndc_y * basis.up).length();
+    let moved = |dd_raw: DVec3| {
+        let dd = (dd_raw - d * d.dot(dd_raw)) * inv;
+        let dp = -oc.dot(dd) * d - b * dd;
+        p.dot(dp) / len.max(crate::brdf::DIV_EPSILON)
+    };
+    (
+        len,
+        moved(2.0 * basis.right / w),
+        moved(-2.0 * basis.up / h),
+    )
+}
+
+/// `box_coverage` of `balls.wgsl`: the area of the unit pixel square centred on the origin
+/// where `n . q <= s` (`n` a unit vector or 0), the integral of the square's chord across
+/// `n` (a trapezoid; Gupta and Sproull, "Filtering edges for gray-scale displays",
+/// SIGGRAPH 1981, for a box filter).
+pub fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
+    let eps = crate::brdf::DIV_EPSILON;
+    let (a, b) = (n.0.abs().max(n.1.abs()), n.0.abs().min(n.1.abs()));
+    let (h, k) = (0.5 * (a + b), 0.5 * (a - b));
+    let corner = 1.0 / (2.0 * a * b).max(eps);
+    let area = if s <= -h || s >= h {
+        if s > 0.0 {
+            1.0
+        } else {
+            0.0
+        }
+    } else if s < -k {
+        (s + h) * (s + h) * corner
+    } else if s > k {
+        1.0 - (h - s) * (h - s) * corner
+    } else {
+        0.5 + s / a.max(eps)
+    };
+    area.clamp(0.0, 1.0)
+}
+
+/// `straddles_silhouette` of `balls.wgsl`: whether the footprint of a pixel whose centre
+/// ray passes `distance` from the centre of the sphere `(c, r)` may straddle its
+/// silhouette: within [`AA_EDGE_PX`] footprints of `r`, a footprint being `|o - c|` times
+/// [`CameraBasis::pixel_angle`] (what the distance moves at most per pixel).
+pub fn straddles_silhouette(
+    basis: &CameraBasis,
+    size: (u32, u32),
+    distance: f64,
+    c: DVec3,
+    r: f64,
+) -> bool {
+    let footprint = (basis.origin - c).length() * basis.pixel_angle(size.0, size.1);
+    (distance - r).abs() <= AA_EDGE_PX * footprint
+}
+
+/// `ball_footprint` of `balls.wgsl`: the footprint of image position `frag` (a pixel's
+/// centre) of a `size` image on the sphere `(c, r)`, `antialias` as the scene's. Near the
+/// silhouette ([`straddles_silhouette`]), the silhouette linearised at the centre (the
+/// level set `r` of [`ray_distance`] and its gradient per pixel) gives the covered fraction
+/// ([`box_coverage`]) and the centroids of the covered and uncovered parts along its
+/// normal: the rays the ball and the background are seen along. A pixel covered whole
+/// keeps the centre ray alone.
+pub fn ball_footprint(
+    basis: &CameraBasis,
+    size: (u32, u32),
+    antialias: bool,
+    frag: (f64, f64),
+    c: DVec3,
+    r: f64,
+) -> Footprint {
+    let eps = crate::brdf::DIV_EPSILON;
+    let o = basis.origin;
+    let d = basis.ray_at(frag.0, frag.1, size.0, size.1);
+    let centre = Footprint {
+        t: intersect_sphere(o, d, c, r),
+        hit: frag,
+        miss: frag,
+        coverage: 1.0,
+    };
+    if !antialias {
+        return centre;
+    }
+    let oc = o - c;
+    if !straddles_silhouette(basis, size, (oc - oc.dot(d) * d).length(), c, r) {
+        return centre;
+    }
+    let (distance, gx, gy) = ray_distance(basis, size, frag, d, c);
+    let len = (gx * gx + gy * gy).sqrt();
+    let n = (gx / len.max(eps), gy / len.max(eps));
+    let s = (r - distance) / len.max(eps);
+    let coverage = box_coverage(s, n);
+    if coverage >= 1.0 {
+        return centre;
+    }
+    let h = 0.5 * (n.0.abs() + n.1.abs());
+    let edge = s.clamp(-h, h);
+    let along = |u: f64| (frag.0 + n.0 * u, frag.1 + n.1 * u);
+    let hit = along(0.5 * (edge - h));
+    let dh = basis.ray_at(hit.0, hit.1, size.0, size.1);
+    let mut t = intersect_sphere(o, dh, c, r);
+    if t.is_nan() || t <= 0.0 {
+        // The centroid of the covered part is inside the silhouette; where rounding says
+        // otherwise, the ray's closest approach to the centre.
+        t = (c - o).dot(dh);
+    }
+    Footprint {
+        t: if coverage > 0.0 { t } else { -1.0 },
+        hit,
+        miss: along(0.5 * (edge + h)),
+        coverage,
+    }
+}
+
+/// `footprint_radiance` of `balls.wgsl`: the ball's radiance `lo` (shaded along the ray
+/// through `f.hit`) mixed with the background's (along the ray through `f.miss`, asked
+/// only where the ball does not cover the whole pixel) by the coverage, in linear radiance.
+pub fn footprint_radiance(f: &Footprint, lo: DVec3, background: impl FnOnce() -> DVec3) -> DVec3 {
+    if f.coverage < 1.0 {
+        // WGSL's mix(a, b, t) = a (1 - t) + b t.
+        background() * (1.0 - f.coverage) + lo * f.coverage
+    } else {
+        lo
+    }
 }
 
 /// Side of the CPU renderer's screen bins, in pixels.
@@ -112,7 +295,7 @@ struct Bins {
 }
 
 impl Bins {
-    fn new(basis: &CameraBasis, balls: &[Ball], width: u32, height: u32) -> Self {
+    fn new(basis: &CameraBasis, balls: &[Ball], width: u32, height: u32, pad_px: f64) -> Self {
         let columns = width.div_ceil(BIN_PX) as usize;
         let rows = height.div_ceil(BIN_PX) as usize;
         let mut members = vec![Vec::new(); columns * rows];
@@ -121,8 +304,7 @@ impl Bins {
             if members.is_empty() {
                 break; // An empty image.
             }
-            let Some(ndc) = basis.sphere_bounds(b.center, b.radius, width, height, BOUNDS_PAD_PX)
-            else {
+            let Some(ndc) = basis.sphere_bounds(b.center, b.radius, width, height, pad_px) else {
                 // Off screen or behind the eye: no pixel sees it.
                 rects.push([1, 0, 1, 0]);
                 continue;

@@ -134,7 +134,9 @@ pub fn render_montecarlo_part(
     }
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    let bins = Bins::new(&basis, balls, width, height);
+    // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
+    // backend does not antialias silhouettes: docs/design.md section 12).
+    let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
     // Fdez-Aguera's FssEss is F0 A + B where the scene has a map: the split sum's table, as

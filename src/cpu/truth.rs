@@ -39,7 +39,7 @@ use super::shade::per_channel;
 use super::{surface_normal, Bins, TableRead};
 use crate::brdf::{f_avg_schlick, Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
-use crate::scene::{Ball, Model, Scene, MAX_BALLS};
+use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::microsurface::Microsurface;
 use crate::walk::single::{single_albedo, Rules};
 use crate::walk::{trace, Reflectance, Rng, Schlick};
@@ -183,7 +183,8 @@ pub fn render_truth(
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    let bins = Bins::new(&basis, balls, width, height);
+    // One ray through each pixel's centre (not antialiased, as the Monte Carlo backend).
+    let bins = Bins::new(&basis, balls, width, height, bounds_pad_px(false));
     // The map's single scattering: the Monte Carlo estimator of the single-scattering
     // model under the map alone.
     let map_scene = Scene {

@@ -114,6 +114,8 @@ pub struct Variant {
     /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, 1 with one
     /// (each ball's term is its own, `Ball.lut_row.w`).
     pub ibl: u8,
+    /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
+    pub aa: bool,
 }
 
 /// The plan of one scene.
@@ -176,6 +178,7 @@ impl Plan {
             environment: !options.per_ball || environment,
             lights: !options.per_ball || lights,
             ibl,
+            aa: scene.antialias,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
         // The per-ball draws leave the truth out; the full-screen triangle covers every ball.
@@ -205,11 +208,14 @@ impl Plan {
             draws,
             per_ball: options.per_ball,
             truth,
+            // The walk traces one ray through each pixel's centre: truth balls are not
+            // antialiased.
             truth_variant: Variant {
                 term: TermMode::Out,
                 environment,
                 lights,
                 ibl,
+                aa: false,
             },
         }
     }
@@ -245,7 +251,11 @@ impl fmt::Display for Variant {
         match self.ibl {
             0 => Ok(()),
             _ => write!(f, ", environment map"),
+        }?;
+        if !self.aa {
+            write!(f, ", no antialiasing")?;
         }
+        Ok(())
     }
 }
 

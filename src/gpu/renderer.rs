@@ -39,8 +39,10 @@ pub struct Target<'a> {
     pub height: u32,
 }
 
-/// Pixels added around each ball's exact bounds: the shader's f32 ray may hit a pixel
-/// whose centre the f64 silhouette just misses (the CPU renderer's bins use the same).
+/// Pixels added around each ball's exact bounds without antialiasing: the shader's f32 ray
+/// may hit a pixel whose centre the f64 silhouette just misses (the CPU renderer's bins use
+/// the same). With antialiasing the pad is [`crate::scene::AA_BOUNDS_PAD_PX`]
+/// ([`crate::scene::bounds_pad_px`]).
 pub const QUAD_PAD_PX: f64 = crate::scene::BOUNDS_PAD_PX;
 
 /// Device, group 0, pipelines, tables, and the plan of the latest scene.
@@ -415,6 +417,7 @@ impl Renderer {
         let mut draws = Vec::new();
         let mut quads: Vec<BallInstance> = Vec::new();
         let basis = scene.camera.basis(w, h);
+        let pad = crate::scene::bounds_pad_px(scene.antialias);
         let hidden = if plan.per_ball {
             hidden_duplicates(&balls)
         } else {
@@ -425,7 +428,7 @@ impl Renderer {
             if plan.per_ball {
                 quads.extend(members.iter().filter(|&&k| !hidden[k]).filter_map(|&k| {
                     let b = &scene.balls[k];
-                    let rect = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX)?;
+                    let rect = basis.sphere_bounds(b.center, b.radius, w, h, pad)?;
                     Some(BallInstance {
                         rect: rect.map(|v| v as f32),
                         ball: balls[k],

@@ -110,13 +110,13 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 }
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
-/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`.
+/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `AA`.
 pub fn overrides_for(
     geometry: Geometry,
     linear: bool,
     mu_axis: MuAxis,
     variant: Variant,
-) -> [(&'static str, f64); 7] {
+) -> [(&'static str, f64); 8] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -127,5 +127,6 @@ pub fn overrides_for(
         ("HAS_ENVIRONMENT", flag(variant.environment)),
         ("HAS_LIGHTS", flag(variant.lights)),
         ("IBL", variant.ibl as f64),
+        ("AA", flag(variant.aa)),
     ]
 }

@@ -81,6 +81,28 @@ impl Camera {
 /// than with 0.5 on lavapipe, the discarded fragments of each quad's border).
 pub const BOUNDS_PAD_PX: f64 = 0.5;
 
+/// Pixels added around each ball's exact bounds when silhouettes are antialiased
+/// ([`crate::scene::Scene::antialias`]): a pixel whose centre misses the ball by up to half
+/// its diagonal (0.71 px) is still partly covered, so the bounds grow by 0.75 pixel over
+/// [`BOUNDS_PAD_PX`] (each extra pixel of pad costs frame time: docs/benchmarks.md,
+/// "Antialiasing").
+pub const AA_BOUNDS_PAD_PX: f64 = BOUNDS_PAD_PX + 0.75;
+
+/// How near a silhouette, in pixel footprints ([`CameraBasis::pixel_angle`] times the
+/// distance from the eye), a pixel's centre ray must pass for the pixel to be partly
+/// covered (`AA_EDGE_PX` in `balls.wgsl`): half a pixel's diagonal (0.71) and a margin for
+/// the f32 rounding of the shader against this f64 test.
+pub const AA_EDGE_PX: f64 = 1.0;
+
+/// The pad of each ball's bounds for a scene drawn with (`true`) or without antialiasing.
+pub fn bounds_pad_px(antialias: bool) -> f64 {
+    if antialias {
+        AA_BOUNDS_PAD_PX
+    } else {
+        BOUNDS_PAD_PX
+    }
+}
+
 /// The relative margin by which `cz^2 - r^2` must be positive (the sphere wholly in front
 /// of the eye's plane, `cz` its centre's depth) for [`CameraBasis::sphere_bounds`] to bound
 /// it tighter than the screen; it keeps the bounds' division by `cz^2 - r^2` away from 0.
@@ -89,9 +111,27 @@ const IN_FRONT_MARGIN: f64 = 1e-9;
 impl CameraBasis {
     /// The unit direction of the primary ray through the centre of pixel `(px, py)`.
     pub fn ray(&self, px: u32, py: u32, width: u32, height: u32) -> DVec3 {
-        let ndc_x = 2.0 * (px as f64 + 0.5) / width as f64 - 1.0;
-        let ndc_y = 1.0 - 2.0 * (py as f64 + 0.5) / height as f64;
+        self.ray_at(px as f64 + 0.5, py as f64 + 0.5, width, height)
+    }
+
+    /// The unit direction of the primary ray through image position `(x, y)` in pixels
+    /// (pixel centres at `+ 0.5`; `primary_ray` in `balls.wgsl`).
+    pub fn ray_at(&self, x: f64, y: f64, width: u32, height: u32) -> DVec3 {
+        let ndc_x = 2.0 * x / width as f64 - 1.0;
+        let ndc_y = 1.0 - 2.0 * y / height as f64;
         (self.forward + ndc_x * self.right + ndc_y * self.up).normalize()
+    }
+
+    /// An upper bound on the angle between the primary rays of two pixels side by side, in
+    /// radians: `|d(forward + ndc_x right + ndc_y up)|` over a pixel is `2 |right| / w` (or
+    /// `2 |up| / h`), and the unnormalised direction is at least 1 long (forward is a unit
+    /// vector orthogonal to right and up), so the unit direction turns by at most that
+    /// much. The distance of the ray from a point `s` away from the eye moves by at most
+    /// `s` times it a pixel (the tests' measure of pixels from a silhouette).
+    pub fn pixel_angle(&self, width: u32, height: u32) -> f64 {
+        let x = 2.0 * self.right.length() / width.max(1) as f64;
+        let y = 2.0 * self.up.length() / height.max(1) as f64;
+        x.max(y)
     }
 
     /// The screen-space bounds of the sphere `(center, radius)` as NDC `[x0, y0, x1, y1]`

@@ -9,6 +9,7 @@
 //!                              #   the model of balls that name none
 //! labels = true                # optional, default false: roughness, row model and a
 //!                              #   caption drawn into PNG pictures and the viewer
+//! antialias = true             # optional: antialiased silhouettes (default true)
 //! [camera]                     # optional: the reference camera
 //! position = [0, 80, 300]
 //! target = [0, 0, 0]
@@ -64,6 +65,7 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     exposure: Option<Positive>,
+    antialias: Option<bool>,
     background: Option<BackgroundValue>,
     ibl_term: Option<Named<IblTerm>>,
     #[serde(default)]
@@ -324,6 +326,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
         labels: file.labels,
+        antialias: file.antialias.unwrap_or(reference.antialias),
     })
 }
 

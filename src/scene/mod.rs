@@ -13,7 +13,7 @@ mod values;
 
 use glam::DVec3;
 
-pub use camera::{Camera, CameraBasis, BOUNDS_PAD_PX};
+pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use model::Model;
 pub use preset::Preset;
@@ -136,6 +136,11 @@ pub struct Scene {
     /// renderers themselves never draw them. On in the built-in scenes, off by default in
     /// a scene file.
     pub labels: bool,
+    /// Antialiased silhouettes (default on): a pixel a ball's silhouette crosses mixes the
+    /// ball and the background by the fraction of it the ball covers, computed analytically,
+    /// in linear radiance (docs/design.md section 12); off, one ray through each pixel's
+    /// centre.
+    pub antialias: bool,
 }
 
 /// The reference scene's metal albedo (sRGB, docs/design.md section 4).
@@ -164,6 +169,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             labels: true,
+            antialias: true,
         }
     }
 

@@ -7,6 +7,11 @@
 //! 0; the slack absorbs a different Mesa/LLVM rounding a last bit. A changed model or table
 //! layout moves far more pixels and fails.
 //!
+//! The goldens are rendered with antialiasing off (`Scene::antialias = false`, `--aa
+//! off`): they are the images of before antialiasing, unchanged, which `--aa off` must
+//! still give; `antialias.rs` tests the antialiased edges against a supersampled
+//! reference and the interiors against these.
+//!
 //! On failure, `-actual` and `-difference` PNGs go to target/test-output/. Goldens are
 //! rewritten only with `SHADEBALLS_UPDATE_GOLDENS=1`; a missing golden fails otherwise.
 use std::path::PathBuf;
@@ -20,6 +25,10 @@ const W: u32 = 640;
 const H: u32 = 360;
 
 fn golden(name: &str, scene: &Scene) {
+    let scene = &Scene {
+        antialias: false,
+        ..scene.clone()
+    };
     let actual = vulkan().render_ldr(scene, W, H).unwrap().rgba;
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("assets/golden")

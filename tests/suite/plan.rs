@@ -34,6 +34,7 @@ fn variant(term: TermMode) -> Variant {
         environment: false,
         lights: true,
         ibl: 0,
+        aa: true,
     }
 }
 
@@ -86,7 +87,8 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             term: TermMode::Out,
             environment: true,
             lights: false,
-            ibl: 0
+            ibl: 0,
+            aa: true,
         }]
     );
 }
@@ -128,7 +130,8 @@ fn past_the_threshold_the_2d_table() {
             term: TermMode::Branch,
             environment: true,
             lights: true,
-            ibl: 0
+            ibl: 0,
+            aa: true,
         }]
     );
 }

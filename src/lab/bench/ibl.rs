@@ -374,9 +374,10 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         let scene = ibl_scene(studio.clone(), term);
         // Prefilter outside the timed frames.
         renderer.render(&scene, target)?;
-        let (mut times, ratio) = super::render::alternate(renderer, &scene, repeats, |r, k| {
-            r.set_multiple_scattering_term(k == 0)
-        })?;
+        let (mut times, ratio) =
+            super::render::alternate(renderer, [&scene, &scene], repeats, |r, k| {
+                r.set_multiple_scattering_term(k == 0)
+            })?;
         renderer.set_multiple_scattering_term(true);
         worst_ratio = worst_ratio.max(ratio);
         frame.push(vec![

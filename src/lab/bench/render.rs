@@ -69,7 +69,7 @@ pub fn measure_pair(
     exact: &[DVec3],
 ) -> Result<(Frame, Frame, f64)> {
     setup.apply(renderer);
-    let (mut times, ratio) = alternate(renderer, scene, repeats, |r, k| {
+    let (mut times, ratio) = alternate(renderer, [scene, scene], repeats, |r, k| {
         r.set_multiple_scattering_term(k == 0)
     })?;
     let mut frames = Vec::new();
@@ -123,19 +123,19 @@ pub fn measure_alternating(
     options: [DrawOptions; 2],
     repeats: usize,
 ) -> Result<(f64, f64, f64)> {
-    let (mut times, ratio) = alternate(renderer, scene, repeats, |r, k| {
+    let (mut times, ratio) = alternate(renderer, [scene, scene], repeats, |r, k| {
         r.set_draw_options(options[k])
     })?;
     Ok((median(&mut times[0]), median(&mut times[1]), ratio))
 }
 
-/// Frames of `scene` into the bench's target with the two settings `set(renderer, k)`
+/// Frames of `scenes[k]` into the bench's target with the two settings `set(renderer, k)`
 /// makes (k = 0, 1) alternating, `repeats` of each after one warm-up frame each (pipeline
 /// creation, the driver's shader compile), 0 first in even rounds and 1 first in odd ones:
 /// the times (ms) per setting, and the median over rounds of the ratio time 0 / time 1.
 pub fn alternate(
     renderer: &mut Renderer,
-    scene: &Scene,
+    scenes: [&Scene; 2],
     repeats: usize,
     mut set: impl FnMut(&mut Renderer, usize),
 ) -> Result<([Vec<f64>; 2], f64)> {
@@ -152,7 +152,7 @@ pub fn alternate(
         for k in order {
             set(renderer, k);
             let start = Instant::now();
-            renderer.render(scene, target)?;
+            renderer.render(scenes[k], target)?;
             device::wait(renderer.gpu())?;
             if round > 0 {
                 times[k].push(start.elapsed().as_secs_f64() * 1e3);

@@ -219,6 +219,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     }
     let variants = variants_against_branch(renderer, repeats * 2, &mut t)?;
     goals.push(variants);
+    goals.push(antialias_cost(renderer, repeats * 2, &mut t)?);
     t.note = format!(
         "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback); on_over_off is the median of the on/off ratio of each pair of frames. 'before': the design before planning (one full-screen triangle shading every pixel, the background included, one pipeline branching on each ball's flag, the 2-D table); 'planned': the scene's own rows, a quad per ball over its screen-space bounds, the background a clear, a pipeline per variant. Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (src/lab/bench/exact.rs). 'term off' compiles the term out of every pipeline (MS_TERM = 0): its error is what dropping the term costs; for the scene without the term, 'on' is its plan and 'off' the plain shader.",
         if quick { "Quick" } else { "Full" },
@@ -276,5 +277,48 @@ fn variants_against_branch(renderer: &mut Renderer, repeats: usize, t: &mut Tabl
             "{v_ms:.2} ms against {b_ms:.2} ms: {ratio:.3}x (median of {repeats} alternating pairs; on_over_off column of the 'variants vs branch' row)"
         ),
         met: ratio <= 1.0,
+    })
+}
+
+/// Antialiased silhouettes on against off (`Scene::antialias`, the `AA` override), default
+/// scene, the same rows, in alternating frames; two rows of `t` and issue 17's goal (at
+/// most 1.05x).
+fn antialias_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Result<Goal> {
+    let on = Scene::reference();
+    let off = Scene {
+        antialias: false,
+        ..on.clone()
+    };
+    renderer.set_bake_config(BakeConfig::default());
+    renderer.set_draw_options(DrawOptions::default());
+    let (mut times, ratio) = super::render::alternate(renderer, [&on, &off], repeats, |_, _| {})?;
+    let on_ms = super::median(&mut times[0]);
+    let off_ms = super::median(&mut times[1]);
+    for (name, ms, r) in [
+        (
+            "planned; antialiased (--aa on)",
+            on_ms,
+            format!("{ratio:.3}"),
+        ),
+        ("planned; one sample a pixel (--aa off)", off_ms, "-".into()),
+    ] {
+        t.push(vec![
+            "antialiasing".into(),
+            "default".into(),
+            "accurate".into(),
+            name.into(),
+            "on".into(),
+            format!("{ms:.2}"),
+            r,
+            "-".into(),
+            "-".into(),
+        ]);
+    }
+    Ok(Goal {
+        what: "default scene: antialiased silhouettes at most 1.05x the frame without".into(),
+        figure: format!(
+            "{on_ms:.2} ms against {off_ms:.2} ms: {ratio:.3}x (median of {repeats} alternating pairs; on_over_off column of the 'antialiasing' row)"
+        ),
+        met: ratio <= 1.05,
     })
 }

@@ -170,6 +170,8 @@ pub fn row_scene(scene: &Scene, roughness: &[f64], model: Model, preset: Preset)
             vfov_deg,
         },
         preset,
+        // One ray through each pixel's centre, as the truth traces: pixel for pixel.
+        antialias: false,
         ..scene.clone()
     }
 }
