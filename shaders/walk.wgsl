@@ -270,6 +270,13 @@ struct TruthFragment {
     @builtin(frag_depth) depth: f32,
 }
 
+// The distance along the pixel's primary ray `ray` to the quad's own ball (not > 0 where
+// the ray misses it): the truth traces one ray through each pixel's centre (its balls are
+// not antialiased).
+fn ball_distance(in: BallOut, ray: array<vec3<f32>, 2>) -> f32 {
+    return intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+}
+
 // One more estimate at a truth ball's pixel: the previous sum plus this frame's, seeded
 // by the pixel and the number of estimates so far (the sum's alpha), so the fragment
 // stage reads no frame counter from a uniform buffer. A non-finite estimate (never seen;

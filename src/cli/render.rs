@@ -218,9 +218,13 @@ fn render_truth(
             p.spp, p.seconds
         )
     };
+    // A line per pass: redrawn in place on a terminal, else one after another (the curve
+    // of the error against time, docs/truth.md).
     let image = cpu::render_truth(scene, e, args.width, args.height, settings, |p| {
         if terminal {
             eprint!("\r{}   ", line(p));
+        } else {
+            eprintln!("{}", line(p));
         }
         true
     })?;
