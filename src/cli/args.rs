@@ -186,7 +186,7 @@ pub struct SceneArgs {
     /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
     #[arg(long, value_name = "NAME|FILE", help = environment_help())]
     pub environment: Option<String>,
-    /// How the multiple-scattering term is formed under an environment map (default: the
+    /// The multiple-scattering term of every ball that has one (its model: default the
     /// scene's, else kulla-conty).
     #[arg(long)]
     pub ibl_term: Option<IblTerm>,

@@ -34,7 +34,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let kind = image_kind(&args.out)?;
     output::check_output_path(&args.out)?;
     super::check_wgpu_backend_env(args.backend)?;
-    let scene = args.scene.load()?;
+    let mut scene = args.scene.load()?;
+    if args.backend == Backend::Truth {
+        // Every ball is the walk's (and its label says so).
+        for b in &mut scene.balls {
+            b.model = crate::scene::Model::Truth;
+        }
+    }
     // Reading the scene can wait (a FIFO, a slow disk): its own phase, not the device's.
     phases.mark("scene");
     let geometry = scene.effective_geometry();

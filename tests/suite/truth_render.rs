@@ -299,3 +299,44 @@ fn a_bogus_model_lists_the_names() {
     let s = shadeballs::scene::parse(&ok, std::path::Path::new("s.toml")).unwrap();
     assert_eq!(s.balls[0].model, Model::Turquin);
 }
+
+#[test]
+fn ctrl_c_during_a_truth_render_leaves_nothing_behind() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let dir = temp_dir("truth_interrupted");
+    let out = dir.join("truth.exr");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
+        .args([
+            "render",
+            "--backend",
+            "truth",
+            "--spp",
+            "65536",
+            "--width",
+            "320",
+            "--height",
+            "180",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Well inside the render (65536 estimates a pixel take minutes), before any write.
+    let start = Instant::now();
+    std::thread::sleep(Duration::from_millis(700));
+    assert!(child.try_wait().unwrap().is_none(), "finished early");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted by SIGINT"), "{stderr}");
+    assert!(start.elapsed() < Duration::from_secs(30));
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
