@@ -152,3 +152,21 @@ impl Bindings {
         })
     }
 }
+
+/// A bind group layout of one texture at binding 0, read by the fragment stage with
+/// `textureLoad` (unfilterable float, 2-D): the truth's sums, the viewer's blit source.
+pub fn texture_load_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    })
+}

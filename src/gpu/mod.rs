@@ -18,6 +18,7 @@ mod truth;
 pub mod uniforms;
 mod upload;
 
+pub use bindings::texture_load_layout;
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
 pub use pipelines::{is_bits, is_linear};

@@ -158,19 +158,19 @@ impl Pipelines {
 
 /// What differs between the ball module's pipelines: entry points, vertex buffers,
 /// topology, and the depth test (`(write, compare)` against [`DEPTH_FORMAT`], or none).
-struct Shape<'a> {
-    label: &'a str,
-    vs: &'a str,
-    fs: &'a str,
-    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    topology: wgpu::PrimitiveTopology,
-    depth: Option<(bool, wgpu::CompareFunction)>,
+pub(super) struct Shape<'a> {
+    pub label: &'a str,
+    pub vs: &'a str,
+    pub fs: &'a str,
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    pub topology: wgpu::PrimitiveTopology,
+    pub depth: Option<(bool, wgpu::CompareFunction)>,
 }
 
 /// A pipeline of the ball module of `shape`, compiled with the override constants of
 /// `key` (its G, mu axis and variant; linear or bits output for its format) into its
 /// format.
-fn create(
+pub(super) fn create(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,

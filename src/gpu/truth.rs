@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::bindings::BallInstance;
-use super::pipelines::{is_bits, is_linear, DEPTH_FORMAT};
+use super::pipelines::{self, is_bits, Shape, DEPTH_FORMAT};
 use super::plan::Variant;
 use super::shaders;
 use crate::brdf::Geometry;
@@ -107,19 +107,7 @@ impl TruthPass {
         group0: &wgpu::BindGroupLayout,
         group1: &wgpu::BindGroupLayout,
     ) -> Self {
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("truth sums"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
+        let layout = super::bindings::texture_load_layout(device, "truth sums");
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("truth"),
             bind_group_layouts: &[Some(group0), Some(group1), Some(&layout)],
@@ -368,73 +356,39 @@ impl Sums {
 /// [`Role::Truth`] and [`Role::Occluder`], the full-screen triangle into a target for
 /// [`Role::Resolve`].
 fn create(draw: &Draw<'_>, layout: &wgpu::PipelineLayout, role: Role) -> wgpu::RenderPipeline {
-    let (format, linear) = match role {
-        Role::Resolve(f) => (f, is_linear(f)),
-        Role::Truth | Role::Occluder => (SUM_FORMAT, true),
-    };
-    let constants = shaders::overrides_for(draw.geometry, linear, draw.mu_axis, draw.variant);
-    let options = wgpu::PipelineCompilationOptions {
-        constants: &constants,
-        ..Default::default()
-    };
     let quads = [Some(BallInstance::LAYOUT)];
-    let (vs, fs, buffers, topology, depth): (_, _, &[_], _, _) = match role {
+    let (format, shape) = match role {
         Role::Truth | Role::Occluder => (
-            shaders::VS_BALL,
-            if role == Role::Truth {
-                shaders::FS_TRUTH
-            } else {
-                shaders::FS_TRUTH_OCCLUDER
+            SUM_FORMAT,
+            Shape {
+                label: "truth",
+                vs: shaders::VS_BALL,
+                fs: if role == Role::Truth {
+                    shaders::FS_TRUTH
+                } else {
+                    shaders::FS_TRUTH_OCCLUDER
+                },
+                buffers: &quads,
+                topology: wgpu::PrimitiveTopology::TriangleStrip,
+                depth: Some((true, wgpu::CompareFunction::Less)),
             },
-            &quads,
-            wgpu::PrimitiveTopology::TriangleStrip,
-            Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
         ),
         Role::Resolve(f) => (
-            shaders::VS_MAIN,
-            if is_bits(f) {
-                shaders::FS_TRUTH_RESOLVE_BITS
-            } else {
-                shaders::FS_TRUTH_RESOLVE
+            f,
+            Shape {
+                label: "truth resolve",
+                vs: shaders::VS_MAIN,
+                fs: if is_bits(f) {
+                    shaders::FS_TRUTH_RESOLVE_BITS
+                } else {
+                    shaders::FS_TRUTH_RESOLVE
+                },
+                buffers: &[],
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                depth: None,
             },
-            &[],
-            wgpu::PrimitiveTopology::TriangleList,
-            None,
         ),
     };
-    draw.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("truth"),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module: draw.module,
-                entry_point: Some(vs),
-                compilation_options: options.clone(),
-                buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                topology,
-                ..Default::default()
-            },
-            depth_stencil: depth,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: draw.module,
-                entry_point: Some(fs),
-                compilation_options: options,
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+    let key = (format, draw.geometry, draw.mu_axis, true, draw.variant);
+    pipelines::create(draw.device, layout, draw.module, key, shape)
 }

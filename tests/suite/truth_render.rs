@@ -6,6 +6,7 @@
 use glam::DVec3;
 use shadeballs::brdf::Geometry;
 use shadeballs::cpu::{self, render_montecarlo, render_truth, TableRead, TruthSettings};
+use shadeballs::lab::compare::image_error::ball_index_map;
 use shadeballs::lut::{self, BakeConfig, Tables};
 use shadeballs::scene::{Model, Scene};
 
@@ -46,29 +47,13 @@ fn settings(spp: u32, max_order: u32) -> TruthSettings {
 /// Per ball: the mean of the pixels whose nearest hit is the ball, and the standard error
 /// of that mean, from any Monte Carlo image (per channel).
 fn ball_means(scene: &Scene, image: &cpu::MonteCarloImage) -> Vec<(DVec3, DVec3)> {
-    let basis = scene.camera.basis(image.width, image.height);
+    let index = ball_index_map(scene, image.width, image.height);
     let mut sums = vec![(0.0, DVec3::ZERO, DVec3::ZERO); scene.balls.len()];
-    for y in 0..image.height {
-        for x in 0..image.width {
-            let d = basis.ray(x, y, image.width, image.height);
-            let hit = scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(i, b)| {
-                    (
-                        cpu::intersect_sphere(basis.origin, d, b.center, b.radius),
-                        i,
-                    )
-                })
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            if let Some((_, i)) = hit {
-                let k = (y * image.width + x) as usize;
-                sums[i].0 += 1.0;
-                sums[i].1 += image.mean[k];
-                sums[i].2 += image.std_error[k] * image.std_error[k];
-            }
+    for (k, ball) in index.iter().enumerate() {
+        if let Some(i) = *ball {
+            sums[i].0 += 1.0;
+            sums[i].1 += image.mean[k];
+            sums[i].2 += image.std_error[k] * image.std_error[k];
         }
     }
     sums.into_iter()
