@@ -132,7 +132,13 @@ impl Layers {
             self.panel_current = false;
         }
         let key = SceneKey::new(scene, renderer.bake_config(), (scene_width, width, height));
-        let scene_changed = self.scene_key.as_ref() != Some(&key);
+        // Truth balls accumulate: an unchanged scene is drawn again, each draw adding an
+        // estimate a pixel, up to the cap.
+        let accumulating = scene.has_truth()
+            && renderer
+                .truth_samples()
+                .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP);
+        let scene_changed = self.scene_key.as_ref() != Some(&key) || accumulating;
         let (scene_image, frame_image) = (
             self.scene_image.as_ref().expect("created above"),
             self.frame_image.as_ref().expect("created above"),

@@ -794,3 +794,30 @@ fn blit_is_an_exact_copy() {
         "the blit changed the bytes"
     );
 }
+
+/// Truth balls keep accumulating in the window: every frame of an unchanged scene shades
+/// the balls again, adding an estimate a pixel (a scene without them shades them once:
+/// `idle_draws_nothing_and_only_the_scene_area_orbits`).
+#[test]
+fn truth_balls_accumulate_while_nothing_changes() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-truth");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/models_and_truth.toml");
+    let shot = dir.join("truth.png");
+    let args = [
+        "--frames",
+        "12",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let shaded = reported(&stderr, "frames (");
+    assert_eq!(
+        shaded, 12,
+        "balls shaded {shaded} times in 12 frames: {stderr}"
+    );
+    assert!(shot.exists(), "{stderr}");
+}
