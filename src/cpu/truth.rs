@@ -239,8 +239,12 @@ pub fn render_truth(
         // often early and rarely costs much late.
         let batch = done.clamp(1, 16).min(settings.spp - done);
         let pass = done;
+        let map = map_lighting.as_ref();
         pixels.par_iter_mut().for_each(|p| {
-            let b = &balls[p.ball];
+            // A pixel facing away estimates zero: its sums stay zero.
+            let Some(walk) = PixelWalk::new(scene, &balls[p.ball], p, e, map.is_some()) else {
+                return;
+            };
             for k in 0..batch {
                 let mut rng = Rng::new(&[
                     settings.seed,
@@ -248,7 +252,7 @@ pub fn render_truth(
                     u64::from(p.py),
                     u64::from(pass + k),
                 ]);
-                let x = estimate(scene, b, p, e, map_lighting.as_ref(), settings, &mut rng);
+                let x = walk.estimate(scene, e, map, settings.max_order, &mut rng);
                 p.sum += x;
                 p.sum_sq += x * x;
             }
@@ -424,73 +428,98 @@ fn single_fixed(
     lo
 }
 
-/// One estimate of what the fixed part leaves out: the walk's second and later events
-/// towards the lights and out to the environment, and the map's single scattering.
-fn estimate(
-    scene: &Scene,
-    b: &Ball,
-    p: &Pixel,
-    e: &TableRead<'_>,
-    map: Option<&Lighting<'_>>,
-    settings: TruthSettings,
-    rng: &mut Rng,
-) -> DVec3 {
-    let mu_o = p.n.dot(p.v);
-    if mu_o <= 0.0 {
-        return DVec3::ZERO;
-    }
-    let mut x = DVec3::ZERO;
-    let mut escaped = DVec3::ZERO;
-    if let Some(map) = map {
-        let point = single_point(scene, b, p.n, p.v, e);
-        x += map.estimate(&point, e, 1, rng).0;
-    }
-    let frame = Frame::new(p.n);
-    let surface = Microsurface::new(b.roughness);
-    let channels = b.material.f0.to_array().map(Schlick);
-    // Lights above the horizon, in the local frame, with Lambda of their direction.
-    let mut lights = [(DVec3::ZERO, DVec3::ZERO, 0.0); crate::scene::MAX_LIGHTS];
-    let mut count = 0;
-    for light in &scene.lights {
-        let l = frame.to_local(light.direction);
-        if l.z > 0.0 {
-            lights[count] = (l, light.radiance, surface.lambda(l.z));
-            count += 1;
+/// What a pixel's estimates share, formed once per pixel and pass rather than per
+/// estimate: its frame, microsurface and Fresnel channels, the lights above its horizon in
+/// the local frame with Lambda of their direction, and (under a map) its
+/// single-scattering shading point.
+struct PixelWalk {
+    frame: Frame,
+    surface: Microsurface,
+    channels: [Schlick; 3],
+    v_local: DVec3,
+    lights: [(DVec3, DVec3, f64); crate::scene::MAX_LIGHTS],
+    count: usize,
+    point: Option<ShadingPoint>,
+}
+
+impl PixelWalk {
+    /// `None` where the pixel faces away (`n.v <= 0`): it has nothing to estimate.
+    fn new(scene: &Scene, b: &Ball, p: &Pixel, e: &TableRead<'_>, map: bool) -> Option<Self> {
+        if p.n.dot(p.v) <= 0.0 {
+            return None;
         }
+        let frame = Frame::new(p.n);
+        let surface = Microsurface::new(b.roughness);
+        let mut lights = [(DVec3::ZERO, DVec3::ZERO, 0.0); crate::scene::MAX_LIGHTS];
+        let mut count = 0;
+        for light in &scene.lights {
+            let l = frame.to_local(light.direction);
+            if l.z > 0.0 {
+                lights[count] = (l, light.radiance, surface.lambda(l.z));
+                count += 1;
+            }
+        }
+        Some(PixelWalk {
+            v_local: frame.to_local(p.v),
+            frame,
+            surface,
+            channels: b.material.f0.to_array().map(Schlick),
+            lights,
+            count,
+            point: map.then(|| single_point(scene, b, p.n, p.v, e)),
+        })
     }
-    let lights = &lights[..count];
-    let env = scene.environment;
-    let map_env = scene.environment_map.as_ref();
-    let lit_above = env != DVec3::ZERO || map_env.is_some();
-    trace(
-        &surface,
-        frame.to_local(p.v),
-        &channels,
-        settings.max_order,
-        rng,
-        |order, dir, mass, w| {
-            if order >= 2 && lit_above {
-                let world = frame.to_world(dir);
-                let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
-                escaped += mass * DVec3::from_slice(w) * arriving;
-            }
-        },
-        |order, wi_k, c, carry, w| {
-            if order < 2 {
-                return;
-            }
-            for &(l, radiance, lambda) in lights {
-                let (phase, cos) = surface.phase(wi_k, l);
-                if phase <= 0.0 {
-                    continue;
+
+    /// One estimate of what the fixed part leaves out: the walk's second and later events
+    /// towards the lights and out to the environment, and the map's single scattering.
+    fn estimate(
+        &self,
+        scene: &Scene,
+        e: &TableRead<'_>,
+        map: Option<&Lighting<'_>>,
+        max_order: u32,
+        rng: &mut Rng,
+    ) -> DVec3 {
+        let mut x = DVec3::ZERO;
+        let mut escaped = DVec3::ZERO;
+        if let (Some(map), Some(point)) = (map, &self.point) {
+            x += map.estimate(point, e, 1, rng).0;
+        }
+        let (frame, surface, channels) = (&self.frame, &self.surface, &self.channels);
+        let lights = &self.lights[..self.count];
+        let env = scene.environment;
+        let map_env = scene.environment_map.as_ref();
+        let lit_above = env != DVec3::ZERO || map_env.is_some();
+        trace(
+            surface,
+            self.v_local,
+            channels,
+            max_order,
+            rng,
+            |order, dir, mass, w| {
+                if order >= 2 && lit_above {
+                    let world = frame.to_world(dir);
+                    let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
+                    escaped += mass * DVec3::from_slice(w) * arriving;
                 }
-                let base = carry * phase * c.powf(lambda);
-                let f = DVec3::from_array(channels.map(|f| f.eval(cos)));
-                x += base * DVec3::from_slice(w) * f * radiance;
-            }
-        },
-    );
-    x + escaped
+            },
+            |order, wi_k, c, carry, w| {
+                if order < 2 {
+                    return;
+                }
+                for &(l, radiance, lambda) in lights {
+                    let (phase, cos) = surface.phase(wi_k, l);
+                    if phase <= 0.0 {
+                        continue;
+                    }
+                    let base = carry * phase * c.powf(lambda);
+                    let f = DVec3::from_array(channels.map(|f| f.eval(cos)));
+                    x += base * DVec3::from_slice(w) * f * radiance;
+                }
+            },
+        );
+        x + escaped
+    }
 }
 
 /// The CPU reference renderer's image of a scene with truth balls: every other ball as
