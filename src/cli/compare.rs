@@ -4,26 +4,13 @@
 use std::time::Instant;
 
 use super::args::CompareArgs;
-use crate::gpu::{Gpu, Renderer};
 use crate::lab::compare::{self, CompareOptions};
 
 pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     super::check_wgpu_backend_env(args.backend)?;
     let scene = args.scene.load()?;
-    let mut renderer = match args.backend.wgpu_backends() {
-        None => None,
-        Some(backends) => match Gpu::new(backends) {
-            Ok(gpu) => Some(Renderer::new(gpu)),
-            Err(e @ crate::Error::NoAdapter { .. })
-                if args.backend == crate::gpu::Backend::Auto =>
-            {
-                eprintln!("warning: {e}; the models render on the CPU reference renderer");
-                None
-            }
-            Err(e) => return Err(e.into()),
-        },
-    };
+    let mut renderer = super::render::open(args.backend)?;
     let options = CompareOptions {
         scene,
         out: args.out,

@@ -14,7 +14,9 @@ use crate::lut::{self, BakeConfig};
 use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
 use crate::scene::Scene;
 
-fn open(backend: Backend) -> Result<Option<Renderer>> {
+/// The GPU renderer of `backend`, or `None` for the CPU: a CPU backend, or `auto` with no
+/// adapter (with a warning). `compare` opens its models' renderer the same way.
+pub(super) fn open(backend: Backend) -> Result<Option<Renderer>> {
     let Some(backends) = backend.wgpu_backends() else {
         return Ok(None);
     };
