@@ -252,3 +252,32 @@ fn scene_files_hold_max_balls() {
     .to_string();
     assert!(e.contains(&format!("more than {MAX_BALLS} balls")), "{e}");
 }
+
+/// The block model of `bench --only scale` (4 x 4 blocks shaded per primitive): a large
+/// ball's quad shades about its bounds' area (4 / pi of its disc, plus the blocks its edges
+/// and diagonal cut), its floor about its disc; both grow as the balls shrink, and the
+/// quads never shade less than the floor.
+#[test]
+fn block_model_counts_what_a_block_rasteriser_shades() {
+    use shadeballs::lab::bench::scale::block_shades;
+    let (w, h) = (1280, 720);
+    let (quad, floor) = block_shades(&chart(1, 1, None), w, h);
+    assert!(
+        (4.0 / std::f64::consts::PI..1.45).contains(&quad),
+        "one ball: quads {quad}"
+    );
+    assert!((1.0..1.06).contains(&floor), "one ball: floor {floor}");
+    let mut last = (0.0, 0.0);
+    for n in [1, 4, 16, 64] {
+        let (quad, floor) = block_shades(&chart(n, 1, None), w, h);
+        assert!(
+            quad >= floor,
+            "{n} x {n}: quads {quad} under the floor {floor}"
+        );
+        assert!(
+            quad > last.0 && floor > last.1,
+            "{n} x {n}: {quad}, {floor} after {last:?}"
+        );
+        last = (quad, floor);
+    }
+}

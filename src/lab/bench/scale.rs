@@ -5,7 +5,9 @@
 //! frame's upload and draw) against the number of balls and of distinct roughness values.
 //!
 //! Frame time as in `render.rs`: the median wall time of encoding, submitting and waiting
-//! for one frame into an `Rgba8Unorm` target (no readback), after a warm-up frame.
+//! for one frame into an `Rgba8Unorm` target (no readback); the cases a table compares are
+//! measured in interleaved rounds ([`interleaved_frame_ms`]). Beside the times, a model of
+//! the work a block rasteriser does ([`block_shades`]): lavapipe's frame time follows it.
 
 use std::time::Instant;
 
@@ -122,21 +124,35 @@ fn frame(
     Ok(start.elapsed().as_secs_f64() * 1e3)
 }
 
-/// Median frame time (ms) of `scene` at `w x h` over `repeats` frames after a warm-up one.
-pub fn frame_ms(
+/// Frames of each compared case to a round in [`interleaved_frame_ms`], after its warm-up.
+const FRAMES_A_ROUND: usize = 3;
+
+/// Median frame time (ms) of each `(scene, w, h)` case, measured in rounds that visit
+/// every case in turn (one untimed frame, which absorbs a table bind or a depth target
+/// made again for the size, then [`FRAMES_A_ROUND`] timed ones), about `repeats` timed
+/// frames each: the machine's drift over a sweep falls on every case alike, so the ratios
+/// between cases hold where one case after another would not.
+pub fn interleaved_frame_ms(
     renderer: &mut Renderer,
-    scene: &Scene,
-    w: u32,
-    h: u32,
+    cases: &[(Scene, u32, u32)],
     repeats: usize,
-) -> Result<f64> {
-    let (_texture, view) = device::frame_target(renderer.gpu(), w, h);
-    frame(renderer, scene, &view, w, h)?;
-    let mut times = Vec::with_capacity(repeats);
-    for _ in 0..repeats.max(1) {
-        times.push(frame(renderer, scene, &view, w, h)?);
+) -> Result<Vec<f64>> {
+    let targets: Vec<_> = cases
+        .iter()
+        .map(|(_, w, h)| device::frame_target(renderer.gpu(), *w, *h))
+        .collect();
+    let rounds = repeats.max(1).div_ceil(FRAMES_A_ROUND);
+    let mut times = vec![Vec::with_capacity(rounds * FRAMES_A_ROUND); cases.len()];
+    for _ in 0..rounds {
+        for (((scene, w, h), (_texture, view)), times) in cases.iter().zip(&targets).zip(&mut times)
+        {
+            frame(renderer, scene, view, *w, *h)?;
+            for _ in 0..FRAMES_A_ROUND {
+                times.push(frame(renderer, scene, view, *w, *h)?);
+            }
+        }
     }
-    Ok(median(&mut times))
+    Ok(times.iter_mut().map(|t| median(t)).collect())
 }
 
 /// The pixels `scene` covers at `w x h`: those whose primary ray hits a ball, tried over
@@ -166,6 +182,67 @@ pub fn covered_pixels(scene: &Scene, w: u32, h: u32) -> usize {
     hit.iter().filter(|&&c| c).count()
 }
 
+/// Side of the pixel blocks a block rasteriser shades together: lavapipe (llvmpipe) runs
+/// the fragment shader over 4 x 4 blocks, every pixel of a block a primitive touches, once
+/// per primitive.
+const BLOCK_PX: u32 = 4;
+
+/// Fragment work of `scene` at `w x h` in that model, per covered pixel: block shades of
+/// the per-ball quads as the renderer draws them (the padded bounds, two triangles split
+/// along the diagonal from bottom right to top left; a triangle shades each 4 x 4 block
+/// holding a pixel centre on its side, the diagonal's on both), and the least any draw of
+/// one primitive set per ball can shade: the blocks that hold a pixel the ball covers
+/// (its centre ray hits it), each once. Returns (quad shades, floor shades) over the
+/// covered pixels, both in pixels (block shades x 16).
+pub fn block_shades(scene: &Scene, w: u32, h: u32) -> (f64, f64) {
+    let basis = scene.camera.basis(w, h);
+    let pad = crate::scene::bounds_pad_px(scene.antialias);
+    let (mut quad, mut floor) = (0usize, 0usize);
+    let covered = covered_pixels(scene, w, h).max(1);
+    for b in &scene.balls {
+        let Some([x0, y0, x1, y1]) = basis.sphere_bounds(b.center, b.radius, w, h, pad) else {
+            continue;
+        };
+        // The quad in pixels, y down.
+        let (left, right) = ((x0 + 1.0) * 0.5 * w as f64, (x1 + 1.0) * 0.5 * w as f64);
+        let (top, bottom) = ((1.0 - y1) * 0.5 * h as f64, (1.0 - y0) * 0.5 * h as f64);
+        let blocks = |lo: f64, hi: f64, n: u32| {
+            let first = (lo.max(0.0) as u32) / BLOCK_PX;
+            let last = ((hi.max(0.0) as u32).min(n.saturating_sub(1))) / BLOCK_PX;
+            first..=last
+        };
+        for by in blocks(top, bottom, h) {
+            for bx in blocks(left, right, w) {
+                // Which triangles hold a pixel centre of this block, and whether the ball
+                // covers one of its pixels.
+                let (mut lower, mut upper, mut hit) = (false, false, false);
+                for py in by * BLOCK_PX..((by + 1) * BLOCK_PX).min(h) {
+                    for px in bx * BLOCK_PX..((bx + 1) * BLOCK_PX).min(w) {
+                        let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                        if x < left || x > right || y < top || y > bottom {
+                            continue;
+                        }
+                        // u right, v up across the quad: the lower-left triangle is u + v <= 1.
+                        let u = (x - left) / (right - left);
+                        let v = (bottom - y) / (bottom - top);
+                        lower |= u + v <= 1.0;
+                        upper |= u + v >= 1.0;
+                        if !hit {
+                            let d = basis.ray(px, py, w, h);
+                            hit = crate::cpu::intersect_sphere(basis.origin, d, b.center, b.radius)
+                                > 0.0;
+                        }
+                    }
+                }
+                quad += lower as usize + upper as usize;
+                floor += hit as usize;
+            }
+        }
+    }
+    let per_px = |shades: usize| (shades * (BLOCK_PX * BLOCK_PX) as usize) as f64 / covered as f64;
+    (per_px(quad), per_px(floor))
+}
+
 fn series(label: &str) -> Series {
     Series {
         label: label.into(),
@@ -186,34 +263,88 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     let mut balls_t = Table::new(
         "scale_balls",
         "Scale: frame time at 1280x720 against the number of balls at equal covered pixels (n x n chart, radius shrinking with n)",
-        &["balls", "radius", "covered_pixels", "frame_ms", "over_16_balls"],
+        &[
+            "balls",
+            "radius",
+            "covered_pixels",
+            "frame_ms",
+            "over_16_balls",
+            "frame_ms_aa_off",
+            "aa_off_over_16_balls",
+            "quad_shades_per_px",
+            "quad_over_16_balls",
+            "floor_shades_per_px",
+            "floor_over_16_balls",
+        ],
     );
-    let mut by_balls = series("frame time (1280x720, 1 light)");
+    let mut by_balls = series("antialiased");
+    let mut by_balls_aliased = series("--aa off");
+    // Per ball count: frame times antialiased and not, and the block model's shades.
     let mut at = std::collections::HashMap::new();
+    let mut cases = Vec::new();
     for n in SIDES {
         let scene = chart(n, 1, None);
-        let covered = covered_pixels(&scene, w, h);
-        let ms = frame_ms(renderer, &scene, w, h, repeats)?;
-        at.insert(n * n, ms);
+        let aliased = Scene {
+            antialias: false,
+            ..scene.clone()
+        };
+        cases.push((scene, w, h));
+        cases.push((aliased, w, h));
+    }
+    let times = interleaved_frame_ms(renderer, &cases, repeats)?;
+    for (i, n) in SIDES.into_iter().enumerate() {
+        let scene = &cases[2 * i].0;
+        let (ms, ms_off) = (times[2 * i], times[2 * i + 1]);
+        let covered = covered_pixels(scene, w, h);
+        let (quad, floor) = block_shades(scene, w, h);
+        at.insert(n * n, (ms, ms_off, quad, floor));
         by_balls.points.push(((n * n) as f64, ms));
+        by_balls_aliased.points.push(((n * n) as f64, ms_off));
         balls_t.push(vec![
             (n * n).to_string(),
             format!("{:.2}", scene.balls[0].radius),
             covered.to_string(),
             format!("{ms:.2}"),
             String::new(),
+            format!("{ms_off:.2}"),
+            String::new(),
+            format!("{quad:.2}"),
+            String::new(),
+            format!("{floor:.2}"),
+            String::new(),
         ]);
     }
     let base = at[&16];
+    // The block model's prediction: 16 balls' antialiased time scaled by the quads' shades.
+    let by_balls_model = Series {
+        label: "block model".into(),
+        style: Style::Dashed,
+        points: SIDES
+            .iter()
+            .map(|n| ((n * n) as f64, base.0 * at[&(n * n)].2 / base.2))
+            .collect(),
+        ..Default::default()
+    };
     for row in &mut balls_t.rows {
-        let ms: f64 = row[3].parse().unwrap_or(f64::NAN);
-        row[4] = format!("{:.3}", ms / base);
+        let (ms, ms_off, quad, floor) = at[&row[0].parse::<u32>().unwrap_or(0)];
+        row[4] = format!("{:.3}", ms / base.0);
+        row[6] = format!("{:.3}", ms_off / base.1);
+        row[8] = format!("{:.3}", quad / base.2);
+        row[10] = format!("{:.3}", floor / base.3);
     }
     for (balls, limit) in [(256, 1.3), (4096, 2.0)] {
-        let ratio = at[&balls] / base;
+        let (ms, ms_off, quad, floor) = at[&balls];
+        let ratio = ms / base.0;
         goals.push(Goal {
             what: format!("scale: {balls} balls <= {limit}x the frame time of 16 at equal covered pixels (1280x720)"),
-            figure: format!("{:.2} ms against {:.2} ms: {ratio:.2}x ({})", at[&balls], base, renderer.gpu().describe()),
+            figure: format!(
+                "{ms:.2} ms against {:.2} ms: {ratio:.2}x ({}); --aa off {:.2}x; the block model: the quads {:.2}x, the floor of any per-ball draw {:.2}x",
+                base.0,
+                renderer.gpu().describe(),
+                ms_off / base.1,
+                quad / base.2,
+                floor / base.3,
+            ),
             met: ratio <= limit,
         });
     }
@@ -262,49 +393,59 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     // Resolution, the 16 x 16 chart.
     let mut res_t = Table::new(
         "scale_resolution",
-        "Scale: frame time of the 16 x 16 chart against the resolution (1 light)",
+        "Scale: frame time of the 16 x 16 chart against the resolution (1 light); the block model's shaded pixels beside the covered ones",
         &[
             "resolution",
             "covered_pixels",
             "frame_ms",
             "ms_per_covered_mpx",
             "over_proportional",
+            "quad_shades_per_px",
+            "ms_per_shaded_mpx",
+            "shaded_over_proportional",
         ],
     );
-    let mut by_res = series("16 x 16 chart, 1 light");
+    let mut by_res = series("against covered pixels");
+    let mut by_shaded = series("against pixels shaded (block model)");
     let scene = chart(16, 1, None);
     let mut per_px = Vec::new();
-    for (rw, rh) in RESOLUTIONS {
-        // Covered pixels scale with the area; count them at 1280 x 720 and scale, except
-        // where counting is cheap.
-        let covered = if rw * rh <= 1280 * 720 {
-            covered_pixels(&scene, rw, rh) as f64
-        } else {
-            covered_pixels(&scene, 1280, 720) as f64 * (rw * rh) as f64 / (1280.0 * 720.0)
-        };
-        let ms = frame_ms(renderer, &scene, rw, rh, repeats)?;
-        by_res.points.push((covered, ms));
-        per_px.push(((rw, rh), covered, ms));
-    }
-    let ref_rate = per_px
+    let cases: Vec<_> = RESOLUTIONS
         .iter()
-        .find(|(r, _, _)| *r == (1280, 720))
-        .map_or(f64::NAN, |(_, c, ms)| ms / c);
-    let mut worst: f64 = 1.0;
-    for ((rw, rh), covered, ms) in &per_px {
+        .map(|&(rw, rh)| (scene.clone(), rw, rh))
+        .collect();
+    let times = interleaved_frame_ms(renderer, &cases, repeats)?;
+    for ((rw, rh), ms) in RESOLUTIONS.into_iter().zip(times) {
+        let covered = covered_pixels(&scene, rw, rh) as f64;
+        let (quad, _) = block_shades(&scene, rw, rh);
+        by_res.points.push((covered, ms));
+        by_shaded.points.push((quad * covered, ms));
+        per_px.push(((rw, rh), covered, quad * covered, ms));
+    }
+    let reference = per_px.iter().find(|(r, _, _, _)| *r == (1280, 720));
+    let (ref_rate, ref_shaded_rate) =
+        reference.map_or((f64::NAN, f64::NAN), |(_, c, s, ms)| (ms / c, ms / s));
+    let (mut worst, mut worst_shaded): (f64, f64) = (1.0, 1.0);
+    for ((rw, rh), covered, shaded, ms) in &per_px {
         let over = ms / covered / ref_rate;
+        let over_shaded = ms / shaded / ref_shaded_rate;
         worst = worst.max(over).max(1.0 / over);
+        worst_shaded = worst_shaded.max(over_shaded).max(1.0 / over_shaded);
         res_t.push(vec![
             format!("{rw}x{rh}"),
             format!("{covered:.0}"),
             format!("{ms:.2}"),
             format!("{:.2}", ms / covered * 1e6),
             format!("{over:.3}"),
+            format!("{:.2}", shaded / covered),
+            format!("{:.2}", ms / shaded * 1e6),
+            format!("{over_shaded:.3}"),
         ]);
     }
     goals.push(Goal {
         what: "scale: frame time proportional to covered pixels within 1.2x, 640x360 to 3840x2160 (ms per covered pixel against 1280x720's)".into(),
-        figure: format!("worst {worst:.2}x (scale_resolution.csv)"),
+        figure: format!(
+            "worst {worst:.2}x; per pixel the block model shades, worst {worst_shaded:.2}x (scale_resolution.csv)"
+        ),
         met: worst <= 1.2,
     });
 
@@ -316,8 +457,9 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     );
     let mut by_lights = series("16 x 16 chart, 1280x720");
     let mut pts = Vec::new();
-    for l in LIGHTS {
-        let ms = frame_ms(renderer, &chart(16, l, None), w, h, repeats)?;
+    let cases: Vec<_> = LIGHTS.iter().map(|&l| (chart(16, l, None), w, h)).collect();
+    let times = interleaved_frame_ms(renderer, &cases, repeats)?;
+    for (l, ms) in LIGHTS.into_iter().zip(times) {
         pts.push((l as f64, ms));
         by_lights.points.push((l as f64, ms));
     }
@@ -395,17 +537,17 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             (
                 "scale_balls".into(),
                 plot(
-                    "Frame time against balls at equal covered pixels",
+                    "Frame time against balls at equal covered pixels (1280x720, 1 light)",
                     "balls",
-                    vec![by_balls],
+                    vec![by_balls, by_balls_aliased, by_balls_model],
                 ),
             ),
             (
                 "scale_resolution".into(),
                 plot(
-                    "Frame time against covered pixels (640x360 to 3840x2160)",
-                    "covered pixels",
-                    vec![by_res],
+                    "Frame time of the 16 x 16 chart, 640x360 to 3840x2160 (1 light)",
+                    "pixels",
+                    vec![by_res, by_shaded],
                 ),
             ),
             (
