@@ -259,9 +259,9 @@ fn scene_files_hold_max_balls() {
 /// quads never shade less than the floor.
 #[test]
 fn block_model_counts_what_a_block_rasteriser_shades() {
-    use shadeballs::lab::bench::scale::block_shades;
+    use shadeballs::lab::bench::scale::{block_shades, GPU_QUAD_PX, LAVAPIPE_BLOCK_PX};
     let (w, h) = (1280, 720);
-    let (quad, floor) = block_shades(&chart(1, 1, None), w, h);
+    let (quad, floor) = block_shades(&chart(1, 1, None), w, h, LAVAPIPE_BLOCK_PX);
     assert!(
         (4.0 / std::f64::consts::PI..1.45).contains(&quad),
         "one ball: quads {quad}"
@@ -269,7 +269,11 @@ fn block_model_counts_what_a_block_rasteriser_shades() {
     assert!((1.0..1.06).contains(&floor), "one ball: floor {floor}");
     let mut last = (0.0, 0.0);
     for n in [1, 4, 16, 64] {
-        let (quad, floor) = block_shades(&chart(n, 1, None), w, h);
+        let scene = chart(n, 1, None);
+        let (quad, floor) = block_shades(&scene, w, h, LAVAPIPE_BLOCK_PX);
+        // Smaller blocks shade less: 2 x 2 quads never more than 4 x 4 blocks.
+        let (small, _) = block_shades(&scene, w, h, GPU_QUAD_PX);
+        assert!(small <= quad, "{n} x {n}: 2 x 2 {small} over 4 x 4 {quad}");
         assert!(
             quad >= floor,
             "{n} x {n}: quads {quad} under the floor {floor}"

@@ -182,19 +182,23 @@ pub fn covered_pixels(scene: &Scene, w: u32, h: u32) -> usize {
     hit.iter().filter(|&&c| c).count()
 }
 
-/// Side of the pixel blocks a block rasteriser shades together: lavapipe (llvmpipe) runs
-/// the fragment shader over 4 x 4 blocks, every pixel of a block a primitive touches, once
-/// per primitive.
-const BLOCK_PX: u32 = 4;
+/// Side of the pixel blocks lavapipe (llvmpipe) runs the fragment shader over: every pixel
+/// of a 4 x 4 block a primitive touches, once per primitive.
+pub const LAVAPIPE_BLOCK_PX: u32 = 4;
 
-/// Fragment work of `scene` at `w x h` in that model, per covered pixel: block shades of
-/// the per-ball quads as the renderer draws them (the padded bounds, two triangles split
-/// along the diagonal from bottom right to top left; a triangle shades each 4 x 4 block
-/// holding a pixel centre on its side, the diagonal's on both), and the least any draw of
-/// one primitive set per ball can shade: the blocks that hold a pixel the ball covers
-/// (its centre ray hits it), each once. Returns (quad shades, floor shades) over the
-/// covered pixels, both in pixels (block shades x 16).
-pub fn block_shades(scene: &Scene, w: u32, h: u32) -> (f64, f64) {
+/// Side of the pixel quads a hardware GPU shades together (2 x 2, for derivatives).
+pub const GPU_QUAD_PX: u32 = 2;
+
+/// Fragment work of `scene` at `w x h` on a rasteriser that shades `block x block` pixels
+/// together, per covered pixel: the shades of the per-ball quads as the renderer draws
+/// them (the padded bounds, two triangles split along the diagonal from bottom right to
+/// top left; a triangle shades each block holding a pixel centre on its side, the
+/// diagonal's on both), and the least any draw of one primitive set per ball can shade:
+/// the blocks that hold a pixel the ball covers (its centre ray hits it), each once.
+/// Returns (quad shades, floor shades) over the covered pixels, both in pixels (block
+/// shades x block pixels).
+pub fn block_shades(scene: &Scene, w: u32, h: u32, block: u32) -> (f64, f64) {
+    let block = block.max(1);
     let basis = scene.camera.basis(w, h);
     let pad = crate::scene::bounds_pad_px(scene.antialias);
     let (mut quad, mut floor) = (0usize, 0usize);
@@ -207,8 +211,8 @@ pub fn block_shades(scene: &Scene, w: u32, h: u32) -> (f64, f64) {
         let (left, right) = ((x0 + 1.0) * 0.5 * w as f64, (x1 + 1.0) * 0.5 * w as f64);
         let (top, bottom) = ((1.0 - y1) * 0.5 * h as f64, (1.0 - y0) * 0.5 * h as f64);
         let blocks = |lo: f64, hi: f64, n: u32| {
-            let first = (lo.max(0.0) as u32) / BLOCK_PX;
-            let last = ((hi.max(0.0) as u32).min(n.saturating_sub(1))) / BLOCK_PX;
+            let first = (lo.max(0.0) as u32) / block;
+            let last = ((hi.max(0.0) as u32).min(n.saturating_sub(1))) / block;
             first..=last
         };
         for by in blocks(top, bottom, h) {
@@ -216,8 +220,8 @@ pub fn block_shades(scene: &Scene, w: u32, h: u32) -> (f64, f64) {
                 // Which triangles hold a pixel centre of this block, and whether the ball
                 // covers one of its pixels.
                 let (mut lower, mut upper, mut hit) = (false, false, false);
-                for py in by * BLOCK_PX..((by + 1) * BLOCK_PX).min(h) {
-                    for px in bx * BLOCK_PX..((bx + 1) * BLOCK_PX).min(w) {
+                for py in by * block..((by + 1) * block).min(h) {
+                    for px in bx * block..((bx + 1) * block).min(w) {
                         let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
                         if x < left || x > right || y < top || y > bottom {
                             continue;
@@ -239,7 +243,7 @@ pub fn block_shades(scene: &Scene, w: u32, h: u32) -> (f64, f64) {
             }
         }
     }
-    let per_px = |shades: usize| (shades * (BLOCK_PX * BLOCK_PX) as usize) as f64 / covered as f64;
+    let per_px = |shades: usize| (shades * (block * block) as usize) as f64 / covered as f64;
     (per_px(quad), per_px(floor))
 }
 
@@ -275,6 +279,8 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             "quad_over_16_balls",
             "floor_shades_per_px",
             "floor_over_16_balls",
+            "quad_2x2_shades_per_px",
+            "quad_2x2_over_16_balls",
         ],
     );
     let mut by_balls = series("antialiased");
@@ -296,8 +302,9 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         let scene = &cases[2 * i].0;
         let (ms, ms_off) = (times[2 * i], times[2 * i + 1]);
         let covered = covered_pixels(scene, w, h);
-        let (quad, floor) = block_shades(scene, w, h);
-        at.insert(n * n, (ms, ms_off, quad, floor));
+        let (quad, floor) = block_shades(scene, w, h, LAVAPIPE_BLOCK_PX);
+        let (gpu_quad, _) = block_shades(scene, w, h, GPU_QUAD_PX);
+        at.insert(n * n, (ms, ms_off, quad, floor, gpu_quad));
         by_balls.points.push(((n * n) as f64, ms));
         by_balls_aliased.points.push(((n * n) as f64, ms_off));
         balls_t.push(vec![
@@ -311,6 +318,8 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             format!("{quad:.2}"),
             String::new(),
             format!("{floor:.2}"),
+            String::new(),
+            format!("{gpu_quad:.2}"),
             String::new(),
         ]);
     }
@@ -326,24 +335,26 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         ..Default::default()
     };
     for row in &mut balls_t.rows {
-        let (ms, ms_off, quad, floor) = at[&row[0].parse::<u32>().unwrap_or(0)];
+        let (ms, ms_off, quad, floor, gpu_quad) = at[&row[0].parse::<u32>().unwrap_or(0)];
         row[4] = format!("{:.3}", ms / base.0);
         row[6] = format!("{:.3}", ms_off / base.1);
         row[8] = format!("{:.3}", quad / base.2);
         row[10] = format!("{:.3}", floor / base.3);
+        row[12] = format!("{:.3}", gpu_quad / base.4);
     }
     for (balls, limit) in [(256, 1.3), (4096, 2.0)] {
-        let (ms, ms_off, quad, floor) = at[&balls];
+        let (ms, ms_off, quad, floor, gpu_quad) = at[&balls];
         let ratio = ms / base.0;
         goals.push(Goal {
             what: format!("scale: {balls} balls <= {limit}x the frame time of 16 at equal covered pixels (1280x720)"),
             figure: format!(
-                "{ms:.2} ms against {:.2} ms: {ratio:.2}x ({}); --aa off {:.2}x; the block model: the quads {:.2}x, the floor of any per-ball draw {:.2}x",
+                "{ms:.2} ms against {:.2} ms: {ratio:.2}x ({}); --aa off {:.2}x; the block model: the quads {:.2}x, the floor of any per-ball draw {:.2}x; in 2 x 2 quads (a GPU) the quads {:.2}x",
                 base.0,
                 renderer.gpu().describe(),
                 ms_off / base.1,
                 quad / base.2,
                 floor / base.3,
+                gpu_quad / base.4,
             ),
             met: ratio <= limit,
         });
@@ -416,7 +427,7 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     let times = interleaved_frame_ms(renderer, &cases, repeats)?;
     for ((rw, rh), ms) in RESOLUTIONS.into_iter().zip(times) {
         let covered = covered_pixels(&scene, rw, rh) as f64;
-        let (quad, _) = block_shades(&scene, rw, rh);
+        let (quad, _) = block_shades(&scene, rw, rh, LAVAPIPE_BLOCK_PX);
         by_res.points.push((covered, ms));
         by_shaded.points.push((quad * covered, ms));
         per_px.push(((rw, rh), covered, quad * covered, ms));
