@@ -125,7 +125,7 @@ fn frame(
 }
 
 /// Frames of each compared case to a round in [`interleaved_frame_ms`], after its warm-up.
-const FRAMES_A_ROUND: usize = 3;
+pub const FRAMES_A_ROUND: usize = 3;
 
 /// Median frame time (ms) of each `(scene, w, h)` case, measured in rounds that visit
 /// every case in turn (one untimed frame, which absorbs a table bind or a depth target
