@@ -5,7 +5,7 @@ use shadeballs::scene::MAX_BALLS;
 use std::path::Path;
 use std::process::Command;
 
-use crate::cli::temp_dir;
+use crate::cli::{interrupt, temp_dir};
 
 /// Runs the binary with `envs` set: (success, stderr). As root (CI), with `as_nobody`, it
 /// runs as uid/gid 65534 through util-linux `setpriv`, so that folder permissions apply;
@@ -350,19 +350,7 @@ fn interrupted_writes_leave_no_temporary_file() {
             );
             std::thread::sleep(Duration::from_millis(5));
         }
-        let killed = Command::new("kill")
-            .args([format!("-{signal}"), child.id().to_string()])
-            .status()
-            .unwrap();
-        assert!(killed.success());
-        let out = child.wait_with_output().unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        println!("SIG{signal} -> {:?}: {stderr}", out.status.code());
-        assert_eq!(out.status.code(), Some(code), "{stderr}");
-        assert!(
-            stderr.contains(&format!("interrupted by SIG{signal}")),
-            "{stderr}"
-        );
+        interrupt(child, signal, code);
         assert_eq!(temp_files(), Vec::<String>::new());
         assert!(!table.exists() && !image.exists());
     }

@@ -21,3 +21,22 @@ pub fn temp_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// Sends `SIG<signal>` (`INT`, `TERM`) to a running `shadeballs` whose stderr is piped,
+/// waits for it, and checks that it exited with `code` naming the signal: its stderr.
+pub fn interrupt(child: std::process::Child, signal: &str, code: i32) -> String {
+    let killed = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    println!("SIG{signal} -> {:?}: {stderr}", out.status.code());
+    assert_eq!(out.status.code(), Some(code), "{stderr}");
+    assert!(
+        stderr.contains(&format!("interrupted by SIG{signal}")),
+        "{stderr}"
+    );
+    stderr
+}

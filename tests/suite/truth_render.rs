@@ -10,7 +10,7 @@ use shadeballs::lab::compare::image_error::ball_index_map;
 use shadeballs::lut::{self, BakeConfig, Tables};
 use shadeballs::scene::{Model, Scene};
 
-use crate::cli::{shadeballs, temp_dir};
+use crate::cli::{interrupt, shadeballs, temp_dir};
 
 /// Small images with many estimates: each ball still covers about 250 pixels.
 const W: u32 = 160;
@@ -312,15 +312,7 @@ fn ctrl_c_during_a_truth_render_leaves_nothing_behind() {
     let start = Instant::now();
     std::thread::sleep(Duration::from_millis(700));
     assert!(child.try_wait().unwrap().is_none(), "finished early");
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let output = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("interrupted by SIGINT"), "{stderr}");
+    interrupt(child, "INT", 130);
     assert!(start.elapsed() < Duration::from_secs(30));
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(left.is_empty(), "left behind: {left:?}");
