@@ -259,9 +259,17 @@ fn scene_files_hold_max_balls() {
 /// quads never shade less than the floor.
 #[test]
 fn block_model_counts_what_a_block_rasteriser_shades() {
-    use shadeballs::lab::bench::scale::{block_shades, GPU_QUAD_PX, LAVAPIPE_BLOCK_PX};
+    use shadeballs::lab::bench::scale::{
+        block_shades, covered_pixels, GPU_QUAD_PX, LAVAPIPE_BLOCK_PX,
+    };
     let (w, h) = (1280, 720);
-    let (quad, floor) = block_shades(&chart(1, 1, None), w, h, LAVAPIPE_BLOCK_PX);
+    // Shades per covered pixel, on blocks of `block` pixels a side.
+    let per_covered = |scene: &Scene, block| {
+        let covered = covered_pixels(scene, w, h) as f64;
+        let (quad, floor) = block_shades(scene, w, h, block);
+        (quad / covered, floor / covered)
+    };
+    let (quad, floor) = per_covered(&chart(1, 1, None), LAVAPIPE_BLOCK_PX);
     assert!(
         (4.0 / std::f64::consts::PI..1.45).contains(&quad),
         "one ball: quads {quad}"
@@ -270,9 +278,9 @@ fn block_model_counts_what_a_block_rasteriser_shades() {
     let mut last = (0.0, 0.0);
     for n in [1, 4, 16, 64] {
         let scene = chart(n, 1, None);
-        let (quad, floor) = block_shades(&scene, w, h, LAVAPIPE_BLOCK_PX);
+        let (quad, floor) = per_covered(&scene, LAVAPIPE_BLOCK_PX);
         // Smaller blocks shade less: 2 x 2 quads never more than 4 x 4 blocks.
-        let (small, _) = block_shades(&scene, w, h, GPU_QUAD_PX);
+        let (small, _) = per_covered(&scene, GPU_QUAD_PX);
         assert!(small <= quad, "{n} x {n}: 2 x 2 {small} over 4 x 4 {quad}");
         assert!(
             quad >= floor,

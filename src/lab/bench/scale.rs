@@ -190,19 +190,18 @@ pub const LAVAPIPE_BLOCK_PX: u32 = 4;
 pub const GPU_QUAD_PX: u32 = 2;
 
 /// Fragment work of `scene` at `w x h` on a rasteriser that shades `block x block` pixels
-/// together, per covered pixel: the shades of the per-ball quads as the renderer draws
-/// them (the padded bounds, two triangles split along the diagonal from bottom right to
-/// top left; a triangle shades each block holding a pixel centre on its side, the
-/// diagonal's on both), and the least any draw of one primitive set per ball can shade:
-/// the blocks that hold a pixel the ball covers (its centre ray hits it), each once.
-/// Returns (quad shades, floor shades) over the covered pixels, both in pixels (block
-/// shades x block pixels).
+/// together: the shades of the per-ball quads as the renderer draws them (the padded
+/// bounds, two triangles split along the diagonal from bottom right to top left; a
+/// triangle shades each block holding a pixel centre on its side, the diagonal's on both),
+/// and the least any draw of one primitive set per ball can shade: the blocks that hold a
+/// pixel the ball covers (its centre ray hits it), each once. Returns (quad shades, floor
+/// shades), both in pixels (block shades x block pixels); divide by [`covered_pixels`]
+/// for the work per covered pixel.
 pub fn block_shades(scene: &Scene, w: u32, h: u32, block: u32) -> (f64, f64) {
     let block = block.max(1);
     let basis = scene.camera.basis(w, h);
     let pad = crate::scene::bounds_pad_px(scene.antialias);
     let (mut quad, mut floor) = (0usize, 0usize);
-    let covered = covered_pixels(scene, w, h).max(1);
     for b in &scene.balls {
         let Some([x0, y0, x1, y1]) = basis.sphere_bounds(b.center, b.radius, w, h, pad) else {
             continue;
@@ -243,8 +242,8 @@ pub fn block_shades(scene: &Scene, w: u32, h: u32, block: u32) -> (f64, f64) {
             }
         }
     }
-    let per_px = |shades: usize| (shades * (block * block) as usize) as f64 / covered as f64;
-    (per_px(quad), per_px(floor))
+    let pixels = |shades: usize| (shades * (block * block) as usize) as f64;
+    (pixels(quad), pixels(floor))
 }
 
 fn series(label: &str) -> Series {
@@ -302,8 +301,10 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         let scene = &cases[2 * i].0;
         let (ms, ms_off) = (times[2 * i], times[2 * i + 1]);
         let covered = covered_pixels(scene, w, h);
+        let per_covered = |shaded: f64| shaded / covered.max(1) as f64;
         let (quad, floor) = block_shades(scene, w, h, LAVAPIPE_BLOCK_PX);
-        let (gpu_quad, _) = block_shades(scene, w, h, GPU_QUAD_PX);
+        let (quad, floor) = (per_covered(quad), per_covered(floor));
+        let gpu_quad = per_covered(block_shades(scene, w, h, GPU_QUAD_PX).0);
         at.insert(n * n, (ms, ms_off, quad, floor, gpu_quad));
         by_balls.points.push(((n * n) as f64, ms));
         by_balls_aliased.points.push(((n * n) as f64, ms_off));
@@ -427,10 +428,10 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     let times = interleaved_frame_ms(renderer, &cases, repeats)?;
     for ((rw, rh), ms) in RESOLUTIONS.into_iter().zip(times) {
         let covered = covered_pixels(&scene, rw, rh) as f64;
-        let (quad, _) = block_shades(&scene, rw, rh, LAVAPIPE_BLOCK_PX);
+        let (shaded, _) = block_shades(&scene, rw, rh, LAVAPIPE_BLOCK_PX);
         by_res.points.push((covered, ms));
-        by_shaded.points.push((quad * covered, ms));
-        per_px.push(((rw, rh), covered, quad * covered, ms));
+        by_shaded.points.push((shaded, ms));
+        per_px.push(((rw, rh), covered, shaded, ms));
     }
     let reference = per_px.iter().find(|(r, _, _, _)| *r == (1280, 720));
     let (ref_rate, ref_shaded_rate) =
