@@ -12,6 +12,13 @@
 //   pixel intersecting every ball (nearest_hit; the design before planning, kept for
 //   comparison in `shadeballs bench`).
 
+#define_import_path shadeballs::balls
+#import shadeballs::constants::DIV_EPSILON
+#import shadeballs::environment::{direction_to_uv, env_to_map}
+#import shadeballs::types::{Ball, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, IBL, AA}
+#import shadeballs::bindings::{globals, balls, env, env_radiance, env_sampler}
+#import shadeballs::lighting::{shade, tone_map}
+
 struct VsOut {
     @builtin(position) position: vec4<f32>,
     // globals.counts.xy (balls, lights), passed through the vertex stage: see loop_counts.
@@ -160,10 +167,11 @@ struct Footprint {
     coverage: f32,
 }
 
-// How near a silhouette, in pixel footprints, a centre ray must pass for the pixel to be
-// partly covered: half a pixel's diagonal (0.71) and a margin for rounding (src/scene
-// AA_EDGE_PX).
-const AA_EDGE_PX: f32 = 1.0;
+// AA_EDGE_PX: how near a silhouette, in pixel footprints, a centre ray must pass for the
+// pixel to be partly covered: half a pixel's diagonal (0.71) and a margin for rounding.
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const AA_EDGE_PX: f32 = 1.0; // scene::AA_EDGE_PX
+// end of the generated constants
 
 // Whether the footprint of the pixel whose centre ray (unit direction d) passes `distance`
 // from the centre of sphere (c, r) may straddle its silhouette: that distance within
@@ -270,20 +278,36 @@ fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
 fn background_radiance(d: vec3<f32>) -> vec3<f32> {
     var c = env.background.rgb;
     if IBL != 0u {
-        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
-        let shown = env.rotation_intensity.w * env.rotation_intensity.z;
+        let uv = direction_to_uv(env_to_map(d, env.rotation));
+        let shown = env.shows_map * env.intensity;
         c += shown * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
     }
     return c;
 }
 
+// The colour a fragment writes: f32 on a float or display target; with the shader def
+// OUTPUT_BITS (the modules of an `Rgba32Uint` target, src/gpu/shaders.rs), the bits of
+// linear radiance as u32: GL renders to no 32-bit float format, and the read-back
+// reinterprets the bits as f32 (src/gpu/headless.rs render_hdr), so `.exr` keeps f32
+// there too.
+#ifdef OUTPUT_BITS
+alias Colour = vec4<u32>;
+
+// The bits of linear radiance (and alpha 1). Compiled with OUTPUT_LINEAR = 1.
+fn output_value(radiance: vec3<f32>) -> Colour {
+    return bitcast<vec4<u32>>(vec4<f32>(radiance, 1.0));
+}
+#else
+alias Colour = vec4<f32>;
+
 // The target's value of linear radiance: itself on a float target, else tone-mapped.
-fn output_value(radiance: vec3<f32>) -> vec4<f32> {
+fn output_value(radiance: vec3<f32>) -> Colour {
     if OUTPUT_LINEAR == 1u {
         return vec4<f32>(radiance, 1.0);
     }
     return vec4<f32>(tone_map(radiance, globals.environment.w), 1.0);
 }
+#endif
 
 // The unit normal along p (hit point minus centre), or facing the eye when |p| is at most
 // DIV_EPSILON, where normalize would give NaN (p = 0) or overflow (a subnormal |p|^2): a
@@ -296,22 +320,9 @@ fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
     return -d;
 }
 
-// The bits of linear radiance (and alpha 1) for an `Rgba32Uint` target: GL renders to no
-// 32-bit float format, and the read-back reinterprets the bits as f32 (src/gpu/headless.rs
-// render_hdr), so `.exr` keeps f32 there too. Compiled with OUTPUT_LINEAR = 1.
-fn output_bits(radiance: vec3<f32>) -> vec4<u32> {
-    return bitcast<vec4<u32>>(vec4<f32>(radiance, 1.0));
-}
-
 @fragment
-fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+fn fs_main(in: VsOut) -> @location(0) Colour {
     return output_value(radiance_at(in.position.xy, in.counts));
-}
-
-// fs_main for an Rgba32Uint target (output_bits).
-@fragment
-fn fs_main_bits(in: VsOut) -> @location(0) vec4<u32> {
-    return output_bits(radiance_at(in.position.xy, in.counts));
 }
 
 struct BallOut {
@@ -324,14 +335,16 @@ struct BallOut {
     // table read does; a flat varying is a broadcast (docs/benchmarks.md, "The term's cost").
     @location(2) @interpolate(flat) center_radius: vec4<f32>,
     @location(3) @interpolate(flat) f0_roughness: vec4<f32>,
-    @location(4) @interpolate(flat) diffuse_ms: vec4<f32>,
+    @location(4) @interpolate(flat) diffuse: vec3<f32>,
+    @location(7) @interpolate(flat) ms: f32,
     @location(5) @interpolate(flat) f_add_ms_norm: vec4<f32>,
-    @location(6) @interpolate(flat) lut_row: vec4<f32>,
+    @location(6) @interpolate(flat) lut_row: vec3<f32>,
+    @location(8) @interpolate(flat) term: u32,
 }
 
 // The ball a BallOut carries.
 fn ball_of(in: BallOut) -> Ball {
-    return Ball(in.center_radius, in.f0_roughness, in.diffuse_ms, in.f_add_ms_norm, in.lut_row);
+    return Ball(in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, in.term);
 }
 
 // One corner of a ball's quad per vertex (a triangle strip, vertices 0..4): `rect` is its
@@ -343,9 +356,11 @@ fn vs_ball(
     @location(0) rect: vec4<f32>,
     @location(2) center_radius: vec4<f32>,
     @location(3) f0_roughness: vec4<f32>,
-    @location(4) diffuse_ms: vec4<f32>,
+    @location(4) diffuse: vec3<f32>,
+    @location(7) ms: f32,
     @location(5) f_add_ms_norm: vec4<f32>,
-    @location(6) lut_row: vec4<f32>,
+    @location(6) lut_row: vec3<f32>,
+    @location(8) term: u32,
 ) -> BallOut {
     // Corners (0,0) (1,0) (0,1) (1,1): the index's bits.
     let cx = f32(index & 1u);
@@ -355,9 +370,11 @@ fn vs_ball(
     out.counts = loop_counts();
     out.center_radius = center_radius;
     out.f0_roughness = f0_roughness;
-    out.diffuse_ms = diffuse_ms;
+    out.diffuse = diffuse;
+    out.ms = ms;
     out.f_add_ms_norm = f_add_ms_norm;
     out.lut_row = lut_row;
+    out.term = term;
     return out;
 }
 
@@ -369,7 +386,7 @@ fn vs_ball(
 const DEPTH_SCALE: f32 = 5.684341886080802e-14; // 2^-44
 
 struct BallFragment {
-    @location(0) colour: vec4<f32>,
+    @location(0) colour: Colour,
     @builtin(frag_depth) depth: f32,
 }
 
@@ -390,33 +407,9 @@ fn fs_ball(in: BallOut) -> BallFragment {
     return out;
 }
 
-struct BallBits {
-    @location(0) colour: vec4<u32>,
-    @builtin(frag_depth) depth: f32,
-}
-
-// fs_ball for an Rgba32Uint target (output_bits); the same discard and depth.
-@fragment
-fn fs_ball_bits(in: BallOut) -> BallBits {
-    let f = ball_footprint(in.position.xy, in.center_radius.xyz, in.center_radius.w);
-    if !(f.t > 0.0) {
-        discard;
-    }
-    var out: BallBits;
-    out.colour = output_bits(footprint_radiance(f, ball_of(in), in.counts.y));
-    out.depth = f.t * DEPTH_SCALE;
-    return out;
-}
-
 // The background alone, drawn over the viewport before the balls' quads where it shows the
 // environment map (the clear covers the other backgrounds).
 @fragment
-fn fs_background(in: VsOut) -> @location(0) vec4<f32> {
+fn fs_background(in: VsOut) -> @location(0) Colour {
     return output_value(background_radiance(primary_ray(in.position.xy)[1]));
-}
-
-// fs_background for an Rgba32Uint target (output_bits).
-@fragment
-fn fs_background_bits(in: VsOut) -> @location(0) vec4<u32> {
-    return output_bits(background_radiance(primary_ray(in.position.xy)[1]));
 }

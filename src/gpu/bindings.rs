@@ -39,9 +39,11 @@ impl BallInstance {
             0 => Float32x4,
             2 => Float32x4,
             3 => Float32x4,
-            4 => Float32x4,
+            4 => Float32x3,
+            7 => Float32,
             5 => Float32x4,
-            6 => Float32x4
+            6 => Float32x3,
+            8 => Uint32
         ],
     };
 }

@@ -4,6 +4,7 @@
 //! windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod bindings;
+pub mod boundary;
 mod context;
 pub mod environment;
 mod headless;

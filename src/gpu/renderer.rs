@@ -441,7 +441,7 @@ impl Renderer {
         }
         // The map behind the balls: a full-screen draw before the quads (the full-screen
         // path paints it itself).
-        let shows_map = env_uniform.rotation_intensity[3] == 1.0;
+        let shows_map = env_uniform.shows_map == 1.0;
         let background_pipeline = match plan.draws.first() {
             Some((variant, _)) if plan.per_ball && shows_map => Some(
                 self.pipelines
@@ -530,7 +530,7 @@ impl Renderer {
                 env_uniform,
             };
             if self.truth_frame(scene, &frame, (w, h), encoder) {
-                let draw = truth_draw(&self.gpu, &self.pipelines, &frame);
+                let draw = truth_draw(&self.gpu, &frame);
                 self.truth
                     .resolve(&draw, encoder, target.view, target.format, (w, h));
             }
@@ -617,7 +617,7 @@ impl Renderer {
                 others.push(quad);
             }
         }
-        let draw = truth_draw(&self.gpu, &self.pipelines, frame);
+        let draw = truth_draw(&self.gpu, frame);
         self.truth
             .accumulate(&draw, encoder, scene, size, (&truth, &others));
         true
@@ -672,12 +672,11 @@ struct Frame {
     env_uniform: EnvUniform,
 }
 
-/// The truth passes' device, module, groups and compile-time choices for `frame`.
-fn truth_draw<'a>(gpu: &'a Gpu, pipelines: &'a Pipelines, frame: &'a Frame) -> Draw<'a> {
+/// The truth passes' device, groups and compile-time choices for `frame`.
+fn truth_draw<'a>(gpu: &'a Gpu, frame: &'a Frame) -> Draw<'a> {
     Draw {
         device: &gpu.device,
         queue: &gpu.queue,
-        module: pipelines.module(),
         group0: &frame.group0,
         group1: &frame.group1,
         geometry: frame.plan.geometry,

@@ -465,8 +465,13 @@ pub struct LutParams {
     pub e_avg_read: u32,
     /// Roughness of the first row (the roughness axis spans `[r_min, 1]`).
     pub r_min: f32,
-    /// Padding to the WGSL struct's 48-byte uniform size; zero.
-    pub padding: [f32; 3],
+    /// Padding to the WGSL struct's 48-byte uniform size (three scalars, as in the WGSL,
+    /// where a vector of three would align to 16 bytes); zero.
+    pub padding0: f32,
+    /// Padding; zero.
+    pub padding1: f32,
+    /// Padding; zero.
+    pub padding2: f32,
 }
 
 impl Layout {
@@ -484,7 +489,9 @@ impl Layout {
             mu_axis: self.mu_axis.id(),
             e_avg_read: self.e_avg_read.id(),
             r_min: self.r_axis.r_min() as f32,
-            padding: [0.0; 3],
+            padding0: 0.0,
+            padding1: 0.0,
+            padding2: 0.0,
         }
     }
 }
