@@ -1,4 +1,4 @@
-// lighting.wgsl: outgoing radiance at a ball's surface point and the display transform.
+// lighting.wgsl: outgoing radiance at a ball's surface point.
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
 
 #define_import_path shadeballs::lighting
@@ -14,7 +14,7 @@
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
-// buffer: balls.wgsl loop_counts says why).
+// buffer: screen.wgsl loop_counts says why).
 //
 // Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
 // + the ball's term + diffuse / pi; Lo += f_r L mu_i. The term (ball_term) is Kulla-Conty's
@@ -160,10 +160,4 @@ fn term_weight(b: Ball) -> f32 {
         return b.ms;
     }
     return 0.0;
-}
-
-// Display transform (docs/design.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.
-fn tone_map(radiance: vec3<f32>, exposure: f32) -> vec3<f32> {
-    let c = max(radiance * exposure, vec3<f32>(0.0));
-    return pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2));
 }

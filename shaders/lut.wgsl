@@ -11,7 +11,7 @@
 // src/gpu/upload.rs makes both), so a host program's shader can call them.
 //
 // No control flow here depends on LutParams, only select: a lavapipe workaround, explained
-// once at loop_counts in balls.wgsl (a uniform value that decides an if is inlined and the
+// once at loop_counts in screen.wgsl (a uniform value that decides an if is inlined and the
 // pipeline compiled again at every bind).
 
 #define_import_path shadeballs::lut

@@ -3,7 +3,7 @@
 // "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
 // src/walk (microsurface.rs, mod.rs trace), one estimate per pixel and frame, summed in
 // an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design.md, "Truth on the
-// GPU"). Imports balls.wgsl for the rays, the quads and the output.
+// GPU"). Imports screen.wgsl for the rays, the quads and the output.
 //
 // A pixel's estimate: the lights' single scattering exactly (f_micro with Schlick F, GGX
 // D, height-correlated Smith G, plus the dielectric's Lambertian base), the base's
@@ -24,8 +24,8 @@
 #import shadeballs::environment::{direction_to_uv, env_to_map}
 #import shadeballs::types::{Ball, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
-#import shadeballs::balls::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
-#import shadeballs::balls::{surface_normal, output_value, Colour, DEPTH_SCALE}
+#import shadeballs::screen::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
+#import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
 
 // Scattering events a GPU path may have (a cut, not a roulette: it loses the energy of
 // longer paths, a bias the furnace test of tests/suite/gpu_truth.rs bounds; docs/design.md

@@ -17,9 +17,10 @@ macro_rules! module {
 
 /// Every module, by import path. The library (no bindings, no override constants):
 /// `constants`, `brdf`, `lut`, `environment`. The renderer's: `types` (override constants,
-/// the boundary structs), `bindings` (groups 0 and 1), `lighting`, and the roots `balls`,
+/// the boundary structs), `bindings` (groups 0 and 1), `lighting`, `screen` (the vertex
+/// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
 /// `walk` (the truth), `probe`, `prefilter`.
-pub const MODULES: [Module; 11] = [
+pub const MODULES: [Module; 12] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -27,6 +28,7 @@ pub const MODULES: [Module; 11] = [
     module!("types"),
     module!("bindings"),
     module!("lighting"),
+    module!("screen"),
     module!("balls"),
     module!("walk"),
     module!("probe"),
@@ -34,7 +36,7 @@ pub const MODULES: [Module; 11] = [
 ];
 
 /// The shader def of the modules that write to an `Rgba32Uint` target: the fragment entry
-/// points return the bits of linear radiance (`Colour` and `output_value` in `balls.wgsl`).
+/// points return the bits of linear radiance (`Colour` and `output_value` in `screen.wgsl`).
 pub const OUTPUT_BITS: &str = "OUTPUT_BITS";
 
 /// A program: a shader module the renderer creates, the composition of `root` under

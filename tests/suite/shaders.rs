@@ -43,8 +43,10 @@ fn the_built_programs_are_their_composition() {
 }
 
 /// The named items of a composed module: functions, entry points, global variables,
-/// overrides and named types (what `naga::compact` removes when nothing uses it).
-fn items(module: &naga::Module) -> BTreeSet<String> {
+/// overrides and named types (what `naga::compact` removes when nothing uses it), and
+/// with `constants` the named constants (which it keeps, and which naga folds into the
+/// expressions that use them).
+fn items(module: &naga::Module, constants: bool) -> BTreeSet<String> {
     let mut names = BTreeSet::new();
     names.extend(module.functions.iter().filter_map(|(_, f)| f.name.clone()));
     names.extend(module.entry_points.iter().map(|e| e.name.clone()));
@@ -56,7 +58,46 @@ fn items(module: &naga::Module) -> BTreeSet<String> {
     );
     names.extend(module.overrides.iter().filter_map(|(_, o)| o.name.clone()));
     names.extend(module.types.iter().filter_map(|(_, t)| t.name.clone()));
+    if constants {
+        names.extend(module.constants.iter().filter_map(|(_, c)| c.name.clone()));
+    }
     names
+}
+
+/// The identifiers in the bodies of the functions `functions` of `source` (how a
+/// function's use of a constant is seen: naga folds constants into literals).
+fn identifiers_in(source: &str, functions: &BTreeSet<String>) -> BTreeSet<String> {
+    let mut found = BTreeSet::new();
+    for name in functions {
+        let Some(at) = source.find(&format!("fn {name}(")) else {
+            continue;
+        };
+        let Some(open) = source[at..].find('{').map(|o| at + o) else {
+            continue;
+        };
+        let mut depth = 0usize;
+        let mut end = source.len();
+        for (i, c) in source[open..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = open + i;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let body = &source[open..end];
+        found.extend(
+            body.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .filter(|w| !w.is_empty())
+                .map(str::to_string),
+        );
+    }
+    found
 }
 
 fn parse(name: &str, source: &str) -> naga::Module {
@@ -81,14 +122,21 @@ fn unused_modules(program: &Program, source: &str, modules: &[&str]) -> Vec<Stri
         .entry_points
         .retain(|e| used.contains(&e.name.as_str()));
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
-    let reachable = items(&module);
+    let mut reachable = items(&module, false);
+    let functions: BTreeSet<String> = module
+        .functions
+        .iter()
+        .filter_map(|(_, f)| f.name.clone())
+        .chain(module.entry_points.iter().map(|e| e.name.clone()))
+        .collect();
+    reachable.extend(identifiers_in(source, &functions));
     // Each module's own items: those of its composition less those of its imports'.
     let own = |path: &str| -> BTreeSet<String> {
         let alone = wgsl::compose_module(path, program.defs).expect("the module composes");
-        let mut names = items(&parse(path, &alone.source));
+        let mut names = items(&parse(path, &alone.source), true);
         for dep in alone.modules.iter().filter(|d| **d != path) {
             let dep = wgsl::compose_module(dep, program.defs).expect("the module composes");
-            for n in items(&parse(program.name, &dep.source)) {
+            for n in items(&parse(program.name, &dep.source), true) {
                 names.remove(&n);
             }
         }
