@@ -1,7 +1,7 @@
 //! The CPU/GPU boundary's Rust side as data: every struct the shaders read from a uniform
-//! or storage buffer, by its WGSL name, with the size and member offsets of its Rust twin
-//! (`size_of`, `offset_of`). tests/suite/boundary.rs compares them with naga's layout of
-//! the composed programs, member by member.
+//! or storage buffer, by its WGSL name, with the size, member offsets and member types of
+//! its Rust twin (`size_of`, `offset_of`, [`WgslType`]). tests/suite/boundary.rs compares
+//! them with naga's layout of the composed programs, member by member.
 
 use std::mem::{offset_of, size_of};
 
@@ -18,8 +18,37 @@ pub struct StructLayout {
     pub rust: &'static str,
     /// `size_of` the Rust type.
     pub size: usize,
-    /// Each field's name and `offset_of`, in declaration order.
-    pub members: &'static [(&'static str, usize)],
+    /// Each field's name, `offset_of` and WGSL type ([`WgslType`]), in declaration order.
+    pub members: &'static [(&'static str, usize, &'static str)],
+}
+
+/// The WGSL type a Rust field stands for in a buffer.
+pub trait WgslType {
+    /// The type as WGSL writes it (`f32`, `vec4<u32>`, a struct's name).
+    const WGSL: &'static str;
+}
+
+macro_rules! wgsl_type {
+    ($($rust:ty => $wgsl:literal),* $(,)?) => {
+        $(impl WgslType for $rust {
+            const WGSL: &'static str = $wgsl;
+        })*
+    };
+}
+
+wgsl_type! {
+    f32 => "f32",
+    u32 => "u32",
+    [f32; 2] => "vec2<f32>",
+    [f32; 3] => "vec3<f32>",
+    [f32; 4] => "vec4<f32>",
+    [u32; 4] => "vec4<u32>",
+    LutParams => "LutParams",
+}
+
+/// The WGSL type of the field `field` picks out of an `S` (a closure `|s| &s.name`).
+const fn wgsl_of<S, T: WgslType>(_field: fn(&S) -> &T) -> &'static str {
+    T::WGSL
 }
 
 /// The layout of `$ty` as the WGSL struct `$wgsl`, fields listed in declaration order.
@@ -29,7 +58,11 @@ macro_rules! layout {
             wgsl: $wgsl,
             rust: stringify!($ty),
             size: size_of::<$ty>(),
-            members: &[$((stringify!($field), offset_of!($ty, $field))),*],
+            members: &[$((
+                stringify!($field),
+                offset_of!($ty, $field),
+                wgsl_of(|s: &$ty| &s.$field),
+            )),*],
         }
     };
 }

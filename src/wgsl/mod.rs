@@ -12,50 +12,55 @@
 //! the table textures and their [`crate::lut::LutParams`] as arguments. naga has no
 //! `#include`: put the library before your own shader text.
 //!
-//! With naga_oil (the composer of Bevy's shader system), add the modules and import
-//! them by path instead:
+//! With naga_oil (the composer of Bevy's shader system), add the modules ([`module`],
+//! [`LIBRARY`]) and import them by path instead (the example below is a doctest with the
+//! feature `naga-oil`).
 //!
-//! ```
-//! use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
-//!
-//! let mut composer = Composer::default();
-//! // The library's modules, each after those it imports.
-//! for path in shadeballs::wgsl::LIBRARY {
-//!     let module = shadeballs::wgsl::module(path).expect("a module of the crate");
-//!     composer
-//!         .add_composable_module(ComposableModuleDescriptor {
-//!             source: module.source,
-//!             file_path: module.file,
-//!             ..Default::default()
-//!         })
-//!         .expect("naga_oil takes the module");
-//! }
-//! let host = r#"
-//! #import shadeballs::constants::LutParams
-//! #import shadeballs::lut::{lut_e, lut_e_avg}
-//!
-//! @group(0) @binding(0) var<uniform> params: LutParams;
-//! @group(0) @binding(1) var e_table: texture_2d<f32>;
-//! @group(0) @binding(2) var e_avg_table: texture_2d<f32>;
-//!
-//! @fragment
-//! fn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
-//!     let e = lut_e(e_table, params, p.x / 256.0, 0.5);
-//!     return vec4<f32>(e, lut_e_avg(e_avg_table, params, 0.5), 0.0, 1.0);
-//! }
-//! "#;
-//! let module = composer
-//!     .make_naga_module(NagaModuleDescriptor {
-//!         source: host,
-//!         file_path: "host.wgsl",
-//!         ..Default::default()
-//!     })
-//!     .expect("composes");
-//! naga::valid::Validator::new(Default::default(), naga::valid::Capabilities::all())
-//!     .validate(&module)
-//!     .expect("validates");
-//! ```
-//!
+#![cfg_attr(
+    feature = "naga-oil",
+    doc = r##"```
+use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
+
+let mut composer = Composer::default();
+// The library's modules, each after those it imports.
+for path in shadeballs::wgsl::LIBRARY {
+    let module = shadeballs::wgsl::module(path).expect("a module of the crate");
+    composer
+        .add_composable_module(ComposableModuleDescriptor {
+            source: module.source,
+            file_path: module.file,
+            ..Default::default()
+        })
+        .expect("naga_oil takes the module");
+}
+let host = r#"
+#import shadeballs::constants::LutParams
+#import shadeballs::lut::{lut_e, lut_e_avg}
+
+@group(0) @binding(0) var<uniform> params: LutParams;
+@group(0) @binding(1) var e_table: texture_2d<f32>;
+@group(0) @binding(2) var e_avg_table: texture_2d<f32>;
+
+@fragment
+fn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+    let e = lut_e(e_table, params, p.x / 256.0, 0.5);
+    return vec4<f32>(e, lut_e_avg(e_avg_table, params, 0.5), 0.0, 1.0);
+}
+"#;
+let module = composer
+    .make_naga_module(NagaModuleDescriptor {
+        source: host,
+        file_path: "host.wgsl",
+        ..Default::default()
+    })
+    .expect("composes");
+naga::valid::Validator::new(Default::default(), naga::valid::Capabilities::all())
+    .validate(&module)
+    .expect("validates");
+```
+
+"##
+)]
 //! As one flat text:
 //!
 //! ```

@@ -2,7 +2,8 @@
 //! from the Rust constants: each file's block between the markers below must be what
 //! [`blocks`] writes (`SHADEBALLS_BLESS=1 cargo test --release -- suite::boundary` rewrites
 //! the blocks). Every struct a program reads from a uniform or storage buffer has a Rust
-//! twin whose `size_of` and `offset_of` equal naga's layout, member by member.
+//! twin whose `size_of`, `offset_of` and member types equal naga's layout, member by
+//! member.
 use std::collections::BTreeMap;
 
 use shadeballs::brdf::{self, FAvgForm, Geometry};
@@ -270,17 +271,39 @@ fn structs_in(
     }
 }
 
-/// naga's layout of struct `ty`: its span and each member's name and offset.
-fn naga_layout(
-    module: &naga::Module,
-    ty: naga::Handle<naga::Type>,
-) -> (usize, Vec<(String, usize)>) {
+/// A member's type as WGSL writes it, for the scalars, vectors and structs of a buffer.
+fn wgsl_type(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
+    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 4) => "f32".to_string(),
+        (naga::ScalarKind::Uint, 4) => "u32".to_string(),
+        (naga::ScalarKind::Sint, 4) => "i32".to_string(),
+        other => format!("{other:?}"),
+    };
+    let t = &module.types[ty];
+    match &t.inner {
+        naga::TypeInner::Scalar(s) => scalar(s),
+        naga::TypeInner::Vector { size, scalar: s } => {
+            format!("vec{}<{}>", *size as u8, scalar(s))
+        }
+        naga::TypeInner::Struct { .. } => t.name.clone().unwrap_or_default(),
+        other => format!("{other:?}"),
+    }
+}
+
+/// A struct's layout: its size and each member's name, offset and type.
+type Layout = (usize, Vec<(String, usize, String)>);
+
+/// naga's layout of struct `ty`.
+fn naga_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> Layout {
     match &module.types[ty].inner {
         naga::TypeInner::Struct { members, span } => (
             *span as usize,
             members
                 .iter()
-                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                .map(|m| {
+                    let name = m.name.clone().unwrap_or_default();
+                    (name, m.offset as usize, wgsl_type(module, m.ty))
+                })
                 .collect(),
         ),
         _ => unreachable!("structs_in returns structs"),
@@ -289,7 +312,7 @@ fn naga_layout(
 
 /// Every struct a program reads from a uniform or storage buffer, by name, with naga's
 /// layout (the same name in two programs must have one layout).
-fn buffer_structs() -> BTreeMap<String, (usize, Vec<(String, usize)>)> {
+fn buffer_structs() -> BTreeMap<String, Layout> {
     let mut found = BTreeMap::new();
     for program in PROGRAMS {
         let source = shaders::source(&program).expect("a built program");
@@ -315,12 +338,12 @@ fn buffer_structs() -> BTreeMap<String, (usize, Vec<(String, usize)>)> {
     found
 }
 
-/// Where the Rust twin `rust` differs from naga's layout `(span, members)`, if anywhere.
-fn mismatch(rust: &StructLayout, wgsl: &(usize, Vec<(String, usize)>)) -> Option<String> {
-    let members: Vec<(String, usize)> = rust
+/// Where the Rust twin `rust` differs from naga's layout, if anywhere.
+fn mismatch(rust: &StructLayout, wgsl: &Layout) -> Option<String> {
+    let members: Vec<(String, usize, String)> = rust
         .members
         .iter()
-        .map(|(n, o)| (n.to_string(), *o))
+        .map(|(n, o, t)| (n.to_string(), *o, t.to_string()))
         .collect();
     if rust.size != wgsl.0 || members != wgsl.1 {
         return Some(format!(
@@ -366,7 +389,7 @@ fn every_buffer_struct_has_the_layout_of_its_rust_twin() {
 
 #[test]
 fn a_layout_mismatch_is_found() {
-    // Control: a member moved, and a member renamed, are reported.
+    // Control: a member moved, renamed or of another type, and another size, are reported.
     let found = buffer_structs();
     let ball = STRUCTS.iter().find(|s| s.wgsl == "Ball").expect("Ball");
     let mut moved = found["Ball"].clone();
@@ -375,6 +398,9 @@ fn a_layout_mismatch_is_found() {
     let mut renamed = found["Ball"].clone();
     renamed.1[6].0 = "lut_row_w".into();
     assert!(mismatch(ball, &renamed).is_some());
+    let mut retyped = found["Ball"].clone();
+    retyped.1[3].2 = "u32".into();
+    assert!(mismatch(ball, &retyped).is_some());
     let mut resized = found["Ball"].clone();
     resized.0 += 16;
     assert!(mismatch(ball, &resized).is_some());

@@ -100,6 +100,20 @@ fn identifiers_in(source: &str, functions: &BTreeSet<String>) -> BTreeSet<String
     found
 }
 
+/// The items module `path` declares itself: those of its composition under `defs` less
+/// those of its imports'.
+fn own_items(path: &str, defs: &[&str]) -> BTreeSet<String> {
+    let alone = wgsl::compose_module(path, defs).expect("the module composes");
+    let mut names = items(&parse(path, &alone.source), true);
+    for dep in alone.modules.iter().filter(|d| **d != path) {
+        let dep = wgsl::compose_module(dep, defs).expect("the module composes");
+        for n in items(&parse(path, &dep.source), true) {
+            names.remove(&n);
+        }
+    }
+    names
+}
+
 fn parse(name: &str, source: &str) -> naga::Module {
     naga::front::wgsl::parse_str(source)
         .unwrap_or_else(|e| panic!("{name} does not parse:\n{}", e.emit_to_string(source)))
@@ -130,21 +144,9 @@ fn unused_modules(program: &Program, source: &str, modules: &[&str]) -> Vec<Stri
         .chain(module.entry_points.iter().map(|e| e.name.clone()))
         .collect();
     reachable.extend(identifiers_in(source, &functions));
-    // Each module's own items: those of its composition less those of its imports'.
-    let own = |path: &str| -> BTreeSet<String> {
-        let alone = wgsl::compose_module(path, program.defs).expect("the module composes");
-        let mut names = items(&parse(path, &alone.source), true);
-        for dep in alone.modules.iter().filter(|d| **d != path) {
-            let dep = wgsl::compose_module(dep, program.defs).expect("the module composes");
-            for n in items(&parse(program.name, &dep.source), true) {
-                names.remove(&n);
-            }
-        }
-        names
-    };
     modules
         .iter()
-        .filter(|m| own(m).is_disjoint(&reachable))
+        .filter(|m| own_items(m, program.defs).is_disjoint(&reachable))
         .map(|m| m.to_string())
         .collect()
 }
@@ -238,6 +240,7 @@ fn brdf_functions_cite_their_source() {
     }
 }
 
+#[cfg(feature = "naga-oil")]
 #[test]
 fn naga_oil_takes_every_module_by_its_import_path() {
     // naga_oil parses each module with only what its `#import` lines name in scope, so a
@@ -254,4 +257,106 @@ fn naga_oil_takes_every_module_by_its_import_path() {
             })
             .unwrap_or_else(|e| panic!("{}: {e:?}", module.path));
     }
+}
+
+/// The identifiers `source` uses outside comments and directive lines, member accesses
+/// (`.name`) left out.
+fn used_identifiers(source: &str) -> BTreeSet<String> {
+    let mut found = BTreeSet::new();
+    for line in source.lines() {
+        let code = line.split("//").next().unwrap_or("");
+        if code.trim_start().starts_with('#') {
+            continue;
+        }
+        let mut previous = ' ';
+        let mut word = String::new();
+        for c in code.chars().chain([' ']) {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                if word.is_empty() && previous == '.' {
+                    word.push('.');
+                }
+                word.push(c);
+            } else {
+                if !word.is_empty() && !word.starts_with('.') {
+                    found.insert(word.clone());
+                }
+                word.clear();
+                previous = c;
+            }
+        }
+    }
+    found
+}
+
+/// What `source`'s `#import` lines take from module `path`: `None` if nothing, `Some` of
+/// the items (empty: the whole module).
+fn imported_from(source: &str, path: &str) -> Option<Vec<String>> {
+    let mut taken: Option<Vec<String>> = None;
+    for line in source.lines() {
+        let Some(spec) = line.trim().strip_prefix("#import ") else {
+            continue;
+        };
+        let spec = spec.trim();
+        let items: Vec<String> = if spec == path {
+            Vec::new()
+        } else if let Some(list) = spec.strip_prefix(&format!("{path}::{{")) {
+            list.trim_end_matches('}')
+                .split(',')
+                .map(|i| i.trim().to_string())
+                .collect()
+        } else if let Some(item) = spec.strip_prefix(&format!("{path}::")) {
+            vec![item.to_string()]
+        } else {
+            continue;
+        };
+        let all = taken.get_or_insert_with(Vec::new);
+        if items.is_empty() {
+            *all = Vec::new();
+            return taken;
+        }
+        all.extend(items);
+    }
+    taken
+}
+
+/// The items of other modules `source` (the text of module `path`) uses without
+/// importing them, under either output def.
+fn missing_imports(path: &str, source: &str) -> Vec<String> {
+    let used = used_identifiers(source);
+    let mut missing = Vec::new();
+    for defs in [&[][..], &[wgsl::OUTPUT_BITS][..]] {
+        let composed = wgsl::compose_module(path, defs).expect("composes");
+        for dep in composed.modules.iter().filter(|d| **d != path) {
+            let taken = imported_from(source, dep);
+            for item in own_items(dep, defs).intersection(&used) {
+                let ok = taken
+                    .as_ref()
+                    .is_some_and(|t| t.is_empty() || t.contains(item));
+                let what = format!("{path} uses {dep}::{item}");
+                if !ok && !missing.contains(&what) {
+                    missing.push(what);
+                }
+            }
+        }
+    }
+    missing
+}
+
+#[test]
+fn every_module_imports_each_name_it_uses() {
+    // What naga_oil requires (each module parsed with only what it imports in scope),
+    // checked by name: an item of another module the file uses must be imported.
+    let missing: Vec<String> = wgsl::MODULES
+        .iter()
+        .flat_map(|m| missing_imports(m.path, m.source))
+        .collect();
+    assert!(missing.is_empty(), "not imported: {missing:?}");
+    // Control: brdf.wgsl without LAMBDA_MAX in its import list.
+    let brdf = wgsl::module("shadeballs::brdf").expect("brdf").source;
+    let cut = brdf.replace(", LAMBDA_MAX}", "}");
+    assert_ne!(cut, brdf, "brdf.wgsl's imports moved: update this test");
+    assert_eq!(
+        missing_imports("shadeballs::brdf", &cut),
+        ["shadeballs::brdf uses shadeballs::constants::LAMBDA_MAX"]
+    );
 }
