@@ -1,7 +1,8 @@
 // constants.wgsl: the constants and the table-read parameters of the crate's WGSL library
 // (constants, brdf, lut: shadeballs::wgsl::KULLA_CONTY). No bindings and no override
-// constants: a host program concatenates the library before its own shader and passes
-// the tables and their LutParams as arguments.
+// constants: a host program puts the library before its own shader (or imports
+// shadeballs::constants with naga_oil) and passes the tables and their LutParams as
+// arguments.
 
 #define_import_path shadeballs::constants
 
@@ -51,7 +52,7 @@ struct LutParams {
     e_avg_read: u32,
     // Roughness of the first row.
     r_min: f32,
-    padding0: f32,
-    padding1: f32,
-    padding2: f32,
+    padding_a: f32,
+    padding_b: f32,
+    padding_c: f32,
 }

@@ -122,9 +122,9 @@ pub const STRUCTS: [StructLayout; 6] = [
             mu_axis,
             e_avg_read,
             r_min,
-            padding0,
-            padding1,
-            padding2,
+            padding_a,
+            padding_b,
+            padding_c,
         }
     ),
     layout!(

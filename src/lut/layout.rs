@@ -466,12 +466,13 @@ pub struct LutParams {
     /// Roughness of the first row (the roughness axis spans `[r_min, 1]`).
     pub r_min: f32,
     /// Padding to the WGSL struct's 48-byte uniform size (three scalars, as in the WGSL,
-    /// where a vector of three would align to 16 bytes); zero.
-    pub padding0: f32,
+    /// where a vector of three would align to 16 bytes; no name ends in a digit, which
+    /// naga's WGSL writer renames and naga_oil then rejects); zero.
+    pub padding_a: f32,
     /// Padding; zero.
-    pub padding1: f32,
+    pub padding_b: f32,
     /// Padding; zero.
-    pub padding2: f32,
+    pub padding_c: f32,
 }
 
 impl Layout {
@@ -489,9 +490,9 @@ impl Layout {
             mu_axis: self.mu_axis.id(),
             e_avg_read: self.e_avg_read.id(),
             r_min: self.r_axis.r_min() as f32,
-            padding0: 0.0,
-            padding1: 0.0,
-            padding2: 0.0,
+            padding_a: 0.0,
+            padding_b: 0.0,
+            padding_c: 0.0,
         }
     }
 }
