@@ -111,14 +111,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             if args.verbose {
                 eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
             }
-            let tables = lut::bake(&BakeConfig {
+            let tables = lut::TableSet::from(lut::bake(&BakeConfig {
                 geometry,
                 ..Default::default()
-            });
+            }));
             phases.mark("bake");
             let radiance = if truth {
-                let e = cpu::TableRead::Lut(&tables);
-                let image = render_truth(&scene, &e, &args)?;
+                let image = render_truth(&scene, &tables, &args)?;
                 phases.mark("render");
                 if kind == ImageKind::Exr {
                     let path = stderr_path(&args.out);
@@ -128,9 +127,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 image.image.mean
             } else if montecarlo {
                 let started = Instant::now();
-                let e = cpu::TableRead::Lut(&tables);
                 let spp = args.spp.unwrap_or(DEFAULT_SPP);
-                let image = cpu::render_montecarlo(&scene, &e, w, h, spp, args.seed)?;
+                let image = cpu::render_montecarlo(&scene, &tables, w, h, spp, args.seed)?;
                 phases.mark("render");
                 let noise = image
                     .mean_relative_std_error()
@@ -150,8 +148,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     seed: args.seed,
                     ..Default::default()
                 };
-                let e = cpu::TableRead::Lut(&tables);
-                let radiance = cpu::render_radiance_with_truth(&scene, &e, w, h, settings)?;
+                let radiance = cpu::render_radiance_with_truth(&scene, &tables, w, h, settings)?;
                 phases.mark("render");
                 radiance
             } else {
@@ -201,7 +198,7 @@ const DEFAULT_SPP: u32 = 64;
 /// terminal) and a summary of every ball's mean and its standard error.
 fn render_truth(
     scene: &crate::scene::Scene,
-    e: &cpu::TableRead<'_>,
+    e: &lut::TableSet,
     args: &RenderArgs,
 ) -> Result<cpu::TruthImage> {
     use std::io::IsTerminal as _;
@@ -273,7 +270,7 @@ fn accumulate_gpu_truth(
         return Err(Error::Invalid {
             what: "samples per pixel",
             message: format!(
-                "{spp}: --spp must be in 1..={} on the GPU",
+                "{spp}: must be in 1..={} on the GPU",
                 crate::gpu::MAX_TRUTH_SPP
             ),
         });

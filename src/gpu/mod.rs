@@ -5,8 +5,10 @@
 
 mod bindings;
 mod context;
+mod depth;
 pub mod environment;
 mod headless;
+mod map_cache;
 mod pipelines;
 pub mod plan;
 mod probe;
@@ -21,12 +23,12 @@ mod upload;
 pub use bindings::texture_load_layout;
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
+pub use map_cache::MAX_PREFILTERED_MAPS;
 pub use pipelines::{is_bits, is_linear};
-pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
+pub use plan::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target, MAX_PREFILTERED_MAPS, QUAD_PAD_PX};
+pub use renderer::{Renderer, Target, QUAD_PAD_PX};
 pub use table_cache::MAX_CACHED_ROWS;
-pub use uniforms::BoundTables;
 pub use upload::{loss_quads, GpuTables};
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by

@@ -14,6 +14,7 @@ mod quadrature;
 mod reference;
 pub mod rows;
 pub mod split_sum;
+mod table_set;
 
 use rayon::prelude::*;
 
@@ -30,6 +31,7 @@ pub use rows::{bake_rows, Row, RowKey, RowSet};
 pub use split_sum::{
     e_same_nodes, split_sum, split_sum_with, SplitSum, SPLIT_SUM_SIZE, SPLIT_SUM_TABLE_NODES,
 };
+pub use table_set::{TableKey, TableSet};
 
 use crate::brdf::Geometry;
 

@@ -372,19 +372,19 @@ fn display_error(e: impl std::fmt::Display) -> Error {
 /// The plan in a few words, shorter than its `Display` (`render --verbose`), which lists
 /// every row's roughness: what is baked and bound, and the rows kept in memory.
 fn plan_summary(renderer: &crate::gpu::Renderer) -> String {
-    use crate::gpu::TablePlan;
+    use crate::lut::TableSet;
     let Some(plan) = renderer.plan() else {
         return "tables: not planned yet".into();
     };
     let layout = &plan.bake.layout;
     let tables = match &plan.tables {
-        TablePlan::None => "tables: none (no ball reads E)".to_string(),
-        TablePlan::Rows(rows) => format!(
+        TableSet::None => "tables: none (no ball reads E)".to_string(),
+        TableSet::Rows(rows) => format!(
             "tables: {} exact rows of {} along mu",
             rows.len(),
             layout.mu_size
         ),
-        TablePlan::Full => format!("tables: {}x{} table", layout.mu_size, layout.r_size),
+        TableSet::Full(_) => format!("tables: {}x{} table", layout.mu_size, layout.r_size),
     };
     format!("{tables}; {} rows cached", renderer.cached_rows())
 }

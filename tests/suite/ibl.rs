@@ -103,6 +103,7 @@ use glam::{DVec2, DVec3};
 use shadeballs::cpu;
 use shadeballs::environment::prefilter::{MipChain, Prefiltered};
 use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
+use shadeballs::lut::TableSet;
 use shadeballs::scene::{Material, MaterialKind, Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
@@ -142,7 +143,12 @@ fn furnace_through_the_map_path_holds_for_every_term() {
         let scene = under(Scene::furnace(), Environment::builtin(Builtin::White), term);
         let gpu = r.render_ldr(&scene, w, h).unwrap().rgba;
         let cpu = cpu::to_rgba8(
-            &cpu::render_radiance(&scene, &r.tables_for(scene.effective_geometry()), w, h),
+            &cpu::render_radiance(
+                &scene,
+                &TableSet::full(r.tables_for(scene.effective_geometry())),
+                w,
+                h,
+            ),
             scene.exposure,
         );
         for (what, image) in [("GPU", &gpu), ("CPU", &cpu)] {

@@ -19,12 +19,12 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::cpu::{self, TableRead, TruthSettings};
+use crate::cpu::{self, TruthSettings};
 use crate::error::{Error, Result};
 use crate::gpu::Renderer;
 use crate::lab::plot::{write_plot, Plot, Series, Style};
 use crate::labels::{self, Align, Label, Labels, Rect};
-use crate::lut::{self, BakeConfig};
+use crate::lut::{self, BakeConfig, TableSet};
 use crate::output::{write_atomic, write_png};
 use crate::scene::{Ball, Camera, Model, Preset, Scene};
 use image_error::{ball_errors, ball_index_map, flip_map, heatmap, BallError};
@@ -198,14 +198,14 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
 
     // The truth first: its noise is the floor of every figure.
     let truth_scene = row_scene(&options.scene, &roughness, Model::Truth, Preset::Accurate);
-    let truth_tables = lut::bake(&BakeConfig {
+    let truth_tables = TableSet::from(lut::bake(&BakeConfig {
         geometry: truth_scene.effective_geometry(),
         ..Default::default()
-    });
+    }));
     let started = Instant::now();
     let truth = cpu::render_truth(
         &truth_scene,
-        &TableRead::Lut(&truth_tables),
+        &truth_tables,
         w,
         h,
         TruthSettings {
@@ -390,10 +390,10 @@ fn radiance(scene: &Scene, renderer: Option<&mut Renderer>, w: u32, h: u32) -> R
             .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
             .collect(),
         None => {
-            let tables = lut::bake(&BakeConfig {
+            let tables = TableSet::from(lut::bake(&BakeConfig {
                 geometry: scene.effective_geometry(),
                 ..Default::default()
-            });
+            }));
             cpu::render_radiance(scene, &tables, w, h)
         }
     })
@@ -428,10 +428,10 @@ fn frame_ms(
             }
         }
         None => {
-            let tables = lut::bake(&BakeConfig {
+            let tables = TableSet::from(lut::bake(&BakeConfig {
                 geometry: scene.effective_geometry(),
                 ..Default::default()
-            });
+            }));
             for _ in 0..3 {
                 let t = Instant::now();
                 std::hint::black_box(cpu::render_radiance(&scene, &tables, w, h));
