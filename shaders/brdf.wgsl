@@ -182,3 +182,23 @@ fn term_fdez_aguera(fss_ess: vec3<f32>, f0: vec3<f32>, loss_o: f32) -> vec3<f32>
     let f_avg = f_avg_schlick(f0);
     return fss_ess * f_avg * loss_o / max(1.0 - loss_o * f_avg, vec3<f32>(DIV_EPSILON));
 }
+
+// The exact unpolarised Fresnel reflectance of a dielectric interface (Walter et al. 2007,
+// eq. 22): eta = n_t / n_i, g^2 = eta^2 - 1 + c^2, and 1 past the critical angle.
+fn fresnel_dielectric(cos_theta: f32, eta: f32) -> f32 {
+    let c = min(abs(cos_theta), 1.0);
+    let g2 = eta * eta - 1.0 + c * c;
+    if g2 < 0.0 {
+        return 1.0;
+    }
+    let g = sqrt(g2);
+    let a = (g - c) / max(g + c, DIV_EPSILON);
+    let b = (c * (g + c) - 1.0) / max(c * (g - c) + 1.0, DIV_EPSILON);
+    return clamp(0.5 * a * a * (1.0 + b * b), 0.0, 1.0);
+}
+
+// F0 = ((eta - 1) / (eta + 1))^2, Schlick's F0 of a dielectric (glTF KHR_materials_ior).
+fn f0_from_ior(eta: f32) -> f32 {
+    let r = (eta - 1.0) / max(eta + 1.0, DIV_EPSILON);
+    return r * r;
+}

@@ -3,7 +3,8 @@
 //! multiple-scattering BRDF of a GGX conductor with height-correlated Smith masking, the
 //! truth the models are measured against. The library's part: the microsurface
 //! ([`microsurface`]), one path at a time ([`trace`]), its seeded generator ([`rng`]) and
-//! the exact single scattering by quadrature ([`single`]); the truth renderer
+//! the exact single scattering by quadrature ([`single`]), and the walk through a rough
+//! dielectric coating over a Lambertian base ([`coating`], the truth for plastics); the truth renderer
 //! (`cpu::render_truth`) and the study (`shadeballs truth`, feature `lab`) build on it.
 //!
 //! Variance reduction (unbiased, so the expectation is the paper's walk): an upward ray
@@ -11,6 +12,7 @@
 //! weight and always continues with the weight scaled by `1 - G1`, down to a Russian
 //! roulette.
 
+pub mod coating;
 pub mod microsurface;
 pub mod rng;
 pub mod single;
@@ -28,6 +30,17 @@ pub trait Reflectance {
     fn eval(&self, cos: f64) -> f64;
 }
 
+/// The exact Fresnel of a dielectric interface of this relative index (`n_t / n_i`;
+/// [`crate::brdf::fresnel_dielectric`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dielectric(pub f64);
+
+impl Reflectance for Dielectric {
+    fn eval(&self, cos: f64) -> f64 {
+        crate::brdf::fresnel_dielectric(cos, self.0)
+    }
+}
+
 /// Schlick's approximation with this `F0` (what the renderer's `f_micro` uses).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Schlick(pub f64);
@@ -43,7 +56,7 @@ pub const MAX_CHANNELS: usize = 16;
 
 /// Below this common weight a path plays Russian roulette: it survives with probability
 /// `weight / RR_BELOW` and then carries `RR_BELOW`.
-const RR_BELOW: f64 = 0.05;
+pub(crate) const RR_BELOW: f64 = 0.05;
 
 /// Scattering events after which a path is cut (and counted): never reached in practice,
 /// a guard against a walk stuck at the bottom of the surface.

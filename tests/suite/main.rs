@@ -10,6 +10,7 @@ mod cli;
 mod cli_bake;
 mod cli_fuzz;
 mod cli_render;
+mod coating;
 mod compare;
 mod environment;
 mod example;

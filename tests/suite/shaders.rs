@@ -42,6 +42,8 @@ fn wgsl_mirrors_the_rust_function_names() {
         "alpha_from_roughness",
         "roughness_clamped",
         "f_micro",
+        "fresnel_dielectric",
+        "f0_from_ior",
         "lut_texel_span",
         "lut_e",
         "lut_e_avg",
