@@ -11,6 +11,7 @@ mod cli_bake;
 mod cli_fuzz;
 mod cli_render;
 mod compare;
+mod docs;
 mod environment;
 mod example;
 mod extreme_scenes;
