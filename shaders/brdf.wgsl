@@ -1,6 +1,6 @@
 // brdf.wgsl: the BRDF terms, name for name the f64 functions of src/brdf evaluated in f32
-// (docs/design.md section 1). Conventions: normal +z, mu_o = n.v, mu_i = n.l,
-// alpha = roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
+// (docs/design/model.md). Conventions: normal +z, mu_o = n.v, mu_i = n.l, alpha =
+// roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
 
 // The roughness the model uses: clamped to [ROUGHNESS_MIN, 1] (src/brdf roughness_clamped;
 // the shader never sees NaN: scenes are validated on load).
@@ -124,8 +124,8 @@ fn f_ms(loss_o: f32, loss_i: f32, norm: f32) -> f32 {
 }
 
 // Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,
-// slide 26, with the square that the geometric series gives; docs/design.md section 1):
-// F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
+// slide 26, with the square that the geometric series gives; docs/design/model.md, "Where
+// F_avg^2 comes from"): F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
 fn f_add_accurate(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
     return f_avg * f_avg * e_avg / f_add_denominator(f_avg, e_avg);
 }

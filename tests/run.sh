@@ -3,7 +3,7 @@
 # lavapipe Vulkan driver, Xvfb and xdotool for the viewer test), then checks formatting,
 # lints, the library alone (no default features), the docs, and runs every test, the
 # examples' and the doctests in release mode (one build serves the tests and the program;
-# docs/design.md section 6).
+# docs/design/machine.md, "Build").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -1,4 +1,4 @@
-//! The BRDF maths (docs/design.md section 1): plain functions over `f64`, one per term.
+//! The BRDF maths (docs/design/model.md): plain functions over `f64`, one per term.
 //!
 //! Every function here is mirrored name for name in `shaders/brdf.wgsl`; the WGSL copy
 //! evaluates the same formula in `f32`. The exceptions are bake-time averages, which the

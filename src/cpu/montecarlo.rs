@@ -1,7 +1,7 @@
 //! The Monte Carlo reference (`render --backend montecarlo`): the chosen model
 //! ([`IblTerm`]) integrated against the directional lights and the environment without any
-//! real-time approximation: no split sum, no harmonics, no prefiltering (docs/design.md,
-//! "Monte Carlo backend").
+//! real-time approximation: no split sum, no harmonics, no prefiltering
+//! (docs/design/environment.md, "The Monte Carlo backend").
 //!
 //! The camera, the primary rays (one per pixel, through its centre) and the sphere hits are
 //! those of [`super::render_radiance`], and E and E_avg come from the same
@@ -135,7 +135,7 @@ pub fn render_montecarlo_part(
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
-    // backend does not antialias silhouettes: docs/design.md section 12).
+    // backend does not antialias silhouettes: docs/design/antialiasing.md, "Monte Carlo").
     let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);

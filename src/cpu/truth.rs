@@ -1,6 +1,6 @@
 //! The truth, pictured (`render --backend truth`): every ball shaded with the random walk
 //! of Heitz et al. 2016 on its microsurface ([`crate::walk`]), the exact multiple scattering
-//! the real-time models approximate (docs/design.md, "The truth renderer").
+//! the real-time models approximate (docs/truth.md, "The truth, pictured").
 //!
 //! The camera, the primary rays and the sphere hits are those of the other CPU renderers,
 //! so a truth image compares pixel for pixel with theirs. Per covered pixel:

@@ -1,10 +1,10 @@
 //! Reading and writing environment maps: Radiance `.hdr` (RGBE) and OpenEXR, both linear.
 //!
-//! The rules for bad input (docs/design.md section 10): the size is read from the header
-//! before anything is decoded, so a map over [`MAX_MAP_TEXELS`] or not 2:1 is one error
-//! without allocating its texels; a missing, truncated or corrupt file, or one with another
-//! extension, is one error naming the path; NaN, infinite and negative channels are clamped,
-//! counted in [`MapStats`] and reported in one warning.
+//! The rules for bad input (docs/design/environment.md, "Bad input"): the size is read from
+//! the header before anything is decoded, so a map over [`MAX_MAP_TEXELS`] or not 2:1 is
+//! one error without allocating its texels; a missing, truncated or corrupt file, or one
+//! with another extension, is one error naming the path; NaN, infinite and negative
+//! channels are clamped, counted in [`MapStats`] and reported in one warning.
 
 use std::fs::File;
 use std::io::BufReader;

@@ -1,6 +1,7 @@
-//! Environment maps: equirectangular linear radiance around the scene (docs/design.md
-//! section 10), where they come from (a `.hdr`/`.exr` file or a generated built-in) and how
-//! a direction reads them. Knows nothing of the GPU.
+//! Environment maps: equirectangular linear radiance around the scene
+//! (docs/design/environment.md, "The map: convention, files, built-ins"), where they come
+//! from (a `.hdr`/`.exr` file or a generated built-in) and how a direction reads them.
+//! Knows nothing of the GPU.
 //!
 //! Convention (stated once, here): a unit direction `d = (x, y, z)`, `+y` up, maps to
 //! `u = atan2(x, -z) / 2 pi + 1/2`, `v = acos(y) / pi`; texel `(i, j)` of a `W x H` map has

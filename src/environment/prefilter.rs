@@ -1,7 +1,8 @@
-//! Prefiltering an environment map for real-time shading (docs/design.md section 10), on the
-//! CPU: the twin of `shaders/prefilter.wgsl`, which does the same work on the GPU at load.
-//! Both start from the same [`MipChain`] (built here, uploaded as is) and take the same
-//! samples, so the CPU renderer reads what the GPU's prefiltered textures hold.
+//! Prefiltering an environment map for real-time shading (docs/design/environment.md,
+//! "Shading under a map (image-based lighting)"), on the CPU: the twin of
+//! `shaders/prefilter.wgsl`, which does the same work on the GPU at load. Both start from
+//! the same [`MipChain`] (built here, uploaded as is) and take the same samples, so the CPU
+//! renderer reads what the GPU's prefiltered textures hold.
 //!
 //! Three products, each a weighted average of the map, so a uniform map gives back its
 //! radiance exactly (the furnace holds through the whole path):
@@ -20,7 +21,8 @@
 //!   of the term's lobe divided by its uniform-environment value `pi (1 - E_avg)`.
 //!   The convolution is a direct sum over the texels of the mip level
 //!   [`CONVOLUTION_SOURCE_WIDTH`] wide, so it has no band limit (spherical harmonics, the
-//!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design.md section 10).
+//!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design/environment.md,
+//!   "Harmonics or a map per roughness").
 
 use std::f64::consts::PI;
 

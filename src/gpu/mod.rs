@@ -1,7 +1,7 @@
-//! The GPU renderer (docs/design.md section 7, layer 4): the device ([`Gpu`], its own or a
-//! host's), the plan of a scene, the tables as textures ([`GpuTables`], usable by any wgpu
-//! program), the ball pipelines, headless rendering and the table probe. Knows nothing of
-//! windows: [`Renderer::render`] draws into any `TextureView`.
+//! The GPU renderer (docs/design/layers.md, "Imports run one way"): the device ([`Gpu`],
+//! its own or a host's), the plan of a scene, the tables as textures ([`GpuTables`], usable
+//! by any wgpu program), the ball pipelines, headless rendering and the table probe. Knows
+//! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod bindings;
 mod context;

@@ -1,5 +1,5 @@
 //! The plan: what a scene needs baked, compiled and drawn, made from the scene before any
-//! work starts (docs/design.md section 7: scene -> plan -> tables -> renderer).
+//! work starts (docs/design/layers.md, "The modules": scene -> plan -> tables -> renderer).
 //!
 //! - Tables: none when no ball reads E (no ball with the term and no environment, whose
 //!   single-scattering part reads E(mu_o)); one exact row per distinct roughness read when

@@ -1,6 +1,6 @@
-//! The truth on the GPU (docs/design.md, "Truth on the GPU"): balls with
-//! `model = "truth"` path traced by the random walk of `walk.wgsl` (Heitz et al. 2016),
-//! one estimate per pixel a frame, summed in an `Rgba32Float` target.
+//! The truth on the GPU (docs/design/gpu-truth.md): balls with `model = "truth"` path
+//! traced by the random walk of `walk.wgsl` (Heitz et al. 2016), one estimate per pixel a
+//! frame, summed in an `Rgba32Float` target.
 //!
 //! Each frame, an accumulation pass draws every ball's quad into the next of two sum
 //! textures with a depth test: a truth ball adds one estimate to the previous texture's

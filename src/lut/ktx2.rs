@@ -1,5 +1,6 @@
-//! Baked tables as a KTX 2.0 texture for other programs (docs/design.md section 8): what the
-//! shader reads, in one 2-D texture of `mu_size x r_size` texels, two channels:
+//! Baked tables as a KTX 2.0 texture for other programs (docs/design/table-files.md,
+//! "KTX2"): what the shader reads, in one 2-D texture of `mu_size x r_size` texels, two
+//! channels:
 //!
 //! - R = `1 - E(mu, r)` per texel, after the layout's storage quantisation
 //!   ([`Tables::stored_loss`]);

@@ -16,7 +16,7 @@
 //!
 //! Tables hold the missing energy `1 - E` and `1 - E_avg` rather than E: the lobe needs
 //! exactly these, and they are small where E is near 1, where floating point keeps their
-//! relative precision (docs/design.md section 3).
+//! relative precision (docs/design/gpu-tables.md, "Storage").
 //! Tables are stored row-major: row `j` (roughness) holds `mu_size` texels.
 
 use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
@@ -26,7 +26,7 @@ use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
 pub enum MuAxis {
     /// `x = mu` (the homework's).
     Linear,
-    /// `x = sqrt(mu)` (docs/design.md section 3's candidate).
+    /// `x = sqrt(mu)` (the first candidate: docs/design/gpu-tables.md, "Layouts").
     Sqrt,
     /// `x = mu (1 + a) / (mu + a)`, `a = alpha` at the read roughness (the default).
     ///

@@ -1,6 +1,7 @@
 //! Baking the Kulla-Conty tables E(mu, roughness) and E_avg(roughness) on the CPU
-//! (docs/design.md section 2), and the CPU model of how the shader reads them (section 3).
-//! Knows the maths; knows nothing of the GPU.
+//! (docs/design/baking.md), and the CPU model of how the shader reads them
+//! (docs/design/gpu-tables.md, "The CPU model of the read"). Knows the maths; knows nothing
+//! of the GPU.
 
 pub mod accuracy;
 mod chebyshev;

@@ -50,7 +50,8 @@ fn reference_layout_has_five_roughness_columns_two_rows_and_a_caption() {
     let scene = Scene::reference();
     let l = layout(&scene, 1280, 720);
     let columns: Vec<&str> = l.columns.iter().map(|c| c.text.as_str()).collect();
-    // Roughness grows right to left (docs/design.md section 4): left to right 0.95 first.
+    // Roughness grows right to left (docs/design/reference-scene.md, "The balls, the light
+    // and the camera"): left to right 0.95 first.
     assert_eq!(
         columns,
         ["r = 0.95", "r = 0.75", "r = 0.55", "r = 0.35", "r = 0.15"]

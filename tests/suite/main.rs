@@ -12,6 +12,7 @@ mod cli_fuzz;
 mod cli_render;
 mod coating;
 mod compare;
+mod docs;
 mod environment;
 mod example;
 mod extreme_scenes;

@@ -429,8 +429,9 @@ fn cli_renders_with_the_montecarlo_backend() {
     assert!(stderr.contains("--spp"), "{stderr}");
 }
 
-/// The figure in docs/design.md ("Monte Carlo backend"): the reference scene at the default
-/// 1280x720 under a uniform 1024x512 map and under the band map, 64 spp, median of three.
+/// The figure in docs/design/environment.md, "Cost" (under "The Monte Carlo backend"): the
+/// reference scene at the default 1280x720 under a uniform 1024x512 map and under the band
+/// map, 64 spp, median of three.
 /// `cargo test --release --test suite montecarlo_timing -- --ignored --nocapture`
 #[test]
 #[ignore]

@@ -1,4 +1,4 @@
-//! GPU against the CPU reference renderer (docs/design.md section 5), and the white furnace.
+//! GPU against the CPU reference renderer (docs/design/testing.md), and the white furnace.
 use glam::DVec3;
 use shadeballs::cpu;
 use shadeballs::gpu::Renderer;

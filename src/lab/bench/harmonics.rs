@@ -1,7 +1,8 @@
-//! Harmonics or a map per roughness (issue 15, docs/design.md section 10): the Kulla-Conty
-//! multiple-scattering lobe under an environment needs, per roughness, the zonal
-//! convolution `C(n) = int k(n.w) L(w) dw` with `k(t) = (1 - E(t)) t`. Two ways to have it
-//! at shading time, measured against the exact sum at random normals:
+//! Harmonics or a map per roughness (issue 15, docs/design/environment.md, "Harmonics or a
+//! map per roughness"): the Kulla-Conty multiple-scattering lobe under an environment
+//! needs, per roughness, the zonal convolution `C(n) = int k(n.w) L(w) dw` with
+//! `k(t) = (1 - E(t)) t`. Two ways to have it at shading time, measured against the exact
+//! sum at random normals:
 //! - `sh`: the map projected on spherical harmonics of `size` bands, convolved by
 //!   Funk-Hecke at the ball's exact roughness (`environment::harmonics`);
 //! - `map`: a convolved map `size` texels wide per roughness layer, nine layers, read
