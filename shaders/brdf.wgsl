@@ -202,3 +202,46 @@ fn f0_from_ior(eta: f32) -> f32 {
     let r = (eta - 1.0) / max(eta + 1.0, DIV_EPSILON);
     return r * r;
 }
+
+// The base under a dielectric coating, each form as a BRDF (src/brdf/layering.rs, name for
+// name; albedo per channel, the coating's specular albedo E_spec achromatic).
+// Today's constant weighting: albedo (1 - F_avg) / pi.
+fn f_base_constant(albedo: vec3<f32>, f_avg: f32) -> vec3<f32> {
+    return albedo * ((1.0 - f_avg) / PI);
+}
+
+// glTF 2.0's fresnel_mix (appendix B): albedo (1 - F(v.h)) / pi.
+fn f_base_gltf(albedo: vec3<f32>, fresnel_vh: f32) -> vec3<f32> {
+    return albedo * ((1.0 - fresnel_vh) / PI);
+}
+
+// Cycles' Principled v2 and MaterialX, view-only: albedo (1 - E_spec(mu_o)) / pi.
+fn f_base_view_only(albedo: vec3<f32>, e_spec_o: f32) -> vec3<f32> {
+    return albedo * ((1.0 - e_spec_o) / PI);
+}
+
+// OpenPBR's reciprocal scaling (Kutz et al. 2021):
+// albedo (1 - E_spec(mu_i)) (1 - E_spec(mu_o)) / (pi (1 - E_spec_avg)).
+fn f_base_reciprocal(albedo: vec3<f32>, e_spec_o: f32, e_spec_i: f32, e_spec_avg: f32) -> vec3<f32> {
+    return albedo * ((1.0 - e_spec_o) * (1.0 - e_spec_i) / (PI * max(1.0 - e_spec_avg, DIV_EPSILON)));
+}
+
+// F_in = 1 - (1 - E_spec_avg) / eta^2: the substrate's light the coating sends back down.
+fn coating_inside_reflectance(e_spec_avg: f32, eta: f32) -> f32 {
+    return 1.0 - (1.0 - e_spec_avg) / max(eta * eta, DIV_EPSILON);
+}
+
+// The physical form, a Lambertian substrate under the coating, internal bounces summed:
+// rho (1 - E_spec(mu_i)) (1 - E_spec(mu_o)) / (pi eta^2 (1 - rho F_in)).
+fn f_base_physical(rho: vec3<f32>, e_spec_o: f32, e_spec_i: f32, e_spec_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    let shape = (1.0 - e_spec_o) * (1.0 - e_spec_i) / PI;
+    return rho * shape / max(eta * eta * (vec3<f32>(1.0) - rho * f_in), vec3<f32>(DIV_EPSILON));
+}
+
+// The substrate albedo whose light through the coating averages `apparent`:
+// rho = apparent / (T + apparent F_in), T = 1 - F_in.
+fn substrate_albedo(apparent: vec3<f32>, e_spec_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    return apparent / max(vec3<f32>(1.0 - f_in) + apparent * f_in, vec3<f32>(DIV_EPSILON));
+}

@@ -10,6 +10,7 @@ mod compensation;
 mod fresnel;
 mod geometry;
 mod kulla_conty;
+mod layering;
 mod ndf;
 
 pub use compensation::{term_fdez_aguera, term_turquin};
@@ -22,6 +23,10 @@ pub use geometry::{
 };
 pub use kulla_conty::{
     f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
+};
+pub use layering::{
+    coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
+    f_base_view_only, substrate_albedo,
 };
 pub use ndf::d_ggx;
 

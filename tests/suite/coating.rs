@@ -212,3 +212,119 @@ fn smooth_limit_is_the_closed_form() {
         );
     }
 }
+
+/// The model's specular albedo of a coating: single scattering with the exact dielectric
+/// Fresnel (quadrature) plus the Kulla-Conty term with the exact Fresnel's average,
+/// `E_F(mu) + f_add (1 - E(mu))`, height-correlated Smith throughout.
+fn e_spec(rules: &Rules, mu: f64, r: f64, eta: f64) -> f64 {
+    let g = Geometry::SmithCorrelated;
+    let single = single_albedo(rules, mu, r, &[Dielectric(eta)], &[g])[0][0];
+    let e_avg = shadeballs::lut::e_avg_reference(r, g);
+    let f_add = shadeballs::brdf::f_add_accurate(f_avg_dielectric(eta), e_avg);
+    single + f_add * (1.0 - shadeballs::lut::e_reference(mu, r, g))
+}
+
+/// `2 int_0^1 E_spec(mu) mu dmu` by Gauss-Legendre in `mu`.
+fn e_spec_avg(rules: &Rules, r: f64, eta: f64) -> f64 {
+    let (x, w) = shadeballs::lut::gauss_legendre_unit(24);
+    x.iter()
+        .zip(&w)
+        .map(|(&mu, wk)| 2.0 * wk * mu * e_spec(rules, mu, r, eta))
+        .sum()
+}
+
+#[test]
+fn layering_forms_in_the_white_furnace() {
+    // A white base under a lossless coating: the view-only, reciprocal and physical forms
+    // return what the specular lobe does not (E_spec(mu_o) + int f_base mu_i dw = 1, the
+    // integral in closed form: 2 pi int g(mu) mu dmu over a form's (1 - E_spec(mu_i))
+    // factor is (1 - E_spec_avg)); the constant one does not. Reciprocity: the two
+    // reciprocal forms are symmetric in the directions, the view-only one is not.
+    use shadeballs::brdf::{
+        f_base_constant, f_base_physical, f_base_reciprocal, f_base_view_only, substrate_albedo,
+    };
+    use std::f64::consts::PI;
+    let rules = Rules::default();
+    for (r, eta) in [(0.15, 1.5), (0.6, 1.33), (1.0, 2.5)] {
+        let avg = e_spec_avg(&rules, r, eta);
+        for mu in [0.2, 0.7] {
+            let e_o = e_spec(&rules, mu, r, eta);
+            // int (1 - e_i) mu_i dw_i / pi = 1 - avg, so each form's integral is its
+            // factor in front of (1 - e_i) times pi (1 - avg).
+            let over = |f_with_e_i_zero: f64| f_with_e_i_zero * PI * (1.0 - avg);
+            let view_only = e_o + f_base_view_only(1.0, e_o) * PI;
+            let reciprocal = e_o + over(f_base_reciprocal(1.0, e_o, 0.0, avg));
+            let physical = e_o + over(f_base_physical(1.0, e_o, 0.0, avg, eta));
+            for (name, total) in [
+                ("view-only", view_only),
+                ("reciprocal", reciprocal),
+                ("physical", physical),
+            ] {
+                assert!(
+                    (total - 1.0).abs() < 1e-12,
+                    "{name} r {r} eta {eta} mu {mu}: {total}"
+                );
+            }
+            let constant = e_o + f_base_constant(1.0, f_avg_dielectric(eta)) * PI;
+            assert!(
+                (constant - 1.0).abs() > 1e-3,
+                "constant r {r} mu {mu}: {constant}"
+            );
+            // The physical form of the substrate that looks like `apparent` is the
+            // reciprocal form of `apparent`.
+            for apparent in [0.2, 0.8] {
+                let rho = substrate_albedo(apparent, avg, eta);
+                let (a, b) = (e_o, e_spec(&rules, 0.5, r, eta));
+                let phys = f_base_physical(rho, a, b, avg, eta);
+                let reci = f_base_reciprocal(apparent, a, b, avg);
+                assert!((phys - reci).abs() < 1e-12 * reci.max(1.0), "{phys} {reci}");
+                assert!((f_base_physical(rho, b, a, avg, eta) - phys).abs() < 1e-15);
+            }
+            assert!(
+                (f_base_view_only(1.0, e_o) - f_base_view_only(1.0, 0.3)).abs() > 1e-6
+                    || (e_o - 0.3).abs() < 1e-6
+            );
+        }
+    }
+}
+
+#[test]
+fn physical_form_against_the_walk() {
+    // The model's albedo of a plastic (the coating's E_spec plus the physical form's
+    // diffuse light) against the walk through the same coating (IOR 1.5). At roughness
+    // 0.15, where the coating's own multiple scattering is small, within 5 % (the
+    // materials goal's figure, here on albedos; measured: at most 1.0 %) for bases from
+    // 0.1 to 0.8; rougher, where the Kulla-Conty term stands in for the dielectric
+    // interface's multiple scattering, at least 4x closer than today's constant form
+    // (measured: 5.4 % at worst, against 1.2x to 1.7x too bright). The report is printed
+    // (`cargo test --release --test suite -- coating::physical --nocapture`).
+    use shadeballs::brdf::f_avg_schlick;
+    let rules = Rules::default();
+    let eta = 1.5;
+    let mut report = String::new();
+    for r in [0.15, 0.5, 0.9] {
+        let avg = e_spec_avg(&rules, r, eta);
+        let f_in = shadeballs::brdf::coating_inside_reflectance(avg, eta);
+        for rho in [0.8, 0.5, 0.3, 0.1] {
+            for mu in [0.3, 0.6, 0.9] {
+                let e_o = e_spec(&rules, mu, r, eta);
+                let physical = e_o + (1.0 - e_o) * rho * (1.0 - f_in) / (1.0 - rho * f_in);
+                let constant = e_o + rho * (1.0 - f_avg_schlick(0.04));
+                let (truth, se) = albedo(r, eta, rho, mu, 40_000, 11);
+                let rel = (physical - truth).abs() / truth;
+                report += &format!(
+                    "roughness {r} rho {rho} mu {mu}: truth {truth:.4} +- {se:.4}, physical \
+                     {physical:.4} ({:+.2} %), constant {constant:.4} ({:.3}x)\n",
+                    100.0 * (physical - truth) / truth,
+                    constant / truth
+                );
+                if r == 0.15 {
+                    assert!(rel < 0.05, "{report}");
+                } else {
+                    assert!(4.0 * rel < (constant - truth).abs() / truth, "{report}");
+                }
+            }
+        }
+    }
+    eprintln!("{report}");
+}
