@@ -9,7 +9,7 @@ use shadeballs::brdf::{
 };
 use shadeballs::walk::coating::{refract, smooth_coating_albedo, Coating};
 use shadeballs::walk::single::{single_albedo, Rules};
-use shadeballs::walk::{incident, Dielectric, Rng};
+use shadeballs::walk::{incident, Dielectric, Rng, MAX_CHANNELS};
 
 /// Roughness values and relative indices of the furnace goal (issue 25's list).
 const ROUGHNESS: [f64; 5] = [0.05, 0.25, 0.5, 0.75, 1.0];
@@ -327,4 +327,94 @@ fn physical_form_against_the_walk() {
         }
     }
     eprintln!("{report}");
+}
+
+#[test]
+fn next_event_estimation_integrates_to_the_albedo() {
+    // The light estimator's f(wi, l) mu_l integrated over every direction outside (one
+    // drawn uniformly on the hemisphere per walk) is the albedo that the exits count: two
+    // estimators of one number, within 4 combined standard errors.
+    use std::f64::consts::TAU;
+    for (r, eta, rho, mu) in [
+        (0.5, 1.5, 0.6, 0.7),
+        (0.8, 2.0, 0.9, 0.3),
+        (0.3, 1.33, 0.3, 0.9),
+    ] {
+        let coating = Coating::new(r, eta);
+        let mut rng = Rng::new(&[13]);
+        let n = 40_000;
+        let (mut a, mut a2, mut b, mut b2) = (0.0, 0.0, 0.0, 0.0);
+        for _ in 0..n {
+            let mut exit = 0.0;
+            let mut draws = Rng::new(&[rng.next_u64()]);
+            let z = draws.uniform();
+            let phi = TAU * draws.uniform();
+            let s = (1.0 - z * z).sqrt();
+            let l = DVec3::new(s * phi.cos(), s * phi.sin(), z);
+            let mut towards = [[0.0; MAX_CHANNELS]; 1];
+            coating.estimate(
+                incident(mu),
+                &[rho],
+                &[l],
+                &mut rng,
+                &mut towards,
+                |_, _, w| exit += w[0],
+            );
+            let nee = towards[0][0] * TAU;
+            a += exit;
+            a2 += exit * exit;
+            b += nee;
+            b2 += nee * nee;
+        }
+        let nf = n as f64;
+        let (ma, mb) = (a / nf, b / nf);
+        let se = ((a2 / nf - ma * ma) / nf + (b2 / nf - mb * mb) / nf).sqrt();
+        assert!(
+            (ma - mb).abs() < 4.0 * se,
+            "r {r} eta {eta} rho {rho} mu {mu}: exits {ma} nee {mb} +- {se}"
+        );
+    }
+}
+
+#[test]
+fn next_event_estimation_meets_the_smooth_closed_form() {
+    // Smooth coating, light away from the mirror direction: the only light that reaches
+    // the eye went through the base, and the smooth closed form gives it:
+    // rho (1 - F(mu_i)) (1 - F(mu_o)) / (pi eta^2 (1 - rho F_in)) mu_i per unit radiance.
+    use std::f64::consts::PI;
+    let (eta, rho) = (1.5, 0.5);
+    let f_in = shadeballs::brdf::f_avg_inside(eta);
+    let coating = Coating::new(0.02, eta);
+    for (mu_o, mu_i) in [(0.8f64, 0.5f64), (0.4, 0.9)] {
+        // Out of the plane of incidence (azimuth 73 degrees from the mirror side).
+        let sin_i = (1.0 - mu_i * mu_i).sqrt();
+        let phi = 73f64.to_radians();
+        let l = DVec3::new(sin_i * phi.cos(), sin_i * phi.sin(), mu_i);
+        let mut rng = Rng::new(&[17]);
+        let n = 40_000;
+        let (mut s, mut s2) = (0.0, 0.0);
+        for _ in 0..n {
+            let mut towards = [[0.0; MAX_CHANNELS]; 1];
+            coating.estimate(
+                incident(mu_o),
+                &[rho],
+                &[l],
+                &mut rng,
+                &mut towards,
+                |_, _, _| {},
+            );
+            let v = towards[0][0];
+            s += v;
+            s2 += v * v;
+        }
+        let mean = s / n as f64;
+        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let (fo, fi) = (fresnel_dielectric(mu_o, eta), fresnel_dielectric(mu_i, eta));
+        let exact = rho * (1.0 - fi) * (1.0 - fo) / (PI * eta * eta * (1.0 - rho * f_in)) * mu_i;
+        // 3 standard errors, plus 1 % for the residual roughness's lobe shape.
+        assert!(
+            (mean - exact).abs() < 3.0 * se + 0.01 * exact,
+            "mu_o {mu_o} mu_i {mu_i}: {mean} +- {se} vs {exact}"
+        );
+    }
 }
