@@ -311,30 +311,7 @@ impl Renderer {
     ) {
         let plan = &frame.plan;
         let (quads, ranges) = ball_quads(scene, frame);
-        let draws: Vec<(wgpu::RenderPipeline, std::ops::Range<u32>)> = plan
-            .draws
-            .iter()
-            .zip(ranges)
-            .map(|((variant, _), range)| {
-                let key = pipeline_key(plan, target.format, *variant);
-                (self.pipelines.get(&self.gpu.device, key).clone(), range)
-            })
-            .collect();
-        let shows_map = frame.env_uniform.rotation_intensity[3] == 1.0;
-        let background_pipeline = match plan.draws.first() {
-            Some((variant, _)) if plan.per_ball && shows_map => Some(
-                self.pipelines
-                    .background(
-                        &self.gpu.device,
-                        target.format,
-                        *variant,
-                        plan.geometry,
-                        plan.bake.layout.mu_axis,
-                    )
-                    .clone(),
-            ),
-            _ => None,
-        };
+        let (background_pipeline, draws) = self.ball_pipelines(frame, target.format, ranges);
         if !quads.is_empty() {
             let queue = &self.gpu.queue;
             queue.write_buffer(&self.bindings.instances, 0, bytemuck::cast_slice(&quads));
@@ -395,6 +372,47 @@ impl Renderer {
                 pass.draw(0..3, 0..1);
             }
         }
+    }
+
+    /// The pipelines of `frame`'s balls' pass into `format`: the map's background draw
+    /// (where the per-ball path shows it), and each planned draw's pipeline with its range
+    /// of quads.
+    fn ball_pipelines(
+        &mut self,
+        frame: &Frame,
+        format: wgpu::TextureFormat,
+        ranges: Vec<std::ops::Range<u32>>,
+    ) -> (
+        Option<wgpu::RenderPipeline>,
+        Vec<(wgpu::RenderPipeline, std::ops::Range<u32>)>,
+    ) {
+        let plan = &frame.plan;
+        let device = &self.gpu.device;
+        let shows_map = frame.env_uniform.rotation_intensity[3] == 1.0;
+        let background = match plan.draws.first() {
+            Some((variant, _)) if plan.per_ball && shows_map => Some(
+                self.pipelines
+                    .background(
+                        device,
+                        format,
+                        *variant,
+                        plan.geometry,
+                        plan.bake.layout.mu_axis,
+                    )
+                    .clone(),
+            ),
+            _ => None,
+        };
+        let draws = plan
+            .draws
+            .iter()
+            .zip(ranges)
+            .map(|((variant, _), range)| {
+                let key = pipeline_key(plan, format, *variant);
+                (self.pipelines.get(device, key).clone(), range)
+            })
+            .collect();
+        (background, draws)
     }
 
     /// Plans `scene`, binds its tables and map, and uploads the uniforms of a `w x h`
