@@ -56,7 +56,7 @@ pub const MAX_CHANNELS: usize = 16;
 
 /// Below this common weight a path plays Russian roulette: it survives with probability
 /// `weight / RR_BELOW` and then carries `RR_BELOW`.
-pub(crate) const RR_BELOW: f64 = 0.05;
+pub const RR_BELOW: f64 = 0.05;
 
 /// Scattering events after which a path is cut (and counted): never reached in practice,
 /// a guard against a walk stuck at the bottom of the surface.
