@@ -170,11 +170,7 @@ fn fill<R>(
             *t = [sanitize(c.x), sanitize(c.y), sanitize(c.z)];
         }
     });
-    EnvMap {
-        width,
-        height,
-        texels,
-    }
+    EnvMap::with_peak(width, height, texels)
 }
 
 fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
