@@ -448,13 +448,15 @@ fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
 const MONTECARLO_BYTES_PER_PIXEL: u64 = 56 + 49;
 
 /// Bytes a map texel adds on the GPU path, once the map is read: its mip chain (RGBA f32
-/// values, 16 a texel and a third more for the smaller levels), and the f16 upload, the
-/// texture and the driver's staging copy (8 and a third each; lavapipe keeps them in the
-/// host's memory). Issue 28, 3: 1.9 GB peak for an 8192x4096 map.
-const GPU_MAP_BYTES_PER_TEXEL: u64 = 22 + 3 * 11;
+/// values, 16 a texel and a third more for the smaller levels: 21.3), the texture (f16,
+/// 8 and a third: 10.7; lavapipe keeps it in the host's memory), and level 0's f16 upload
+/// bytes and wgpu's staging copy of them (8 each, transient). Issue 28, 3: an 8192x4096 map
+/// on lavapipe fails between 2.8 and 3.0 GB of address space with 1.4 GB mapped before
+/// the chain, so it needs 1.4 to 1.6 GB more: 48 bytes a texel is the upper end.
+const GPU_MAP_BYTES_PER_TEXEL: u64 = 48;
 
 /// Bytes a map texel adds on the CPU path: its mip chain (the prefiltered layers are
-/// small). Issue 28, 3: 1.1 GB peak for an 8192x4096 map, with the map's own 12 bytes.
+/// small). Issue 28, 3: an 8192x4096 map renders in 1.5 GB of address space, not 1.3.
 const CPU_MAP_BYTES_PER_TEXEL: u64 = 22;
 
 /// Fails in one line, before the mip chain is built, when `map` at `bytes_per_texel`

@@ -89,9 +89,16 @@ pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
     }
 }
 
-/// Peak bytes a texel costs while a map is read: the decoder's RGBA f32 image, its RGB f32
-/// copy and the map's own texels (16 + 12 + 12), all alive at once.
-pub const LOAD_BYTES_PER_TEXEL: u64 = 40;
+/// Peak bytes a texel costs while a map is read: the decoder's image and the map's own
+/// texels, both alive at once: an `.hdr` decodes to RGB f32 (12 + 12), an `.exr` may
+/// decode to RGBA f32 and be converted to RGB f32 (16 + 12 + 12).
+pub fn load_bytes_per_texel(format: image::ImageFormat) -> u64 {
+    if format == image::ImageFormat::Hdr {
+        24
+    } else {
+        40
+    }
+}
 
 /// Opens `path` once, for reading, refusing anything but a regular file before it is
 /// opened: a FIFO would block the open until a writer comes, and a device or socket is
@@ -118,7 +125,7 @@ fn open_regular(path: &Path) -> Result<File> {
 
 /// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
 /// [`MAX_MAP_TEXELS`], and within the memory available ([`crate::memory::check`] of
-/// [`LOAD_BYTES_PER_TEXEL`] a texel), all checked from the header, before decoding; the
+/// [`load_bytes_per_texel`]), all checked from the header, before decoding; the
 /// file is opened once, and only a regular file is. NaN, infinite and negative channels
 /// are clamped (NaN and negative to 0, -inf to 0, +inf to the largest finite channel of
 /// the map, or 0 if none), counted in the [`MapStats`], and reported in one `log::warn!`
@@ -144,7 +151,7 @@ pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     }
     crate::memory::check(
         &format!("reading the {width}x{height} environment map"),
-        u64::from(width) * u64::from(height) * LOAD_BYTES_PER_TEXEL,
+        u64::from(width) * u64::from(height) * load_bytes_per_texel(format),
     )
     .map_err(|e| error(path, e.to_string()))?;
     let image = image::DynamicImage::from_decoder(decoder)
