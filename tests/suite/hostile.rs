@@ -687,3 +687,40 @@ fn ktx2_reader_accepts_only_what_the_writer_writes() {
         counts[0], counts[1]
     );
 }
+
+/// 11. The viewer's window destroyed from outside: winit's size query panicked (exit 101);
+/// now the viewer quits. And GL's refusal of the truth balls is said once, not every frame.
+#[test]
+fn the_viewer_survives_its_window_and_says_things_once() {
+    use crate::viewer::{wait, Xvfb};
+    let x = Xvfb::start();
+    let child = x
+        .command(bin())
+        .arg("view")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let id = x.xdotool(&["search", "--sync", "--name", "^shadeballs$"]);
+    let id = id.lines().next().unwrap().to_string();
+    // A frame or two first, as a user's window has.
+    std::thread::sleep(Duration::from_millis(1500));
+    x.xdotool(&["windowclose", &id]);
+    let out = wait(child, Duration::from_secs(60));
+    let err = stderr(&out);
+    println!("{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let out = x
+        .command(bin())
+        .args(["view", "--backend", "gl", "--frames", "5", "--scene"])
+        .arg(scene_file("truth.toml"))
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    println!("{err}");
+    assert!(out.status.success(), "{err}");
+    // lavapipe's GL cannot render to Rgba32Float: the line once, not five times.
+    let said = err.matches("cannot render to Rgba32Float").count();
+    assert!(said <= 1, "{err}");
+}
