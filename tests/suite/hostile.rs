@@ -724,3 +724,43 @@ fn the_viewer_survives_its_window_and_says_things_once() {
     let said = err.matches("cannot render to Rgba32Float").count();
     assert!(said <= 1, "{err}");
 }
+
+/// 2. An `.hdr` of maximum-exponent texels (1.7e38, f32's range) rendered a flat 65504;
+/// now its radiance, finite, on every renderer.
+#[test]
+fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
+    let dir = temp_dir("hostile-max-hdr");
+    let map = dir.join("max.hdr");
+    let (w, h) = (16usize, 8usize);
+    let mut bytes = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
+    bytes.extend(std::iter::repeat_n(255u8, 4 * w * h));
+    std::fs::write(&map, bytes).unwrap();
+    for backend in ["vulkan", "gl", "cpu"] {
+        let out = dir.join(format!("{backend}.exr"));
+        let o = run(
+            &[
+                "render",
+                "--environment",
+                s(&map),
+                "--backend",
+                backend,
+                "--width",
+                "32",
+                "--height",
+                "18",
+                "--out",
+                s(&out),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v = exr_values(&out);
+        let bad = v.iter().filter(|c| !c.is_finite()).count();
+        let max = v.iter().copied().fold(0.0f32, f32::max);
+        println!("{backend}: {bad} non-finite channels, max {max:e}");
+        assert_eq!(bad, 0, "{backend}");
+        // RGBE (255, 255, 255, exponent 255) is 255/256 2^127 = 1.69e38.
+        assert!(max > 1e38, "{backend}: {max}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
