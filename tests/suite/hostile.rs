@@ -87,7 +87,7 @@ fn rgb_mean(rgba: &[f32]) -> f64 {
         / n as f64
 }
 
-/// 1. GL cannot hold the truth's f32 sums: with the default 64 frames (`accumulate_truth`)
+/// Finding 1: GL cannot hold the truth's f32 sums: with the default 64 frames (`accumulate_truth`)
 /// it refused only with `--spp 1`; with more, the error scopes' drop order panicked.
 #[test]
 fn gl_truth_balls_refuse_in_one_line_at_any_spp() {
@@ -139,7 +139,7 @@ fn sun_map(path: &Path, sun: f32) {
     save(&EnvMap::new(w, h, texels).unwrap(), path).unwrap();
 }
 
-/// 2. Radiance above f16's 65504 kept its energy nowhere but in `--backend montecarlo`:
+/// Finding 2: Radiance above f16's 65504 kept its energy nowhere but in `--backend montecarlo`:
 /// GPU and CPU clipped the sun. Now the map's textures hold it divided by a power of two.
 #[test]
 fn bright_suns_keep_their_energy_on_the_gpu_and_the_cpu() {
@@ -203,7 +203,7 @@ fn bright_suns_keep_their_energy_on_the_gpu_and_the_cpu() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 2. What f16 still cannot hold once scaled (values 1e-12 of the peak) is said in one
+/// Finding 2: What f16 still cannot hold once scaled (values 1e-12 of the peak) is said in one
 /// warning; the scale alone is no warning.
 #[test]
 fn a_map_beyond_f16s_range_warns_once() {
@@ -244,7 +244,7 @@ fn a_map_beyond_f16s_range_warns_once() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 3. An 8192x4096 map under a 3 GB address space aborted in `MipChain::new`; now its
+/// Finding 3: An 8192x4096 map under a 3 GB address space aborted in `MipChain::new`; now its
 /// memory is estimated before the chain is built.
 #[test]
 fn maps_beyond_memory_fail_in_one_line_before_allocating() {
@@ -301,7 +301,7 @@ fn maps_beyond_memory_fail_in_one_line_before_allocating() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 4 (a). The sidecar's path is checked with the image's, before the walk.
+/// Finding 4 (a): The sidecar's path is checked with the image's, before the walk.
 #[test]
 fn truth_sidecar_paths_are_checked_before_rendering() {
     let dir = temp_dir("hostile-sidecar");
@@ -328,7 +328,7 @@ fn truth_sidecar_paths_are_checked_before_rendering() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 4 (b) and 11. A write that fails for want of room (a file size limit, as a full disk)
+/// Findings 4 (b) and 11: A write that fails for want of room (a file size limit, as a full disk)
 /// leaves the old pair as it was, no temporary file, and says why in the writer's words.
 #[test]
 fn truth_pairs_commit_together_and_a_full_disk_is_named() {
@@ -336,15 +336,15 @@ fn truth_pairs_commit_together_and_a_full_disk_is_named() {
     let exr = dir.join("t.exr");
     let side = dir.join("t.stderr.exr");
     // A map behind the balls makes the image much larger than its sidecar (zeros there).
-    let truth = |limit: Option<u64>| {
+    let truth = |limit: Option<u64>, seed: u32| {
         bash(&format!(
             "trap '' XFSZ; {} exec \"$BIN\" render --backend truth --spp 2 --environment \
-             studio --width 48 --height 27 --out '{}'",
+             studio --width 48 --height 27 --seed {seed} --out '{}'",
             limit.map_or(String::new(), |k| format!("ulimit -f {k};")),
             exr.display()
         ))
     };
-    let o = truth(None);
+    let o = truth(None, 1);
     assert!(o.status.success(), "{}", stderr(&o));
     let (old_image, old_side) = (std::fs::read(&exr).unwrap(), std::fs::read(&side).unwrap());
     println!(
@@ -360,8 +360,8 @@ fn truth_pairs_commit_together_and_a_full_disk_is_named() {
         old_image.len(),
         old_side.len()
     );
-    // Another seed's pair would differ: the old one must be the one left.
-    let o = truth(Some(k));
+    // Another seed: a new sidecar would differ from the old one, which must be left.
+    let o = truth(Some(k), 2);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("File too large"), "{err}");
@@ -372,7 +372,7 @@ fn truth_pairs_commit_together_and_a_full_disk_is_named() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 5. One estimate has no standard error, and a target missed at the cap is said.
+/// Finding 5: One estimate has no standard error, and a target missed at the cap is said.
 #[test]
 fn truth_statistics_say_what_they_cannot_know() {
     let dir = temp_dir("hostile-stats");
@@ -419,7 +419,7 @@ fn truth_statistics_say_what_they_cannot_know() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 7. A 250-byte name renders (its temporary name is short); a 256-byte one is refused
+/// Finding 7: A 250-byte name renders (its temporary name is short); a 256-byte one is refused
 /// before rendering.
 #[test]
 fn long_output_names_render_or_fail_first() {
@@ -464,7 +464,7 @@ fn long_output_names_render_or_fail_first() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 8. A FIFO named as a map was opened twice and waited forever; now it is refused (the
+/// Finding 8: A FIFO named as a map was opened twice and waited forever; now it is refused (the
 /// test gives it 20 s, then kills it and fails).
 #[test]
 fn a_fifo_map_is_refused_without_waiting() {
@@ -512,7 +512,7 @@ fn a_fifo_map_is_refused_without_waiting() {
 
 const BALL: &str = "[[ball]]\ngrid = [0, 0]\nradius = 35\nroughness = 0.5\nmaterial = { kind = \"metal\", f0 = [1, 1, 1] }\n";
 
-/// 10. Black balls from a black map, an ignored `--stderr` and `--labels` that draw
+/// Finding 10: Black balls from a black map, an ignored `--stderr` and `--labels` that draw
 /// nothing each get a warning.
 #[test]
 fn silent_cases_get_a_warning() {
@@ -574,7 +574,7 @@ fn silent_cases_get_a_warning() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 11. A folder's path that is a file is named as such.
+/// Finding 11: A folder's path that is a file is named as such.
 #[test]
 fn folder_outputs_that_are_files_are_named() {
     let dir = temp_dir("hostile-folder");
@@ -596,7 +596,7 @@ fn folder_outputs_that_are_files_are_named() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// 9. The KTX2 reader accepted what the writer never writes. Byte offsets: the descriptor
+/// Finding 9: The KTX2 reader accepted what the writer never writes. Byte offsets: the descriptor
 /// starts at 104 (its basic block at 108: primaries at 117, samples at 132, 16 bytes each,
 /// sampleLower at +8 and sampleUpper at +12).
 #[test]
@@ -688,7 +688,7 @@ fn ktx2_reader_accepts_only_what_the_writer_writes() {
     );
 }
 
-/// 11. The viewer's window destroyed from outside: winit's size query panicked (exit 101);
+/// Finding 11: The viewer's window destroyed from outside: winit's size query panicked (exit 101);
 /// now the viewer quits. And GL's refusal of the truth balls is said once, not every frame.
 #[test]
 fn the_viewer_survives_its_window_and_says_things_once() {
@@ -725,7 +725,7 @@ fn the_viewer_survives_its_window_and_says_things_once() {
     assert!(said <= 1, "{err}");
 }
 
-/// 2. An `.hdr` of maximum-exponent texels (1.7e38, f32's range) rendered a flat 65504;
+/// Finding 2: An `.hdr` of maximum-exponent texels (1.7e38, f32's range) rendered a flat 65504;
 /// now its radiance, finite, on every renderer.
 #[test]
 fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
