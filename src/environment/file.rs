@@ -125,7 +125,7 @@ fn open_regular(path: &Path) -> Result<File> {
 
 /// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
 /// [`MAX_MAP_TEXELS`], and within the memory available ([`crate::memory::check`] of
-/// [`load_bytes_per_texel`]), all checked from the header, before decoding; the
+/// [`super::load_bytes_per_texel`]), all checked from the header, before decoding; the
 /// file is opened once, and only a regular file is. NaN, infinite and negative channels
 /// are clamped (NaN and negative to 0, -inf to 0, +inf to the largest finite channel of
 /// the map, or 0 if none), counted in the [`MapStats`], and reported in one `log::warn!`

@@ -20,7 +20,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
-pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+pub use file::{load, load_bytes_per_texel, save, MapStats, MAX_MAP_TEXELS};
 pub use prefilter::{MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
