@@ -73,7 +73,8 @@ impl Builtin {
                         *c = sanitize(f64::from(*c) * scale);
                     }
                 }
-                map
+                // The texels changed: their peak too.
+                EnvMap::with_peak(width, height, map.texels)
             }
         }
     }

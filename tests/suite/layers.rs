@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 14] = [
+const LIBRARY: [&str; 15] = [
     "crate",
     "brdf",
     "lut",
@@ -21,6 +21,7 @@ const LIBRARY: [&str; 14] = [
     "display",
     "labels",
     "output",
+    "memory",
     "stats",
     "error",
     "wgsl",
