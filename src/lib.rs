@@ -38,6 +38,7 @@ pub mod error;
 pub mod gpu;
 pub mod labels;
 pub mod lut;
+pub mod memory;
 pub mod output;
 pub mod scene;
 pub mod stats;

@@ -236,13 +236,19 @@ impl SceneArgs {
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");
         }
+        let black_map = scene.environment_map.as_ref().is_none_or(|e| e.is_black());
         if scene.lights.iter().all(|l| l.radiance == glam::DVec3::ZERO)
             && scene.environment == glam::DVec3::ZERO
-            && scene.environment_map.is_none()
+            && black_map
         {
+            let map = match &scene.environment_map {
+                Some(e) if e.intensity == 0.0 => " (the map's intensity is 0)",
+                Some(_) => " (the map is black)",
+                None => "",
+            };
             eprintln!(
-                "warning: the scene has no light and a black environment: the balls are black \
-                 (add a [[light]] or an [environment])"
+                "warning: the scene has no light and a black environment{map}: the balls are \
+                 black (add a [[light]] or an [environment])"
             );
         }
         Ok(scene)

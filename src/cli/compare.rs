@@ -8,6 +8,7 @@ use crate::lab::compare::{self, CompareOptions};
 
 pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     let start = Instant::now();
+    crate::output::check_output_folder(&args.out)?;
     super::check_wgpu_backend_env(args.backend)?;
     let scene = args.scene.load()?;
     let mut renderer = super::render::open(args.backend)?;

@@ -8,7 +8,6 @@ mod bake;
 mod bench;
 mod compare;
 mod environment;
-mod memory;
 mod probe;
 mod render;
 mod truth;

@@ -227,11 +227,17 @@ impl CpuEnvironment {
         }
     }
 
+    /// The intensity the GPU's uniform holds: the environment's times the chain's f16
+    /// scale, which its levels and the prefiltered layers are divided by.
+    pub fn intensity(&self, environment: &Environment) -> f64 {
+        environment.intensity * f64::from(self.chain.scale)
+    }
+
     /// `background_radiance`'s map part in `balls.wgsl`: the map along world direction `d`
     /// (level 0, bilinear), times the intensity.
     pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
         let uv = crate::environment::direction_to_uv(environment.to_map(d));
-        environment.intensity * self.chain.levels[0].bilinear(uv)
+        self.intensity(environment) * self.chain.levels[0].bilinear(uv)
     }
 }
 
@@ -262,7 +268,7 @@ pub fn shade_environment_map(
         ..
     } = *terms;
     let e_o = 1.0 - loss_o;
-    let intensity = environment.intensity;
+    let intensity = ibl.intensity(environment);
     let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
     let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);

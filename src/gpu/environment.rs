@@ -23,7 +23,8 @@ pub const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16F
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct EnvUniform {
-    /// cos and sin of `-rotation_deg`, intensity, 1 when the background shows the map.
+    /// cos and sin of `-rotation_deg`, intensity (times the map's f16 scale), 1 when the
+    /// background shows the map.
     pub rotation_intensity: [f32; 4],
     /// rgb: the background's fixed radiance (added to the map where it shows).
     pub background: [f32; 4],
@@ -32,10 +33,11 @@ pub struct EnvUniform {
 impl EnvUniform {
     /// The uniform of `scene`.
     pub fn of(scene: &Scene) -> Self {
-        let (rotation, intensity) = scene
-            .environment_map
-            .as_ref()
-            .map_or((0.0, 0.0), |e| (e.rotation_deg, e.intensity));
+        // The textures hold the map divided by its f16 scale (`MipChain::scale`): the
+        // intensity multiplies it back, exactly (a power of two).
+        let (rotation, intensity) = scene.environment_map.as_ref().map_or((0.0, 0.0), |e| {
+            (e.rotation_deg, e.intensity * f64::from(e.map.f16_scale()))
+        });
         let (s, c) = (-rotation.to_radians()).sin_cos();
         let shows_map = scene.background_shows_map();
         let colour = scene.background_radiance();

@@ -32,17 +32,22 @@ pub use table_cache::MAX_CACHED_ROWS;
 pub use upload::{loss_quads, GpuTables};
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by
-/// [`Scopes::pop`] instead of reaching the uncaptured-error handler.
+/// [`Scopes::pop`] instead of reaching the uncaptured-error handler. Dropped without a pop
+/// (an early return), the guards pop their scopes themselves: the fields drop in
+/// declaration order, so the inner scope (validation, pushed last) is declared first, or
+/// wgpu panics with "Mismatched pop_error_scope call" (issue 28, 1).
 struct Scopes {
-    out_of_memory: wgpu::ErrorScopeGuard,
     validation: wgpu::ErrorScopeGuard,
+    out_of_memory: wgpu::ErrorScopeGuard,
 }
 
 impl Scopes {
     fn push(device: &wgpu::Device) -> Self {
+        let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         Scopes {
-            out_of_memory: device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
-            validation: device.push_error_scope(wgpu::ErrorFilter::Validation),
+            validation,
+            out_of_memory,
         }
     }
 

@@ -485,10 +485,14 @@ impl Renderer {
         encoder: &mut wgpu::CommandEncoder,
     ) -> bool {
         if !self.truth_supported() {
-            log::error!(
-                "{} cannot render to Rgba32Float: the truth balls are not drawn",
-                self.gpu.describe()
-            );
+            // Once a process, not every frame of the viewer (issue 28, 11).
+            static SAID: std::sync::Once = std::sync::Once::new();
+            SAID.call_once(|| {
+                log::error!(
+                    "{} cannot render to Rgba32Float: the truth balls are not drawn",
+                    self.gpu.describe()
+                )
+            });
             return false;
         }
         let quads = truth_pass::quads(scene, &frame.balls, &frame.hidden, frame.size);

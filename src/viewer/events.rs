@@ -73,6 +73,14 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        if event == WindowEvent::Destroyed {
+            // Destroyed from outside (`xdotool windowclose`, a crashed window manager):
+            // nothing may ask the window anything again (winit's X11 size query unwraps the
+            // error and panics, issue 28, 11): drop it and quit.
+            self.state = None;
+            event_loop.exit();
+            return;
+        }
         let Some(state) = &mut self.state else {
             return;
         };

@@ -10,7 +10,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 14] = [
+const LIBRARY: [&str; 15] = [
     "crate",
     "brdf",
     "lut",
@@ -22,6 +22,7 @@ const LIBRARY: [&str; 14] = [
     "display",
     "labels",
     "output",
+    "memory",
     "stats",
     "error",
     "wgsl",

@@ -23,6 +23,7 @@ mod gpu_faults;
 mod gpu_stress;
 mod gpu_truth;
 mod harmonics;
+mod hostile;
 mod ibl;
 mod ktx2;
 mod labels;

@@ -21,13 +21,13 @@ use crate::cli::temp_dir;
 use crate::pixels::{assert_close, compare, vulkan};
 
 /// A private X server, killed when dropped.
-struct Xvfb {
+pub struct Xvfb {
     child: Child,
     display: String,
 }
 
 impl Xvfb {
-    fn start() -> Xvfb {
+    pub fn start() -> Xvfb {
         // `-displayfd 1`: Xvfb picks a free display number and writes it to its stdout
         // once it accepts connections (tests run in parallel, each with its own server).
         let mut child = Command::new("Xvfb")
@@ -59,7 +59,7 @@ impl Xvfb {
         }
     }
 
-    fn command(&self, program: &str) -> Command {
+    pub fn command(&self, program: &str) -> Command {
         let mut c = Command::new(program);
         c.env("DISPLAY", &self.display)
             .env_remove("WAYLAND_DISPLAY");
@@ -67,7 +67,7 @@ impl Xvfb {
     }
 
     /// `xdotool args...`, which must succeed.
-    fn xdotool(&self, args: &[&str]) -> String {
+    pub fn xdotool(&self, args: &[&str]) -> String {
         let out = self
             .command("xdotool")
             .args(args)
@@ -94,7 +94,7 @@ impl Drop for Xvfb {
 }
 
 /// Waits for `child` at most `limit`; kills it and fails if it runs longer.
-fn wait(mut child: Child, limit: Duration) -> Output {
+pub fn wait(mut child: Child, limit: Duration) -> Output {
     let start = Instant::now();
     while child.try_wait().unwrap().is_none() {
         if start.elapsed() > limit {

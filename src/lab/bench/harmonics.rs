@@ -76,7 +76,8 @@ pub fn kc_kernel(tables: &Tables, roughness: f64) -> impl Fn(f64) -> f64 + '_ {
     }
 }
 
-/// The level of `chain` `width` wide (else the narrowest wider one, else level 0) as a map.
+/// The level of `chain` `width` wide (else the narrowest wider one, else level 0) as a map
+/// (its radiance: the level times the chain's scale).
 pub fn level_map(chain: &MipChain, width: u32) -> EnvMap {
     let level = chain
         .levels
@@ -84,7 +85,12 @@ pub fn level_map(chain: &MipChain, width: u32) -> EnvMap {
         .rev()
         .find(|l| l.width >= width)
         .unwrap_or(&chain.levels[0]);
-    let texels = level.texels.iter().map(|t| [t[0], t[1], t[2]]).collect();
+    let s = chain.scale;
+    let texels = level
+        .texels
+        .iter()
+        .map(|t| [t[0] * s, t[1] * s, t[2] * s])
+        .collect();
     EnvMap::new(level.width, level.height, texels).expect("a mip level is a valid map")
 }
 

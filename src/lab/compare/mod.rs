@@ -442,25 +442,35 @@ fn frame_ms(
     Ok(crate::stats::median(&mut times))
 }
 
-/// `compare.csv`: a line per model and roughness. Errors under three times the truth's
-/// noise floor read "within noise"; the floors are columns of their own.
+/// `compare.csv`: a line per model and roughness, every figure a number; the verdicts
+/// (an error under three times the truth's noise floor is "within noise", else "above
+/// noise") and the floors are columns of their own (issue 28: no words in numeric columns).
 pub fn csv(c: &Comparison) -> String {
     let mut s = String::from(
         "model,roughness,mean_rel_err,p99_rel_err,flip_mean,frame_ms,\
-         truth_rel_stderr_mean,truth_rel_stderr_p99\n",
+         truth_rel_stderr_mean,truth_rel_stderr_p99,mean_verdict,p99_verdict\n",
     );
+    let verdict = |value: f64, floor: f64| {
+        if BallError::within_noise(value, floor) {
+            "within noise"
+        } else {
+            "above noise"
+        }
+    };
     for r in &c.rows {
         for (e, rough) in r.errors.iter().zip(&c.roughness) {
             let _ = writeln!(
                 s,
-                "{},{rough},{},{},{:.5},{:.3},{:.5},{:.5}",
+                "{},{rough},{:.5},{:.5},{:.5},{:.3},{:.5},{:.5},{},{}",
                 r.row.name,
-                BallError::figure(e.mean_rel, e.floor_mean),
-                BallError::figure(e.p99_rel, e.floor_p99),
+                e.mean_rel,
+                e.p99_rel,
                 e.flip_mean,
                 r.frame_ms,
                 e.floor_mean,
-                e.floor_p99
+                e.floor_p99,
+                verdict(e.mean_rel, e.floor_mean),
+                verdict(e.p99_rel, e.floor_p99),
             );
         }
     }
