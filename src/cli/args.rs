@@ -172,7 +172,8 @@ pub struct BenchArgs {
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); default: the built-in reference scene.
+    /// Scene file (TOML); default: render's and view's showcase (assets/scenes/default.toml),
+    /// compare's homework scene (assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else
@@ -209,11 +210,21 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
-    /// The scene file's scene (or the reference scene), with the overrides applied.
+    /// The scene file's scene (or the showcase, `render`'s and `view`'s default), with the
+    /// overrides applied.
     pub fn load(&self) -> crate::Result<crate::scene::Scene> {
+        self.load_or(crate::scene::Scene::showcase)
+    }
+
+    /// The scene file's scene (or `default()` when no `--scene` is given), with the
+    /// overrides applied.
+    pub fn load_or(
+        &self,
+        default: fn() -> crate::scene::Scene,
+    ) -> crate::Result<crate::scene::Scene> {
         let mut scene = match &self.scene {
             Some(path) => crate::scene::load(path)?,
-            None => crate::scene::Scene::reference(),
+            None => default(),
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);

@@ -10,6 +10,7 @@ mod camera;
 mod file;
 mod model;
 mod preset;
+mod showcase;
 mod values;
 
 use glam::DVec3;
@@ -18,6 +19,10 @@ pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_P
 pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
 pub use model::Model;
 pub use preset::Preset;
+pub use showcase::{
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS,
+    SHOWCASE_ROW_HALF_GAP,
+};
 
 use crate::brdf::Geometry;
 use crate::environment::{Background, Environment, IblTerm};
