@@ -317,7 +317,8 @@ pub struct EnvironmentArgs {
     /// The built-in to write.
     #[arg(long)]
     pub name: Builtin,
-    /// Output file: .exr (f32) or .hdr (Radiance RGBE, about 1 % precision).
+    /// Output file: .exr (f32), .hdr (Radiance RGBE, about 1 % precision) or .png (a
+    /// preview to look at: tone-mapped like render's PNGs, not a map to load).
     #[arg(long)]
     pub out: PathBuf,
     /// Width in texels: even, 2..=8192 (the height is half).
