@@ -143,8 +143,8 @@ pub struct BakeArgs {
     #[arg(long, default_value_t = PointSet::Sobol)]
     pub points: PointSet,
     /// Table layout (games202: the homework's; uniform: for engines, read by a plain bilinear
-    /// texture sample at uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M) within 1e-3 at
-    /// roughness >= 0.1).
+    /// texture sample at uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M); 128x128 by default,
+    /// --size 2304x112 for 1e-3 everywhere at roughness >= 0.1: docs/accuracy.md).
     #[arg(long, default_value_t = LayoutKind::Warped)]
     pub layout: LayoutKind,
     /// Storage format the GPU will read (default: the layout's).
