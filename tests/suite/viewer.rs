@@ -337,7 +337,14 @@ fn reported(stderr: &str, key: &str) -> u64 {
 fn idle_draws_nothing_and_only_the_scene_area_orbits() {
     let x = Xvfb::start();
     let dir = temp_dir("view-idle");
-    let child = viewer(&x, &[]).current_dir(&dir).spawn().unwrap();
+    // The homework scene's panel, which the hover points and the frame bound were chosen
+    // on (22 frames). The showcase (a map: one more panel line and the environment
+    // section) took 26 to 29 frames, 32 once under the full suite's load; why it takes
+    // more is not established.
+    let child = viewer(&x, &["--scene", HOMEWORK])
+        .current_dir(&dir)
+        .spawn()
+        .unwrap();
     let stderr = drive(&x, child, |id| {
         // Idle for 1.5 s: at 20-60 frames a second, continuous redrawing would show.
         std::thread::sleep(Duration::from_millis(1500));
@@ -354,6 +361,7 @@ fn idle_draws_nothing_and_only_the_scene_area_orbits() {
     });
     let frames = reported(&stderr, "viewed ");
     let shaded = reported(&stderr, "frames (");
+    println!("idle, hover, drag and S: {frames} frames, the balls shaded {shaded} times");
     // First frame, the drag's one or two, and egui's own follow-ups per event (hover,
     // focus, key): well under what 1.5 s of continuous drawing would give.
     assert!(frames <= 30, "{frames} frames while idle: {stderr}");
