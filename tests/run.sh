@@ -35,6 +35,7 @@ cargo clippy --release --all-targets -- -D warnings
 # The library as another program links it: no winit, egui, clap or plotting crate.
 cargo build --release --no-default-features --lib
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features
 # Unit and integration tests (one binary), the examples (built, and run by their tests)
 # and the doctests of the facade.
 cargo test --release

@@ -24,7 +24,8 @@ pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
     lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis,
-    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN, UNIFORM_MU_SIZE, UNIFORM_R_SIZE,
+    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN, UNIFORM_MU_SIZE,
+    UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE, UNIFORM_R_SIZE,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};

@@ -7,17 +7,25 @@
 //! surface towards the light.
 
 mod camera;
+#[cfg(feature = "scene-files")]
 mod file;
 mod model;
 mod preset;
+mod showcase;
+#[cfg(feature = "scene-files")]
 mod values;
 
 use glam::DVec3;
 
 pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
-pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
+#[cfg(feature = "scene-files")]
+pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use model::Model;
 pub use preset::Preset;
+pub use showcase::{
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS,
+    SHOWCASE_ROW_HALF_GAP,
+};
 
 use crate::brdf::Geometry;
 use crate::environment::{Background, Environment, IblTerm};
@@ -27,6 +35,10 @@ use crate::environment::{Background, Environment, IblTerm};
 /// cost follows the pixels the balls cover, not their number (docs/reliability.md,
 /// "Limits").
 pub const MAX_BALLS: usize = 4096;
+/// The F0 a dielectric gets when the scene file gives none (common glass and plastics,
+/// ~1.5 IOR).
+pub const DIELECTRIC_F0: f64 = 0.04;
+
 /// Most directional lights a scene may hold.
 pub const MAX_LIGHTS: usize = 16;
 

@@ -294,9 +294,10 @@ fn labelled_png_differs_only_in_label_rooms() {
         ("montecarlo", 640, 360),
     ] {
         let size = ["--width", &w.to_string(), "--height", &h.to_string()].map(String::from);
-        let mut flags: Vec<&str> = vec!["--backend", backend, "--spp", "1"];
+        let homework = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/homework.toml");
+        let mut flags: Vec<&str> = vec!["--backend", backend, "--spp", "1", "--scene", homework];
         flags.extend(size.iter().map(String::as_str));
-        // The built-in scene has labels on; --no-labels turns them off.
+        // The homework's scene file has labels on; --no-labels turns them off.
         let on = render(&dir, &format!("{backend}-on.png"), &flags);
         let off = render(
             &dir,
