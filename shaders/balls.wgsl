@@ -42,9 +42,9 @@ fn nearest_hit(o: vec3<f32>, d: vec3<f32>, n_balls: u32) -> Hit {
     return Hit(best_t, best);
 }
 
-// Antialiased silhouettes (docs/design.md section 12). A pixel integrates radiance over its
-// square footprint (a box filter, as offline renderers do). Near a ball's silhouette the
-// fraction of the pixel the ball covers is computed analytically: the silhouette is
+// Antialiased silhouettes (docs/design/antialiasing.md). A pixel integrates radiance over
+// its square footprint (a box filter, as offline renderers do). Near a ball's silhouette
+// the fraction of the pixel the ball covers is computed analytically: the silhouette is
 // linearised at the pixel's centre (the level set |ray - centre| = r of the ray's distance
 // from the ball's centre, its gradient over the pixel from central differences) and the
 // area of the unit square on its inner side taken in closed form (box_coverage). The ball
@@ -236,8 +236,9 @@ struct BallFragment {
 // The pixel's radiance on this quad's ball (its footprint: ball_footprint), at its depth;
 // discarded where the ball covers none of the pixel (another quad or the clear covers it).
 // A pixel the silhouette crosses shows this ball mixed with the background, also where
-// another ball lies behind it (a limitation: docs/design.md section 12). The depth test settles which ball is in
-// front: one intersection a fragment, not one per ball.
+// another ball lies behind it (a limitation: docs/design/antialiasing.md, "Limitation:
+// overlapping balls"). The depth test settles which ball is in front: one intersection a
+// fragment, not one per ball.
 @fragment
 fn fs_ball(in: BallOut) -> BallFragment {
     let f = ball_footprint(in.position.xy, in.center_radius.xyz, in.center_radius.w);

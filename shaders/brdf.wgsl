@@ -1,6 +1,6 @@
 // brdf.wgsl: the BRDF terms, name for name the f64 functions of src/brdf evaluated in f32
-// (docs/design.md section 1). Conventions: normal +z, mu_o = n.v, mu_i = n.l,
-// alpha = roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
+// (docs/design/model.md). Conventions: normal +z, mu_o = n.v, mu_i = n.l, alpha =
+// roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
 
 #define_import_path shadeballs::brdf
 #import shadeballs::constants::{PI, DIV_EPSILON, ROUGHNESS_MIN, LAMBDA_MAX}
@@ -128,8 +128,8 @@ fn f_ms(loss_o: f32, loss_i: f32, norm: f32) -> f32 {
 }
 
 // Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,
-// slide 26, with the square that the geometric series gives; docs/design.md section 1):
-// F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
+// slide 26, with the square that the geometric series gives; docs/design/model.md, "Where
+// F_avg^2 comes from"): F_avg^2 E_avg / (1 - F_avg (1 - E_avg)).
 fn f_add_accurate(f_avg: vec3<f32>, e_avg: f32) -> vec3<f32> {
     return f_avg * f_avg * e_avg / f_add_denominator(f_avg, e_avg);
 }
@@ -185,4 +185,67 @@ fn term_turquin(single: vec3<f32>, f0: vec3<f32>, e_o: f32) -> vec3<f32> {
 fn term_fdez_aguera(fss_ess: vec3<f32>, f0: vec3<f32>, loss_o: f32) -> vec3<f32> {
     let f_avg = f_avg_schlick(f0);
     return fss_ess * f_avg * loss_o / max(1.0 - loss_o * f_avg, vec3<f32>(DIV_EPSILON));
+}
+
+// The exact unpolarised Fresnel reflectance of a dielectric interface (Walter et al. 2007,
+// eq. 22): eta = n_t / n_i, g^2 = eta^2 - 1 + c^2, and 1 past the critical angle.
+fn fresnel_dielectric(cos_theta: f32, eta: f32) -> f32 {
+    let c = min(abs(cos_theta), 1.0);
+    let g2 = eta * eta - 1.0 + c * c;
+    if g2 < 0.0 {
+        return 1.0;
+    }
+    let g = sqrt(g2);
+    let a = (g - c) / max(g + c, DIV_EPSILON);
+    let b = (c * (g + c) - 1.0) / max(c * (g - c) + 1.0, DIV_EPSILON);
+    return clamp(0.5 * a * a * (1.0 + b * b), 0.0, 1.0);
+}
+
+// F0 = ((eta - 1) / (eta + 1))^2, Schlick's F0 of a dielectric (glTF KHR_materials_ior).
+fn f0_from_ior(eta: f32) -> f32 {
+    let r = (eta - 1.0) / max(eta + 1.0, DIV_EPSILON);
+    return r * r;
+}
+
+// The base under a dielectric coating, each form as a BRDF (src/brdf/layering.rs, name for
+// name; albedo per channel, the coating's specular albedo E_spec achromatic).
+// Today's constant weighting: albedo (1 - F_avg) / pi.
+fn f_base_constant(albedo: vec3<f32>, f_avg: f32) -> vec3<f32> {
+    return albedo * ((1.0 - f_avg) / PI);
+}
+
+// glTF 2.0's fresnel_mix (appendix B): albedo (1 - F(v.h)) / pi.
+fn f_base_gltf(albedo: vec3<f32>, fresnel_vh: f32) -> vec3<f32> {
+    return albedo * ((1.0 - fresnel_vh) / PI);
+}
+
+// Cycles' Principled v2 and MaterialX, view-only: albedo (1 - E_spec(mu_o)) / pi.
+fn f_base_view_only(albedo: vec3<f32>, e_spec_o: f32) -> vec3<f32> {
+    return albedo * ((1.0 - e_spec_o) / PI);
+}
+
+// OpenPBR's reciprocal scaling (Kutz et al. 2021):
+// albedo (1 - E_spec(mu_i)) (1 - E_spec(mu_o)) / (pi (1 - E_spec_avg)).
+fn f_base_reciprocal(albedo: vec3<f32>, e_spec_o: f32, e_spec_i: f32, e_spec_avg: f32) -> vec3<f32> {
+    return albedo * ((1.0 - e_spec_o) * (1.0 - e_spec_i) / (PI * max(1.0 - e_spec_avg, DIV_EPSILON)));
+}
+
+// F_in = 1 - (1 - E_spec_avg) / eta^2: the substrate's light the coating sends back down.
+fn coating_inside_reflectance(e_spec_avg: f32, eta: f32) -> f32 {
+    return 1.0 - (1.0 - e_spec_avg) / max(eta * eta, DIV_EPSILON);
+}
+
+// The physical form, a Lambertian substrate under the coating, internal bounces summed:
+// rho (1 - E_spec(mu_i)) (1 - E_spec(mu_o)) / (pi eta^2 (1 - rho F_in)).
+fn f_base_physical(rho: vec3<f32>, e_spec_o: f32, e_spec_i: f32, e_spec_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    let shape = (1.0 - e_spec_o) * (1.0 - e_spec_i) / PI;
+    return rho * shape / max(eta * eta * (vec3<f32>(1.0) - rho * f_in), vec3<f32>(DIV_EPSILON));
+}
+
+// The substrate albedo whose light through the coating averages `apparent`:
+// rho = apparent / (T + apparent F_in), T = 1 - F_in.
+fn substrate_albedo(apparent: vec3<f32>, e_spec_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    return apparent / max(vec3<f32>(1.0 - f_in) + apparent * f_in, vec3<f32>(DIV_EPSILON));
 }

@@ -1,6 +1,7 @@
-// environment.wgsl: reading a prefiltered environment map (src/environment, docs/design.md
-// section 10). Library functions: no bindings; the textures, the sampler and the split-sum
-// table are arguments. Each has a CPU twin of the same name in src/environment or src/lut.
+// environment.wgsl: reading a prefiltered environment map (src/environment,
+// docs/design/environment.md, "Shading under a map (image-based lighting)"). Library
+// functions: no bindings; the textures, the sampler and the split-sum table are arguments.
+// Each has a CPU twin of the same name in src/environment or src/lut.
 
 #define_import_path shadeballs::environment
 #import shadeballs::constants::{PI, ROUGHNESS_MIN}

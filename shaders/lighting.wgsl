@@ -106,13 +106,14 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     return lo;
 }
 
-// Radiance leaving ball b at normal n towards v lit by the environment map (docs/design.md
-// section 10): the split sum (the prefiltered radiance along the mirror direction bent
-// towards the normal, specular_direction, times F0 A + B), the Lambertian base lit by the
-// irradiance, and the ball's multiple-scattering term, weighted by `ms`. `loss_o` is
-// 1 - E(mu_o) as read from the E table; `fss_ess` the split sum's F0 A + B; `fms_ems`
-// Fdez-Aguera's energy (zero for the other terms); f_add the ball's (zero with the term
-// compiled out). Mirrored by src/cpu/shade.rs shade_environment_map.
+// Radiance leaving ball b at normal n towards v lit by the environment map
+// (docs/design/environment.md, "Shading under a map (image-based lighting)"): the split sum
+// (the prefiltered radiance along the mirror direction bent towards the normal,
+// specular_direction, times F0 A + B), the Lambertian base lit by the irradiance, and the
+// ball's multiple-scattering term, weighted by `ms`. `loss_o` is 1 - E(mu_o) as read from
+// the E table; `fss_ess` the split sum's F0 A + B; `fms_ems` Fdez-Aguera's energy (zero for
+// the other terms); f_add the ball's (zero with the term compiled out). Mirrored by
+// src/cpu/shade.rs shade_environment_map.
 fn shade_environment_map(
     b: Ball,
     n: vec3<f32>,

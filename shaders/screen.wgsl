@@ -168,7 +168,8 @@ fn vs_ball(
 // 2 sqrt(3) 1e12 + 1e12 = 4.5e12), so depths stay in [0, 1).
 const DEPTH_SCALE: f32 = 5.684341886080802e-14; // 2^-44
 
-// Display transform (docs/design.md section 4): exposure, Reinhard c / (c + 1), gamma 1/2.2.
+// Display transform (docs/design/reference-scene.md, "The balls, the light and the
+// camera"): exposure, Reinhard c / (c + 1), gamma 1/2.2.
 fn tone_map(radiance: vec3<f32>, exposure: f32) -> vec3<f32> {
     let c = max(radiance * exposure, vec3<f32>(0.0));
     return pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2));

@@ -2,8 +2,8 @@
 // random walk on their microsurface (Heitz, Hanika, d'Eon and Dachsbacher 2016,
 // "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
 // src/walk (microsurface.rs, mod.rs trace), one estimate per pixel and frame, summed in
-// an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design.md, "Truth on the
-// GPU"). Imports screen.wgsl for the rays, the quads and the output.
+// an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design/gpu-truth.md).
+// Imports screen.wgsl for the rays, the quads and the output.
 //
 // A pixel's estimate: the lights' single scattering exactly (f_micro with Schlick F, GGX
 // D, height-correlated Smith G, plus the dielectric's Lambertian base), the base's
@@ -28,9 +28,9 @@
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
 
 // Scattering events a GPU path may have (a cut, not a roulette: it loses the energy of
-// longer paths, a bias the furnace test of tests/suite/gpu_truth.rs bounds; docs/design.md
-// gives the share of longer paths); the loop's cost grows with the longest path of a SIMD
-// group.
+// longer paths, a bias the furnace test of tests/suite/gpu_truth.rs bounds;
+// docs/design/gpu-truth.md, "Differences from the CPU walk", gives the share of longer
+// paths); the loop's cost grows with the longest path of a SIMD group.
 const WALK_MAX_EVENTS: u32 = 32u;
 // WALK_RR_BELOW: Russian roulette below this path mass (src/walk RR_BELOW).
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit

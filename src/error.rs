@@ -75,7 +75,7 @@ pub enum Error {
     },
 
     /// No adapter for the requested backends.
-    #[error("no GPU adapter for {backends}: {message} (for software Vulkan install the package mesa-vulkan-drivers, or use --backend cpu)")]
+    #[error("no GPU adapter for {backends}: {message}; software Vulkan (lavapipe) is in the package mesa-vulkan-drivers")]
     NoAdapter {
         /// The backends asked for (`Debug` of `wgpu::Backends`).
         backends: String,
@@ -84,10 +84,18 @@ pub enum Error {
     },
 
     /// No window could be opened (no display server, or it refused).
-    #[error("cannot open a window: {message} (without a display, `shadeballs render` draws the same scene to a PNG)")]
+    #[error("cannot open a window: {message}")]
     Display {
         /// The windowing system's reason.
         message: String,
+    },
+
+    /// A scene with truth balls on a device that cannot hold their sums: it does not
+    /// render to `Rgba32Float` (GL).
+    #[error("{device} cannot render to Rgba32Float, which the truth balls' sums need")]
+    TruthUnsupported {
+        /// The device ([`crate::Gpu::describe`]).
+        device: String,
     },
 
     /// The GPU device reported an error (validation, out of memory, lost device).

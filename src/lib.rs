@@ -24,16 +24,9 @@
 //! assert!((e - 0.89507).abs() < 1e-3);
 //! ```
 //!
-//! Layers (docs/design.md, section 7), each importing only those listed before it, and the
-//! utilities [`error`], [`output`] (atomic file writes, images) and [`stats`]:
-//! [`brdf`] (the maths), [`lut`] (baking and reading the tables), [`walk`] (the random
-//! walk on the microsurface, the truth), [`environment`] (maps,
-//! their prefiltering on the CPU, harmonics), [`scene`], then the renderers [`gpu`] and
-//! [`cpu`] with [`display`]. The front ends sit on top: `cli` (feature `cli`, the binary)
-//! and `viewer` (feature `viewer`); the measurement
-//! lab, `lab` (feature `lab`), imports the library, and only the command line imports it.
-//! With `default-features = false` the crate is the library alone (no winit, egui, clap or
-//! plotting crate).
+//! The modules, one line each, and who may import whom: docs/design/layers.md (a test
+//! holds that list equal to the modules). With `default-features = false` the crate is the
+//! library alone (no winit, egui, clap or plotting crate).
 
 #![warn(missing_docs)]
 
@@ -45,6 +38,7 @@ pub mod error;
 pub mod gpu;
 pub mod labels;
 pub mod lut;
+pub mod memory;
 pub mod output;
 pub mod scene;
 pub mod stats;

@@ -70,6 +70,17 @@ pub fn check_output_path(path: &Path) -> Result<()> {
         return Err(invalid(path, "not a file name"));
     }
     let target = follow_links(path)?;
+    if let Some(name) = target.file_name() {
+        let bytes = name.as_encoded_bytes().len();
+        if bytes > NAME_MAX {
+            return Err(invalid(
+                path,
+                &format!(
+                    "the file name is {bytes} bytes, more than the {NAME_MAX} a name may have"
+                ),
+            ));
+        }
+    }
     let dir = folder_of(&target);
     match std::fs::metadata(dir) {
         Ok(m) if m.is_dir() => {}
@@ -86,6 +97,21 @@ pub fn check_output_path(path: &Path) -> Result<()> {
     }
 }
 
+/// Bytes a file name may have (Linux's `NAME_MAX`, that of ext4, XFS, Btrfs, tmpfs).
+pub const NAME_MAX: usize = 255;
+
+/// Checks, before any work, that `path` can be an output folder: it is one, or does not
+/// exist yet (it is made later); a file there is refused in one line.
+pub fn check_output_folder(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_dir() => Err(invalid(
+            path,
+            "it exists and is not a folder (this command writes a folder of files)",
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -93,9 +119,32 @@ fn folder_of(path: &Path) -> &Path {
     }
 }
 
-/// The temporary name a write of `name` by process `pid` uses: `.NAME.tmp-PID`.
+/// Bytes of the output's name a temporary name keeps: with the hash and the process id it
+/// stays well under [`NAME_MAX`] whatever the output's name (issue 28, 7).
+const TEMP_NAME_KEEP: usize = 64;
+
+/// The start of every temporary name of `name`: `.NAME.tmp-`, or for a long name
+/// `.PREFIX~HASH.tmp-` (its first [`TEMP_NAME_KEEP`] bytes, cut at a character, and a
+/// 64-bit FNV-1a hash of all of it, so that two long names with one prefix differ).
+fn temp_prefix(name: &str) -> String {
+    if name.len() <= TEMP_NAME_KEEP {
+        return format!(".{name}.tmp-");
+    }
+    let mut cut = TEMP_NAME_KEEP;
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    // FNV-1a (Fowler, Noll, Vo), 64-bit offset basis and prime.
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!(".{}~{hash:016x}.tmp-", &name[..cut])
+}
+
+/// The temporary name a write of `name` by process `pid` uses: `.NAME.tmp-PID`
+/// ([`temp_prefix`]).
 fn temp_name(name: &str, pid: u32) -> String {
-    format!(".{name}.tmp-{pid}")
+    format!("{}{pid}", temp_prefix(name))
 }
 
 /// Removes temporary files that earlier writes of `name` in `dir` left behind when they
@@ -108,7 +157,7 @@ fn remove_stale_temp_files(dir: &Path, name: &str) {
         let Ok(me) = std::fs::metadata("/proc/self") else {
             return;
         };
-        let prefix = format!(".{name}.tmp-");
+        let prefix = temp_prefix(name);
         let Ok(entries) = std::fs::read_dir(dir) else {
             return;
         };
@@ -133,15 +182,55 @@ fn remove_stale_temp_files(dir: &Path, name: &str) {
     }
 }
 
-/// Writes `path` atomically: `write` fills a temporary file in the same folder (buffered),
-/// which is then synced and renamed over the file. A link is written through (its target
-/// is replaced, the link kept); an existing file keeps its permissions. A failed write, or
-/// one interrupted by a signal the binary handles, leaves no temporary file; one killed
-/// outright leaves `.NAME.tmp-PID`, which the next write of that name removes.
-pub fn write_atomic_with(
+/// A file written in full to its temporary name beside `path`, not yet renamed over it:
+/// [`Staged::commit`] renames it; dropped uncommitted, it is removed. Several staged files
+/// commit together ([`commit_all`]), so a failed write of any leaves every old file.
+#[must_use = "a staged file is removed unless committed"]
+pub struct Staged {
+    path: PathBuf,
+    tmp: PathBuf,
+    target: PathBuf,
+    committed: bool,
+}
+
+impl Staged {
+    /// Renames the temporary file over its target.
+    pub fn commit(mut self) -> Result<()> {
+        let result =
+            std::fs::rename(&self.tmp, &self.target).map_err(|e| write_error(&self.path, e));
+        self.committed = result.is_ok();
+        result
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+        in_flight().retain(|f| f != &self.tmp);
+    }
+}
+
+/// Renames every staged file over its target, in order. They are all written by then, so
+/// only a rename can fail (it does not for files in one folder short of the disk being
+/// yanked): the files not yet renamed are removed.
+pub fn commit_all(files: Vec<Staged>) -> Result<()> {
+    for f in files {
+        f.commit()?;
+    }
+    Ok(())
+}
+
+/// Writes `path`'s bytes to its temporary file: `write` fills it (buffered), then it is
+/// synced; [`Staged::commit`] renames it over `path`. A link is written through (its
+/// target is replaced, the link kept); an existing file keeps its permissions. A failed
+/// write, or one interrupted by a signal the binary handles, leaves no temporary file;
+/// one killed outright leaves `.NAME.tmp-PID`, which the next write of that name removes.
+pub fn stage_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
-) -> Result<()> {
+) -> Result<Staged> {
     check_output_path(path)?;
     let err = |reason| write_error(path, reason);
     let target = follow_links(path)?;
@@ -155,7 +244,13 @@ pub fn write_atomic_with(
     let tmp = dir.join(temp_name(&name, std::process::id()));
     let keep = std::fs::metadata(&target).ok().map(|m| m.permissions());
     in_flight().push(tmp.clone());
-    let result = File::create(&tmp)
+    let staged = Staged {
+        path: path.to_path_buf(),
+        tmp: tmp.clone(),
+        target: target.clone(),
+        committed: false,
+    };
+    File::create(&tmp)
         .and_then(|f| match keep {
             Some(p) => f.set_permissions(p).map(|_| f),
             None => Ok(f),
@@ -166,13 +261,16 @@ pub fn write_atomic_with(
             write(&mut w)?;
             let f = w.into_inner().map_err(|e| err(e.into_error()))?;
             f.sync_all().map_err(err)
-        })
-        .and_then(|_| std::fs::rename(&tmp, &target).map_err(err));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    in_flight().retain(|f| f != &tmp);
-    result
+        })?;
+    Ok(staged)
+}
+
+/// Writes `path` atomically: [`stage_with`], then [`Staged::commit`].
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
+) -> Result<()> {
+    stage_with(path, write)?.commit()
 }
 
 /// Writes `bytes` to `path` atomically ([`write_atomic_with`]).
@@ -189,22 +287,76 @@ pub fn extension(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// Encodes `image` in `format` straight into the temporary file and renames it
-/// ([`write_atomic_with`]): no encoded copy is held in memory.
-pub fn write_image(
+/// A writer that keeps the first I/O error its inner writer gave: an encoder that fails on
+/// one reports it as its own format error (the EXR encoder says "Format error decoding
+/// OpenExr" for a full disk), and the write's error names the real cause instead.
+struct Recording<'a, W> {
+    inner: &'a mut W,
+    error: Option<std::io::Error>,
+}
+
+impl<W> Recording<'_, W> {
+    fn keep<T>(&mut self, r: std::io::Result<T>) -> std::io::Result<T> {
+        if let Err(e) = &r {
+            if self.error.is_none() {
+                self.error = Some(std::io::Error::new(e.kind(), e.to_string()));
+            }
+        }
+        r
+    }
+}
+
+impl<W: Write> Write for Recording<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.inner.write(buf);
+        self.keep(r)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.inner.flush();
+        self.keep(r)
+    }
+}
+
+impl<W: std::io::Seek> std::io::Seek for Recording<'_, W> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        let r = self.inner.seek(pos);
+        self.keep(r)
+    }
+}
+
+/// Encodes `image` in `format` straight into the temporary file ([`stage_with`]): no
+/// encoded copy is held in memory.
+pub fn stage_image(
     path: &Path,
     image: &image::DynamicImage,
     format: image::ImageFormat,
-) -> Result<()> {
-    write_atomic_with(path, |w| {
-        image.write_to(w, format).map_err(|e| match e {
-            image::ImageError::IoError(reason) => write_error(path, reason),
-            e => Error::Encode {
+) -> Result<Staged> {
+    stage_with(path, |w| {
+        let mut w = Recording {
+            inner: w,
+            error: None,
+        };
+        let result = image.write_to(&mut w, format);
+        result.map_err(|e| match (e, w.error) {
+            (image::ImageError::IoError(reason), _) | (_, Some(reason)) => {
+                write_error(path, reason)
+            }
+            (e, None) => Error::Encode {
                 path: path.to_path_buf(),
                 message: e.to_string(),
             },
         })
     })
+}
+
+/// Encodes `image` in `format` and renames it over `path` ([`stage_image`]).
+pub fn write_image(
+    path: &Path,
+    image: &image::DynamicImage,
+    format: image::ImageFormat,
+) -> Result<()> {
+    stage_image(path, image, format)?.commit()
 }
 
 /// What an output path asks for.
@@ -257,12 +409,18 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: Vec<u8>) -> Result<
 
 /// Writes RGBA f32 linear radiance as OpenEXR.
 pub fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<()> {
+    stage_exr(path, width, height, rgba)?.commit()
+}
+
+/// Encodes RGBA f32 linear radiance as OpenEXR into `path`'s temporary file
+/// ([`stage_image`]), for [`commit_all`] with the files that go with it.
+pub fn stage_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<Staged> {
     let image =
         image::Rgba32FImage::from_raw(width, height, rgba).ok_or_else(|| Error::Encode {
             path: path.to_path_buf(),
             message: "pixel count does not match the size".into(),
         })?;
-    write_image(
+    stage_image(
         path,
         &image::DynamicImage::ImageRgba32F(image),
         image::ImageFormat::OpenExr,

@@ -3,7 +3,7 @@
 # lavapipe Vulkan driver, Xvfb and xdotool for the viewer test), then checks formatting,
 # lints, the library alone (no default features), the docs, and runs every test, the
 # examples' and the doctests in release mode (one build serves the tests and the program;
-# docs/design.md section 6).
+# docs/design/machine.md, "Build").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,6 +35,7 @@ cargo clippy --release --all-targets -- -D warnings
 # The library as another program links it: no winit, egui, clap or plotting crate.
 cargo build --release --no-default-features --lib
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features
 # Unit and integration tests (one binary), the examples (built, and run by their tests)
 # and the doctests of the facade.
 cargo test --release

@@ -1,5 +1,6 @@
 //! Masking-shadowing terms. The bake and the shader must use the same one
-//! (docs/design.md section 1), so each variant is one value of [`Geometry`].
+//! (docs/design/model.md, "Single scattering"), so each variant is one value of
+//! [`Geometry`].
 
 use super::{alpha_from_roughness, DIV_EPSILON};
 

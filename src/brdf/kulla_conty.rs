@@ -7,8 +7,9 @@ use super::{f_avg_games202, f_avg_schlick, DIV_EPSILON};
 /// Which form of the Fresnel scale `f_add` a preset uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FAvgForm {
-    /// `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`: the sum over bounces k >= 1 (docs/design.md
-    /// section 1; Filament and Blender Cycles use it).
+    /// `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`: the sum over bounces k >= 1
+    /// (docs/design/model.md, "Where F_avg^2 comes from"; Filament and Blender Cycles use
+    /// it).
     Accurate,
     /// The homework's `F_avg E_avg / (1 - F_avg (1 - E_avg))`: brighter by `1 / F_avg`.
     Games202,
@@ -34,8 +35,8 @@ pub fn f_ms_norm(loss_avg: f64) -> f64 {
 }
 
 /// Fresnel scale of the lobe, summed over all bounces after the first (Kulla & Conty 2017,
-/// slide 26, with the square that the geometric series gives; docs/design.md section 1):
-/// `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`.
+/// slide 26, with the square that the geometric series gives; docs/design/model.md, "Where
+/// F_avg^2 comes from"): `F_avg^2 E_avg / (1 - F_avg (1 - E_avg))`.
 pub fn f_add_accurate(f_avg: f64, e_avg: f64) -> f64 {
     f_avg * f_avg * e_avg / f_add_denominator(f_avg, e_avg)
 }
@@ -53,12 +54,12 @@ pub fn f_add_denominator(f_avg: f64, e_avg: f64) -> f64 {
     ((1.0 - f_avg) + f_avg * e_avg).max(DIV_EPSILON)
 }
 
-/// The Fresnel scale `f_add` of one colour channel as a preset computes it (docs/design.md
-/// section 1; Kulla & Conty 2017, slide 26): `Accurate` takes `F_avg` from Schlick's
-/// closed form for `f0` and sums the bounces with the square; `Games202` takes the
-/// homework's polynomial `F_avg` for `f0` and the channel's `edge_tint`, without the square.
-/// The renderers (`shaders/lighting.wgsl`, `src/cpu`) and the truth study call this one
-/// function, so they compare the same model.
+/// The Fresnel scale `f_add` of one colour channel as a preset computes it
+/// (docs/design/model.md, "Presets"; Kulla & Conty 2017, slide 26): `Accurate` takes
+/// `F_avg` from Schlick's closed form for `f0` and sums the bounces with the square;
+/// `Games202` takes the homework's polynomial `F_avg` for `f0` and the channel's
+/// `edge_tint`, without the square. The renderers (`shaders/lighting.wgsl`, `src/cpu`) and
+/// the truth study call this one function, so they compare the same model.
 pub fn f_add_preset(form: FAvgForm, f0: f64, edge_tint: f64, e_avg: f64) -> f64 {
     match form {
         FAvgForm::Accurate => f_add_accurate(f_avg_schlick(f0), e_avg),

@@ -1,7 +1,8 @@
-//! The BRDF maths (docs/design.md section 1): plain functions over `f64`, one per term.
+//! The BRDF maths (docs/design/model.md): plain functions over `f64`, one per term.
 //!
 //! Every function here is mirrored name for name in `shaders/brdf.wgsl`; the WGSL copy
-//! evaluates the same formula in `f32`. Conventions: the surface normal is +z,
+//! evaluates the same formula in `f32`. The exceptions are bake-time averages, which the
+//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`. Conventions: the surface normal is +z,
 //! `mu_o = n.v`, `mu_i = n.l`, `alpha = roughness^2`. Nothing in this layer knows of
 //! tables, files or the GPU.
 
@@ -9,15 +10,23 @@ mod compensation;
 mod fresnel;
 mod geometry;
 mod kulla_conty;
+mod layering;
 mod ndf;
 
 pub use compensation::{term_fdez_aguera, term_turquin};
-pub use fresnel::{f_avg_games202, f_avg_schlick, f_schlick, GAMES202_EDGE_TINT};
+pub use fresnel::{
+    f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_schlick,
+    fresnel_dielectric, GAMES202_EDGE_TINT,
+};
 pub use geometry::{
     g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,
 };
 pub use kulla_conty::{
     f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
+};
+pub use layering::{
+    coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
+    f_base_view_only, substrate_albedo,
 };
 pub use ndf::d_ggx;
 

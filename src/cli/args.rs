@@ -143,8 +143,8 @@ pub struct BakeArgs {
     #[arg(long, default_value_t = PointSet::Sobol)]
     pub points: PointSet,
     /// Table layout (games202: the homework's; uniform: for engines, read by a plain bilinear
-    /// texture sample at uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M) within 1e-3 at
-    /// roughness >= 0.1).
+    /// texture sample at uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M); 128x128 by default,
+    /// --size 2304x112 for 1e-3 everywhere at roughness >= 0.1: docs/accuracy.md).
     #[arg(long, default_value_t = LayoutKind::Warped)]
     pub layout: LayoutKind,
     /// Storage format the GPU will read (default: the layout's).
@@ -172,7 +172,8 @@ pub struct BenchArgs {
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); default: the built-in reference scene.
+    /// Scene file (TOML); default: render's and view's showcase (assets/scenes/default.toml),
+    /// compare's homework scene (assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else
@@ -209,11 +210,21 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
-    /// The scene file's scene (or the reference scene), with the overrides applied.
+    /// The scene file's scene (or the showcase, `render`'s and `view`'s default), with the
+    /// overrides applied.
     pub fn load(&self) -> crate::Result<crate::scene::Scene> {
+        self.load_or(crate::scene::Scene::showcase)
+    }
+
+    /// The scene file's scene (or `default()` when no `--scene` is given), with the
+    /// overrides applied.
+    pub fn load_or(
+        &self,
+        default: fn() -> crate::scene::Scene,
+    ) -> crate::Result<crate::scene::Scene> {
         let mut scene = match &self.scene {
             Some(path) => crate::scene::load(path)?,
-            None => crate::scene::Scene::reference(),
+            None => default(),
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
@@ -236,13 +247,19 @@ impl SceneArgs {
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");
         }
+        let black_map = scene.environment_map.as_ref().is_none_or(|e| e.is_black());
         if scene.lights.iter().all(|l| l.radiance == glam::DVec3::ZERO)
             && scene.environment == glam::DVec3::ZERO
-            && scene.environment_map.is_none()
+            && black_map
         {
+            let map = match &scene.environment_map {
+                Some(e) if e.intensity == 0.0 => " (the map's intensity is 0)",
+                Some(_) => " (the map is black)",
+                None => "",
+            };
             eprintln!(
-                "warning: the scene has no light and a black environment: the balls are black \
-                 (add a [[light]] or an [environment])"
+                "warning: the scene has no light and a black environment{map}: the balls are \
+                 black (add a [[light]] or an [environment])"
             );
         }
         Ok(scene)
@@ -306,7 +323,8 @@ pub struct EnvironmentArgs {
     /// The built-in to write.
     #[arg(long)]
     pub name: Builtin,
-    /// Output file: .exr (f32) or .hdr (Radiance RGBE, about 1 % precision).
+    /// Output file: .exr (f32), .hdr (Radiance RGBE, about 1 % precision) or .png (a
+    /// preview to look at: tone-mapped like render's PNGs, not a map to load).
     #[arg(long)]
     pub out: PathBuf,
     /// Width in texels: even, 2..=8192 (the height is half).

@@ -3,6 +3,7 @@
 use super::args::BenchArgs;
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    crate::output::check_output_folder(&args.out)?;
     // `--cpu-only` skips the GPU sweeps: a selection of GPU sweeps only would measure
     // nothing.
     if args.cpu_only && !args.only.is_empty() && args.only.iter().all(|k| k.needs_gpu()) {

@@ -8,8 +8,10 @@ use crate::lab::compare::{self, CompareOptions};
 
 pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     let start = Instant::now();
+    crate::output::check_output_folder(&args.out)?;
     super::check_wgpu_backend_env(args.backend)?;
-    let scene = args.scene.load()?;
+    // The homework's scene by default: the one docs/truth.md's figures are of.
+    let scene = args.scene.load_or(crate::scene::Scene::reference)?;
     let mut renderer = super::render::open(args.backend)?;
     let options = CompareOptions {
         scene,

@@ -8,7 +8,6 @@ mod bake;
 mod bench;
 mod compare;
 mod environment;
-mod memory;
 mod probe;
 mod render;
 mod truth;
@@ -116,8 +115,34 @@ pub fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", crate::error::one_line(&format!("{e:#}")));
+            let advice = advice(&e).map_or(String::new(), |a| format!(" ({a})"));
+            eprintln!(
+                "error: {}{advice}",
+                crate::error::one_line(&format!("{e:#}"))
+            );
             ExitCode::FAILURE
         }
+    }
+}
+
+/// What the user can do about a library error, in the command line's words: the library's
+/// messages state what happened, the front end names the flag or command that helps.
+pub(crate) fn advice(e: &anyhow::Error) -> Option<&'static str> {
+    use crate::Error;
+    match e.chain().find_map(|c| c.downcast_ref::<Error>())? {
+        Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),
+        Error::TruthUnsupported { .. } => Some("use --backend vulkan"),
+        Error::Display { .. } => {
+            Some("without a display, `shadeballs render` draws the same scene to a PNG")
+        }
+        Error::Invalid {
+            what: "samples per pixel",
+            ..
+        } => Some("set with --spp"),
+        Error::Invalid {
+            what: "standard error",
+            ..
+        } => Some("set with --stderr"),
+        _ => None,
     }
 }

@@ -5,12 +5,12 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::args::RenderArgs;
-use super::memory;
 use crate::cpu;
 use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
 use crate::labels;
 use crate::lut::{self, BakeConfig};
+use crate::memory;
 use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
 use crate::scene::Scene;
 
@@ -35,7 +35,31 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     output::check_output_path(&args.out)?;
+    let sidecar =
+        (args.backend == Backend::Truth && kind == ImageKind::Exr).then(|| stderr_path(&args.out));
+    if let Some(path) = &sidecar {
+        // Checked with the image, before the work (issue 28, 4).
+        output::check_output_path(path)?;
+        if args.spp == Some(1) {
+            return Err(Error::Invalid {
+                what: "samples per pixel",
+                message: format!(
+                    "--spp 1: one estimate a pixel has no standard error for {} \
+                     (use --spp 2 or more, or a .png)",
+                    path.display()
+                ),
+            }
+            .into());
+        }
+    }
     super::check_wgpu_backend_env(args.backend)?;
+    if args.stderr.is_some() && args.backend != Backend::Truth {
+        eprintln!(
+            "warning: --stderr is ignored: only --backend truth stops at a standard error \
+             (--backend {} runs --spp samples)",
+            args.backend
+        );
+    }
     let mut scene = args.scene.load()?;
     if args.backend == Backend::Truth {
         // Every ball is the walk's (and its label says so).
@@ -62,7 +86,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
             }
             phases.mark("bake");
-            if scene.environment_map.is_some() {
+            if let Some(environment) = &scene.environment_map {
+                check_map_memory(&environment.map, "GPU", GPU_MAP_BYTES_PER_TEXEL)?;
                 // Mip chain, split-sum table and the GPU's prefiltering of the map.
                 renderer.prepare_environment(&scene);
                 phases.mark("prefilter");
@@ -78,7 +103,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     phases.mark("pipeline");
                     let mut rgba = renderer.render_ldr(&scene, w, h)?.rgba;
                     phases.mark("render");
-                    draw_labels(&scene, w, h, &mut rgba, &mut phases)?;
+                    draw_labels(&scene, &args, &mut rgba, &mut phases)?;
                     write_png(&args.out, w, h, rgba)?
                 }
                 ImageKind::Exr => {
@@ -108,29 +133,32 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
                 pixels * (cpu_bytes_per_pixel(kind) + extra),
             )?;
+            if let Some(environment) = scene
+                .environment_map
+                .as_ref()
+                .filter(|_| !montecarlo && !truth)
+            {
+                // The Monte Carlo backends read the map itself; the others its mip chain.
+                check_map_memory(&environment.map, "CPU", CPU_MAP_BYTES_PER_TEXEL)?;
+            }
             if args.verbose {
                 eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
             }
-            let tables = lut::bake(&BakeConfig {
+            let tables = lut::TableSet::from(lut::bake(&BakeConfig {
                 geometry,
                 ..Default::default()
-            });
+            }));
             phases.mark("bake");
+            let mut std_error = None;
             let radiance = if truth {
-                let e = cpu::TableRead::Lut(&tables);
-                let image = render_truth(&scene, &e, &args)?;
+                let image = render_truth(&scene, &tables, &args)?;
                 phases.mark("render");
-                if kind == ImageKind::Exr {
-                    let path = stderr_path(&args.out);
-                    write_exr(&path, w, h, cpu::to_rgba_f32(&image.image.std_error))?;
-                    eprintln!("per-pixel standard error -> {}", path.display());
-                }
+                std_error = Some(image.image.std_error);
                 image.image.mean
             } else if montecarlo {
                 let started = Instant::now();
-                let e = cpu::TableRead::Lut(&tables);
                 let spp = args.spp.unwrap_or(DEFAULT_SPP);
-                let image = cpu::render_montecarlo(&scene, &e, w, h, spp, args.seed)?;
+                let image = cpu::render_montecarlo(&scene, &tables, w, h, spp, args.seed)?;
                 phases.mark("render");
                 let noise = image
                     .mean_relative_std_error()
@@ -150,8 +178,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                     seed: args.seed,
                     ..Default::default()
                 };
-                let e = cpu::TableRead::Lut(&tables);
-                let radiance = cpu::render_radiance_with_truth(&scene, &e, w, h, settings)?;
+                let radiance = cpu::render_radiance_with_truth(&scene, &tables, w, h, settings)?;
                 phases.mark("render");
                 radiance
             } else {
@@ -164,13 +191,23 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 ImageKind::Png => {
                     let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
                     drop(radiance);
-                    draw_labels(&scene, w, h, &mut rgba, &mut phases)?;
+                    draw_labels(&scene, &args, &mut rgba, &mut phases)?;
                     write_png(&args.out, w, h, rgba)?
                 }
                 ImageKind::Exr => {
                     let rgba = cpu::to_rgba_f32(&radiance);
                     drop(radiance);
-                    write_exr(&args.out, w, h, rgba)?
+                    match (&sidecar, std_error) {
+                        (Some(path), Some(std_error)) => {
+                            // Both written, then both renamed: a failed write leaves the old
+                            // pair (issue 28, 4).
+                            let side = output::stage_exr(path, w, h, cpu::to_rgba_f32(&std_error))?;
+                            let image = output::stage_exr(&args.out, w, h, rgba)?;
+                            output::commit_all(vec![side, image])?;
+                            eprintln!("per-pixel standard error -> {}", path.display());
+                        }
+                        _ => write_exr(&args.out, w, h, rgba)?,
+                    }
                 }
             }
             if truth {
@@ -201,7 +238,7 @@ const DEFAULT_SPP: u32 = 64;
 /// terminal) and a summary of every ball's mean and its standard error.
 fn render_truth(
     scene: &crate::scene::Scene,
-    e: &cpu::TableRead<'_>,
+    e: &lut::TableSet,
     args: &RenderArgs,
 ) -> Result<cpu::TruthImage> {
     use std::io::IsTerminal as _;
@@ -244,15 +281,31 @@ fn render_truth(
             .stderr
             .map_or(String::new(), |s| format!(" (target {:.3} %)", 100.0 * s));
         eprintln!("{}{target}, seed {}", line(last), settings.seed);
+        if let (Some(target), Some(worst)) = (settings.stderr, last.worst_stderr) {
+            if worst > target {
+                eprintln!(
+                    "warning: the target standard error {:.3} % was not reached: {:.3} % at \
+                     the cap of {} spp (raise --spp, up to {})",
+                    100.0 * target,
+                    100.0 * worst,
+                    last.spp,
+                    cpu::montecarlo::MAX_SPP
+                );
+            }
+        }
     }
+    // One estimate a pixel gives no standard error (issue 28, 5): say so, not "+- 0 %".
+    let one = image.image.spp < 2;
     for (k, b) in image.balls.iter().enumerate() {
         if let Some(rel) = b.relative_std_error() {
+            let error = if one {
+                "(no standard error from one estimate a pixel)".to_string()
+            } else {
+                format!("+- {:.3} %", 100.0 * rel)
+            };
             eprintln!(
-                "  ball {k}: mean radiance [{:.5}, {:.5}, {:.5}] +- {:.3} %",
-                b.mean.x,
-                b.mean.y,
-                b.mean.z,
-                100.0 * rel
+                "  ball {k}: mean radiance [{:.5}, {:.5}, {:.5}] {error}",
+                b.mean.x, b.mean.y, b.mean.z,
             );
         }
     }
@@ -273,7 +326,7 @@ fn accumulate_gpu_truth(
         return Err(Error::Invalid {
             what: "samples per pixel",
             message: format!(
-                "{spp}: --spp must be in 1..={} on the GPU",
+                "{spp}: must be in 1..={} on the GPU",
                 crate::gpu::MAX_TRUTH_SPP
             ),
         });
@@ -298,10 +351,13 @@ fn accumulate_gpu_truth(
             1.0 / m.max(1e-9)
         )
     });
-    eprintln!(
-        "gpu truth: {spp} spp at {w}x{h}, {rate} over {} frames",
-        times.len()
-    );
+    // With one frame the draw that writes the image is the only one: nothing to time.
+    if !times.is_empty() {
+        eprintln!(
+            "gpu truth: {spp} spp at {w}x{h}, {rate} over {} frames",
+            times.len()
+        );
+    }
     Ok(())
 }
 
@@ -317,10 +373,24 @@ pub fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
 
 /// The chart's labels over a picture's display pixels, when the scene asks for them (a
 /// `.png` only: an `.exr` holds radiance).
-fn draw_labels(scene: &Scene, w: u32, h: u32, rgba: &mut [u8], phases: &mut Phases) -> Result<()> {
+/// An explicit `--labels` that draws nothing says so (issue 28, 10).
+fn draw_labels(
+    scene: &Scene,
+    args: &RenderArgs,
+    rgba: &mut [u8],
+    phases: &mut Phases,
+) -> Result<()> {
+    let (w, h) = (args.width, args.height);
     if scene.labels {
-        labels::draw_labels(rgba, w, h, &labels::layout(scene, w, h))?;
+        let drawn = labels::draw_labels(rgba, w, h, &labels::layout(scene, w, h))?;
         phases.mark("labels");
+        if drawn == 0 && args.scene.labels {
+            eprintln!(
+                "warning: --labels drew nothing: no label fits a {w}x{h} image at a font of \
+                 at least {} px (a larger image has room)",
+                labels::MIN_FONT_PX
+            );
+        }
     }
     Ok(())
 }
@@ -373,6 +443,32 @@ fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
 /// results (mean, standard error, coverage: 56 bytes) split into the image's three vectors
 /// (49 bytes).
 const MONTECARLO_BYTES_PER_PIXEL: u64 = 56 + 49;
+
+/// Bytes a map texel adds on the GPU path, once the map is read: its mip chain (RGBA f32
+/// values, 16 a texel and a third more for the smaller levels: 21.3), the texture (f16,
+/// 8 and a third: 10.7; lavapipe keeps it in the host's memory), and level 0's f16 upload
+/// bytes and wgpu's staging copy of them (8 each, transient). Issue 28, 3: an 8192x4096 map
+/// on lavapipe fails between 2.8 and 3.0 GB of address space with 1.4 GB mapped before
+/// the chain, so it needs 1.4 to 1.6 GB more: 48 bytes a texel is the upper end.
+const GPU_MAP_BYTES_PER_TEXEL: u64 = 48;
+
+/// Bytes a map texel adds on the CPU path: its mip chain (the prefiltered layers are
+/// small). Issue 28, 3: an 8192x4096 map renders in 1.5 GB of address space, not 1.3.
+const CPU_MAP_BYTES_PER_TEXEL: u64 = 22;
+
+/// Fails in one line, before the mip chain is built, when `map` at `bytes_per_texel`
+/// needs more memory than is available ([`memory::check`]).
+fn check_map_memory(
+    map: &crate::environment::EnvMap,
+    on: &str,
+    bytes_per_texel: u64,
+) -> Result<()> {
+    let (w, h) = (map.width(), map.height());
+    memory::check(
+        &format!("the {w}x{h} environment map's mip chain and textures on the {on}"),
+        u64::from(w) * u64::from(h) * bytes_per_texel,
+    )
+}
 
 /// Peak bytes a pixel on the GPU path, measured on lavapipe (where the GPU's memory is the
 /// host's): the frame, the read-back buffer, its mapped copy and the unpadded image, each

@@ -7,6 +7,7 @@ use super::args::TruthArgs;
 
 pub fn run(args: TruthArgs) -> anyhow::Result<()> {
     let start = Instant::now();
+    crate::output::check_output_folder(&args.out)?;
     let options = crate::lab::truth::TruthOptions {
         quick: args.quick,
         out: args.out,

@@ -11,9 +11,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
-pub use shade::{
-    intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms, TableRead,
-};
+pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms};
 pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
@@ -21,15 +19,11 @@ pub use truth::{
 use shade::{shade_with_terms, Forms};
 
 use crate::display::{to_unorm8, tone_map};
-use crate::lut::Tables;
+use crate::lut::TableSet;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALLS};
 
-/// Linear radiance of every pixel, row-major, row 0 at the top; rows on rayon's pool.
-pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) -> Vec<DVec3> {
-    render_radiance_with(scene, &TableRead::Lut(tables), width, height)
-}
-
-/// As [`render_radiance`] with a chosen source of E and E_avg.
+/// Linear radiance of every pixel, row-major, row 0 at the top; rows on rayon's pool. E
+/// and E_avg are read from `e` as the shader reads the same tables.
 ///
 /// Each pixel intersects only the balls whose screen-space bounds cover it (the bounds the
 /// GPU's quads use, [`CameraBasis::sphere_bounds`], widened by the same
@@ -37,12 +31,7 @@ pub fn render_radiance(scene: &Scene, tables: &Tables, width: u32, height: u32) 
 /// follows the pixels the balls cover, not their number. Candidates are tried in index
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
-pub fn render_radiance_with(
-    scene: &Scene,
-    e: &TableRead<'_>,
-    width: u32,
-    height: u32,
-) -> Vec<DVec3> {
+pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> Vec<DVec3> {
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
@@ -53,7 +42,7 @@ pub fn render_radiance_with(
     // scene's G, whatever `e` reads).
     let ibl = scene.environment_map.as_ref().map(|environment| {
         let tables = match e {
-            TableRead::Lut(t) if t.config.geometry == geometry => (*t).clone(),
+            TableSet::Full(t) if t.config.geometry == geometry => (**t).clone(),
             _ => crate::lut::bake(&crate::lut::BakeConfig {
                 geometry,
                 ..Default::default()

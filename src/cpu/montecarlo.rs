@@ -1,11 +1,11 @@
 //! The Monte Carlo reference (`render --backend montecarlo`): the chosen model
 //! ([`IblTerm`]) integrated against the directional lights and the environment without any
-//! real-time approximation: no split sum, no harmonics, no prefiltering (docs/design.md,
-//! "Monte Carlo backend").
+//! real-time approximation: no split sum, no harmonics, no prefiltering
+//! (docs/design/environment.md, "The Monte Carlo backend").
 //!
 //! The camera, the primary rays (one per pixel, through its centre) and the sphere hits are
-//! those of [`super::render_radiance_with`], and E and E_avg come from the same
-//! [`TableRead`], so an image compares pixel for pixel with the real-time renderers' and
+//! those of [`super::render_radiance`], and E and E_avg come from the same
+//! [`TableSet`], so an image compares pixel for pixel with the real-time renderers' and
 //! only the integration over incident directions differs. Lights are evaluated directly
 //! (`f_r L mu_i`); the environment is integrated by importance sampling with three
 //! strategies (GGX visible normals, cosine-weighted hemisphere, the map's luminance)
@@ -17,15 +17,15 @@ use std::f64::consts::PI;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::shade::{f_add_rgb, per_channel};
-use super::{surface_normal, Bins, TableRead};
+use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
+use super::{surface_normal, Bins};
 use crate::brdf::{
     alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
     DIV_EPSILON,
 };
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
-use crate::lut::SplitSum;
+use crate::lut::{SplitSum, TableSet};
 use crate::scene::{Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -86,7 +86,7 @@ impl MonteCarloImage {
 /// rotation or intensity that is not finite (or a negative intensity).
 pub fn render_montecarlo(
     scene: &Scene,
-    e: &TableRead<'_>,
+    e: &TableSet,
     width: u32,
     height: u32,
     spp: u32,
@@ -108,7 +108,7 @@ pub enum Part {
 /// the lobe the term adds, the reference for a real-time method's term alone.
 pub fn render_montecarlo_part(
     scene: &Scene,
-    e: &TableRead<'_>,
+    e: &TableSet,
     width: u32,
     height: u32,
     spp: u32,
@@ -118,7 +118,7 @@ pub fn render_montecarlo_part(
     if !(1..=MAX_SPP).contains(&spp) {
         return Err(Error::Invalid {
             what: "samples per pixel",
-            message: format!("{spp}: --spp must be in 1..={MAX_SPP}"),
+            message: format!("{spp}: must be in 1..={MAX_SPP}"),
         });
     }
     if let Some(env) = &scene.environment_map {
@@ -135,7 +135,7 @@ pub fn render_montecarlo_part(
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
-    // backend does not antialias silhouettes: docs/design.md section 12).
+    // backend does not antialias silhouettes: docs/design/antialiasing.md, "Monte Carlo").
     let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
@@ -223,11 +223,11 @@ pub struct ShadingPoint {
 impl ShadingPoint {
     /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
     /// and geometry and the ball's model, with E and E_avg from `e`.
-    pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableRead<'_>) -> Self {
+    pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
         let roughness = b.roughness;
         let f0 = b.material.f0;
         let mu_o = n.dot(v).max(0.0);
-        let loss_avg = e.loss_avg(roughness);
+        let loss_avg = loss_avg(e, roughness);
         let e_avg = 1.0 - loss_avg;
         let form = scene.preset.f_avg_form();
         ShadingPoint {
@@ -237,13 +237,13 @@ impl ShadingPoint {
             roughness,
             f0,
             ms: if b.model.has_term() { 1.0 } else { 0.0 },
-            loss_o: e.loss(mu_o, roughness),
+            loss_o: loss(e, mu_o, roughness),
             norm: f_ms_norm(loss_avg),
             f_add: f_add_rgb(form, f0, e_avg),
             kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
             term: b.model.term().unwrap_or(IblTerm::KullaConty),
             geometry: scene.effective_geometry(),
-            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - e.loss(mu_o, roughness)),
+            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
             part: Part::Whole,
         }
     }
@@ -275,7 +275,7 @@ impl ShadingPoint {
 ///   `F_avg = F0 + (1 - F0) / 21`, `FssEss = F0 A + B` from the split sum's table
 ///   ([`ShadingPoint::with_split_sum`], which [`render_montecarlo`] applies; without it
 ///   `F_avg E(mu_o)`).
-pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
+pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
     let mu_i = p.n.dot(l);
     if mu_i <= 0.0 || p.mu_o <= 0.0 {
         return DVec3::ZERO;
@@ -301,7 +301,7 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableRead<'_>) -> DVec3 {
     let diffuse = p.kd / PI;
     let multiple = match p.term {
         IblTerm::KullaConty => {
-            let loss_i = e.loss(mu_i, p.roughness);
+            let loss_i = loss(e, mu_i, p.roughness);
             p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm)
         }
         IblTerm::Turquin => {
@@ -366,7 +366,7 @@ impl<'a> Lighting<'a> {
     pub(super) fn estimate(
         &self,
         p: &ShadingPoint,
-        e: &TableRead<'_>,
+        e: &TableSet,
         spp: u32,
         rng: &mut Rng,
     ) -> (DVec3, DVec3) {
@@ -415,7 +415,7 @@ impl<'a> Lighting<'a> {
     /// One sample's share of the multi-sample balance-heuristic estimator:
     /// `f_r L mu_i / sum_k pdf_k(l)` (each strategy draws one direction per estimate, so
     /// the weight `pdf_s / sum_k pdf_k` over `pdf_s` leaves the sum).
-    fn contribution(&self, p: &ShadingPoint, e: &TableRead<'_>, l: DVec3, alpha: f64) -> DVec3 {
+    fn contribution(&self, p: &ShadingPoint, e: &TableSet, l: DVec3, alpha: f64) -> DVec3 {
         let mu_i = p.n.dot(l);
         if mu_i <= 0.0 {
             return DVec3::ZERO;

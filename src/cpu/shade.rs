@@ -8,36 +8,17 @@ use crate::brdf::{
     term_turquin, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
 use crate::environment::{Environment, IblTerm, MipChain, Prefiltered};
-use crate::lut::{e_avg_reference, e_reference, RowSet, SplitSum, Tables};
+use crate::lut::{SplitSum, TableSet, Tables};
 use crate::scene::{Ball, Scene};
 
-/// Where the CPU renderer takes E and E_avg from.
-pub enum TableRead<'a> {
-    /// The shader's read of the same tables (`Tables::lut_e`, f32): the default.
-    Lut(&'a Tables),
-    /// The shader's read of a scene's own rows (`RowSet::lut_loss`, f32), each ball its row.
-    Rows(&'a RowSet),
-    /// The precise reference (slow: for spot checks of a few pixels' worth).
-    Reference(Geometry),
+/// `1 - E(mu, roughness)` as the shader reads `e` (f32, [`TableSet::lut_loss`]), in f64.
+pub(crate) fn loss(e: &TableSet, mu: f64, roughness: f64) -> f64 {
+    e.lut_loss(mu as f32, roughness as f32) as f64
 }
 
-impl TableRead<'_> {
-    /// `1 - E(mu, roughness)`.
-    pub(crate) fn loss(&self, mu: f64, roughness: f64) -> f64 {
-        match self {
-            TableRead::Lut(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
-            TableRead::Rows(t) => t.lut_loss(mu as f32, roughness as f32) as f64,
-            TableRead::Reference(g) => 1.0 - e_reference(mu.clamp(0.0, 1.0), roughness, *g),
-        }
-    }
-    /// `1 - E_avg(roughness)`.
-    pub(crate) fn loss_avg(&self, roughness: f64) -> f64 {
-        match self {
-            TableRead::Lut(t) => t.lut_loss_avg(roughness as f32) as f64,
-            TableRead::Rows(t) => t.lut_loss_avg(roughness as f32) as f64,
-            TableRead::Reference(g) => 1.0 - e_avg_reference(roughness, *g),
-        }
-    }
+/// `1 - E_avg(roughness)` as the shader reads `e` ([`TableSet::lut_loss_avg`]), in f64.
+pub(crate) fn loss_avg(e: &TableSet, roughness: f64) -> f64 {
+    e.lut_loss_avg(roughness as f32) as f64
 }
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -87,7 +68,7 @@ pub fn shade(
     b: &Ball,
     n: DVec3,
     v: DVec3,
-    e: &TableRead<'_>,
+    e: &TableSet,
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
@@ -136,7 +117,7 @@ pub(super) fn shade_with_terms(
     b: &Ball,
     n: DVec3,
     v: DVec3,
-    e: &TableRead<'_>,
+    e: &TableSet,
     forms: &Forms<'_>,
 ) -> (DVec3, PointTerms) {
     let Forms {
@@ -149,9 +130,9 @@ pub(super) fn shade_with_terms(
     let ms = if b.model.has_term() { 1.0 } else { 0.0 };
     let term = b.model.term().unwrap_or(IblTerm::KullaConty);
     let mu_o = n.dot(v).max(0.0);
-    let loss_o = e.loss(mu_o, roughness);
+    let loss_o = loss(e, mu_o, roughness);
     let e_o = 1.0 - loss_o;
-    let loss_avg = e.loss_avg(roughness);
+    let loss_avg = loss_avg(e, roughness);
     let e_avg = 1.0 - loss_avg;
     let norm = f_ms_norm(loss_avg);
     let f_avg_ss = per_channel(f0, f_avg_schlick);
@@ -202,7 +183,7 @@ pub(super) fn shade_with_terms(
             )
         });
         let lobe = match term {
-            IblTerm::KullaConty => f_add * f_ms(loss_o, e.loss(mu_i, roughness), norm),
+            IblTerm::KullaConty => f_add * f_ms(loss_o, loss(e, mu_i, roughness), norm),
             IblTerm::Turquin => turquin_rgb(spec, f0, e_o),
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
@@ -246,11 +227,17 @@ impl CpuEnvironment {
         }
     }
 
+    /// The intensity the GPU's uniform holds: the environment's times the chain's f16
+    /// scale, which its levels and the prefiltered layers are divided by.
+    pub fn intensity(&self, environment: &Environment) -> f64 {
+        environment.intensity * f64::from(self.chain.scale)
+    }
+
     /// `background_radiance`'s map part in `balls.wgsl`: the map along world direction `d`
     /// (level 0, bilinear), times the intensity.
     pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
         let uv = crate::environment::direction_to_uv(environment.to_map(d));
-        environment.intensity * self.chain.levels[0].bilinear(uv)
+        self.intensity(environment) * self.chain.levels[0].bilinear(uv)
     }
 }
 
@@ -281,7 +268,7 @@ pub fn shade_environment_map(
         ..
     } = *terms;
     let e_o = 1.0 - loss_o;
-    let intensity = environment.intensity;
+    let intensity = ibl.intensity(environment);
     let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
     let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);

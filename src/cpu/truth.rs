@@ -1,6 +1,6 @@
 //! The truth, pictured (`render --backend truth`): every ball shaded with the random walk
 //! of Heitz et al. 2016 on its microsurface ([`crate::walk`]), the exact multiple scattering
-//! the real-time models approximate (docs/design.md, "The truth renderer").
+//! the real-time models approximate (docs/truth.md, "The truth, pictured").
 //!
 //! The camera, the primary rays and the sphere hits are those of the other CPU renderers,
 //! so a truth image compares pixel for pixel with theirs. Per covered pixel:
@@ -36,9 +36,10 @@ use rayon::prelude::*;
 
 use super::montecarlo::{Frame, Lighting, MonteCarloImage, ShadingPoint, LUMINANCE, MAX_SPP};
 use super::shade::per_channel;
-use super::{surface_normal, Bins, TableRead};
+use super::{surface_normal, Bins};
 use crate::brdf::{f_avg_schlick, Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
+use crate::lut::TableSet;
 use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::microsurface::Microsurface;
 use crate::walk::single::{single_albedo, Rules};
@@ -153,7 +154,7 @@ struct Pixel {
 /// `max_order` is 0.
 pub fn render_truth(
     scene: &Scene,
-    e: &TableRead<'_>,
+    e: &TableSet,
     width: u32,
     height: u32,
     settings: TruthSettings,
@@ -163,14 +164,14 @@ pub fn render_truth(
     if !(1..=MAX_SPP).contains(&settings.spp) {
         return invalid(
             "samples per pixel",
-            format!("{}: --spp must be in 1..={MAX_SPP}", settings.spp),
+            format!("{}: must be in 1..={MAX_SPP}", settings.spp),
         );
     }
     if let Some(s) = settings.stderr {
         if !(MIN_STDERR..=1.0).contains(&s) {
             return invalid(
                 "standard error",
-                format!("{s}: --stderr must be in {MIN_STDERR}..=1 (a fraction: 0.005 is 0.5 %)"),
+                format!("{s}: must be in {MIN_STDERR}..=1 (a fraction: 0.005 is 0.5 %)"),
             );
         }
     }
@@ -394,7 +395,7 @@ impl SingleAlbedos {
 }
 
 /// The single-scattering model at a point (no term, the walk's G).
-fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableRead<'_>) -> ShadingPoint {
+fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> ShadingPoint {
     let none = Ball {
         model: Model::None,
         ..*b
@@ -410,7 +411,7 @@ fn single_fixed(
     b: &Ball,
     n: DVec3,
     v: DVec3,
-    e: &TableRead<'_>,
+    e: &TableSet,
     singles: &SingleAlbedos,
 ) -> DVec3 {
     let point = single_point(scene, b, n, v, e);
@@ -444,7 +445,7 @@ struct PixelWalk {
 
 impl PixelWalk {
     /// `None` where the pixel faces away (`n.v <= 0`): it has nothing to estimate.
-    fn new(scene: &Scene, b: &Ball, p: &Pixel, e: &TableRead<'_>, map: bool) -> Option<Self> {
+    fn new(scene: &Scene, b: &Ball, p: &Pixel, e: &TableSet, map: bool) -> Option<Self> {
         if p.n.dot(p.v) <= 0.0 {
             return None;
         }
@@ -475,7 +476,7 @@ impl PixelWalk {
     fn estimate(
         &self,
         scene: &Scene,
-        e: &TableRead<'_>,
+        e: &TableSet,
         map: Option<&Lighting<'_>>,
         max_order: u32,
         rng: &mut Rng,
@@ -523,16 +524,16 @@ impl PixelWalk {
 }
 
 /// The CPU reference renderer's image of a scene with truth balls: every other ball as
-/// [`super::render_radiance_with`] shades it, the truth balls by the walk with `settings`
+/// [`super::render_radiance`] shades it, the truth balls by the walk with `settings`
 /// (`every_ball` is ignored).
 pub fn render_radiance_with_truth(
     scene: &Scene,
-    e: &TableRead<'_>,
+    e: &TableSet,
     width: u32,
     height: u32,
     settings: TruthSettings,
 ) -> Result<Vec<DVec3>> {
-    let mut radiance = super::render_radiance_with(scene, e, width, height);
+    let mut radiance = super::render_radiance(scene, e, width, height);
     if scene.has_truth() {
         let settings = TruthSettings {
             every_ball: false,

@@ -73,7 +73,8 @@ impl Builtin {
                         *c = sanitize(f64::from(*c) * scale);
                     }
                 }
-                map
+                // The texels changed: their peak too.
+                EnvMap::with_peak(width, height, map.texels)
             }
         }
     }
@@ -170,11 +171,7 @@ fn fill<R>(
             *t = [sanitize(c.x), sanitize(c.y), sanitize(c.z)];
         }
     });
-    EnvMap {
-        width,
-        height,
-        texels,
-    }
+    EnvMap::with_peak(width, height, texels)
 }
 
 fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {

@@ -1,10 +1,10 @@
 //! Reading and writing environment maps: Radiance `.hdr` (RGBE) and OpenEXR, both linear.
 //!
-//! The rules for bad input (docs/design.md section 10): the size is read from the header
-//! before anything is decoded, so a map over [`MAX_MAP_TEXELS`] or not 2:1 is one error
-//! without allocating its texels; a missing, truncated or corrupt file, or one with another
-//! extension, is one error naming the path; NaN, infinite and negative channels are clamped,
-//! counted in [`MapStats`] and reported in one warning.
+//! The rules for bad input (docs/design/environment.md, "Bad input"): the size is read from
+//! the header before anything is decoded, so a map over [`MAX_MAP_TEXELS`] or not 2:1 is
+//! one error without allocating its texels; a missing, truncated or corrupt file, or one
+//! with another extension, is one error naming the path; NaN, infinite and negative
+//! channels are clamped, counted in [`MapStats`] and reported in one warning.
 
 use std::fs::File;
 use std::io::BufReader;
@@ -89,19 +89,47 @@ pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
     }
 }
 
-fn reader(path: &Path, format: image::ImageFormat) -> Result<image::ImageReader<BufReader<File>>> {
-    let file = File::open(path).map_err(|e| error(path, crate::error::one_line(&e.to_string())))?;
-    Ok(image::ImageReader::with_format(
-        BufReader::new(file),
-        format,
-    ))
+/// Peak bytes a texel costs while a map is read: the decoder's image and the map's own
+/// texels, both alive at once: an `.hdr` decodes to RGB f32 (12 + 12), an `.exr` may
+/// decode to RGBA f32 and be converted to RGB f32 (16 + 12 + 12).
+pub fn load_bytes_per_texel(format: image::ImageFormat) -> u64 {
+    if format == image::ImageFormat::Hdr {
+        24
+    } else {
+        40
+    }
+}
+
+/// Opens `path` once, for reading, refusing anything but a regular file before it is
+/// opened: a FIFO would block the open until a writer comes, and a device or socket is
+/// no map (issue 28, 8). The file's own type is checked again once open.
+fn open_regular(path: &Path) -> Result<File> {
+    let io = |e: std::io::Error| error(path, crate::error::one_line(&e.to_string()));
+    let kind = |m: &std::fs::Metadata| -> Result<()> {
+        if m.is_dir() {
+            Err(error(path, "is a folder, not a file"))
+        } else if !m.is_file() {
+            Err(error(
+                path,
+                "is not a regular file (a FIFO, a device or a socket): a map is read from a file",
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    kind(&std::fs::metadata(path).map_err(io)?)?;
+    let file = File::open(path).map_err(io)?;
+    kind(&file.metadata().map_err(io)?)?;
+    Ok(file)
 }
 
 /// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
-/// [`MAX_MAP_TEXELS`] (checked from the header, before decoding). NaN, infinite and
-/// negative channels are clamped (NaN and negative to 0, -inf to 0, +inf to the largest
-/// finite channel of the map, or 0 if none), counted in the [`MapStats`], and reported in
-/// one `log::warn!` line.
+/// [`MAX_MAP_TEXELS`], and within the memory available ([`crate::memory::check`] of
+/// [`super::load_bytes_per_texel`]), all checked from the header, before decoding; the
+/// file is opened once, and only a regular file is. NaN, infinite and negative channels
+/// are clamped (NaN and negative to 0, -inf to 0, +inf to the largest finite channel of
+/// the map, or 0 if none), counted in the [`MapStats`], and reported in one `log::warn!`
+/// line.
 pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     let format = format_of(path).ok_or_else(|| {
         error(
@@ -109,21 +137,24 @@ pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
             "expected a .hdr (Radiance RGBE) or .exr (OpenEXR) file",
         )
     })?;
-    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
-        return Err(error(path, "is a folder, not a file"));
-    }
-    let (width, height) = reader(path, format)?
-        .into_dimensions()
-        .map_err(|e| error(path, decode_error(e)))?;
-    if let Some(problem) = size_problem(width, height) {
-        return Err(error(path, problem));
-    }
-    let mut reader = reader(path, format)?;
+    let file = open_regular(path)?;
+    let mut reader = image::ImageReader::with_format(BufReader::new(file), format);
     // The size is bounded above: the decoder's own allocation limit (512 MiB) would refuse
     // an RGBA f32 EXR of the largest size.
     reader.no_limits();
-    let image = reader
-        .decode()
+    let decoder = reader
+        .into_decoder()
+        .map_err(|e| error(path, decode_error(e)))?;
+    let (width, height) = image::ImageDecoder::dimensions(&decoder);
+    if let Some(problem) = size_problem(width, height) {
+        return Err(error(path, problem));
+    }
+    crate::memory::check(
+        &format!("reading the {width}x{height} environment map"),
+        u64::from(width) * u64::from(height) * load_bytes_per_texel(format),
+    )
+    .map_err(|e| error(path, e.to_string()))?;
+    let image = image::DynamicImage::from_decoder(decoder)
         .map_err(|e| error(path, decode_error(e)))?
         .into_rgb32f();
     if image.dimensions() != (width, height) {

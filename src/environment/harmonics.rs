@@ -1,5 +1,5 @@
 //! Real spherical harmonics: projecting an environment map onto the first bands and
-//! convolving it with a zonal kernel by the Funk-Hecke theorem (docs/design.md section 10,
+//! convolving it with a zonal kernel by the Funk-Hecke theorem (docs/design/environment.md,
 //! "Harmonics or a map per roughness"). The renderer prefilters a small map per roughness
 //! instead ([`super::prefilter`]); this module is the alternative it was measured against.
 //!

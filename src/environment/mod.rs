@@ -1,6 +1,7 @@
-//! Environment maps: equirectangular linear radiance around the scene (docs/design.md
-//! section 10), where they come from (a `.hdr`/`.exr` file or a generated built-in) and how
-//! a direction reads them. Knows nothing of the GPU.
+//! Environment maps: equirectangular linear radiance around the scene
+//! (docs/design/environment.md, "The map: convention, files, built-ins"), where they come
+//! from (a `.hdr`/`.exr` file or a generated built-in) and how a direction reads them.
+//! Knows nothing of the GPU.
 //!
 //! Convention (stated once, here): a unit direction `d = (x, y, z)`, `+y` up, maps to
 //! `u = atan2(x, -z) / 2 pi + 1/2`, `v = acos(y) / pi`; texel `(i, j)` of a `W x H` map has
@@ -20,7 +21,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
-pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+pub use file::{load, load_bytes_per_texel, save, MapStats, MAX_MAP_TEXELS};
 pub use prefilter::{MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
@@ -33,6 +34,8 @@ pub struct EnvMap {
     width: u32,
     height: u32,
     texels: Vec<[f32; 3]>,
+    /// The largest channel of any texel.
+    peak: f32,
 }
 
 impl EnvMap {
@@ -64,21 +67,51 @@ impl EnvMap {
         {
             return Err(invalid(format!("texel {t:?} is negative, NaN or infinite")));
         }
-        Ok(EnvMap {
-            width,
-            height,
-            texels,
-        })
+        Ok(Self::with_peak(width, height, texels))
     }
 
-    /// A map of one radiance everywhere.
-    pub fn uniform(radiance: DVec3, width: u32, height: u32) -> Self {
-        let t = radiance.as_vec3().to_array();
+    /// The map of checked texels (finite, non-negative, as many as the size says), with
+    /// its peak found.
+    pub(crate) fn with_peak(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Self {
+        let peak = texels.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
         EnvMap {
             width,
             height,
-            texels: vec![t; width as usize * height as usize],
+            texels,
+            peak,
         }
+    }
+
+    /// A map of one radiance everywhere (negative and non-finite channels as 0).
+    pub fn uniform(radiance: DVec3, width: u32, height: u32) -> Self {
+        let t = radiance
+            .as_vec3()
+            .to_array()
+            .map(|c| if c.is_finite() && c > 0.0 { c } else { 0.0 });
+        Self::with_peak(width, height, vec![t; width as usize * height as usize])
+    }
+
+    /// The largest channel of any texel (0 for a black map).
+    pub fn peak(&self) -> f32 {
+        self.peak
+    }
+
+    /// The power of two the GPU's half-float textures hold this map divided by, so that its
+    /// peak fits under [`prefilter::F16_MAX`]: 1 for a map that fits, else the smallest
+    /// `2^k` that brings the peak under it. Exact in f32 and f64, so dividing the texels and
+    /// multiplying the reads back changes no bit beyond f16's own rounding (issue 28, 2:
+    /// a sun above 65504 keeps its energy instead of being clipped).
+    pub fn f16_scale(&self) -> f32 {
+        let mut scale = 1.0f32;
+        while self.peak / scale > prefilter::F16_MAX {
+            scale *= 2.0;
+        }
+        scale
+    }
+
+    /// Whether every texel is black.
+    pub fn is_black(&self) -> bool {
+        self.peak == 0.0
     }
 
     /// Texels across.
@@ -243,6 +276,11 @@ impl Environment {
     pub fn from_map(&self, map: DVec3) -> DVec3 {
         let (s, c) = self.rotation_deg.to_radians().sin_cos();
         DVec3::new(c * map.x + s * map.z, map.y, -s * map.x + c * map.z)
+    }
+
+    /// Whether the environment adds no light: intensity 0 or a black map.
+    pub fn is_black(&self) -> bool {
+        self.intensity == 0.0 || self.map.is_black()
     }
 
     /// Radiance arriving from world direction `d` (towards the light): bilinear in the map,

@@ -1,7 +1,8 @@
-//! Prefiltering an environment map for real-time shading (docs/design.md section 10), on the
-//! CPU: the twin of `shaders/prefilter.wgsl`, which does the same work on the GPU at load.
-//! Both start from the same [`MipChain`] (built here, uploaded as is) and take the same
-//! samples, so the CPU renderer reads what the GPU's prefiltered textures hold.
+//! Prefiltering an environment map for real-time shading (docs/design/environment.md,
+//! "Shading under a map (image-based lighting)"), on the CPU: the twin of
+//! `shaders/prefilter.wgsl`, which does the same work on the GPU at load. Both start from
+//! the same [`MipChain`] (built here, uploaded as is) and take the same samples, so the CPU
+//! renderer reads what the GPU's prefiltered textures hold.
 //!
 //! Three products, each a weighted average of the map, so a uniform map gives back its
 //! radiance exactly (the furnace holds through the whole path):
@@ -20,7 +21,8 @@
 //!   of the term's lobe divided by its uniform-environment value `pi (1 - E_avg)`.
 //!   The convolution is a direct sum over the texels of the mip level
 //!   [`CONVOLUTION_SOURCE_WIDTH`] wide, so it has no band limit (spherical harmonics, the
-//!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design.md section 10).
+//!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design/environment.md,
+//!   "Harmonics or a map per roughness").
 
 use std::f64::consts::PI;
 
@@ -58,9 +60,11 @@ pub const CONVOLVED_WIDTH: u32 = 32;
 pub const CONVOLUTION_SOURCE_WIDTH: u32 = 64;
 /// Samples of each zonal kernel over `t = n.w` in `[0, 1]` (linear between them).
 pub const KERNEL_SIZE: usize = 64;
-/// Largest radiance the f16 textures hold; brighter texels are clamped to it (counted by
-/// [`MipChain::clamped`]).
+/// Largest radiance the f16 textures hold; a brighter map is divided by a power of two to
+/// fit ([`EnvMap::f16_scale`]).
 pub const F16_MAX: f32 = 65504.0;
+/// The smallest positive f16 (a subnormal, 2^-24); half of it rounds to 0.
+pub const F16_MIN_SUBNORMAL: f32 = 5.960_464_5e-8;
 /// A weight sum below this is treated as zero (no texel in the kernel's support).
 pub const WEIGHT_EPSILON: f64 = 1e-30;
 /// Smallest `sin theta` the texel solid angle uses at the poles (filtered importance
@@ -117,27 +121,60 @@ impl Level {
 
 /// The map and its mip levels (each texel the solid-angle weighted mean of the 2 x 2
 /// below it; odd sizes drop their last row or column, as a texture's mip sizes do), with
-/// f16 values.
+/// f16 values of the map divided by [`MipChain::scale`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct MipChain {
     /// Level 0 (the map) first, down to 1 texel on the shorter side.
     pub levels: Vec<Level>,
-    /// Texel channels above [`F16_MAX`], clamped to it.
+    /// The map's [`EnvMap::f16_scale`]: every level holds the map's radiance divided by it,
+    /// and a read multiplies it back (on the GPU it is folded into the uniform's intensity).
+    pub scale: f32,
+    /// Texel channels that f16 cannot hold once divided by the scale: non-zero values
+    /// below its smallest subnormal, flushed to 0 (the scale keeps every value under
+    /// [`F16_MAX`], so none is clipped at the top).
     pub clamped: u64,
 }
 
 impl MipChain {
-    /// Builds the chain of `map`.
+    /// Builds the chain of `map`, with one `log::warn!` line when texels are lost to f16
+    /// and one `log::info!` line when the map is scaled to fit it.
     pub fn new(map: &EnvMap) -> Self {
+        let scale = map.f16_scale();
         let clamped = map
             .texels()
             .par_iter()
-            .map(|t| t.iter().filter(|&&c| c > F16_MAX).count() as u64)
+            .map(|t| {
+                t.iter()
+                    .filter(|&&c| c > 0.0 && f16_round(c / scale) == 0.0)
+                    .count() as u64
+            })
             .sum();
+        if scale > 1.0 {
+            log::info!(
+                "environment map: peak {:.4e} is above f16's {F16_MAX}: its textures hold it \
+                 divided by {scale} (multiplied back where they are read)",
+                map.peak()
+            );
+        }
+        if clamped > 0 {
+            log::warn!(
+                "environment map: {clamped} channels below {:.3e} became 0 in its half-float \
+                 textures (a dynamic range beyond f16's, peak {:.4e})",
+                0.5 * scale * F16_MIN_SUBNORMAL,
+                map.peak()
+            );
+        }
         let texels = map
             .texels()
             .par_iter()
-            .map(|t| [f16_round(t[0]), f16_round(t[1]), f16_round(t[2]), 1.0])
+            .map(|t| {
+                [
+                    f16_round(t[0] / scale),
+                    f16_round(t[1] / scale),
+                    f16_round(t[2] / scale),
+                    1.0,
+                ]
+            })
             .collect();
         let mut levels = vec![Level {
             width: map.width(),
@@ -147,7 +184,11 @@ impl MipChain {
         while let Some(next) = downsample(levels.last().expect("level 0 is there")) {
             levels.push(next);
         }
-        MipChain { levels, clamped }
+        MipChain {
+            levels,
+            scale,
+            clamped,
+        }
     }
 
     /// Trilinear at direction `d` and level `lod` (clamped to the chain), as

@@ -8,7 +8,9 @@ use super::uniforms::{Globals, GpuBall, GpuLight};
 use super::upload::GpuTables;
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
-/// Buffers and the layout of group 0; the bind group follows the tables.
+/// Buffers and the layout of group 0; the bind group follows the tables. Cloning shares
+/// the buffers (wgpu's handles are references).
+#[derive(Clone)]
 pub struct Bindings {
     pub layout: wgpu::BindGroupLayout,
     pub globals: wgpu::Buffer,

@@ -25,7 +25,7 @@ pub const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16F
 pub struct EnvUniform {
     /// cos and sin of `-rotation_deg`.
     pub rotation: [f32; 2],
-    /// The map's intensity.
+    /// The map's intensity (times the map's f16 scale).
     pub intensity: f32,
     /// The map's weight in the background: 1 when it shows the map, else 0.
     pub shows_map: f32,
@@ -36,10 +36,11 @@ pub struct EnvUniform {
 impl EnvUniform {
     /// The uniform of `scene`.
     pub fn of(scene: &Scene) -> Self {
-        let (rotation, intensity) = scene
-            .environment_map
-            .as_ref()
-            .map_or((0.0, 0.0), |e| (e.rotation_deg, e.intensity));
+        // The textures hold the map divided by its f16 scale (`MipChain::scale`): the
+        // intensity multiplies it back, exactly (a power of two).
+        let (rotation, intensity) = scene.environment_map.as_ref().map_or((0.0, 0.0), |e| {
+            (e.rotation_deg, e.intensity * f64::from(e.map.f16_scale()))
+        });
         let (s, c) = (-rotation.to_radians()).sin_cos();
         let shows_map = scene.background_shows_map();
         let colour = scene.background_radiance();

@@ -1,13 +1,15 @@
-//! The GPU renderer (docs/design.md section 7, layer 4): the device ([`Gpu`], its own or a
-//! host's), the plan of a scene, the tables as textures ([`GpuTables`], usable by any wgpu
-//! program), the ball pipelines, headless rendering and the table probe. Knows nothing of
-//! windows: [`Renderer::render`] draws into any `TextureView`.
+//! The GPU renderer (docs/design/layers.md, "Imports run one way"): the device ([`Gpu`],
+//! its own or a host's), the plan of a scene, the tables as textures ([`GpuTables`], usable
+//! by any wgpu program), the ball pipelines, headless rendering and the table probe. Knows
+//! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod bindings;
 pub mod boundary;
 mod context;
+mod depth;
 pub mod environment;
 mod headless;
+mod map_cache;
 mod pipelines;
 pub mod plan;
 mod probe;
@@ -22,26 +24,31 @@ mod upload;
 pub use bindings::texture_load_layout;
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
+pub use map_cache::MAX_PREFILTERED_MAPS;
 pub use pipelines::{is_bits, is_linear};
-pub use plan::{DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
+pub use plan::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target, MAX_PREFILTERED_MAPS, QUAD_PAD_PX};
+pub use renderer::{Renderer, Target, QUAD_PAD_PX};
 pub use table_cache::MAX_CACHED_ROWS;
-pub use uniforms::BoundTables;
 pub use upload::{loss_quads, GpuTables};
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by
-/// [`Scopes::pop`] instead of reaching the uncaptured-error handler.
+/// [`Scopes::pop`] instead of reaching the uncaptured-error handler. Dropped without a pop
+/// (an early return), the guards pop their scopes themselves: the fields drop in
+/// declaration order, so the inner scope (validation, pushed last) is declared first, or
+/// wgpu panics with "Mismatched pop_error_scope call" (issue 28, 1).
 struct Scopes {
-    out_of_memory: wgpu::ErrorScopeGuard,
     validation: wgpu::ErrorScopeGuard,
+    out_of_memory: wgpu::ErrorScopeGuard,
 }
 
 impl Scopes {
     fn push(device: &wgpu::Device) -> Self {
+        let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         Scopes {
-            out_of_memory: device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
-            validation: device.push_error_scope(wgpu::ErrorFilter::Validation),
+            validation,
+            out_of_memory,
         }
     }
 

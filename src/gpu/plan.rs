@@ -1,5 +1,5 @@
 //! The plan: what a scene needs baked, compiled and drawn, made from the scene before any
-//! work starts (docs/design.md section 7: scene -> plan -> tables -> renderer).
+//! work starts (docs/design/layers.md, "The modules": scene -> plan -> tables -> renderer).
 //!
 //! - Tables: none when no ball reads E (no ball with the term and no environment, whose
 //!   single-scattering part reads E(mu_o)); one exact row per distinct roughness read when
@@ -21,7 +21,7 @@
 use std::fmt;
 
 use crate::brdf::Geometry;
-use crate::lut::{roughness_coord, BakeConfig, Method};
+use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
 use crate::scene::{Model, Scene, MAX_BALLS};
 
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
@@ -80,17 +80,6 @@ impl DrawOptions {
     }
 }
 
-/// The tables a scene needs.
-#[derive(Clone, Debug, PartialEq)]
-pub enum TablePlan {
-    /// Nothing reads E: bake nothing, bind no tables.
-    None,
-    /// One exact row per roughness (clamped, f32, ascending, distinct).
-    Rows(Vec<f32>),
-    /// The 2-D table.
-    Full,
-}
-
 /// How a pipeline treats the multiple-scattering term (`MS_TERM` in `types.wgsl`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum TermMode {
@@ -125,8 +114,9 @@ pub struct Plan {
     pub geometry: Geometry,
     /// The bake settings (geometry = the scene's).
     pub bake: BakeConfig,
-    /// The tables to bake and bind.
-    pub tables: TablePlan,
+    /// The tables to bake and bind, by key: none, one row per roughness read (clamped,
+    /// ascending, distinct), or the 2-D table of `bake`.
+    pub tables: TableKey,
     /// The variants drawn, each with the indices of its balls (in the scene's order).
     pub draws: Vec<(Variant, Vec<usize>)>,
     /// Whether each ball is drawn over its screen-space bounds ([`DrawOptions::per_ball`]).
@@ -161,17 +151,13 @@ impl Plan {
             .collect();
         roughness.sort_by(f32::total_cmp);
         roughness.dedup();
-        let tables = if roughness.is_empty() {
-            TablePlan::None
-        } else {
-            match options.tables {
-                TablePolicy::Full => TablePlan::Full,
-                TablePolicy::Rows => TablePlan::Rows(roughness),
-                TablePolicy::Auto if roughness.len() <= MAX_PLANNED_ROWS => {
-                    TablePlan::Rows(roughness)
-                }
-                TablePolicy::Auto => TablePlan::Full,
+        let tables = match options.tables {
+            _ if roughness.is_empty() => TableSet::None,
+            TablePolicy::Rows => TableKey::rows(&bake, &roughness),
+            TablePolicy::Auto if roughness.len() <= MAX_PLANNED_ROWS => {
+                TableKey::rows(&bake, &roughness)
             }
+            TablePolicy::Full | TablePolicy::Auto => TableSet::Full(bake),
         };
         let variant = |term| Variant {
             term,
@@ -225,12 +211,9 @@ impl Plan {
         self.draws.iter().map(|(v, _)| *v).collect()
     }
 
-    /// The rows planned (empty unless [`TablePlan::Rows`]).
-    pub fn rows(&self) -> &[f32] {
-        match &self.tables {
-            TablePlan::Rows(r) => r,
-            _ => &[],
-        }
+    /// The roughness of each row planned (empty unless the plan reads rows).
+    pub fn rows(&self) -> Vec<f32> {
+        self.tables.roughness()
     }
 }
 
@@ -268,8 +251,9 @@ impl fmt::Display for Plan {
         };
         let l = &bake.layout;
         match &self.tables {
-            TablePlan::None => writeln!(f, "tables: none (no ball reads E): nothing baked")?,
-            TablePlan::Rows(r) => {
+            TableSet::None => writeln!(f, "tables: none (no ball reads E): nothing baked")?,
+            TableSet::Rows(_) => {
+                let r = self.rows();
                 let list: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
                 writeln!(
                     f,
@@ -282,7 +266,7 @@ impl fmt::Display for Plan {
                     self.geometry
                 )?
             }
-            TablePlan::Full => writeln!(
+            TableSet::Full(_) => writeln!(
                 f,
                 "tables: the {}x{} table ({} layout, {}; {} G, {method})",
                 l.mu_size, l.r_size, l.kind, l.storage, self.geometry

@@ -7,10 +7,9 @@ use std::sync::Arc;
 use super::readback::read_buffer;
 use super::renderer::Renderer;
 use super::shaders;
-use super::uniforms::BoundTables;
 use crate::brdf::Geometry;
 use crate::error::{Error, Result};
-use crate::lut::{RowSet, Tables};
+use crate::lut::{RowSet, TableSet, Tables};
 use crate::scene::Scene;
 
 /// Largest probe grid side (N^2 / 64 workgroups must fit one dispatch dimension, 65535).
@@ -29,172 +28,170 @@ pub struct ProbeSample {
     pub e_avg: f32,
 }
 
-impl Renderer {
-    /// Evaluates the tables for `geometry` (baked if needed) on the GPU; row-major,
-    /// row = roughness. Returns the tables read, for comparison.
-    pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
-        check_grid(n)?;
-        self.gpu().check()?;
-        let tables = self.tables_for(geometry);
-        let read = super::uniforms::BoundTables::Full(tables.clone());
-        let values = self.dispatch(&read, geometry, [n, 0, 0, 0], n * n, shaders::PROBE_MAIN)?;
-        let last = (n - 1) as f32;
-        let samples = (0..n * n)
-            .map(|k| ProbeSample {
-                roughness: (k / n) as f32 / last,
-                mu: (k % n) as f32 / last,
-                e: values[2 * k as usize],
-                e_avg: values[2 * k as usize + 1],
-            })
-            .collect();
-        Ok((tables, samples))
+/// [`Renderer::probe`].
+pub(super) fn probe(
+    r: &mut Renderer,
+    geometry: Geometry,
+    n: u32,
+) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
+    check_grid(n)?;
+    r.gpu().check()?;
+    let tables = r.tables_for(geometry);
+    let read = TableSet::Full(tables.clone());
+    let values = dispatch(r, &read, geometry, [n, 0, 0, 0], n * n, shaders::PROBE_MAIN)?;
+    let last = (n - 1) as f32;
+    let samples = (0..n * n)
+        .map(|k| ProbeSample {
+            roughness: (k / n) as f32 / last,
+            mu: (k % n) as f32 / last,
+            e: values[2 * k as usize],
+            e_avg: values[2 * k as usize + 1],
+        })
+        .collect();
+    Ok((tables, samples))
+}
+
+/// [`Renderer::probe_rows`].
+pub(super) fn probe_rows(
+    r: &mut Renderer,
+    scene: &Scene,
+    n: u32,
+) -> Result<Option<(Arc<RowSet>, Vec<ProbeSample>)>> {
+    check_grid(n)?;
+    r.gpu().check()?;
+    let plan = r.plan_for(scene);
+    let (geometry, planned_rows) = (plan.geometry, !plan.rows().is_empty());
+    let read = r.bound_tables();
+    if !planned_rows {
+        // What is bound then is an earlier scene's (kept: this plan reads nothing).
+        return Ok(None);
     }
+    let TableSet::Rows(rows) = &read else {
+        return Ok(None);
+    };
+    let k = rows.rows.len() as u32;
+    let values = dispatch(r, &read, geometry, [n, k, 0, 0], n * k, shaders::PROBE_ROWS)?;
+    let last = (n - 1) as f32;
+    let samples = (0..n * k)
+        .map(|s| ProbeSample {
+            roughness: rows.rows[(s / n) as usize].key.roughness(),
+            mu: (s % n) as f32 / last,
+            e: values[2 * s as usize],
+            e_avg: values[2 * s as usize + 1],
+        })
+        .collect();
+    Ok(Some((rows.clone(), samples)))
+}
 
-    /// Evaluates the rows `scene`'s plan reads, as its balls read them (`lut_loss_row` at
-    /// each row's roughness with no weight on the next row), at `mu = i / (N - 1)`; row-major,
-    /// row = the plan's rows in order. Returns the rows read (`None` when the plan reads no
-    /// rows: no ball reads E (no term, no environment), or the 2-D table).
-    pub fn probe_rows(
-        &mut self,
-        scene: &Scene,
-        n: u32,
-    ) -> Result<Option<(Arc<RowSet>, Vec<ProbeSample>)>> {
-        check_grid(n)?;
-        self.gpu().check()?;
-        let plan = self.plan_for(scene);
-        let (geometry, planned_rows) = (plan.geometry, !plan.rows().is_empty());
-        let read = self.bound_tables();
-        if !planned_rows {
-            // What is bound then is an earlier scene's (kept: this plan reads nothing).
-            return Ok(None);
-        }
-        let BoundTables::Rows(rows) = &read else {
-            return Ok(None);
-        };
-        let k = rows.rows.len() as u32;
-        let values = self.dispatch(&read, geometry, [n, k, 0, 0], n * k, shaders::PROBE_ROWS)?;
-        let last = (n - 1) as f32;
-        let samples = (0..n * k)
-            .map(|s| ProbeSample {
-                roughness: rows.rows[(s / n) as usize].key.roughness(),
-                mu: (s % n) as f32 / last,
-                e: values[2 * s as usize],
-                e_avg: values[2 * s as usize + 1],
-            })
-            .collect();
-        Ok(Some((rows.clone(), samples)))
-    }
+/// Runs `entry` of the probe module over `count` samples with the bound tables (`read`
+/// gives their uniforms) and the grid uniform `grid`: two f32 per sample.
+fn dispatch(
+    r: &mut Renderer,
+    read: &TableSet,
+    geometry: Geometry,
+    grid_value: [u32; 4],
+    count: u32,
+    entry_point: &str,
+) -> Result<Vec<f32>> {
+    let gpu = r.gpu();
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let (bindings, bound) = r.group0();
+    let bind = &bound.expect("tables bound above").bind;
+    let scopes = super::Scopes::push(&device);
+    let globals = super::uniforms::Globals {
+        lut: read.lut_params(),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    queue.write_buffer(&bindings.globals, 0, bytemuck::bytes_of(&globals));
 
-    /// Runs `entry` of the probe module over `count` samples with the bound tables (`read`
-    /// gives their uniforms) and the grid uniform `grid`: two f32 per sample.
-    fn dispatch(
-        &mut self,
-        read: &BoundTables,
-        geometry: Geometry,
-        grid_value: [u32; 4],
-        count: u32,
-        entry_point: &str,
-    ) -> Result<Vec<f32>> {
-        let gpu = self.gpu();
-        let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
-        let (bindings, bound) = self.group0();
-        let bind = &bound.expect("tables bound above").bind;
-        let scopes = super::Scopes::push(&device);
-        let globals = super::uniforms::Globals {
-            lut: read.lut_params(),
-            ..bytemuck::Zeroable::zeroed()
-        };
-        queue.write_buffer(&bindings.globals, 0, bytemuck::bytes_of(&globals));
-
-        let count = count as u64;
-        let grid = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("probe grid"),
-            size: 16,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        queue.write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
-        let out_size = count * 8;
-        let out = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("probe out"),
-            size: out_size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("probe readback"),
-            size: out_size,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
+    let count = count as u64;
+    let grid = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe grid"),
+        size: 16,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
+    let out_size = count * 8;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe readback"),
+        size: out_size,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("probe"),
+        entries: &[
+            entry(0, wgpu::BufferBindingType::Uniform),
+            entry(1, wgpu::BufferBindingType::Storage { read_only: false }),
+        ],
+    });
+    let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe"),
+        layout: &layout1,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: grid.as_entire_binding(),
             },
-            count: None,
-        };
-        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("probe"),
-            entries: &[
-                entry(0, wgpu::BufferBindingType::Uniform),
-                entry(1, wgpu::BufferBindingType::Storage { read_only: false }),
-            ],
-        });
-        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("probe"),
-            layout: &layout1,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: grid.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: out.as_entire_binding(),
-                },
-            ],
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("probe"),
-            bind_group_layouts: &[Some(&bindings.layout), Some(&layout1)],
-            immediate_size: 0,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("probe"),
-            source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
-        });
-        let constants = shaders::overrides(geometry, false, read.mu_axis());
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("probe"),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some(entry_point),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: out.as_entire_binding(),
             },
-            cache: None,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, bind, &[]);
-            pass.set_bind_group(1, &group1, &[]);
-            pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
-        }
-        encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
-        queue.submit([encoder.finish()]);
-        scopes.pop()?;
-        self.gpu().check()?;
-        let values = read_buffer(&device, &readback);
-        self.gpu().check()?;
-        Ok(bytemuck::pod_collect_to_vec(&values?))
+        ],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("probe"),
+        bind_group_layouts: &[Some(&bindings.layout), Some(&layout1)],
+        immediate_size: 0,
+    });
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("probe"),
+        source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
+    });
+    let constants = shaders::overrides(geometry, false, read.mu_axis());
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("probe"),
+        layout: Some(&layout),
+        module: &module,
+        entry_point: Some(entry_point),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        },
+        cache: None,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.set_bind_group(1, &group1, &[]);
+        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
     }
+    encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
+    queue.submit([encoder.finish()]);
+    scopes.pop()?;
+    r.gpu().check()?;
+    let values = read_buffer(&device, &readback);
+    r.gpu().check()?;
+    Ok(bytemuck::pod_collect_to_vec(&values?))
 }
 
 fn check_grid(n: u32) -> Result<()> {

@@ -10,15 +10,19 @@ use std::time::Duration;
 
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
-use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
-use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines, DEPTH_FORMAT};
+use super::depth::DepthTarget;
+use super::environment::EnvUniform;
+use super::headless::{self, HdrImage, LdrImage};
+use super::map_cache::PrefilteredMaps;
+use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines};
 use super::plan::{DrawOptions, Plan, TablePolicy};
-use super::table_cache::{Bound, TableCache, Upload};
-use super::truth::{Draw, TruthPass, SUM_FORMAT};
-use super::uniforms::{self, BoundTables, GpuBall};
+use super::probe::{self, ProbeSample};
+use super::table_cache::{Bound, TableCache};
+use super::truth::{self as truth_pass, Draw, TruthPass, SUM_FORMAT};
+use super::uniforms::{self, GpuBall};
 use crate::brdf::Geometry;
-use crate::error::Result;
-use crate::lut::{BakeConfig, Tables};
+use crate::error::{Error, Result};
+use crate::lut::{BakeConfig, RowSet, TableSet, Tables};
 use crate::scene::Scene;
 
 /// Where to draw: a view of a texture of `format`; the image is `width x height` pixels at
@@ -51,154 +55,41 @@ pub struct Renderer {
     bindings: Bindings,
     pipelines: Pipelines,
     tables: TableCache,
+    /// Wall time of the latest bake ([`Renderer::last_bake_time`]).
+    last_bake: Option<Duration>,
     /// `set_tables` was called: its table is used whatever the plan.
     pinned: bool,
     options: DrawOptions,
     /// How tables are baked; its `geometry` is replaced by the scene's.
     bake_config: BakeConfig,
     plan: Option<Plan>,
-    /// The per-ball draw's depth target, the size of the last colour target drawn into
-    /// (made again when that size changes).
-    depth: Option<Depth>,
+    /// The per-ball draw's depth target.
+    depth: DepthTarget,
     /// Group 1: the environment maps' textures, prefiltered for the latest maps drawn.
-    environment: EnvironmentGroup,
+    environment: PrefilteredMaps,
     /// The truth balls' accumulation (`walk.wgsl`, `truth.rs`).
     truth: TruthPass,
-}
-
-/// Prefiltered maps a renderer keeps (the viewer's picker switches between built-ins
-/// without preparing one again): a few megabytes each at 1024 x 512 (the map's f16 mip
-/// chain and the prefiltered layers), the least recently drawn dropped first.
-pub const MAX_PREFILTERED_MAPS: usize = 4;
-
-/// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
-/// map, and the latest maps' prefiltered textures with their bind groups, most recently
-/// drawn first.
-struct EnvironmentGroup {
-    layout: wgpu::BindGroupLayout,
-    uniform: wgpu::Buffer,
-    sampler: wgpu::Sampler,
-    empty: wgpu::BindGroup,
-    loaded: Vec<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
-    /// Wall time of the latest preparation.
-    last_prepared: Option<Duration>,
-}
-
-impl EnvironmentGroup {
-    fn new(device: &wgpu::Device) -> Self {
-        let layout = env_gpu::layout(device);
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("environment"),
-            size: std::mem::size_of::<EnvUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let sampler = env_gpu::sampler(device);
-        let empty = EnvironmentTextures::empty(device).bind(device, &layout, &uniform, &sampler);
-        EnvironmentGroup {
-            layout,
-            uniform,
-            sampler,
-            empty,
-            loaded: Vec::new(),
-            last_prepared: None,
-        }
-    }
-
-    /// The bind group for `scene`: its map prefiltered (on the first draw with it, or with
-    /// another G), or the stand-ins.
-    fn bind_group(&mut self, gpu: &Gpu, scene: &Scene, config: BakeConfig) -> wgpu::BindGroup {
-        let Some(environment) = &scene.environment_map else {
-            return self.empty.clone();
-        };
-        let geometry = scene.effective_geometry();
-        let key = EnvironmentKey::new(environment, geometry);
-        if let Some(i) = self.loaded.iter().position(|(k, _, _)| *k == key) {
-            let entry = self.loaded.remove(i);
-            let group = entry.2.clone();
-            self.loaded.insert(0, entry);
-            return group;
-        }
-        // Dropped first: at most MAX_PREFILTERED_MAPS maps' textures at once.
-        self.loaded.truncate(MAX_PREFILTERED_MAPS - 1);
-        let start = std::time::Instant::now();
-        let tables = crate::lut::bake(&BakeConfig { geometry, ..config });
-        let kernels = crate::environment::prefilter::kernels(&tables);
-        let t_kernels = start.elapsed();
-        let chain = crate::environment::MipChain::new(&environment.map);
-        let t_chain = start.elapsed();
-        let split = crate::lut::SplitSum::shipped(geometry);
-        let t_split = start.elapsed();
-        let mut textures =
-            EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
-        let ms = |d: Duration| d.as_secs_f64() * 1e3;
-        log::debug!(
-            "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
-             GPU upload and prefilter {:.1} ms",
-            environment.source,
-            ms(t_kernels),
-            ms(t_chain - t_kernels),
-            ms(t_split - t_chain),
-            ms(textures.prefilter_time)
-        );
-        textures.prefilter_time = start.elapsed();
-        self.last_prepared = Some(textures.prefilter_time);
-        let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
-        self.loaded.insert(0, (key, textures, group.clone()));
-        group
-    }
-}
-
-/// A depth texture and its view, of a colour target's size.
-struct Depth {
-    size: (u32, u32),
-    // Kept alive with its view.
-    _texture: wgpu::Texture,
-    view: wgpu::TextureView,
-}
-
-impl Depth {
-    fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ball depth"),
-            size: wgpu::Extent3d {
-                width: size.0,
-                height: size.1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        Depth {
-            size,
-            _texture: texture,
-            view,
-        }
-    }
 }
 
 impl Renderer {
     /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: [`Gpu::from_device`]).
     pub fn new(gpu: Gpu) -> Self {
         let bindings = Bindings::new(&gpu.device);
-        let environment = EnvironmentGroup::new(&gpu.device);
+        let environment = PrefilteredMaps::new(&gpu.device);
         let pipelines = Pipelines::new(&gpu.device, &bindings, &environment.layout);
         let truth = TruthPass::new(&gpu.device, &bindings.layout, &environment.layout);
+        let tables = TableCache::new(&gpu.device, &gpu.queue, &bindings);
         Renderer {
             gpu,
             bindings,
             pipelines,
-            tables: TableCache::default(),
+            tables,
+            last_bake: None,
             pinned: false,
             options: DrawOptions::default(),
             bake_config: BakeConfig::default(),
             plan: None,
-            depth: None,
+            depth: DepthTarget::default(),
             environment,
             truth,
         }
@@ -280,12 +171,11 @@ impl Renderer {
             .plan
             .as_ref()
             .is_none_or(|p| p.tables != plan.tables || p.bake != plan.bake);
-        if changed {
-            // A change that bakes nothing reports zero (a bake below sets its own time).
-            self.tables.clear_last_bake();
+        let baked = self.tables.ensure(&plan.tables);
+        // A change of plan that bakes nothing reports zero.
+        if changed || !baked.is_zero() {
+            self.last_bake = Some(baked);
         }
-        let up = upload(&self.gpu, &self.bindings);
-        self.tables.ensure(&plan, &up);
         self.bake_config = plan.bake;
         self.plan.insert(plan)
     }
@@ -322,14 +212,17 @@ impl Renderer {
     /// or table baked for the latest change of plan, zero when that change baked nothing
     /// (no table needed, or every row cached); `None` before any.
     pub fn last_bake_time(&self) -> Option<Duration> {
-        self.tables.last_bake()
+        self.last_bake
     }
 
     /// The 2-D table for `geometry` with the bake config (baked if not held) and bound.
     pub fn tables_for(&mut self, geometry: Geometry) -> Arc<Tables> {
         self.bake_config.geometry = geometry;
-        let up = upload(&self.gpu, &self.bindings);
-        self.tables.full_table(self.bake_config, &up)
+        let (tables, baked) = self.tables.full_table(self.bake_config);
+        if !baked.is_zero() {
+            self.last_bake = Some(baked);
+        }
+        tables
     }
 
     /// Uses `tables` (baked for their `config.geometry`) for every scene from now on, as
@@ -338,23 +231,22 @@ impl Renderer {
     pub fn set_tables(&mut self, tables: Arc<Tables>) {
         self.bake_config = tables.config;
         self.pinned = true;
-        let up = upload(&self.gpu, &self.bindings);
-        self.tables.pin(tables, &up);
+        self.tables.pin(tables);
     }
 
     /// The tables bound now (what the last draw read).
-    pub fn bound_tables(&self) -> BoundTables {
+    pub fn bound_tables(&self) -> TableSet {
         self.tables
             .bound()
-            .map_or(BoundTables::None, |b| b.read.clone())
+            .map_or(TableSet::None, |b| b.tables.clone())
     }
 
     /// Wall time of the latest preparation of an environment map: the kernels, its mip
     /// chain and the split-sum table on the CPU, the upload and the GPU's prefiltering to
     /// the queue's completion; `None` before any. A map drawn again while held (up to
-    /// [`MAX_PREFILTERED_MAPS`]) is not prepared again.
+    /// [`MAX_PREFILTERED_MAPS`](super::MAX_PREFILTERED_MAPS)) is not prepared again.
     pub fn last_prefilter_time(&self) -> Option<Duration> {
-        self.environment.last_prepared
+        self.environment.last_prepared()
     }
 
     /// Prefilters `scene`'s environment map now if it has one not yet held (otherwise done
@@ -380,15 +272,7 @@ impl Renderer {
     /// to their sums and shows the mean ([`Renderer::truth_samples`]).
     pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
         self.gpu.check()?;
-        if scene.has_truth() && !self.truth_supported() {
-            return Err(crate::error::Error::Gpu {
-                message: format!(
-                    "{} cannot render to Rgba32Float, which the truth balls' sums need \
-                     (use --backend vulkan)",
-                    self.gpu.describe()
-                ),
-            });
-        }
+        self.check_truth_supported(scene)?;
         let scopes = super::Scopes::push(&self.gpu.device);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         self.encode(scene, target, &mut encoder);
@@ -398,64 +282,36 @@ impl Renderer {
     }
 
     /// Records the draw of `scene` into `target` on `encoder` (plans the scene, bakes what
-    /// its plan needs and is not cached, uploads uniforms and quads now).
+    /// its plan needs and is not cached, uploads uniforms and quads now): the balls' pass,
+    /// then the truth balls' accumulation and resolve.
     pub fn encode(
         &mut self,
         scene: &Scene,
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
     ) {
-        let (w, h) = (target.width, target.height);
-        let Frame {
-            plan,
-            group0: bind,
-            group1: env_group,
-            balls,
-            env_uniform,
-        } = self.prepare_frame(scene, w, h);
-        // Per variant: its pipeline and the range of its quads in the instance buffer.
-        let mut draws = Vec::new();
-        let mut quads: Vec<BallInstance> = Vec::new();
-        let basis = scene.camera.basis(w, h);
-        let pad = crate::scene::bounds_pad_px(scene.antialias);
-        let hidden = if plan.per_ball {
-            hidden_duplicates(&balls)
-        } else {
-            Vec::new()
-        };
-        for (variant, members) in &plan.draws {
-            let start = quads.len() as u32;
-            if plan.per_ball {
-                quads.extend(members.iter().filter(|&&k| !hidden[k]).filter_map(|&k| {
-                    let b = &scene.balls[k];
-                    let rect = basis.sphere_bounds(b.center, b.radius, w, h, pad)?;
-                    Some(BallInstance {
-                        rect: rect.map(|v| v as f32),
-                        ball: balls[k],
-                    })
-                }));
-            }
-            let key = pipeline_key(&plan, target.format, *variant);
-            let pipeline = self.pipelines.get(&self.gpu.device, key).clone();
-            draws.push((pipeline, start..quads.len() as u32));
+        let frame = self.prepare_frame(scene, target.width, target.height);
+        self.encode_balls(scene, &frame, target, encoder);
+        if !frame.plan.truth.is_empty() && self.truth_frame(scene, &frame, encoder) {
+            let draw = truth_draw(&self.gpu, &frame);
+            self.truth
+                .resolve(&draw, encoder, target.view, target.format, frame.size);
         }
-        // The map behind the balls: a full-screen draw before the quads (the full-screen
-        // path paints it itself).
-        let shows_map = env_uniform.shows_map == 1.0;
-        let background_pipeline = match plan.draws.first() {
-            Some((variant, _)) if plan.per_ball && shows_map => Some(
-                self.pipelines
-                    .background(
-                        &self.gpu.device,
-                        target.format,
-                        *variant,
-                        plan.geometry,
-                        plan.bake.layout.mu_axis,
-                    )
-                    .clone(),
-            ),
-            _ => None,
-        };
+    }
+
+    /// Records the balls' pass of `frame` into `target`: the map behind the balls (a
+    /// full-screen draw before the quads; the full-screen path paints it itself), then each
+    /// variant's quads with its pipeline (or one full-screen triangle).
+    fn encode_balls(
+        &mut self,
+        scene: &Scene,
+        frame: &Frame,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let plan = &frame.plan;
+        let (quads, ranges) = ball_quads(scene, frame);
+        let (background_pipeline, draws) = self.ball_pipelines(frame, target.format, ranges);
         if !quads.is_empty() {
             let queue = &self.gpu.queue;
             queue.write_buffer(&self.bindings.instances, 0, bytemuck::cast_slice(&quads));
@@ -466,16 +322,11 @@ impl Renderer {
             wgpu::Color::BLACK
         };
         // The per-ball draw's depth target, the size of the whole colour attachment.
-        let depth = if plan.per_ball {
+        let depth = plan.per_ball.then(|| {
             let texture = target.view.texture();
             let size = (texture.width(), texture.height());
-            if self.depth.as_ref().is_none_or(|d| d.size != size) {
-                self.depth = Some(Depth::new(&self.gpu.device, size));
-            }
-            self.depth.as_ref().map(|d| &d.view)
-        } else {
-            None
-        };
+            self.depth.view(&self.gpu.device, size)
+        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("balls"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -498,10 +349,11 @@ impl Renderer {
             ..Default::default()
         });
         // The image's rectangle: the whole target headless, the scene area in a window.
+        let (w, h) = frame.size;
         pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
         pass.set_scissor_rect(0, 0, w, h);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.set_bind_group(1, &env_group, &[]);
+        pass.set_bind_group(0, &frame.group0, &[]);
+        pass.set_bind_group(1, &frame.group1, &[]);
         if let Some(pipeline) = background_pipeline {
             pass.set_pipeline(&pipeline);
             pass.draw(0..3, 0..1);
@@ -520,21 +372,47 @@ impl Renderer {
                 pass.draw(0..3, 0..1);
             }
         }
-        drop(pass);
-        if !plan.truth.is_empty() {
-            let frame = Frame {
-                plan,
-                group0: bind,
-                group1: env_group,
-                balls,
-                env_uniform,
-            };
-            if self.truth_frame(scene, &frame, (w, h), encoder) {
-                let draw = truth_draw(&self.gpu, &frame);
-                self.truth
-                    .resolve(&draw, encoder, target.view, target.format, (w, h));
-            }
-        }
+    }
+
+    /// The pipelines of `frame`'s balls' pass into `format`: the map's background draw
+    /// (where the per-ball path shows it), and each planned draw's pipeline with its range
+    /// of quads.
+    fn ball_pipelines(
+        &mut self,
+        frame: &Frame,
+        format: wgpu::TextureFormat,
+        ranges: Vec<std::ops::Range<u32>>,
+    ) -> (
+        Option<wgpu::RenderPipeline>,
+        Vec<(wgpu::RenderPipeline, std::ops::Range<u32>)>,
+    ) {
+        let plan = &frame.plan;
+        let device = &self.gpu.device;
+        let shows_map = frame.env_uniform.shows_map == 1.0;
+        let background = match plan.draws.first() {
+            Some((variant, _)) if plan.per_ball && shows_map => Some(
+                self.pipelines
+                    .background(
+                        device,
+                        format,
+                        *variant,
+                        plan.geometry,
+                        plan.bake.layout.mu_axis,
+                    )
+                    .clone(),
+            ),
+            _ => None,
+        };
+        let draws = plan
+            .draws
+            .iter()
+            .zip(ranges)
+            .map(|((variant, _), range)| {
+                let key = pipeline_key(plan, format, *variant);
+                (self.pipelines.get(device, key).clone(), range)
+            })
+            .collect();
+        (background, draws)
     }
 
     /// Plans `scene`, binds its tables and map, and uploads the uniforms of a `w x h`
@@ -545,12 +423,12 @@ impl Renderer {
             .bind_group(&self.gpu, scene, self.bake_config);
         let plan = self.plan_for(scene).clone();
         let bound = self.tables.bound().expect("plan_for binds");
-        let read = bound.read.clone();
+        let tables = bound.tables.clone();
         let bind = bound.bind.clone();
         let queue = &self.gpu.queue;
-        let globals = uniforms::globals(scene, &read, w, h);
+        let globals = uniforms::globals(scene, &tables, w, h);
         queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
-        let balls = uniforms::balls(scene, &read);
+        let balls = uniforms::balls(scene, &tables);
         // Only the full-screen path reads the balls buffer; the quads carry their ball.
         if !plan.per_ball && !balls.is_empty() {
             queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
@@ -565,11 +443,18 @@ impl Renderer {
         if !lights.is_empty() {
             queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
         }
+        let hidden = if plan.per_ball || !plan.truth.is_empty() {
+            hidden_duplicates(&balls)
+        } else {
+            Vec::new()
+        };
         Frame {
             plan,
+            size: (w, h),
             group0: bind,
             group1: env_group,
             balls,
+            hidden,
             env_uniform,
         }
     }
@@ -580,46 +465,40 @@ impl Renderer {
         self.gpu.renderable(SUM_FORMAT)
     }
 
+    /// [`Error::TruthUnsupported`] if `scene` has truth balls and this device cannot
+    /// accumulate them.
+    pub(crate) fn check_truth_supported(&self, scene: &Scene) -> Result<()> {
+        if scene.has_truth() && !self.truth_supported() {
+            return Err(Error::TruthUnsupported {
+                device: self.gpu.describe(),
+            });
+        }
+        Ok(())
+    }
+
     /// Records one frame of the truth balls' estimates (returns false, logging why, where
     /// the device cannot: [`Renderer::truth_supported`]).
     fn truth_frame(
         &mut self,
         scene: &Scene,
         frame: &Frame,
-        size: (u32, u32),
         encoder: &mut wgpu::CommandEncoder,
     ) -> bool {
         if !self.truth_supported() {
-            log::error!(
-                "{} cannot render to Rgba32Float: the truth balls are not drawn",
-                self.gpu.describe()
-            );
+            // Once a process, not every frame of the viewer (issue 28, 11).
+            static SAID: std::sync::Once = std::sync::Once::new();
+            SAID.call_once(|| {
+                log::error!(
+                    "{} cannot render to Rgba32Float: the truth balls are not drawn",
+                    self.gpu.describe()
+                )
+            });
             return false;
         }
-        let (w, h) = size;
-        let basis = scene.camera.basis(w, h);
-        let hidden = hidden_duplicates(&frame.balls);
-        let (mut truth, mut others) = (Vec::new(), Vec::new());
-        for (k, b) in scene.balls.iter().take(frame.balls.len()).enumerate() {
-            if hidden[k] {
-                continue;
-            }
-            let Some(rect) = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX) else {
-                continue;
-            };
-            let quad = BallInstance {
-                rect: rect.map(|v| v as f32),
-                ball: frame.balls[k],
-            };
-            if b.model == crate::scene::Model::Truth {
-                truth.push(quad);
-            } else {
-                others.push(quad);
-            }
-        }
+        let quads = truth_pass::quads(scene, &frame.balls, &frame.hidden, frame.size);
         let draw = truth_draw(&self.gpu, frame);
         self.truth
-            .accumulate(&draw, encoder, scene, size, (&truth, &others));
+            .accumulate(&draw, encoder, scene, frame.size, (&quads.0, &quads.1));
         true
     }
 
@@ -635,16 +514,11 @@ impl Renderer {
             return Ok(());
         }
         if !self.truth_supported() {
-            return Err(crate::error::Error::Gpu {
-                message: format!(
-                    "{} cannot render to Rgba32Float, which the truth's sums need (use \
-                     --backend vulkan)",
-                    self.gpu.describe()
-                ),
-            });
+            scopes.pop()?;
+            return self.check_truth_supported(scene);
         }
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.truth_frame(scene, &frame, (w, h), &mut encoder);
+        self.truth_frame(scene, &frame, &mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         scopes.pop()?;
         self.gpu.check()
@@ -661,15 +535,107 @@ impl Renderer {
     pub fn reset_truth(&mut self) {
         self.truth.reset();
     }
+
+    /// Renders `scene` into an `Rgba8Unorm` texture (not sRGB: gamma is applied in the
+    /// shader) and reads it back.
+    pub fn render_ldr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<LdrImage> {
+        headless::render_ldr(self, scene, width, height)
+    }
+
+    /// Renders linear radiance into `Rgba32Float`, or where 32-bit float is not renderable
+    /// (GL) its f32 bits into `Rgba32Uint` (`fs_ball_bits`), and reads it back as f32: the
+    /// same f32 values on every backend, none clipped to a 16-bit float's range.
+    pub fn render_hdr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<HdrImage> {
+        headless::render_hdr(self, scene, width, height)
+    }
+
+    /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a
+    /// pixel (the sums started again from zero; the other balls as always).
+    pub fn render_truth_ldr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        spp: u32,
+    ) -> Result<LdrImage> {
+        headless::accumulate_frames(self, scene, width, height, spp)?;
+        self.render_ldr(scene, width, height)
+    }
+
+    /// [`Renderer::render_hdr`] with the truth balls' image the mean of `spp` estimates a
+    /// pixel (the sums started again from zero; the other balls as always).
+    pub fn render_truth_hdr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        spp: u32,
+    ) -> Result<HdrImage> {
+        headless::accumulate_frames(self, scene, width, height, spp)?;
+        self.render_hdr(scene, width, height)
+    }
+
+    /// Evaluates the tables for `geometry` (baked if needed) on the GPU with the shader's
+    /// own reads (`shaders/probe.wgsl`); row-major, row = roughness. Returns the tables
+    /// read, for comparison.
+    pub fn probe(&mut self, geometry: Geometry, n: u32) -> Result<(Arc<Tables>, Vec<ProbeSample>)> {
+        probe::probe(self, geometry, n)
+    }
+
+    /// Evaluates the rows `scene`'s plan reads, as its balls read them (`lut_loss_row` at
+    /// each row's roughness with no weight on the next row), at `mu = i / (N - 1)`; row-major,
+    /// row = the plan's rows in order. Returns the rows read (`None` when the plan reads no
+    /// rows: no ball reads E (no term, no environment), or the 2-D table).
+    pub fn probe_rows(
+        &mut self,
+        scene: &Scene,
+        n: u32,
+    ) -> Result<Option<(Arc<RowSet>, Vec<ProbeSample>)>> {
+        probe::probe_rows(self, scene, n)
+    }
 }
 
-/// What a frame draws with: the plan, bind groups 0 and 1, the balls and the map's uniform.
+/// What a frame draws with: the plan, the image's size, bind groups 0 and 1, the balls
+/// (with those hidden by an identical earlier one) and the map's uniform.
 struct Frame {
     plan: Plan,
+    size: (u32, u32),
     group0: wgpu::BindGroup,
     group1: wgpu::BindGroup,
     balls: Vec<GpuBall>,
+    /// [`hidden_duplicates`] of `balls` (empty when nothing draws a quad per ball).
+    hidden: Vec<bool>,
     env_uniform: EnvUniform,
+}
+
+/// The per-ball quads of `frame`, grouped by the plan's draws, and each draw's range of
+/// them (empty ranges on the full-screen path, which draws no quads).
+fn ball_quads(scene: &Scene, frame: &Frame) -> (Vec<BallInstance>, Vec<std::ops::Range<u32>>) {
+    let (w, h) = frame.size;
+    let basis = scene.camera.basis(w, h);
+    let pad = crate::scene::bounds_pad_px(scene.antialias);
+    let mut quads: Vec<BallInstance> = Vec::new();
+    let mut ranges = Vec::with_capacity(frame.plan.draws.len());
+    for (_, members) in &frame.plan.draws {
+        let start = quads.len() as u32;
+        if frame.plan.per_ball {
+            quads.extend(
+                members
+                    .iter()
+                    .filter(|&&k| !frame.hidden[k])
+                    .filter_map(|&k| {
+                        let b = &scene.balls[k];
+                        let rect = basis.sphere_bounds(b.center, b.radius, w, h, pad)?;
+                        Some(BallInstance {
+                            rect: rect.map(|v| v as f32),
+                            ball: frame.balls[k],
+                        })
+                    }),
+            );
+        }
+        ranges.push(start..quads.len() as u32);
+    }
+    (quads, ranges)
 }
 
 /// The truth passes' device, groups and compile-time choices for `frame`.
@@ -696,16 +662,6 @@ fn hidden_duplicates(balls: &[GpuBall]) -> Vec<bool> {
         // + 0.0 makes -0 and +0 one key.
         .map(|b| !seen.insert(b.center_radius.map(|v| (v + 0.0).to_bits())))
         .collect()
-}
-
-/// What the table cache uploads and binds with (fields of the renderer borrowed apart from
-/// its cache).
-fn upload<'a>(gpu: &'a Gpu, bindings: &'a Bindings) -> Upload<'a> {
-    Upload {
-        device: &gpu.device,
-        queue: &gpu.queue,
-        bindings,
-    }
 }
 
 /// The clear colour: what the shader would give a pixel that hits no ball (the

@@ -5,16 +5,17 @@
 //! pipelines never read it) or binds 1 x 1 placeholders. The last few bind groups are kept
 //! too, so that switching back and forth (a caller asking for the 2-D table between
 //! planned frames) uploads nothing.
+//!
+//! The cache holds handles of the renderer's device, queue and group 0 (wgpu's handles
+//! are shared references), so that it can bake, upload and bind on its own.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::bindings::Bindings;
-use super::plan::{Plan, TablePlan};
-use super::uniforms::BoundTables;
 use super::upload::GpuTables;
-use crate::lut::{self, BakeConfig, Row, RowKey, RowSet, Tables};
+use crate::lut::{self, BakeConfig, Row, RowKey, RowSet, TableKey, TableSet, Tables};
 
 /// Most rows the memory cache keeps (about 0.8 KB each at 64 texels): past it, the rows
 /// not bound are dropped.
@@ -23,24 +24,19 @@ pub const MAX_CACHED_ROWS: usize = 4096;
 /// Bind groups kept besides the bound one (their textures stay alive with them).
 const MAX_KEPT_BINDS: usize = 4;
 
-/// What is bound: the read it gives and its bind group.
+/// Bound tables: their key, the tables (read by the uniforms and the probe) and their bind
+/// group. With [`TableSet::None`] the group holds one-texel placeholders.
 pub struct Bound {
-    what: BoundKey,
-    pub read: BoundTables,
+    key: TableKey,
+    pub tables: TableSet,
     pub bind: wgpu::BindGroup,
 }
 
-/// Identifies bound tables: their config and, for rows, each row's key.
-#[derive(Clone, Debug, PartialEq)]
-enum BoundKey {
-    Placeholder,
-    Rows(Vec<RowKey>),
-    Full(BakeConfig),
-}
-
-/// The tables baked, uploaded and bound, and the wall time of the latest bake.
-#[derive(Default)]
+/// The tables baked, uploaded and bound.
 pub struct TableCache {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    bindings: Bindings,
     rows: HashMap<RowKey, Arc<Row>>,
     /// The latest 2-D table (baked here or given by `pin`).
     full: Option<Arc<Tables>>,
@@ -48,70 +44,65 @@ pub struct TableCache {
     bound: Option<Bound>,
     /// Recently bound tables, oldest first.
     kept: Vec<Bound>,
-    /// Wall time of the latest bake, if any.
-    last_bake: Option<Duration>,
-}
-
-/// What uploading and binding needs: the device, its queue and the renderer's group 0.
-pub struct Upload<'a> {
-    pub device: &'a wgpu::Device,
-    pub queue: &'a wgpu::Queue,
-    pub bindings: &'a Bindings,
-}
-
-impl Upload<'_> {
-    fn bind(&self, what: BoundKey, read: BoundTables, tables: &GpuTables) -> Bound {
-        Bound {
-            what,
-            read,
-            bind: self.bindings.bind(self.device, tables),
-        }
-    }
 }
 
 impl TableCache {
-    /// Bakes (what is not cached), uploads and binds the tables `plan` needs; returns them.
-    /// Sets the bake's wall time when it bakes anything.
-    pub fn ensure(&mut self, plan: &Plan, up: &Upload<'_>) -> &Bound {
-        match &plan.tables {
-            TablePlan::None => {
-                if self.bound.is_none() && !self.reuse(&BoundKey::Placeholder) {
-                    let tables = GpuTables::placeholder(up.device, up.queue);
-                    self.replace_bound(up.bind(BoundKey::Placeholder, BoundTables::None, &tables));
-                }
-            }
-            TablePlan::Full => {
-                self.full_table(plan.bake, up);
-            }
-            TablePlan::Rows(roughness) => {
-                let keys: Vec<RowKey> = roughness
-                    .iter()
-                    .map(|&r| RowKey::new(&plan.bake, r))
-                    .collect();
-                if !self.reuse(&BoundKey::Rows(keys.clone())) {
-                    self.bind_rows(keys, up);
-                }
-            }
+    /// An empty cache that uploads on `device` and `queue` and binds with `bindings`.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, bindings: &Bindings) -> Self {
+        TableCache {
+            device: device.clone(),
+            queue: queue.clone(),
+            bindings: bindings.clone(),
+            rows: HashMap::new(),
+            full: None,
+            bound: None,
+            kept: Vec::new(),
         }
-        self.bound.as_ref().expect("every plan binds")
     }
 
-    /// Binds the rows of `keys`, baking those not in the cache.
-    fn bind_rows(&mut self, keys: Vec<RowKey>, up: &Upload<'_>) {
+    /// Bakes (what is not cached), uploads and binds the tables of `key`. Returns the wall
+    /// time spent baking (zero when everything was cached or bound).
+    pub fn ensure(&mut self, key: &TableKey) -> Duration {
+        match key {
+            TableSet::None => {
+                if self.bound.is_none() && !self.reuse(key) {
+                    let placeholder = GpuTables::placeholder(&self.device, &self.queue);
+                    self.replace_bound(self.bind(TableSet::None, &placeholder));
+                }
+                Duration::ZERO
+            }
+            TableSet::Full(config) => self.full_table(*config).1,
+            TableSet::Rows(_) if self.reuse(key) => Duration::ZERO,
+            TableSet::Rows(keys) => self.bind_rows(keys),
+        }
+    }
+
+    /// A bound entry of `tables` uploaded as `gpu_tables`.
+    fn bind(&self, tables: TableSet, gpu_tables: &GpuTables) -> Bound {
+        Bound {
+            key: tables.key(),
+            tables,
+            bind: self.bindings.bind(&self.device, gpu_tables),
+        }
+    }
+
+    /// Binds the rows of `keys`, baking those not in the cache; the time spent baking.
+    fn bind_rows(&mut self, keys: &[RowKey]) -> Duration {
         let missing: Vec<RowKey> = keys
             .iter()
             .filter(|k| !self.rows.contains_key(k))
             .copied()
             .collect();
+        let mut baked_in = Duration::ZERO;
         if !missing.is_empty() {
             let start = Instant::now();
             let baked = lut::bake_rows(&missing);
-            self.last_bake = Some(start.elapsed());
+            baked_in = start.elapsed();
             log::debug!(
                 "baked {} of {} rows in {:.2} ms",
                 missing.len(),
                 keys.len(),
-                start.elapsed().as_secs_f64() * 1e3
+                baked_in.as_secs_f64() * 1e3
             );
             if self.rows.len() + baked.len() > MAX_CACHED_ROWS {
                 self.rows.retain(|k, _| keys.contains(k));
@@ -122,16 +113,17 @@ impl TableCache {
         }
         let rows = keys.iter().map(|k| self.rows[k].clone()).collect();
         let set = Arc::new(RowSet::new(rows));
-        let tables = GpuTables::upload_rows(up.device, up.queue, &set);
-        self.replace_bound(up.bind(BoundKey::Rows(keys), BoundTables::Rows(set), &tables));
+        let gpu_tables = GpuTables::upload_rows(&self.device, &self.queue, &set);
+        self.replace_bound(self.bind(TableSet::Rows(set), &gpu_tables));
+        baked_in
     }
 
-    /// Makes the bind group of `what` the bound one if it is bound or kept; whether it was.
-    fn reuse(&mut self, what: &BoundKey) -> bool {
-        if matches!(&self.bound, Some(b) if b.what == *what) {
+    /// Makes the bind group of `key` the bound one if it is bound or kept; whether it was.
+    fn reuse(&mut self, key: &TableKey) -> bool {
+        if matches!(&self.bound, Some(b) if b.key == *key) {
             return true;
         }
-        match self.kept.iter().position(|b| b.what == *what) {
+        match self.kept.iter().position(|b| b.key == *key) {
             Some(i) => {
                 let kept = self.kept.remove(i);
                 self.replace_bound(kept);
@@ -151,51 +143,48 @@ impl TableCache {
         }
     }
 
-    /// The 2-D table for `config`, baked if neither held nor kept bound, and bound.
-    pub fn full_table(&mut self, config: BakeConfig, up: &Upload<'_>) -> Arc<Tables> {
-        if self.reuse(&BoundKey::Full(config)) {
-            if let Some(Bound {
-                read: BoundTables::Full(t),
-                ..
-            }) = &self.bound
-            {
+    /// The 2-D table for `config`, baked if neither held nor kept bound, and bound; with
+    /// the wall time spent baking it (zero when it was held).
+    pub fn full_table(&mut self, config: BakeConfig) -> (Arc<Tables>, Duration) {
+        if self.reuse(&TableSet::Full(config)) {
+            if let Some(t) = self.bound.as_ref().and_then(|b| b.tables.as_full()) {
+                let t = t.clone();
                 self.full = Some(t.clone());
-                return t.clone();
+                return (t, Duration::ZERO);
             }
         }
-        let tables = match &self.full {
-            Some(t) if t.config == config => t.clone(),
+        let (tables, baked_in) = match &self.full {
+            Some(t) if t.config == config => (t.clone(), Duration::ZERO),
             _ => {
                 let start = Instant::now();
                 let t = Arc::new(lut::bake(&config));
-                self.last_bake = Some(start.elapsed());
+                let baked_in = start.elapsed();
                 log::debug!(
                     "baked the {}x{} table in {:.2} ms",
                     config.layout.mu_size,
                     config.layout.r_size,
-                    start.elapsed().as_secs_f64() * 1e3
+                    baked_in.as_secs_f64() * 1e3
                 );
                 self.full = Some(t.clone());
-                t
+                (t, baked_in)
             }
         };
         // Not bound nor kept (checked above): upload and bind it.
-        let gpu_tables = GpuTables::upload(up.device, up.queue, &tables);
-        let read = BoundTables::Full(tables.clone());
-        self.replace_bound(up.bind(BoundKey::Full(config), read, &gpu_tables));
-        tables
+        let gpu_tables = GpuTables::upload(&self.device, &self.queue, &tables);
+        self.replace_bound(self.bind(TableSet::Full(tables.clone()), &gpu_tables));
+        (tables, baked_in)
     }
 
     /// Holds `tables` as the 2-D table of their config, replacing any other tables of the
     /// same config (which may hold other values), and binds them.
-    pub fn pin(&mut self, tables: Arc<Tables>, up: &Upload<'_>) {
+    pub fn pin(&mut self, tables: Arc<Tables>) {
         self.full = Some(tables.clone());
-        let what = BoundKey::Full(tables.config);
-        self.kept.retain(|b| b.what != what);
-        if matches!(&self.bound, Some(b) if b.what == what) {
+        let key = TableSet::Full(tables.config);
+        self.kept.retain(|b| b.key != key);
+        if matches!(&self.bound, Some(b) if b.key == key) {
             self.bound = None;
         }
-        self.full_table(tables.config, up);
+        self.full_table(tables.config);
     }
 
     /// The tables bound now (what the last draw read).
@@ -206,15 +195,5 @@ impl TableCache {
     /// Rows in the memory cache.
     pub fn cached_rows(&self) -> usize {
         self.rows.len()
-    }
-
-    /// Wall time of the latest bake (see `Renderer::last_bake_time`).
-    pub fn last_bake(&self) -> Option<Duration> {
-        self.last_bake
-    }
-
-    /// Records that the latest change of plan baked nothing (yet).
-    pub fn clear_last_bake(&mut self) {
-        self.last_bake = Some(Duration::ZERO);
     }
 }

@@ -1,6 +1,6 @@
-//! The truth on the GPU (docs/design.md, "Truth on the GPU"): balls with
-//! `model = "truth"` path traced by the random walk of `walk.wgsl` (Heitz et al. 2016),
-//! one estimate per pixel a frame, summed in an `Rgba32Float` target.
+//! The truth on the GPU (docs/design/gpu-truth.md): balls with `model = "truth"` path
+//! traced by the random walk of `walk.wgsl` (Heitz et al. 2016), one estimate per pixel a
+//! frame, summed in an `Rgba32Float` target.
 //!
 //! Each frame, an accumulation pass draws every ball's quad into the next of two sum
 //! textures with a depth test: a truth ball adds one estimate to the previous texture's
@@ -20,10 +20,12 @@ use std::sync::Arc;
 use super::bindings::BallInstance;
 use super::pipelines::{self, is_bits, PipelineKey, Shape, DEPTH_FORMAT};
 use super::plan::Variant;
+use super::renderer::QUAD_PAD_PX;
 use super::shaders;
+use super::uniforms::GpuBall;
 use crate::brdf::Geometry;
 use crate::lut::MuAxis;
-use crate::scene::{Scene, MAX_BALLS};
+use crate::scene::{Model, Scene, MAX_BALLS};
 
 /// The accumulation's format: f32 sums (rgb) and the count of estimates (alpha).
 pub const SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -101,6 +103,39 @@ pub fn same_scene(a: &Scene, b: &Scene) -> bool {
         _ => false,
     };
     maps && strip(a) == strip(b)
+}
+
+/// The accumulation pass's quads of `scene` at `size`: the truth balls', then the other
+/// balls' (they hide what is behind them), each over its bounds without the antialiasing
+/// pad (the walk traces one ray through each pixel's centre); `hidden` balls (by an
+/// identical earlier one) are left out.
+pub fn quads(
+    scene: &Scene,
+    balls: &[GpuBall],
+    hidden: &[bool],
+    size: (u32, u32),
+) -> (Vec<BallInstance>, Vec<BallInstance>) {
+    let (w, h) = size;
+    let basis = scene.camera.basis(w, h);
+    let (mut truth, mut others) = (Vec::new(), Vec::new());
+    for (k, b) in scene.balls.iter().take(balls.len()).enumerate() {
+        if hidden[k] {
+            continue;
+        }
+        let Some(rect) = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX) else {
+            continue;
+        };
+        let quad = BallInstance {
+            rect: rect.map(|v| v as f32),
+            ball: balls[k],
+        };
+        if b.model == Model::Truth {
+            truth.push(quad);
+        } else {
+            others.push(quad);
+        }
+    }
+    (truth, others)
 }
 
 impl TruthPass {

@@ -5,71 +5,10 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use std::sync::Arc;
-
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
 use crate::environment::IblTerm;
-use crate::lut::{roughness_coord, Layout, LutParams, MuAxis, RowSet, Tables};
+use crate::lut::{LutParams, TableSet};
 use crate::scene::{Model, Scene, MAX_BALLS, MAX_LIGHTS};
-
-/// The tables a draw reads: none (nothing reads E), a scene's rows, or the 2-D table.
-#[derive(Clone, Debug)]
-pub enum BoundTables {
-    /// No tables: no ball reads E (a one-texel placeholder is bound).
-    None,
-    /// A scene's own rows, one per roughness ([`crate::gpu::TablePlan::Rows`]).
-    Rows(Arc<RowSet>),
-    /// The 2-D table.
-    Full(Arc<Tables>),
-}
-
-impl BoundTables {
-    /// The read parameters of the bound tables (placeholders: one texel).
-    pub fn lut_params(&self) -> LutParams {
-        match self {
-            BoundTables::None => LutParams {
-                mu_size: 1,
-                r_size: 1,
-                ..LutParams::default()
-            },
-            BoundTables::Full(t) => t.layout().lut_params(),
-            BoundTables::Rows(rows) => rows.lut_params(),
-        }
-    }
-
-    /// The mu axis of the bound tables (the pipelines' `MU_AXIS`); with none bound nothing
-    /// reads it, and the default layout's is returned.
-    pub fn mu_axis(&self) -> MuAxis {
-        match self {
-            BoundTables::None => Layout::default().mu_axis,
-            BoundTables::Full(t) => t.layout().mu_axis,
-            BoundTables::Rows(rows) => rows.layout().mu_axis,
-        }
-    }
-
-    /// A ball's `lut_row` (the roughness half of its E reads). With no tables bound the
-    /// read (of a 1 x 1 placeholder) still runs where a pipeline branches on the ball's
-    /// flag, so alpha is the ball's own, keeping the warped axis's division away from 0 / 0.
-    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
-        match self {
-            BoundTables::None => {
-                let r = roughness_coord(roughness);
-                [0.0, 0.0, r * r]
-            }
-            BoundTables::Full(t) => t.lut_row(roughness),
-            BoundTables::Rows(rows) => rows.lut_row(roughness),
-        }
-    }
-
-    /// A ball's `1 - E_avg` as read: between rows of the 2-D table, or its own row's.
-    pub fn loss_avg(&self, roughness: f32) -> f32 {
-        match self {
-            BoundTables::None => 0.0,
-            BoundTables::Full(t) => t.lut_loss_avg(roughness),
-            BoundTables::Rows(rows) => rows.lut_loss_avg(roughness),
-        }
-    }
-}
 
 /// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
 #[repr(C)]
@@ -90,7 +29,7 @@ pub struct Globals {
     pub size: [f32; 4],
     /// Ball count and light count (at most `MAX_BALLS` and `MAX_LIGHTS`), 0, 0.
     pub counts: [u32; 4],
-    /// How the bound tables are read ([`BoundTables::lut_params`]).
+    /// How the bound tables are read ([`TableSet::lut_params`]).
     pub lut: LutParams,
 }
 
@@ -109,7 +48,7 @@ pub struct GpuBall {
     /// xyz: `f_add` of the scene's preset; w: `f_ms_norm` of `1 - E_avg` at the ball's
     /// roughness as read; all 0 without the term.
     pub f_add_ms_norm: [f32; 4],
-    /// The roughness half of the ball's E reads ([`BoundTables::lut_row`]).
+    /// The roughness half of the ball's E reads ([`TableSet::lut_row`]).
     pub lut_row: [f32; 3],
     /// The ball's term ([`term_code`]: `TERM_*` of `types.wgsl`; 0 without one).
     pub term: u32,
@@ -130,7 +69,7 @@ fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
 }
 
 /// Globals for rendering `scene` at `width x height` with `tables`.
-pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> Globals {
+pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
     Globals {
         cam_origin: v4(basis.origin, 1.0),
@@ -159,7 +98,7 @@ pub fn globals(scene: &Scene, tables: &BoundTables, width: u32, height: u32) -> 
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
 /// on lavapipe (docs/benchmarks.md, "Measured results").
-pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
+pub fn balls(scene: &Scene, tables: &TableSet) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
     scene
         .balls
@@ -169,7 +108,7 @@ pub fn balls(scene: &Scene, tables: &BoundTables) -> Vec<GpuBall> {
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
             let f_add_ms_norm = if b.model.has_term() {
-                let loss_avg = tables.loss_avg(b.roughness as f32);
+                let loss_avg = tables.lut_loss_avg(b.roughness as f32);
                 let e_avg = 1.0 - loss_avg as f64;
                 let f0 = b.material.f0.to_array();
                 let f_add =

@@ -7,7 +7,7 @@
 //!   of [`Label`]s, each a text with the room it may take in pixels (never over a ball) and
 //!   a preferred font size; [`Label::place`] shrinks the text to its room, or drops it.
 //!   Another picture (a comparison chart) builds its own [`Labels`] by hand.
-//! - *drawing*: [`draw_labels`] (feature `labels`) rasterises them into an RGBA8 image with
+//! - *drawing*: `draw_labels` (feature `labels`) rasterises them into an RGBA8 image with
 //!   `ab_glyph` and the Ubuntu Light font of `epaint_default_fonts`; the viewer paints the
 //!   same [`Labels`] with egui. Light text with a dark outline, readable on black and on a
 //!   white furnace background.

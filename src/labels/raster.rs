@@ -55,9 +55,10 @@ fn line(font: &FontRef<'_>, text: &str, size_px: f32) -> (Vec<ab_glyph::Glyph>, 
 }
 
 /// Draws `labels` into `rgba`, a `width x height` RGBA8 image (rows top to bottom), each
-/// label fitted to its room ([`Label::place`]) and nothing drawn outside its room. An
-/// error for a buffer of the wrong length; labels that do not fit are left out.
-pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) -> Result<()> {
+/// label fitted to its room ([`Label::place`]) and nothing drawn outside its room: the
+/// number drawn. An error for a buffer of the wrong length; labels that do not fit are
+/// left out.
+pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) -> Result<usize> {
     let expected = 4 * width as usize * height as usize;
     if rgba.len() != expected {
         return Err(Error::Invalid {
@@ -69,16 +70,17 @@ pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) ->
         });
     }
     let font = font()?;
-    for label in labels.iter() {
-        draw(&font, rgba, width, height, label);
-    }
-    Ok(())
+    Ok(labels
+        .iter()
+        .filter(|label| draw(&font, rgba, width, height, label))
+        .count())
 }
 
-fn draw(font: &FontRef<'_>, rgba: &mut [u8], width: u32, height: u32, label: &Label) {
+/// Draws `label`; false when it does not fit.
+fn draw(font: &FontRef<'_>, rgba: &mut [u8], width: u32, height: u32, label: &Label) -> bool {
     let (_, width_at_size) = line(font, &label.text, label.size_px);
     let Some(place) = label.place(width_at_size) else {
-        return;
+        return false;
     };
     // The pixels wholly inside the outer box (and the image): the mask covers them.
     let x0 = place.outer.x0.ceil().max(0.0) as i64;
@@ -86,7 +88,7 @@ fn draw(font: &FontRef<'_>, rgba: &mut [u8], width: u32, height: u32, label: &La
     let x1 = (place.outer.x1.floor() as i64).min(i64::from(width));
     let y1 = (place.outer.y1.floor() as i64).min(i64::from(height));
     if x1 <= x0 || y1 <= y0 {
-        return;
+        return false;
     }
     let (mw, mh) = ((x1 - x0) as usize, (y1 - y0) as usize);
     let mut mask = vec![0.0f32; mw * mh];
@@ -125,6 +127,7 @@ fn draw(font: &FontRef<'_>, rgba: &mut [u8], width: u32, height: u32, label: &La
             over(px, TEXT, (TEXT_GAIN * t).min(1.0));
         }
     }
+    true
 }
 
 /// `colour` with opacity `alpha` over the pixel (display values; alpha composited too).

@@ -1,5 +1,6 @@
-//! Baked tables as a KTX 2.0 texture for other programs (docs/design.md section 8): what the
-//! shader reads, in one 2-D texture of `mu_size x r_size` texels, two channels:
+//! Baked tables as a KTX 2.0 texture for other programs (docs/design/table-files.md,
+//! "KTX2"): what the shader reads, in one 2-D texture of `mu_size x r_size` texels, two
+//! channels:
 //!
 //! - R = `1 - E(mu, r)` per texel, after the layout's storage quantisation
 //!   ([`Tables::stored_loss`]);
@@ -16,8 +17,9 @@
 //!
 //! The reader ([`read_tables`], [`parse_tables`]) parses by hand with a bounds check on every
 //! field (the `ktx2` crate's reader panics on some corrupt descriptors), accepts exactly
-//! what the writer produces (any format above, any layout), and answers anything else with
-//! one line, [`Error::Invalid`] of "table file".
+//! what the writer produces (any format above, any layout, any `KTXwriter` value: the
+//! file must be byte for byte what the writer gives for the tables read from it), and
+//! answers anything else with one line, [`Error::Invalid`] of "table file".
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -211,6 +213,13 @@ fn table_error(message: impl Into<String>) -> Error {
 /// The file's bytes for `tables`. Fails only on tables whose vectors do not match their
 /// layout, or whose sizes a KTX2 header cannot hold.
 pub fn encode_tables(tables: &Tables) -> Result<Vec<u8>> {
+    let writer = format!("shadeballs {}", env!("CARGO_PKG_VERSION"));
+    encode_with_writer(tables, &writer)
+}
+
+/// [`encode_tables`] with `writer` as the `KTXwriter` value (the reader re-encodes a file
+/// with its own writer's value to check it byte for byte).
+fn encode_with_writer(tables: &Tables, writer: &str) -> Result<Vec<u8>> {
     let l = tables.layout();
     let texels = l.texels();
     if tables.stored_loss.len() != texels || tables.stored_loss_avg.len() != l.r_size {
@@ -236,10 +245,9 @@ pub fn encode_tables(tables: &Tables) -> Result<Vec<u8>> {
 
     let dfd = data_format_descriptor(l.storage);
     let mut kvd = Vec::new();
-    let writer = format!("shadeballs {}", env!("CARGO_PKG_VERSION"));
     // Keys in byte order, as the spec asks ('K' < 's').
     for (key, value) in [
-        (WRITER_KEY, writer.as_str()),
+        (WRITER_KEY, writer),
         (LAYOUT_KEY, layout_text(tables).as_str()),
     ] {
         // keyAndValueByteLength, key, NUL, value, NUL (UTF-8 strings), then padding to 4.
@@ -445,7 +453,8 @@ pub fn parse_tables(bytes: &[u8]) -> Result<Tables> {
         b.slice(dfd_offset as u64, dfd_len as u64, "data format descriptor")?,
         storage,
     )?;
-    let text = layout_value(b.slice(kvd_offset as u64, kvd_len as u64, "key/value data")?)?;
+    let kvd = b.slice(kvd_offset as u64, kvd_len as u64, "key/value data")?;
+    let text = layout_value(kvd)?;
     let config = parse_layout(text, storage, width as usize, height as usize)?;
     let layout = config.layout;
 
@@ -482,13 +491,78 @@ pub fn parse_tables(bytes: &[u8]) -> Result<Tables> {
         }
         stored_loss_avg.push(avg);
     }
-    Ok(Tables {
+    let tables = Tables {
         config,
         e: stored_loss.iter().map(|&v| 1.0 - v as f64).collect(),
         e_avg: stored_loss_avg.iter().map(|&v| 1.0 - v as f64).collect(),
         stored_loss,
         stored_loss_avg,
-    })
+    };
+    check_as_written(bytes, &tables, kvd)?;
+    Ok(tables)
+}
+
+/// The file must be the bytes the writer gives for the tables read from it, with the
+/// file's own `KTXwriter` value (another version's): so nothing the writer never writes
+/// is accepted (issue 28, 9: sample bounds, primaries, flags, offsets, padding, the layout
+/// text's wording, trailing bytes). The first differing byte is named by its part.
+fn check_as_written(bytes: &[u8], tables: &Tables, kvd: &[u8]) -> Result<()> {
+    let writer = kv_value(kvd, WRITER_KEY).unwrap_or("");
+    let want = encode_with_writer(tables, writer)?;
+    let Some(at) = (0..bytes.len().min(want.len())).find(|&k| bytes[k] != want[k]) else {
+        return match bytes.len().cmp(&want.len()) {
+            std::cmp::Ordering::Equal => Ok(()),
+            std::cmp::Ordering::Greater => Err(invalid(format!(
+                "{} bytes after the texel data (the file ends at byte {})",
+                bytes.len() - want.len(),
+                want.len()
+            ))),
+            std::cmp::Ordering::Less => Err(invalid(format!(
+                "{} bytes, {} fewer than a table of this layout",
+                bytes.len(),
+                want.len() - bytes.len()
+            ))),
+        };
+    };
+    let dfd = HEADER_LEN + LEVEL_INDEX_LEN;
+    let kvd_start = dfd + 4 + DFD_BLOCK_LEN;
+    let data =
+        want.len() - tables.layout().texels() * 2 * tables.layout().storage.bytes_per_texel();
+    let part = match at {
+        _ if at < HEADER_LEN => "the header",
+        _ if at < dfd => "the level index",
+        _ if at < dfd + 4 + 24 => {
+            "the data format descriptor's block header (model, primaries, transfer, flags, planes)"
+        }
+        _ if at < kvd_start => {
+            "the data format descriptor's samples (positions, sampleLower, sampleUpper)"
+        }
+        _ if at < kvd_start + kvd.len() => "the key/value data (its entries, order or padding)",
+        _ if at < data => "the padding before the texel data",
+        _ => "the texel data (a value the writer would store otherwise)",
+    };
+    Err(invalid(format!(
+        "byte {at} ({part}) is {:#04x}, the writer writes {:#04x} there: not a table file as \
+         shadeballs writes it",
+        bytes[at], want[at]
+    )))
+}
+
+/// The value of `key` in key/value data already checked by [`layout_value`] (its trailing
+/// NUL dropped), if there is one and it is UTF-8.
+fn kv_value<'a>(kvd: &'a [u8], key: &str) -> Option<&'a str> {
+    let mut rest = kvd;
+    while rest.len() >= 4 {
+        let len = u32::from_le_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
+        let entry = rest.get(4..)?.get(..len)?;
+        let nul = entry.iter().position(|&c| c == 0)?;
+        if &entry[..nul] == key.as_bytes() {
+            let value = &entry[nul + 1..];
+            return std::str::from_utf8(value.strip_suffix(&[0]).unwrap_or(value)).ok();
+        }
+        rest = &rest[(4 + len).next_multiple_of(4).min(rest.len())..];
+    }
+    None
 }
 
 /// Checks the descriptor's structure: the fields that say how to read the texels.

@@ -16,7 +16,7 @@
 //!
 //! Tables hold the missing energy `1 - E` and `1 - E_avg` rather than E: the lobe needs
 //! exactly these, and they are small where E is near 1, where floating point keeps their
-//! relative precision (docs/design.md section 3).
+//! relative precision (docs/design/gpu-tables.md, "Storage").
 //! Tables are stored row-major: row `j` (roughness) holds `mu_size` texels.
 
 use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
@@ -26,7 +26,7 @@ use crate::brdf::{roughness_clamped, ROUGHNESS_MIN};
 pub enum MuAxis {
     /// `x = mu` (the homework's).
     Linear,
-    /// `x = sqrt(mu)` (docs/design.md section 3's candidate).
+    /// `x = sqrt(mu)` (the first candidate: docs/design/gpu-tables.md, "Layouts").
     Sqrt,
     /// `x = mu (1 + a) / (mu + a)`, `a = alpha` at the read roughness (the default).
     ///
@@ -233,8 +233,9 @@ pub enum LayoutKind {
     /// texel centres on the end points, f32, E_avg read linearly; a plain bilinear
     /// `textureSample` with clamp-to-edge at `uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M)`
     /// reads it ([`super::plain`]). Its default size ([`UNIFORM_MU_SIZE`] x
-    /// [`UNIFORM_R_SIZE`]) keeps a plain read within 1e-3 of the reference at roughness
-    /// >= 0.1, with f32 or 8-bit filter weights.
+    /// [`UNIFORM_R_SIZE`], 128 x 128) is the engines'; [`UNIFORM_PRECISE_MU_SIZE`] x
+    /// [`UNIFORM_PRECISE_R_SIZE`] keeps a plain read within 1e-3 of the reference at
+    /// roughness >= 0.1, with f32 or 8-bit filter weights.
     Uniform,
 }
 
@@ -293,17 +294,30 @@ pub const DEFAULT_MU_SIZE: usize = 64;
 /// Default texels along roughness (see [`DEFAULT_MU_SIZE`]).
 pub const DEFAULT_R_SIZE: usize = 64;
 
-/// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness), chosen by
-/// measurement (`tests/suite/ktx2.rs`): a plain bilinear read ([`super::plain`]) stays
-/// within 1e-3 of the reference over mu in `[0, 1]` and roughness in `[0.1, 1]` for Schlick
-/// and height-correlated Smith G, with f32 filter weights and with the 8-bit fractional
+/// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness): 128 x 128, the
+/// size engines ship such tables at (32^2 to 128^2; Filament's DFG table is 128 x 128),
+/// 131 KB as R32G32_SFLOAT. A plain bilinear read ([`super::plain`]) of it is within 1e-3
+/// of the reference on average but not at grazing mu and low roughness, where a linear
+/// mu axis needs texels 4.6e-4 apart: docs/accuracy.md, "Tables for engines (KTX2,
+/// uniform layout)", states its error and that of 64 x 64 (`tests/suite/ktx2.rs` holds
+/// them). [`UNIFORM_PRECISE_MU_SIZE`] x [`UNIFORM_PRECISE_R_SIZE`] is the size for 1e-3
+/// everywhere.
+pub const UNIFORM_MU_SIZE: usize = 128;
+/// Default roughness rows of the [`LayoutKind::Uniform`] layout (see [`UNIFORM_MU_SIZE`]).
+pub const UNIFORM_R_SIZE: usize = 128;
+
+/// The smallest [`LayoutKind::Uniform`] size (mu x roughness) whose plain bilinear read
+/// ([`super::plain`]) stays within 1e-3 of the reference over mu in `[0, 1]` and roughness
+/// in `[0.1, 1]`, chosen by measurement (`tests/suite/ktx2.rs`), for Schlick and
+/// height-correlated Smith G, with f32 filter weights and with the 8-bit fractional
 /// weights of real GPUs' samplers. The error lives at grazing mu and roughness 0.1, where a
 /// linear mu axis needs texels 4.6e-4 apart, and between rows there. With f32 weights
 /// 2176 x 100 is enough (9.75e-4, Schlick) but 8-bit weights take it to 1.02e-3; 2304 x 112
-/// leaves a margin for both. 2.1 MB as R32G32_SFLOAT.
-pub const UNIFORM_MU_SIZE: usize = 2304;
-/// Default roughness rows of the [`LayoutKind::Uniform`] layout (see [`UNIFORM_MU_SIZE`]).
-pub const UNIFORM_R_SIZE: usize = 112;
+/// leaves a margin for both. 2.1 MB as R32G32_SFLOAT (`bake --layout uniform --size
+/// 2304x112`).
+pub const UNIFORM_PRECISE_MU_SIZE: usize = 2304;
+/// Roughness rows of the 1e-3 uniform size (see [`UNIFORM_PRECISE_MU_SIZE`]).
+pub const UNIFORM_PRECISE_R_SIZE: usize = 112;
 
 impl Default for Layout {
     fn default() -> Self {

@@ -1,6 +1,7 @@
 //! Baking the Kulla-Conty tables E(mu, roughness) and E_avg(roughness) on the CPU
-//! (docs/design.md section 2), and the CPU model of how the shader reads them (section 3).
-//! Knows the maths; knows nothing of the GPU.
+//! (docs/design/baking.md), and the CPU model of how the shader reads them
+//! (docs/design/gpu-tables.md, "The CPU model of the read"). Knows the maths; knows nothing
+//! of the GPU.
 
 pub mod accuracy;
 mod chebyshev;
@@ -14,6 +15,7 @@ mod quadrature;
 mod reference;
 pub mod rows;
 pub mod split_sum;
+mod table_set;
 
 use rayon::prelude::*;
 
@@ -22,7 +24,8 @@ pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{
     lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis,
-    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN, UNIFORM_MU_SIZE, UNIFORM_R_SIZE,
+    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN, UNIFORM_MU_SIZE,
+    UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE, UNIFORM_R_SIZE,
 };
 pub use quadrature::{adaptive, gauss_legendre_unit};
 pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
@@ -30,6 +33,7 @@ pub use rows::{bake_rows, Row, RowKey, RowSet};
 pub use split_sum::{
     e_same_nodes, split_sum, split_sum_with, SplitSum, SPLIT_SUM_SIZE, SPLIT_SUM_TABLE_NODES,
 };
+pub use table_set::{TableKey, TableSet};
 
 use crate::brdf::Geometry;
 

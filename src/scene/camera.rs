@@ -31,7 +31,8 @@ pub struct CameraBasis {
 }
 
 impl Camera {
-    /// The reference scene's camera (docs/design.md section 4).
+    /// The reference scene's camera (docs/design/reference-scene.md, "The balls, the light
+    /// and the camera").
     pub fn reference() -> Self {
         Camera {
             position: DVec3::new(0.0, 80.0, 300.0),

@@ -50,14 +50,12 @@ use super::values::{
     Radiance, Roughness,
 };
 use super::{
-    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, MAX_BALLS, MAX_LIGHTS,
+    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, DIELECTRIC_F0,
+    MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
 use crate::environment::{self, Builtin, Environment, IblTerm, Source};
 use crate::error::{Error, Result};
-
-/// The F0 a dielectric gets when the file gives none (common glass and plastics, ~1.5 IOR).
-pub const DIELECTRIC_F0: f64 = 0.04;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,22 +1,31 @@
-//! The scene: balls, lights, environment, camera and the render settings (docs/design.md
-//! sections 1 and 4), its TOML file format, and its validation. Knows nothing of wgpu.
+//! The scene: balls, lights, environment, camera and the render settings
+//! (docs/design/model.md and docs/design/reference-scene.md), its TOML file format, and its
+//! validation. Knows nothing of wgpu.
 //!
 //! Conventions: world units are arbitrary (the reference scene uses the homework's), `+y`
 //! is up, colours are linear RGB unless a field says sRGB, light directions point from the
 //! surface towards the light.
 
 mod camera;
+#[cfg(feature = "scene-files")]
 mod file;
 mod model;
 mod preset;
+mod showcase;
+#[cfg(feature = "scene-files")]
 mod values;
 
 use glam::DVec3;
 
 pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
-pub use file::{load, parse, DIELECTRIC_F0, MAX_SCENE_BYTES};
+#[cfg(feature = "scene-files")]
+pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use model::Model;
 pub use preset::Preset;
+pub use showcase::{
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS,
+    SHOWCASE_ROW_HALF_GAP,
+};
 
 use crate::brdf::Geometry;
 use crate::environment::{Background, Environment, IblTerm};
@@ -26,6 +35,10 @@ use crate::environment::{Background, Environment, IblTerm};
 /// cost follows the pixels the balls cover, not their number (docs/reliability.md,
 /// "Limits").
 pub const MAX_BALLS: usize = 4096;
+/// The F0 a dielectric gets when the scene file gives none (common glass and plastics,
+/// ~1.5 IOR).
+pub const DIELECTRIC_F0: f64 = 0.04;
+
 /// Most directional lights a scene may hold.
 pub const MAX_LIGHTS: usize = 16;
 
@@ -37,9 +50,9 @@ pub const MAX_LIGHTS: usize = 16;
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
 
-/// Spacing of `grid = [row, col]` placements: the reference scene's layout (docs/design.md
-/// section 4): column 0 at x = 180, each column 80 to the left; row 0 at y = +60, each row
-/// 120 lower; z = 0.
+/// Spacing of `grid = [row, col]` placements: the reference scene's layout
+/// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =
+/// 180, each column 80 to the left; row 0 at y = +60, each row 120 lower; z = 0.
 pub fn grid_position(row: u32, col: u32) -> DVec3 {
     DVec3::new(180.0 - 80.0 * col as f64, 60.0 - 120.0 * row as f64, 0.0)
 }
@@ -66,8 +79,9 @@ pub struct Material {
 }
 
 impl Material {
-    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2` (docs/design.md
-    /// section 4: the homework's decoding).
+    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2`
+    /// (docs/design/reference-scene.md, "The balls, the light and the camera": the
+    /// homework's decoding).
     pub fn metal_srgb(albedo: [f64; 3]) -> Self {
         Material {
             kind: MaterialKind::Metal,
@@ -138,12 +152,13 @@ pub struct Scene {
     pub labels: bool,
     /// Antialiased silhouettes (default on): a pixel a ball's silhouette crosses mixes the
     /// ball and the background by the fraction of it the ball covers, computed analytically,
-    /// in linear radiance (docs/design.md section 12); off, one ray through each pixel's
+    /// in linear radiance (docs/design/antialiasing.md); off, one ray through each pixel's
     /// centre.
     pub antialias: bool,
 }
 
-/// The reference scene's metal albedo (sRGB, docs/design.md section 4).
+/// The reference scene's metal albedo (sRGB, docs/design/reference-scene.md, "The balls,
+/// the light and the camera").
 pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
 /// Roughness per column of the reference scene (column 0 at x = 180).
 pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
@@ -151,8 +166,9 @@ pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
 pub const REFERENCE_RADIUS: f64 = 35.0;
 
 impl Scene {
-    /// The homework's scene (docs/design.md section 4): two rows of five copper-coloured metal
-    /// balls, top row with the multiple-scattering term, one white light from +z.
+    /// The homework's scene (docs/design/reference-scene.md, "The balls, the light and the
+    /// camera"): two rows of five copper-coloured metal balls, top row with the
+    /// multiple-scattering term, one white light from +z.
     pub fn reference() -> Self {
         Scene {
             balls: two_rows(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),
@@ -173,8 +189,9 @@ impl Scene {
         }
     }
 
-    /// The white furnace (docs/design.md section 4): the same balls with `F0 = 1`, no lights, a
-    /// uniform white environment. With the term on, the balls vanish into the background.
+    /// The white furnace (docs/design/reference-scene.md, "The white furnace"): the same
+    /// balls with `F0 = 1`, no lights, a uniform white environment. With the term on, the
+    /// balls vanish into the background.
     pub fn furnace() -> Self {
         let white = Material {
             kind: MaterialKind::Metal,

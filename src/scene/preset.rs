@@ -1,5 +1,5 @@
 //! Presets: which Fresnel average and which `f_add` form the multiple-scattering term uses
-//! (docs/design.md section 1).
+//! (docs/design/model.md, "Presets").
 
 use crate::brdf::{FAvgForm, Geometry};
 

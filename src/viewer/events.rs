@@ -63,6 +63,46 @@ impl App {
     }
 }
 
+thread_local! {
+    /// Set while a redraw runs: a panic then is reported to [`gone_while_drawing`] by the
+    /// viewer's panic hook instead of printed, if it is winit's.
+    static DRAWING: std::cell::Cell<Option<bool>> = const { std::cell::Cell::new(None) };
+}
+
+/// The source file of winit's X11 window, whose size query unwraps the `BadWindow` error of
+/// a window destroyed from outside (winit 0.30: `inner_size_physical`).
+const WINIT_X11_WINDOW: &str = "platform_impl/linux/x11/window.rs";
+
+/// Runs `draw`; whether it panicked in winit's X11 window queries, which happens when the
+/// window was destroyed from outside (`xdotool windowclose`) while a redraw was already
+/// queued, before winit reports `Destroyed`. That panic is not printed. Any other panic
+/// goes on as it would have (printed by the default hook, then unwound further).
+fn gone_while_drawing(draw: impl FnOnce()) -> bool {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let winit = info
+                .location()
+                .is_some_and(|l| l.file().replace('\\', "/").ends_with(WINIT_X11_WINDOW));
+            let drawing = DRAWING.with(|d| d.get()).is_some();
+            if drawing && winit {
+                DRAWING.with(|d| d.set(Some(true)));
+            } else {
+                previous(info);
+            }
+        }));
+    });
+    DRAWING.with(|d| d.set(Some(false)));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(draw));
+    let in_winit = DRAWING.with(|d| d.replace(None)) == Some(true);
+    match result {
+        Ok(()) => false,
+        Err(_) if in_winit => true,
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
 impl ApplicationHandler for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.state.is_none() {
@@ -73,6 +113,14 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        if event == WindowEvent::Destroyed {
+            // Destroyed from outside (`xdotool windowclose`, a crashed window manager):
+            // nothing may ask the window anything again (winit's X11 size query unwraps the
+            // error and panics, issue 28, 11): drop it and quit.
+            self.state = None;
+            event_loop.exit();
+            return;
+        }
         let Some(state) = &mut self.state else {
             return;
         };
@@ -92,7 +140,13 @@ impl ApplicationHandler for App {
                 state.window.request_redraw();
             }
             WindowEvent::ScaleFactorChanged { .. } => state.window.request_redraw(),
-            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::RedrawRequested => {
+                if gone_while_drawing(|| self.redraw(event_loop)) {
+                    // As `WindowEvent::Destroyed` below: the window is gone, quit.
+                    self.state = None;
+                    event_loop.exit();
+                }
+            }
             // Synthetic presses are winit's report of keys already held when the window
             // gains focus (after a map, say): not a press of the user's.
             WindowEvent::KeyboardInput {

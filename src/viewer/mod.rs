@@ -218,40 +218,14 @@ impl App {
             self.scene.camera = orbit::orbit(&self.scene.camera, ORBIT_STEP, 0.0);
         }
         // The panel: edits the scene and the bake settings; reports the last frames.
-        let bake_ms = state
-            .renderer
-            .last_bake_time()
-            .map(|d| d.as_secs_f64() * 1e3);
-        let prefilter_ms = state
-            .renderer
-            .last_prefilter_time()
-            .map(|d| d.as_secs_f64() * 1e3);
-        let scene_size = (self.scene_width, state.size().1);
-        let fresh = self.clock.settled()
-            && self.stats.as_ref().is_some_and(|(at, s)| {
-                at.elapsed() < STATS_PERIOD
-                    && s.bake_ms == bake_ms
-                    && s.prefilter_ms == prefilter_ms
-                    && s.scene_size == scene_size
-                    && s.truth_samples.is_none()
-            });
-        if !fresh {
-            let stats = Stats {
-                frame_ms: self.clock.recent_draw_ms(),
-                bake_ms,
-                prefilter_ms,
-                adapter: state.renderer.gpu().describe(),
-                plan: plan_summary(&state.renderer),
-                scene_size,
-                truth_samples: if self.scene.has_truth() {
-                    state.renderer.truth_samples()
-                } else {
-                    None
-                },
-            };
-            self.stats = Some((start, stats));
-        }
-        let stats = &self.stats.as_ref().expect("set above").1;
+        let stats = refresh_stats(
+            &mut self.stats,
+            state,
+            &mut self.clock,
+            &self.scene,
+            self.scene_width,
+            start,
+        );
         let input = egui_winit.take_egui_input(&state.window);
         let (scene, controls) = (&mut self.scene, &mut self.controls);
         let mut free_width = 0.0;
@@ -269,33 +243,14 @@ impl App {
         let mut bake = state.renderer.bake_config();
         bake.layout = self.controls.table_layout();
         state.renderer.set_bake_config(bake);
-        // Left edge of what egui drew, in pixels: right of the scene area unless a popup
-        // reaches over it.
-        let left = output
-            .shapes
-            .iter()
-            .map(|s| s.shape.visual_bounding_rect().intersect(s.clip_rect).min.x)
-            .filter(|x| x.is_finite())
-            .fold(f32::INFINITY, f32::min);
-        let changed = output.shapes != self.last_shapes.0
-            || ppp != self.last_shapes.1
-            || !output.textures_delta.is_empty();
-        self.last_shapes = (output.shapes.clone(), ppp);
-        let panel_only = left * ppp >= self.scene_width as f32 - 1.0;
-        // Tessellated only when the frame image's panel is redrawn (compose.rs).
-        let primitives = if state.panel_due(changed, panel_only) {
-            self.egui_ctx.tessellate(output.shapes, ppp)
-        } else {
-            Vec::new()
-        };
-        let overlay = Overlay {
-            labels: self.egui_ctx.tessellate(label_shapes, ppp),
-            primitives,
-            textures: output.textures_delta,
-            pixels_per_point: ppp,
-            changed,
-            panel_only,
-        };
+        let overlay = overlay(
+            &self.egui_ctx,
+            state,
+            &mut self.last_shapes,
+            self.scene_width,
+            (output.shapes, output.textures_delta, ppp),
+            label_shapes,
+        );
         let last = self.options.frames == Some(self.frames_drawn + 1);
         if last && self.screenshot.is_none() {
             self.screenshot = self.options.screenshot.clone();
@@ -306,16 +261,8 @@ impl App {
                 self.clock.shown(start);
                 self.frames_drawn += 1;
                 if let (Some(path), Some(rgba)) = (self.screenshot.take(), pixels) {
-                    match write_png(&path, width, height, rgba) {
-                        Ok(()) => eprintln!(
-                            "screenshot {width}x{height} (scene area {}x{height} at the \
-                             top left) -> {}",
-                            self.scene_width,
-                            path.display()
-                        ),
-                        // `--screenshot` is what the run was for; S in a window is not.
-                        Err(e) if self.options.frames.is_some() => return self.fail(event_loop, e),
-                        Err(e) => eprintln!("error: {e}"),
+                    if let Err(e) = self.write_screenshot(&path, (width, height), rgba) {
+                        return self.fail(event_loop, e);
                     }
                 }
                 if last {
@@ -330,14 +277,39 @@ impl App {
             }
             Err(e) => self.fail(event_loop, e),
         }
-        // Interactive: a frame was drawn because something changed; egui may ask for
-        // another (an animation) now or later.
         let delay = output
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
-        // Truth balls keep accumulating while nothing changes (each draw of an unchanged
-        // scene adds an estimate a pixel), up to the headless cap.
+        self.schedule_next(event_loop, delay);
+    }
+
+    /// Writes the frame's `rgba` pixels of `size` to `path`. A failure is the run's only
+    /// where `--screenshot` is what the run was for (`--frames`); in a window (S) it is
+    /// reported and the viewer goes on.
+    fn write_screenshot(
+        &self,
+        path: &std::path::Path,
+        size: (u32, u32),
+        rgba: Vec<u8>,
+    ) -> Result<()> {
+        let (width, height) = size;
+        match write_png(path, width, height, rgba) {
+            Ok(()) => eprintln!(
+                "screenshot {width}x{height} (scene area {}x{height} at the top left) -> {}",
+                self.scene_width,
+                path.display()
+            ),
+            Err(e) if self.options.frames.is_some() => return Err(e),
+            Err(e) => eprintln!("error: {e}"),
+        }
+        Ok(())
+    }
+
+    /// Interactive: a frame was drawn because something changed; egui may ask for another
+    /// (an animation) after `delay`, and truth balls keep accumulating while nothing changes
+    /// (each draw of an unchanged scene adds an estimate a pixel), up to the headless cap.
+    fn schedule_next(&mut self, event_loop: &ActiveEventLoop, delay: Duration) {
         let accumulating = self.scene.has_truth()
             && self.state.as_ref().is_some_and(|s| {
                 s.renderer
@@ -356,6 +328,84 @@ impl App {
     }
 }
 
+/// The egui part of a frame ([`Overlay`]) from egui's `shapes`, `textures` and
+/// pixels-per-point: whether anything changed since `last` (replaced by these shapes),
+/// whether it all lies right of the scene area (its left edge, in pixels, past
+/// `scene_width` unless a popup reaches over), the panel tessellated only when the frame
+/// image's panel is redrawn (compose.rs), and the chart's labels.
+fn overlay(
+    ctx: &egui::Context,
+    state: &State,
+    last: &mut (Vec<egui::epaint::ClippedShape>, f32),
+    scene_width: u32,
+    (shapes, textures, ppp): (Vec<egui::epaint::ClippedShape>, egui::TexturesDelta, f32),
+    label_shapes: Vec<egui::epaint::ClippedShape>,
+) -> Overlay {
+    let left = shapes
+        .iter()
+        .map(|s| s.shape.visual_bounding_rect().intersect(s.clip_rect).min.x)
+        .filter(|x| x.is_finite())
+        .fold(f32::INFINITY, f32::min);
+    let changed = shapes != last.0 || ppp != last.1 || !textures.is_empty();
+    *last = (shapes.clone(), ppp);
+    let panel_only = left * ppp >= scene_width as f32 - 1.0;
+    let primitives = if state.panel_due(changed, panel_only) {
+        ctx.tessellate(shapes, ppp)
+    } else {
+        Vec::new()
+    };
+    Overlay {
+        labels: ctx.tessellate(label_shapes, ppp),
+        primitives,
+        textures,
+        pixels_per_point: ppp,
+        changed,
+        panel_only,
+    }
+}
+
+/// The panel's readouts: kept while they are fresh (the clock settled, within
+/// [`STATS_PERIOD`], the same bake, map preparation, scene area and no accumulating truth),
+/// else measured again at `now`.
+fn refresh_stats<'a>(
+    held: &'a mut Option<(Instant, Stats)>,
+    state: &State,
+    clock: &mut FrameClock,
+    scene: &Scene,
+    scene_width: u32,
+    now: Instant,
+) -> &'a Stats {
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let bake_ms = state.renderer.last_bake_time().map(ms);
+    let prefilter_ms = state.renderer.last_prefilter_time().map(ms);
+    let scene_size = (scene_width, state.size().1);
+    let fresh = clock.settled()
+        && held.as_ref().is_some_and(|(at, s)| {
+            at.elapsed() < STATS_PERIOD
+                && s.bake_ms == bake_ms
+                && s.prefilter_ms == prefilter_ms
+                && s.scene_size == scene_size
+                && s.truth_samples.is_none()
+        });
+    if !fresh {
+        let stats = Stats {
+            frame_ms: clock.recent_draw_ms(),
+            bake_ms,
+            prefilter_ms,
+            adapter: state.renderer.gpu().describe(),
+            plan: plan_summary(&state.renderer),
+            scene_size,
+            truth_samples: if scene.has_truth() {
+                state.renderer.truth_samples()
+            } else {
+                None
+            },
+        };
+        *held = Some((now, stats));
+    }
+    &held.as_ref().expect("set above").1
+}
+
 /// winit's error without the "os error at <its source file>:<line>: " it starts with.
 fn display_error(e: impl std::fmt::Display) -> Error {
     let message = e.to_string();
@@ -372,19 +422,19 @@ fn display_error(e: impl std::fmt::Display) -> Error {
 /// The plan in a few words, shorter than its `Display` (`render --verbose`), which lists
 /// every row's roughness: what is baked and bound, and the rows kept in memory.
 fn plan_summary(renderer: &crate::gpu::Renderer) -> String {
-    use crate::gpu::TablePlan;
+    use crate::lut::TableSet;
     let Some(plan) = renderer.plan() else {
         return "tables: not planned yet".into();
     };
     let layout = &plan.bake.layout;
     let tables = match &plan.tables {
-        TablePlan::None => "tables: none (no ball reads E)".to_string(),
-        TablePlan::Rows(rows) => format!(
+        TableSet::None => "tables: none (no ball reads E)".to_string(),
+        TableSet::Rows(rows) => format!(
             "tables: {} exact rows of {} along mu",
             rows.len(),
             layout.mu_size
         ),
-        TablePlan::Full => format!("tables: {}x{} table", layout.mu_size, layout.r_size),
+        TableSet::Full(_) => format!("tables: {}x{} table", layout.mu_size, layout.r_size),
     };
     format!("{tables}; {} rows cached", renderer.cached_rows())
 }

@@ -3,7 +3,8 @@
 //! multiple-scattering BRDF of a GGX conductor with height-correlated Smith masking, the
 //! truth the models are measured against. The library's part: the microsurface
 //! ([`microsurface`]), one path at a time ([`trace`]), its seeded generator ([`rng`]) and
-//! the exact single scattering by quadrature ([`single`]); the truth renderer
+//! the exact single scattering by quadrature ([`single`]), and the walk through a rough
+//! dielectric coating over a Lambertian base ([`coating`], the truth for plastics); the truth renderer
 //! (`cpu::render_truth`) and the study (`shadeballs truth`, feature `lab`) build on it.
 //!
 //! Variance reduction (unbiased, so the expectation is the paper's walk): an upward ray
@@ -11,6 +12,7 @@
 //! weight and always continues with the weight scaled by `1 - G1`, down to a Russian
 //! roulette.
 
+pub mod coating;
 pub mod microsurface;
 pub mod rng;
 pub mod single;
@@ -26,6 +28,17 @@ pub use rng::Rng;
 pub trait Reflectance {
     /// Reflectance at cosine `cos`.
     fn eval(&self, cos: f64) -> f64;
+}
+
+/// The exact Fresnel of a dielectric interface of this relative index (`n_t / n_i`;
+/// [`crate::brdf::fresnel_dielectric`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dielectric(pub f64);
+
+impl Reflectance for Dielectric {
+    fn eval(&self, cos: f64) -> f64 {
+        crate::brdf::fresnel_dielectric(cos, self.0)
+    }
 }
 
 /// Schlick's approximation with this `F0` (what the renderer's `f_micro` uses).

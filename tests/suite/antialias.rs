@@ -1,4 +1,4 @@
-//! Antialiased silhouettes (issue 17; docs/design.md section 11): edge pixels against a
+//! Antialiased silhouettes (issue 17; docs/design/antialiasing.md): edge pixels against a
 //! supersampled reference, interior pixels against the image without antialiasing, the
 //! white furnace's edges, and the GPU against the CPU renderer.
 use glam::DVec3;

@@ -82,9 +82,9 @@ fn games202_fresnel_fit_matches_the_homework() {
     // = 1 the fit gives about 1 (a perfect mirror), as Kulla & Conty's fit is built to.
     let all_ones = f_avg_games202(1.0, 1.0);
     assert!((all_ones - 1.0).abs() < 0.01, "{all_ones}");
-    // For the reference scene's albedo the fit and Schlick's F_avg disagree (docs/design.md
-    // section 1): most in blue, the channel of least reflectivity (0.2^2.2 = 0.029), where
-    // the fit gives 0.1141 and Schlick 0.0752.
+    // For the reference scene's albedo the fit and Schlick's F_avg disagree
+    // (docs/design/model.md, "The homework's mistakes"): most in blue, the channel of least
+    // reflectivity (0.2^2.2 = 0.029), where the fit gives 0.1141 and Schlick 0.0752.
     let albedo_b = 0.2f64.powf(2.2);
     let fit = f_avg_games202(albedo_b, GAMES202_EDGE_TINT[2]);
     let schlick = f_avg_schlick(albedo_b);

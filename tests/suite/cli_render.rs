@@ -96,7 +96,7 @@ fn probe_writes_the_grid_as_csv() {
     let (ok, stderr) = shadeballs(&["probe", "--out", out.to_str().unwrap(), "--grid", "1"]);
     assert!(!ok && stderr.contains("not in 2..=1024"), "{stderr}");
     // Along the default scene's own rows: 9 mu a row, its five roughness values.
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/reference.toml");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/homework.toml");
     let args = [
         "probe",
         "--out",

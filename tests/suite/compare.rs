@@ -114,13 +114,22 @@ fn compare_writes_its_files_and_the_truth_favours_the_term_on_rough_balls() {
     assert_eq!(
         lines.next().unwrap(),
         "model,roughness,mean_rel_err,p99_rel_err,flip_mean,frame_ms,\
-         truth_rel_stderr_mean,truth_rel_stderr_p99"
+         truth_rel_stderr_mean,truth_rel_stderr_p99,mean_verdict,p99_verdict"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 5 * 5, "{csv}");
+    // Issue 28: every figure column parses as a number; the verdicts are words of their own.
+    for row in &rows {
+        for (k, cell) in row.iter().enumerate().take(8).skip(1) {
+            assert!(cell.parse::<f64>().is_ok(), "column {k} of {row:?}: {csv}");
+        }
+        for cell in &row[8..] {
+            assert!(["within noise", "above noise"].contains(cell), "{row:?}");
+        }
+    }
     let err = |model: &str, r: &str| -> f64 {
         let row = rows.iter().find(|c| c[0] == model && c[1] == r).unwrap();
-        row[2].parse().unwrap_or(0.0)
+        row[2].parse().unwrap()
     };
     // The truth against the models where their difference is largest: at roughness 0.95
     // the none model misses a third of the energy, the term restores most of it.

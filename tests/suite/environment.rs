@@ -536,6 +536,28 @@ fn environment_command_writes_a_map_a_scene_can_use() {
     ]);
     assert!(ok, "{stderr}");
     assert_eq!(environment::load(&hdr).unwrap().0.width(), 1024);
+    // A .png is a preview: every texel through the display transform.
+    let png = dir.join("studio.png");
+    let (ok, stderr) = shadeballs(&[
+        "environment",
+        "--name",
+        "studio",
+        "--out",
+        png.to_str().unwrap(),
+        "--width",
+        "64",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("a preview"), "{stderr}");
+    let preview = image::open(&png).unwrap().to_rgba8();
+    let map = Builtin::Studio.generate(64);
+    assert_eq!(preview.dimensions(), (64, 32));
+    for (t, p) in map.texels().iter().zip(preview.pixels()) {
+        let c = |v: f32| {
+            shadeballs::display::to_unorm8(shadeballs::display::tone_map(f64::from(v), 1.0))
+        };
+        assert_eq!(p.0, [c(t[0]), c(t[1]), c(t[2]), 255]);
+    }
     let cases: [(&[&str], &str); 4] = [
         (
             &["environment", "--name", "forest", "--out", "x.exr"],
@@ -566,8 +588,8 @@ fn environment_command_writes_a_map_a_scene_can_use() {
             "2..=8192",
         ),
         (
-            &["environment", "--name", "sky", "--out", "x.png"],
-            "expected .exr or .hdr",
+            &["environment", "--name", "sky", "--out", "x.jpg"],
+            "expected .exr, .hdr or .png",
         ),
     ];
     for (args, expected) in cases {

@@ -3,9 +3,9 @@
 //!
 //! Bound: every channel within 1/255 of the golden and at most 0.01 % of pixels different
 //! at all. Lavapipe's output is bit-identical run to run, debug or release, any thread
-//! count (docs/design.md section 6), so on the machine that wrote the goldens the difference is
-//! 0; the slack absorbs a different Mesa/LLVM rounding a last bit. A changed model or table
-//! layout moves far more pixels and fails.
+//! count (docs/design/machine.md, "Determinism"), so on the machine that wrote the goldens
+//! the difference is 0; the slack absorbs a different Mesa/LLVM rounding a last bit. A
+//! changed model or table layout moves far more pixels and fails.
 //!
 //! The goldens are rendered with antialiasing off (`Scene::antialias = false`, `--aa
 //! off`): they are the images of before antialiasing, unchanged, which `--aa off` must

@@ -8,8 +8,9 @@
 //! back every `BATCH` frames, and each batch's mean is the difference of two read-backs.
 
 use glam::DVec3;
-use shadeballs::cpu::{self, intersect_sphere, TableRead, TruthSettings};
+use shadeballs::cpu::{self, intersect_sphere, TruthSettings};
 use shadeballs::gpu::Renderer;
+use shadeballs::lut::TableSet;
 use shadeballs::lut::{self, BakeConfig};
 use shadeballs::scene::{Model, Scene};
 
@@ -145,9 +146,16 @@ fn cpu_truth(scene: &Scene, owner: &[Option<usize>], spp: u32) -> Vec<Estimate> 
         seed: 3,
         ..Default::default()
     };
-    let image = cpu::render_truth(scene, &TableRead::Lut(&tables), W, H, settings, |_| true)
-        .unwrap()
-        .image;
+    let image = cpu::render_truth(
+        scene,
+        &TableSet::full(tables.clone()),
+        W,
+        H,
+        settings,
+        |_| true,
+    )
+    .unwrap()
+    .image;
     let n = scene.balls.len();
     let mut sums = vec![(DVec3::ZERO, DVec3::ZERO, 0u32); n];
     for (i, k) in owner.iter().enumerate() {

@@ -170,7 +170,7 @@ fn harmonics_lab_layers_match_prefiltered() {
     );
 }
 
-/// The measured table of docs/design.md section 10 ("Harmonics or a map per roughness"):
+/// The measured table of docs/design/environment.md, "Harmonics or a map per roughness":
 /// `cargo test --release --test suite harmonics_sweep_table -- --ignored --nocapture`
 /// (the plots go to the temporary folder).
 #[test]

@@ -103,6 +103,7 @@ use glam::{DVec2, DVec3};
 use shadeballs::cpu;
 use shadeballs::environment::prefilter::{MipChain, Prefiltered};
 use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
+use shadeballs::lut::TableSet;
 use shadeballs::scene::{Material, MaterialKind, Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
@@ -132,8 +133,8 @@ fn map_environment(map: EnvMap, rotation_deg: f64) -> Environment {
 /// convolved and read like any other), F0 = 1: with the term every ball pixel is within
 /// 1/255 of the background for every method, on the GPU and on the CPU; without it the
 /// rough balls are visibly dark (the bottom row, roughness 0.75 and 0.95: more than 10/255
-/// below). Every method is exact for F0 = 1 by construction (docs/design.md section 10), so
-/// what is left is f16 and f32 rounding.
+/// below). Every method is exact for F0 = 1 by construction (docs/design/environment.md,
+/// "Per pixel"), so what is left is f16 and f32 rounding.
 #[test]
 fn furnace_through_the_map_path_holds_for_every_term() {
     let mut r = vulkan();
@@ -142,7 +143,12 @@ fn furnace_through_the_map_path_holds_for_every_term() {
         let scene = under(Scene::furnace(), Environment::builtin(Builtin::White), term);
         let gpu = r.render_ldr(&scene, w, h).unwrap().rgba;
         let cpu = cpu::to_rgba8(
-            &cpu::render_radiance(&scene, &r.tables_for(scene.effective_geometry()), w, h),
+            &cpu::render_radiance(
+                &scene,
+                &TableSet::full(r.tables_for(scene.effective_geometry())),
+                w,
+                h,
+            ),
             scene.exposure,
         );
         for (what, image) in [("GPU", &gpu), ("CPU", &cpu)] {

@@ -15,7 +15,7 @@ use shadeballs::lut::ktx2::{
 };
 use shadeballs::lut::{
     bake, e_avg_reference, BakeConfig, Layout, LayoutKind, Storage, Tables, UNIFORM_MU_SIZE,
-    UNIFORM_R_SIZE,
+    UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE, UNIFORM_R_SIZE,
 };
 
 use crate::cli::{shadeballs, temp_dir};
@@ -502,18 +502,21 @@ fn report(t: &Tables, p: &PlainErrors) -> String {
     )
 }
 
-/// The measurement behind [`UNIFORM_MU_SIZE`] x [`UNIFORM_R_SIZE`]: a plain bilinear
+/// The measurement behind [`UNIFORM_PRECISE_MU_SIZE`] x [`UNIFORM_PRECISE_R_SIZE`]: a plain bilinear
 /// `textureSample` (clamp to edge, f32 weights, and the 8-bit fractional weights of real
 /// GPUs' samplers) of the uniform table within 1e-3 of the reference at roughness >= 0.1,
 /// for Schlick and height-correlated Smith G; and the default is near the smallest such:
 /// 128 texels fewer along mu, or 12 rows fewer, is not (with 8-bit weights).
 #[test]
 fn uniform_layout_plain_bilinear_read_is_within_1e3_at_its_default_size() {
-    let (mu, r) = (UNIFORM_MU_SIZE, UNIFORM_R_SIZE);
+    let (mu, r) = (UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE);
     let mut smaller_fail = [false; 2];
     for geometry in GEOMETRIES {
         let t = uniform(geometry, mu, r);
-        assert_eq!(*t.layout(), Layout::of_kind(LayoutKind::Uniform));
+        assert_eq!(
+            *t.layout(),
+            Layout::of_kind(LayoutKind::Uniform).with_size(mu, r)
+        );
         let p = plain_errors(&t, None);
         let p8 = plain_errors(&t, Some(8));
         eprintln!(
@@ -548,7 +551,38 @@ fn uniform_layout_plain_bilinear_read_is_within_1e3_at_its_default_size() {
     );
 }
 
-/// The size curve behind `UNIFORM_MU_SIZE x UNIFORM_R_SIZE` (seconds):
+/// The default uniform size, the engines' 128 x 128, and 64 x 64: the errors
+/// docs/accuracy.md states for them ("Tables for engines"), with f32 and 8-bit filter
+/// weights. Each bound is the measured figure rounded up in its second digit, so a change
+/// to the bake or the read that makes them worse fails.
+#[test]
+fn uniform_layout_engine_sizes_have_their_stated_error() {
+    assert_eq!((UNIFORM_MU_SIZE, UNIFORM_R_SIZE), (128, 128));
+    // (size, geometry, E max, E mean over the even points), measured by this test
+    // (--nocapture prints them).
+    let stated = ENGINE_SIZE_ERRORS;
+    for &(n, geometry, max, mean) in &stated {
+        let t = uniform(geometry, n, n);
+        let p = plain_errors(&t, None);
+        let p8 = plain_errors(&t, Some(8));
+        eprintln!(
+            "uniform {n} x {n}, {geometry} G: {}; with 8-bit weights E max {:.2e}, mean {:.2e}",
+            report(&t, &p),
+            p8.e.max,
+            p8.e_even.mean
+        );
+        for (what, e) in [("f32", &p), ("8-bit", &p8)] {
+            assert!(e.e.max <= max, "{n} {geometry} {what}: max {:.3e}", e.e.max);
+            assert!(
+                e.e_even.mean <= mean,
+                "{n} {geometry} {what}: mean {:.3e}",
+                e.e_even.mean
+            );
+        }
+    }
+}
+
+/// The size curve behind `UNIFORM_PRECISE_MU_SIZE x UNIFORM_PRECISE_R_SIZE` (seconds):
 /// `cargo test --release uniform_layout_size_sweep -- --ignored --nocapture`; other sizes
 /// with `SWEEP_MU=2048,2176 SWEEP_R=96,100` (comma-separated).
 #[test]
@@ -571,3 +605,15 @@ fn uniform_layout_size_sweep() {
         }
     }
 }
+
+/// The errors of a plain read of a uniform table at the engines' sizes (see
+/// `uniform_layout_engine_sizes_have_their_stated_error`): size N (N x N), G, E max, E mean.
+/// Measured (the larger of f32 and 8-bit weights): 64 x 64 max 1.42e-1 / 5.43e-2, mean
+/// 2.08e-4 / 1.26e-4; 128 x 128 max 7.86e-2 / 1.78e-2, mean 5.30e-5 / 3.21e-5 (Schlick /
+/// smith-correlated).
+const ENGINE_SIZE_ERRORS: [(usize, Geometry, f64, f64); 4] = [
+    (64, Geometry::Schlick, 1.5e-1, 2.1e-4),
+    (64, Geometry::SmithCorrelated, 5.5e-2, 1.3e-4),
+    (128, Geometry::Schlick, 7.9e-2, 5.4e-5),
+    (128, Geometry::SmithCorrelated, 1.8e-2, 3.3e-5),
+];

@@ -50,7 +50,8 @@ fn reference_layout_has_five_roughness_columns_two_rows_and_a_caption() {
     let scene = Scene::reference();
     let l = layout(&scene, 1280, 720);
     let columns: Vec<&str> = l.columns.iter().map(|c| c.text.as_str()).collect();
-    // Roughness grows right to left (docs/design.md section 4): left to right 0.95 first.
+    // Roughness grows right to left (docs/design/reference-scene.md, "The balls, the light
+    // and the camera"): left to right 0.95 first.
     assert_eq!(
         columns,
         ["r = 0.95", "r = 0.75", "r = 0.55", "r = 0.35", "r = 0.15"]
@@ -293,9 +294,10 @@ fn labelled_png_differs_only_in_label_rooms() {
         ("montecarlo", 640, 360),
     ] {
         let size = ["--width", &w.to_string(), "--height", &h.to_string()].map(String::from);
-        let mut flags: Vec<&str> = vec!["--backend", backend, "--spp", "1"];
+        let homework = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/homework.toml");
+        let mut flags: Vec<&str> = vec!["--backend", backend, "--spp", "1", "--scene", homework];
         flags.extend(size.iter().map(String::as_str));
-        // The built-in scene has labels on; --no-labels turns them off.
+        // The homework's scene file has labels on; --no-labels turns them off.
         let on = render(&dir, &format!("{backend}-on.png"), &flags);
         let off = render(
             &dir,

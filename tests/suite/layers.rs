@@ -1,6 +1,7 @@
-//! The layers of lib.rs, checked on the source: no product module refers to the lab or the
-//! front ends, the lab to no front end, the viewer neither to the command line nor to the
-//! lab, and within the library each layer only to those below it. Reads every `.rs` file
+//! The layers of docs/design/layers.md ("Imports run one way"), checked on the source: no
+//! product module refers to the lab or the front ends, the lab to no front end, the viewer
+//! neither to the command line nor to the lab, and within the library each layer only to
+//! those below it. Reads every `.rs` file
 //! under `src/` (but `main.rs`, the binary), drops comments and literals, and resolves
 //! `crate::`, `$crate::` and `super::` chains, `use` groups and the crate root's own
 //! relative paths to the top-level module they name.
@@ -9,7 +10,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 14] = [
+const LIBRARY: [&str; 15] = [
     "crate",
     "brdf",
     "lut",
@@ -21,6 +22,7 @@ const LIBRARY: [&str; 14] = [
     "display",
     "labels",
     "output",
+    "memory",
     "stats",
     "error",
     "wgsl",

@@ -7,7 +7,8 @@ use shadeballs::lut::accuracy::{random_points, ReferencePoints, ReferenceTables}
 use shadeballs::lut::io::write_tables;
 use shadeballs::lut::*;
 
-/// docs/design.md section 2's published values, given there to 5 or 6 decimals.
+/// The published values of docs/design/baking.md, "Known values", given there to 5 or 6
+/// decimals.
 #[test]
 fn reference_reproduces_published_values() {
     let schlick = [

@@ -1,11 +1,11 @@
 //! The plan (`scene::plan`): which rows are baked and which pipelines exist, per case of
 //! issue 7, and the rows' read against the precise reference. CPU only.
 use glam::DVec3;
-use shadeballs::gpu::{
-    DrawOptions, Plan, TablePlan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS,
-};
+use shadeballs::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 use shadeballs::lab::bench::no_term;
-use shadeballs::lut::{self, accuracy::random_points, BakeConfig, RowKey, RowSet};
+use shadeballs::lut::{
+    self, accuracy::random_points, BakeConfig, RowKey, RowSet, TableKey, TableSet,
+};
 use shadeballs::scene::Scene;
 
 pub fn plan(scene: &Scene) -> Plan {
@@ -42,7 +42,8 @@ fn variant(term: TermMode) -> Variant {
 fn default_scene_bakes_one_row_per_roughness_and_two_pipelines() {
     let p = plan(&Scene::reference());
     let expected: Vec<f32> = [0.15f32, 0.35, 0.55, 0.75, 0.95].to_vec();
-    assert_eq!(p.tables, TablePlan::Rows(expected));
+    assert_eq!(p.tables, TableKey::rows(&p.bake, &expected));
+    assert_eq!(p.rows(), expected);
     assert_eq!(
         p.draws,
         vec![
@@ -61,7 +62,7 @@ fn default_scene_bakes_one_row_per_roughness_and_two_pipelines() {
 #[test]
 fn no_term_no_environment_bakes_nothing_and_draws_the_plain_variant() {
     let p = plan(&no_term());
-    assert_eq!(p.tables, TablePlan::None);
+    assert_eq!(p.tables, TableSet::None);
     assert_eq!(p.draws, vec![(variant(TermMode::Out), (0..10).collect())]);
     assert!(p.to_string().contains("nothing baked"));
     // The term compiled out everywhere: the same, whatever the balls' flags.
@@ -70,7 +71,7 @@ fn no_term_no_environment_bakes_nothing_and_draws_the_plain_variant() {
         ..DrawOptions::default()
     };
     let p = Plan::new(&Scene::reference(), BakeConfig::default(), off);
-    assert_eq!(p.tables, TablePlan::None);
+    assert_eq!(p.tables, TableSet::None);
     assert_eq!(p.variants(), vec![variant(TermMode::Out)]);
 }
 
@@ -102,7 +103,7 @@ fn balls_sharing_a_roughness_share_a_row() {
     // Roughness below the clamp reads the clamp's row: 0 and 0.01 are one row.
     s.balls[1].roughness = 0.0;
     s.balls[2].roughness = 0.01;
-    assert_eq!(plan(&s).tables, TablePlan::Rows(vec![0.02, 0.4]));
+    assert_eq!(plan(&s).rows(), vec![0.02, 0.4]);
 }
 
 #[test]
@@ -110,7 +111,7 @@ fn past_the_threshold_the_2d_table() {
     let at = plan(&scene_with_roughness(MAX_PLANNED_ROWS));
     assert_eq!(at.rows().len(), MAX_PLANNED_ROWS);
     let past = plan(&scene_with_roughness(MAX_PLANNED_ROWS + 1));
-    assert_eq!(past.tables, TablePlan::Full);
+    assert_eq!(past.tables, TableSet::Full(past.bake));
     // Policies override the threshold both ways.
     let rows = DrawOptions {
         tables: TablePolicy::Rows,
@@ -123,7 +124,7 @@ fn past_the_threshold_the_2d_table() {
         BakeConfig::default(),
         DrawOptions::unplanned(),
     );
-    assert_eq!(full.tables, TablePlan::Full);
+    assert_eq!(full.tables, TableSet::Full(full.bake));
     assert_eq!(
         full.variants(),
         vec![Variant {
@@ -163,7 +164,7 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
         ..BakeConfig::default()
     };
     let p = Plan::new(&scene, config, DrawOptions::default());
-    let rows = RowSet::bake(&config, p.rows());
+    let rows = RowSet::bake(&config, &p.rows());
     let full = lut::bake(&config);
     let errors = |mu: f64, r: f32| {
         let exact = lut::e_reference(mu, r as f64, config.geometry);
@@ -174,7 +175,7 @@ fn rows_read_within_2e_4_at_the_scenes_roughness() {
     let (mut grid_rows, mut grid_full) = (0.0f64, 0.0f64);
     let (mut sum_rows, mut sum_full, mut n) = (0.0, 0.0, 0.0);
     let (mut max_rows, mut max_full) = (0.0f64, 0.0f64);
-    for &r in p.rows() {
+    for r in p.rows() {
         for i in 0..=64 {
             let (a, b) = errors(i as f64 / 64.0, r);
             grid_rows = grid_rows.max(a);

@@ -4,10 +4,11 @@
 use std::time::Duration;
 
 use glam::DVec3;
-use shadeballs::cpu::{self, TableRead};
-use shadeballs::gpu::{BoundTables, Renderer};
+use shadeballs::cpu;
+use shadeballs::gpu::Renderer;
 use shadeballs::gpu::{DrawOptions, TablePolicy, MAX_PLANNED_ROWS};
 use shadeballs::lut::BakeConfig;
+use shadeballs::lut::TableSet;
 use shadeballs::scene::{Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
@@ -21,13 +22,13 @@ const H: u32 = 360;
 fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     let bound = r.bound_tables();
     let rows = match &bound {
-        BoundTables::Rows(rows) => Some(cpu::to_rgba8(
-            &cpu::render_radiance_with(scene, &TableRead::Rows(rows), W, H),
+        TableSet::Rows(_) => Some(cpu::to_rgba8(
+            &cpu::render_radiance(scene, &bound, W, H),
             scene.exposure,
         )),
         _ => None,
     };
-    let full = r.tables_for(scene.effective_geometry());
+    let full = TableSet::full(r.tables_for(scene.effective_geometry()));
     let full = cpu::to_rgba8(&cpu::render_radiance(scene, &full, W, H), scene.exposure);
     (full, rows)
 }
@@ -98,7 +99,7 @@ fn quads_and_variants_equal_the_full_screen_branch() {
 fn bakes_only_new_rows() {
     let mut r = vulkan();
     r.plan_for(&no_term());
-    assert!(matches!(r.bound_tables(), BoundTables::None));
+    assert!(matches!(r.bound_tables(), TableSet::None));
     assert_eq!(r.last_bake_time(), Some(Duration::ZERO));
     assert_eq!(r.cached_rows(), 0);
 
@@ -107,7 +108,7 @@ fn bakes_only_new_rows() {
     assert_eq!(r.cached_rows(), 5);
     assert!(r.last_bake_time().unwrap() > Duration::ZERO);
     match r.bound_tables() {
-        BoundTables::Rows(rows) => assert_eq!(rows.rows.len(), 5),
+        TableSet::Rows(rows) => assert_eq!(rows.rows.len(), 5),
         _ => panic!("rows expected"),
     }
     // The first ball's roughness changes (its twin below has no term): one new row baked,
@@ -116,7 +117,7 @@ fn bakes_only_new_rows() {
     r.plan_for(&scene);
     assert_eq!(r.cached_rows(), 6, "one new row");
     match r.bound_tables() {
-        BoundTables::Rows(rows) => assert_eq!(rows.rows.len(), 5),
+        TableSet::Rows(rows) => assert_eq!(rows.rows.len(), 5),
         _ => panic!("rows expected"),
     }
     // Back to a plan whose rows are all cached: nothing baked.
@@ -124,13 +125,13 @@ fn bakes_only_new_rows() {
     assert_eq!(r.last_bake_time(), Some(Duration::ZERO));
     assert_eq!(r.cached_rows(), 6);
     // Asking for the 2-D table between planned frames rebinds the same rows (kept).
-    let BoundTables::Rows(before) = r.bound_tables() else {
+    let TableSet::Rows(before) = r.bound_tables() else {
         panic!("rows expected")
     };
     r.tables_for(Scene::reference().effective_geometry());
-    assert!(matches!(r.bound_tables(), BoundTables::Full(_)));
+    assert!(matches!(r.bound_tables(), TableSet::Full(_)));
     r.plan_for(&Scene::reference());
-    let BoundTables::Rows(after) = r.bound_tables() else {
+    let TableSet::Rows(after) = r.bound_tables() else {
         panic!("rows expected")
     };
     assert!(

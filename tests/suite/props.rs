@@ -15,7 +15,8 @@ use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use shadeballs::brdf::{f_ms, f_ms_norm, FAvgForm, Geometry, ROUGHNESS_MIN};
-use shadeballs::cpu::{shade, TableRead};
+use shadeballs::cpu::shade;
+use shadeballs::lut::TableSet;
 use shadeballs::lut::{adaptive, bake, e_reference, BakeConfig, Tables};
 use shadeballs::scene::{Ball, Light, Material, MaterialKind, Model, Scene};
 
@@ -142,7 +143,15 @@ fn radiance(s: &Sample, v: DVec3, l: DVec3) -> DVec3 {
     } else {
         FAvgForm::Accurate
     };
-    shade(&scene, &ball, s.n, v, &TableRead::Lut(tables(g)), form, g)
+    shade(
+        &scene,
+        &ball,
+        s.n,
+        v,
+        &TableSet::full(tables(g).clone()),
+        form,
+        g,
+    )
 }
 
 /// Batches per case: proptest shrinks a failing batch to its smallest failing sample.

@@ -1,7 +1,8 @@
-//! GPU against the CPU reference renderer (docs/design.md section 5), and the white furnace.
+//! GPU against the CPU reference renderer (docs/design/testing.md), and the white furnace.
 use glam::DVec3;
 use shadeballs::cpu;
-use shadeballs::gpu::{BoundTables, Renderer};
+use shadeballs::gpu::Renderer;
+use shadeballs::lut::TableSet;
 use shadeballs::scene::{Preset, Scene};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
@@ -15,11 +16,9 @@ const H: u32 = 720;
 pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
     let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
     let radiance = match r.bound_tables() {
-        BoundTables::Rows(rows) => {
-            cpu::render_radiance_with(scene, &cpu::TableRead::Rows(&rows), w, h)
-        }
+        rows @ TableSet::Rows(_) => cpu::render_radiance(scene, &rows, w, h),
         _ => {
-            let tables = r.tables_for(scene.effective_geometry());
+            let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
             cpu::render_radiance(scene, &tables, w, h)
         }
     };
@@ -97,7 +96,7 @@ fn hdr_output_is_linear_radiance() {
     let scene = Scene::reference();
     let (w, h) = (160, 90);
     let hdr = r.render_hdr(&scene, w, h).unwrap();
-    let tables = r.tables_for(scene.effective_geometry());
+    let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
     let cpu = cpu::to_rgba_f32(&cpu::render_radiance(&scene, &tables, w, h));
     let close = hdr
         .rgba
@@ -245,7 +244,7 @@ fn furnace_balls_vanish_with_the_term_and_darken_without() {
 #[test]
 fn furnace_radiance_is_one_on_the_cpu_with_the_term() {
     let scene = Scene::furnace();
-    let tables = shadeballs::lut::bake(&Default::default());
+    let tables = TableSet::from(shadeballs::lut::bake(&Default::default()));
     let radiance = cpu::render_radiance(&scene, &tables, 320, 180);
     let worst = radiance
         .iter()

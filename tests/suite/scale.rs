@@ -4,8 +4,9 @@
 //! and coincident balls must come out as the CPU's nearest hit (ties: lowest index).
 use glam::DVec3;
 use shadeballs::cpu;
-use shadeballs::gpu::{BoundTables, DrawOptions, Renderer};
+use shadeballs::gpu::{DrawOptions, Renderer};
 use shadeballs::lab::bench::scale::chart;
+use shadeballs::lut::TableSet;
 use shadeballs::scene::{self, Ball, Material, MaterialKind, Model, Scene, MAX_BALLS};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
@@ -105,10 +106,11 @@ fn overlapping_balls_hdr_match_cpu() {
     let (w, h) = (320, 180);
     let hdr = r.render_hdr(&scene, w, h).unwrap();
     let radiance = match r.bound_tables() {
-        BoundTables::Rows(rows) => {
-            cpu::render_radiance_with(&scene, &cpu::TableRead::Rows(&rows), w, h)
+        rows @ TableSet::Rows(_) => cpu::render_radiance(&scene, &rows, w, h),
+        _ => {
+            let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
+            cpu::render_radiance(&scene, &tables, w, h)
         }
-        _ => cpu::render_radiance(&scene, &r.tables_for(scene.effective_geometry()), w, h),
     };
     let cpu = cpu::to_rgba_f32(&radiance);
     let close = hdr
@@ -187,9 +189,10 @@ fn cpu_bins_equal_the_loop_over_every_ball() {
             geometry: scene.effective_geometry(),
             ..BakeConfig::default()
         });
+        let tables = TableSet::from(tables);
         let binned = cpu::render_radiance(&scene, &tables, w, h);
         let basis = scene.camera.basis(w, h);
-        let read = cpu::TableRead::Lut(&tables);
+        let read = &tables;
         let mut k = 0;
         for py in 0..h {
             for px in 0..w {
@@ -212,7 +215,7 @@ fn cpu_bins_equal_the_loop_over_every_ball() {
                             b,
                             n,
                             -d,
-                            &read,
+                            read,
                             scene.preset.f_avg_form(),
                             scene.effective_geometry(),
                         )

@@ -33,12 +33,16 @@ fn error_of(text: &str) -> String {
 #[test]
 fn shipped_scenes_equal_the_built_in_ones() {
     assert_eq!(
-        scene::load(&asset("reference.toml")).unwrap(),
+        scene::load(&asset("homework.toml")).unwrap(),
         Scene::reference()
     );
     assert_eq!(
         scene::load(&asset("furnace.toml")).unwrap(),
         Scene::furnace()
+    );
+    assert_eq!(
+        scene::load(&asset("default.toml")).unwrap(),
+        Scene::showcase()
     );
 }
 

@@ -204,6 +204,15 @@ fn wgsl_mirrors_the_rust_function_names() {
         "alpha_from_roughness",
         "roughness_clamped",
         "f_micro",
+        "fresnel_dielectric",
+        "f0_from_ior",
+        "f_base_constant",
+        "f_base_gltf",
+        "f_base_view_only",
+        "f_base_reciprocal",
+        "coating_inside_reflectance",
+        "f_base_physical",
+        "substrate_albedo",
         "lut_texel_span",
         "lut_e",
         "lut_e_avg",
@@ -233,6 +242,10 @@ fn brdf_functions_cite_their_source() {
         ("f_avg_games202", "Gulbrandsen 2014"),
         ("f_ms", "Kulla & Conty 2017"),
         ("f_add_accurate", "Kulla & Conty 2017"),
+        ("fresnel_dielectric", "Walter et al. 2007"),
+        ("f_base_gltf", "glTF 2.0"),
+        ("f_base_view_only", "Principled v2"),
+        ("f_base_reciprocal", "OpenPBR"),
     ] {
         let at = brdf.find(&format!("fn {name}(")).unwrap();
         let comment = &brdf[brdf[..at].rfind("\n\n").unwrap_or(0)..at];

@@ -5,8 +5,9 @@
 //! image; the stopping rule stops; bad settings are refused in one line.
 use glam::DVec3;
 use shadeballs::brdf::Geometry;
-use shadeballs::cpu::{self, render_montecarlo, render_truth, TableRead, TruthSettings};
+use shadeballs::cpu::{self, render_montecarlo, render_truth, TruthSettings};
 use shadeballs::lab::compare::image_error::ball_index_map;
+use shadeballs::lut::TableSet;
 use shadeballs::lut::{self, BakeConfig, Tables};
 use shadeballs::scene::{Model, Scene};
 
@@ -74,7 +75,7 @@ fn lit_scene() -> Scene {
 fn one_event_walk_is_the_single_scattering_model() {
     let scene = lit_scene();
     let t = tables(&scene);
-    let e = TableRead::Lut(&t);
+    let e = TableSet::full(t.clone());
     let truth = render_truth(&scene, &e, W, H, settings(4, 1), |_| true).unwrap();
     // The none model with the walk's own G, integrated by the Monte Carlo backend.
     let none = Scene {
@@ -103,7 +104,7 @@ fn white_furnace_truth_ball_is_the_background() {
     let t = tables(&scene);
     let truth = render_truth(
         &scene,
-        &TableRead::Lut(&t),
+        &TableSet::full(t.clone()),
         W,
         H,
         settings(32, u32::MAX),
@@ -123,7 +124,15 @@ fn white_furnace_truth_ball_is_the_background() {
     }
     // Control: the same furnace without the walk's higher orders loses energy at roughness
     // 0.95 (E about 0.6), so the check above can fail.
-    let single = render_truth(&scene, &TableRead::Lut(&t), W, H, settings(2, 1), |_| true).unwrap();
+    let single = render_truth(
+        &scene,
+        &TableSet::full(t.clone()),
+        W,
+        H,
+        settings(2, 1),
+        |_| true,
+    )
+    .unwrap();
     assert!(single.balls[4].mean.x < 0.9, "{:?}", single.balls[4]);
 }
 
@@ -131,7 +140,7 @@ fn white_furnace_truth_ball_is_the_background() {
 fn truth_is_brighter_than_none_on_every_rough_ball() {
     let scene = lit_scene();
     let t = tables(&scene);
-    let e = TableRead::Lut(&t);
+    let e = TableSet::full(t.clone());
     let truth = render_truth(&scene, &e, W, H, settings(64, u32::MAX), |_| true).unwrap();
     let none = Scene {
         geometry: Geometry::SmithCorrelated,
@@ -162,7 +171,7 @@ fn truth_is_brighter_than_none_on_every_rough_ball() {
 fn a_seed_gives_one_image_and_the_stopping_rule_stops() {
     let scene = with_model(Scene::reference(), Model::Truth);
     let t = tables(&scene);
-    let e = TableRead::Lut(&t);
+    let e = TableSet::full(t.clone());
     let a = render_truth(&scene, &e, 64, 36, settings(4, u32::MAX), |_| true).unwrap();
     let b = render_truth(&scene, &e, 64, 36, settings(4, u32::MAX), |_| true).unwrap();
     assert_eq!(a.image, b.image);
@@ -197,17 +206,25 @@ fn a_seed_gives_one_image_and_the_stopping_rule_stops() {
 fn bad_truth_settings_are_refused() {
     let scene = Scene::reference();
     let t = tables(&scene);
-    let e = TableRead::Lut(&t);
+    let e = TableSet::full(t.clone());
+    // The library states the fact (what and its range); the command line adds the flag
+    // (`render_backend_truth_writes_radiance_and_standard_error`).
     for (s, needle) in [
-        (settings(0, u32::MAX), "--spp"),
-        (settings(1 << 20, u32::MAX), "--spp"),
+        (
+            settings(0, u32::MAX),
+            "samples per pixel: 0: must be in 1..=65536",
+        ),
+        (
+            settings(1 << 20, u32::MAX),
+            "samples per pixel: 1048576: must be in 1..=65536",
+        ),
         (settings(4, 0), "at least one event"),
         (
             TruthSettings {
                 stderr: Some(0.0),
                 ..settings(4, u32::MAX)
             },
-            "--stderr",
+            "standard error: 0: must be in",
         ),
     ] {
         let err = render_truth(&scene, &e, 8, 8, s, |_| true)

@@ -1,7 +1,8 @@
-//! Harmonics or a map per roughness (issue 15, docs/design.md section 10): the Kulla-Conty
-//! multiple-scattering lobe under an environment needs, per roughness, the zonal
-//! convolution `C(n) = int k(n.w) L(w) dw` with `k(t) = (1 - E(t)) t`. Two ways to have it
-//! at shading time, measured against the exact sum at random normals:
+//! Harmonics or a map per roughness (issue 15, docs/design/environment.md, "Harmonics or a
+//! map per roughness"): the Kulla-Conty multiple-scattering lobe under an environment
+//! needs, per roughness, the zonal convolution `C(n) = int k(n.w) L(w) dw` with
+//! `k(t) = (1 - E(t)) t`. Two ways to have it at shading time, measured against the exact
+//! sum at random normals:
 //! - `sh`: the map projected on spherical harmonics of `size` bands, convolved by
 //!   Funk-Hecke at the ball's exact roughness (`environment::harmonics`);
 //! - `map`: a convolved map `size` texels wide per roughness layer, nine layers, read
@@ -75,7 +76,8 @@ pub fn kc_kernel(tables: &Tables, roughness: f64) -> impl Fn(f64) -> f64 + '_ {
     }
 }
 
-/// The level of `chain` `width` wide (else the narrowest wider one, else level 0) as a map.
+/// The level of `chain` `width` wide (else the narrowest wider one, else level 0) as a map
+/// (its radiance: the level times the chain's scale).
 pub fn level_map(chain: &MipChain, width: u32) -> EnvMap {
     let level = chain
         .levels
@@ -83,7 +85,12 @@ pub fn level_map(chain: &MipChain, width: u32) -> EnvMap {
         .rev()
         .find(|l| l.width >= width)
         .unwrap_or(&chain.levels[0]);
-    let texels = level.texels.iter().map(|t| [t[0], t[1], t[2]]).collect();
+    let s = chain.scale;
+    let texels = level
+        .texels
+        .iter()
+        .map(|t| [t[0] * s, t[1] * s, t[2] * s])
+        .collect();
     EnvMap::new(level.width, level.height, texels).expect("a mip level is a valid map")
 }
 

@@ -19,7 +19,7 @@ use glam::DVec3;
 
 use super::table::{sci, Table};
 use super::{device, median, Goal, Sweep};
-use crate::cpu::{self, Part, TableRead};
+use crate::cpu::{self, Part};
 use crate::environment::prefilter::SPECULAR_SAMPLES;
 use crate::environment::{Builtin, Environment, IblTerm};
 use crate::error::Result;
@@ -181,7 +181,7 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
                 geometry: scene.effective_geometry(),
                 ..BakeConfig::default()
             });
-            let e = TableRead::Lut(&tables);
+            let e = crate::lut::TableSet::full(tables);
             renderer.set_multiple_scattering_term(true);
             let with = linear(&renderer.render_hdr(&scene, w, h)?.rgba);
             renderer.set_multiple_scattering_term(false);

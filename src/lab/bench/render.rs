@@ -19,7 +19,7 @@ use super::{device, median};
 use crate::error::Result;
 use crate::gpu::DrawOptions;
 use crate::gpu::{Renderer, Target};
-use crate::lut::{self, BakeConfig, Tables};
+use crate::lut::{self, BakeConfig, TableSet, Tables};
 use crate::scene::Scene;
 use crate::{cpu, display};
 
@@ -52,7 +52,7 @@ pub fn display_error(gpu: &[f32], exact: &[DVec3], exposure: f64) -> (f64, f64) 
 }
 
 /// The exact model's radiance of `scene` at 1280 x 720 (CPU, f64).
-pub fn exact_radiance(scene: &Scene, exact: &Tables) -> Vec<DVec3> {
+pub fn exact_radiance(scene: &Scene, exact: &TableSet) -> Vec<DVec3> {
     cpu::render_radiance(scene, exact, WIDTH, HEIGHT)
 }
 

@@ -14,7 +14,7 @@ use super::table::Table;
 use super::{Goal, Sweep};
 use crate::error::Result;
 use crate::gpu::Renderer;
-use crate::gpu::{DrawOptions, TablePlan, TermMode};
+use crate::gpu::{DrawOptions, TermMode};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::{BakeConfig, Layout, LayoutKind};
 use crate::scene::{Model, Preset, Scene};
@@ -122,7 +122,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         &["config", "scene", "preset", "tables and draw", "term", "frame_ms", "on_over_off", "err_max_255", "err_mean_255"],
     );
     let repeats = if quick { 9 } else { 41 };
-    let exact = exact_tables(&Scene::reference())?;
+    let exact = crate::lut::TableSet::from(exact_tables(&Scene::reference())?);
     let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
     let series = |label: &str, peer| Series {
         label: label.into(),
@@ -196,7 +196,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
                 // planned.rs) and only pipelines with the term compiled out, which makes
                 // its frame the plain shader's by construction.
                 let plan = renderer.plan_for(&scene);
-                let no_tables = plan.tables == TablePlan::None;
+                let no_tables = plan.tables == crate::lut::TableSet::None;
                 let plain = plan.draws.iter().all(|(v, _)| v.term == TermMode::Out);
                 let bake = renderer.last_bake_time().unwrap_or_default();
                 goals.push(Goal {

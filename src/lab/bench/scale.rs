@@ -18,7 +18,7 @@ use super::{device, median, Goal, Sweep};
 use crate::error::Result;
 use crate::gpu::{Plan, Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
-use crate::lut::BakeConfig;
+use crate::lut::{BakeConfig, TableSet};
 use crate::scene::{Ball, Camera, Light, Material, Model, Scene};
 
 /// Side of the square the chart's ball centres span, in world units.
@@ -372,10 +372,10 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     let mut cpu_at = std::collections::HashMap::new();
     for n in SIDES {
         let scene = chart(n, 1, None);
-        let tables = crate::lut::bake(&BakeConfig {
+        let tables = TableSet::from(crate::lut::bake(&BakeConfig {
             geometry: scene.effective_geometry(),
             ..BakeConfig::default()
-        });
+        }));
         let (ms, _) = super::median_ms(cpu_repeats, || {
             crate::cpu::render_radiance(&scene, &tables, w, h)
         });
@@ -582,9 +582,9 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
 /// The tables a plan binds, in words.
 fn plan_tables(plan: &Plan) -> String {
     match &plan.tables {
-        crate::gpu::TablePlan::None => "none".into(),
-        crate::gpu::TablePlan::Full => "2-D table".into(),
-        crate::gpu::TablePlan::Rows(r) => format!("{} rows", r.len()),
+        TableSet::None => "none".into(),
+        TableSet::Full(_) => "2-D table".into(),
+        TableSet::Rows(r) => format!("{} rows", r.len()),
     }
 }
 

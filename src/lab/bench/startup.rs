@@ -28,19 +28,32 @@ pub struct Startup {
     pub phases_ms: [f64; 5],
 }
 
-/// Runs `exe render --out DIR/startup.png` once: its wall time from spawn to exit, in ms.
+/// The homework's scene file (`Scene::reference()`, what the in-process rows draw): the
+/// process row renders it too, not `render`'s default showcase, whose environment map
+/// adds its prefiltering.
+const HOMEWORK_TOML: &str = include_str!("../../../assets/scenes/homework.toml");
+
+/// Runs `exe render --scene DIR/homework.toml --out DIR/startup.png` once: its wall time
+/// from spawn to exit, in ms.
 pub fn process(exe: &Path, dir: &Path) -> Result<f64> {
     let out = dir.join("startup.png");
+    let scene = dir.join("homework.toml");
+    crate::output::write_atomic(&scene, HOMEWORK_TOML.as_bytes())?;
     let start = Instant::now();
     let result = Command::new(exe)
-        .args(["render", "--out"])
+        .arg("render")
+        .arg("--scene")
+        .arg(&scene)
+        .arg("--out")
         .arg(&out)
-        .output()
-        .map_err(|e| Error::Invalid {
-            what: "startup run",
-            message: format!("cannot run '{}': {e}", exe.display()),
-        })?;
+        .output();
     let total_ms = start.elapsed().as_secs_f64() * 1e3;
+    // The scene file is the run's own: gone whether or not the child started.
+    let _ = std::fs::remove_file(&scene);
+    let result = result.map_err(|e| Error::Invalid {
+        what: "startup run",
+        message: format!("cannot run '{}': {e}", exe.display()),
+    })?;
     if result.status.success() && out.exists() {
         Ok(total_ms)
     } else {

@@ -59,9 +59,14 @@ pub struct BallError {
 }
 
 impl BallError {
+    /// Whether `value` is under [`NOISE_FACTOR`] times `floor`: within the truth's noise.
+    pub fn within_noise(value: f64, floor: f64) -> bool {
+        value < NOISE_FACTOR * floor
+    }
+
     /// `value` as a figure, or "within noise" when under [`NOISE_FACTOR`] times `floor`.
     pub fn figure(value: f64, floor: f64) -> String {
-        if value < NOISE_FACTOR * floor {
+        if Self::within_noise(value, floor) {
             "within noise".to_string()
         } else {
             format!("{value:.5}")

@@ -19,12 +19,12 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::cpu::{self, TableRead, TruthSettings};
+use crate::cpu::{self, TruthSettings};
 use crate::error::{Error, Result};
 use crate::gpu::Renderer;
 use crate::lab::plot::{write_plot, Plot, Series, Style};
 use crate::labels::{self, Align, Label, Labels, Rect};
-use crate::lut::{self, BakeConfig};
+use crate::lut::{self, BakeConfig, TableSet};
 use crate::output::{write_atomic, write_png};
 use crate::scene::{Ball, Camera, Model, Preset, Scene};
 use image_error::{ball_errors, ball_index_map, flip_map, heatmap, BallError};
@@ -198,14 +198,14 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
 
     // The truth first: its noise is the floor of every figure.
     let truth_scene = row_scene(&options.scene, &roughness, Model::Truth, Preset::Accurate);
-    let truth_tables = lut::bake(&BakeConfig {
+    let truth_tables = TableSet::from(lut::bake(&BakeConfig {
         geometry: truth_scene.effective_geometry(),
         ..Default::default()
-    });
+    }));
     let started = Instant::now();
     let truth = cpu::render_truth(
         &truth_scene,
-        &TableRead::Lut(&truth_tables),
+        &truth_tables,
         w,
         h,
         TruthSettings {
@@ -390,10 +390,10 @@ fn radiance(scene: &Scene, renderer: Option<&mut Renderer>, w: u32, h: u32) -> R
             .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
             .collect(),
         None => {
-            let tables = lut::bake(&BakeConfig {
+            let tables = TableSet::from(lut::bake(&BakeConfig {
                 geometry: scene.effective_geometry(),
                 ..Default::default()
-            });
+            }));
             cpu::render_radiance(scene, &tables, w, h)
         }
     })
@@ -428,10 +428,10 @@ fn frame_ms(
             }
         }
         None => {
-            let tables = lut::bake(&BakeConfig {
+            let tables = TableSet::from(lut::bake(&BakeConfig {
                 geometry: scene.effective_geometry(),
                 ..Default::default()
-            });
+            }));
             for _ in 0..3 {
                 let t = Instant::now();
                 std::hint::black_box(cpu::render_radiance(&scene, &tables, w, h));
@@ -442,25 +442,35 @@ fn frame_ms(
     Ok(crate::stats::median(&mut times))
 }
 
-/// `compare.csv`: a line per model and roughness. Errors under three times the truth's
-/// noise floor read "within noise"; the floors are columns of their own.
+/// `compare.csv`: a line per model and roughness, every figure a number; the verdicts
+/// (an error under three times the truth's noise floor is "within noise", else "above
+/// noise") and the floors are columns of their own (issue 28: no words in numeric columns).
 pub fn csv(c: &Comparison) -> String {
     let mut s = String::from(
         "model,roughness,mean_rel_err,p99_rel_err,flip_mean,frame_ms,\
-         truth_rel_stderr_mean,truth_rel_stderr_p99\n",
+         truth_rel_stderr_mean,truth_rel_stderr_p99,mean_verdict,p99_verdict\n",
     );
+    let verdict = |value: f64, floor: f64| {
+        if BallError::within_noise(value, floor) {
+            "within noise"
+        } else {
+            "above noise"
+        }
+    };
     for r in &c.rows {
         for (e, rough) in r.errors.iter().zip(&c.roughness) {
             let _ = writeln!(
                 s,
-                "{},{rough},{},{},{:.5},{:.3},{:.5},{:.5}",
+                "{},{rough},{:.5},{:.5},{:.5},{:.3},{:.5},{:.5},{},{}",
                 r.row.name,
-                BallError::figure(e.mean_rel, e.floor_mean),
-                BallError::figure(e.p99_rel, e.floor_p99),
+                e.mean_rel,
+                e.p99_rel,
                 e.flip_mean,
                 r.frame_ms,
                 e.floor_mean,
-                e.floor_p99
+                e.floor_p99,
+                verdict(e.mean_rel, e.floor_mean),
+                verdict(e.p99_rel, e.floor_p99),
             );
         }
     }

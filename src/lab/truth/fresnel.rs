@@ -146,7 +146,8 @@ pub struct Metal {
 
 impl Metal {
     /// The homework's copper: F0 = the scene's sRGB albedo (0.7216, 0.451, 0.2) decoded with
-    /// pow 2.2 (docs/design.md section 4), edge tint [`GAMES202_EDGE_TINT`].
+    /// pow 2.2 (docs/design/reference-scene.md, "The balls, the light and the camera"),
+    /// edge tint [`GAMES202_EDGE_TINT`].
     pub fn copper() -> Self {
         Metal {
             name: "copper",

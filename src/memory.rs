@@ -1,5 +1,5 @@
-//! Memory a run may use, checked before a big render or bake starts, so that a size the
-//! machine cannot hold fails in one line instead of an abort (out of memory) half-way.
+//! Memory a run may use, checked before a big render, bake or map starts, so that a size
+//! the machine cannot hold fails in one line instead of an abort (out of memory) half-way.
 
 use crate::error::{Error, Result};
 

@@ -1,0 +1,114 @@
+//! Group 1 of the ball renderer: the environment maps' bind groups. Preparing a map (its
+//! kernels, mip chain and split-sum table on the CPU, the upload and the GPU's
+//! prefiltering: [`prepare_map`]) is the costly part, so the last few maps prepared are
+//! kept, the least recently drawn dropped first (the viewer's picker switches between
+//! built-ins without preparing one again).
+
+use std::time::{Duration, Instant};
+
+use super::context::Gpu;
+use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
+use crate::environment::{prefilter, Environment, MipChain};
+use crate::lut::{self, BakeConfig, SplitSum};
+use crate::scene::Scene;
+
+/// Prefiltered maps a renderer keeps: a few megabytes each at 1024 x 512 (the map's f16 mip
+/// chain and the prefiltered layers).
+pub const MAX_PREFILTERED_MAPS: usize = 4;
+
+/// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
+/// map, and the latest maps' prefiltered textures with their bind groups, most recently
+/// drawn first.
+pub struct PrefilteredMaps {
+    pub layout: wgpu::BindGroupLayout,
+    /// The map's uniform ([`EnvUniform`]), written every frame.
+    pub uniform: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    empty: wgpu::BindGroup,
+    loaded: Vec<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
+    /// Wall time of the latest preparation.
+    last_prepared: Option<Duration>,
+}
+
+impl PrefilteredMaps {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let layout = env_gpu::layout(device);
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("environment"),
+            size: std::mem::size_of::<EnvUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sampler = env_gpu::sampler(device);
+        let empty = EnvironmentTextures::empty(device).bind(device, &layout, &uniform, &sampler);
+        PrefilteredMaps {
+            layout,
+            uniform,
+            sampler,
+            empty,
+            loaded: Vec::new(),
+            last_prepared: None,
+        }
+    }
+
+    /// The bind group for `scene`: its map, prepared on the first draw with it (or with
+    /// another G) and kept, or the stand-ins for a scene without one.
+    pub fn bind_group(&mut self, gpu: &Gpu, scene: &Scene, config: BakeConfig) -> wgpu::BindGroup {
+        let Some(environment) = &scene.environment_map else {
+            return self.empty.clone();
+        };
+        let geometry = scene.effective_geometry();
+        let key = EnvironmentKey::new(environment, geometry);
+        if let Some(group) = self.most_recent(&key) {
+            return group;
+        }
+        // Dropped first: at most MAX_PREFILTERED_MAPS maps' textures at once.
+        self.loaded.truncate(MAX_PREFILTERED_MAPS - 1);
+        let textures = prepare_map(gpu, environment, BakeConfig { geometry, ..config });
+        self.last_prepared = Some(textures.prefilter_time);
+        let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
+        self.loaded.insert(0, (key, textures, group.clone()));
+        group
+    }
+
+    /// The bind group of `key` if it is kept, made the most recently drawn.
+    fn most_recent(&mut self, key: &EnvironmentKey) -> Option<wgpu::BindGroup> {
+        let i = self.loaded.iter().position(|(k, _, _)| k == key)?;
+        let entry = self.loaded.remove(i);
+        let group = entry.2.clone();
+        self.loaded.insert(0, entry);
+        Some(group)
+    }
+
+    /// Wall time of the latest preparation (see `Renderer::last_prefilter_time`).
+    pub fn last_prepared(&self) -> Option<Duration> {
+        self.last_prepared
+    }
+}
+
+/// Prepares `environment` for shading with tables baked with `config` (its G the scene's):
+/// the kernels from those tables, the mip chain and the shipped split-sum table on the
+/// CPU, then the upload and the GPU's prefilter. The textures' `prefilter_time` is the
+/// whole preparation's wall time.
+fn prepare_map(gpu: &Gpu, environment: &Environment, config: BakeConfig) -> EnvironmentTextures {
+    let start = Instant::now();
+    let kernels = prefilter::kernels(&lut::bake(&config));
+    let t_kernels = start.elapsed();
+    let chain = MipChain::new(&environment.map);
+    let t_chain = start.elapsed();
+    let split = SplitSum::shipped(config.geometry);
+    let t_split = start.elapsed();
+    let mut textures = EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    log::debug!(
+        "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
+         GPU upload and prefilter {:.1} ms",
+        environment.source,
+        ms(t_kernels),
+        ms(t_chain - t_kernels),
+        ms(t_split - t_chain),
+        ms(textures.prefilter_time)
+    );
+    textures.prefilter_time = start.elapsed();
+    textures
+}

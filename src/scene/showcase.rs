@@ -1,0 +1,82 @@
+//! The showcase: the default scene of `render` and `view` (docs/design/reference-scene.md,
+//! "The showcase"). The homework's two rows of copper balls, roughness growing left to
+//! right, under the built-in studio map, seen level and from afar through a narrow field
+//! of view so that every ball stays round and the chart fills the frame.
+
+use glam::DVec3;
+
+use super::{Ball, Camera, Material, Model, Scene, REFERENCE_ALBEDO_SRGB, REFERENCE_ROUGHNESS};
+use crate::environment::{Background, Builtin, Environment};
+
+/// The showcase's ball radius: a little over the homework's 35, so that the balls fill
+/// the frame with a small gap between them.
+pub const SHOWCASE_RADIUS: f64 = 37.0;
+/// Distance between the centres of neighbouring columns (the homework's 80).
+pub const SHOWCASE_COLUMN_STEP: f64 = 80.0;
+/// Height of the top row's centres above the bottom row's, halved.
+pub const SHOWCASE_ROW_HALF_GAP: f64 = 50.0;
+
+/// The showcase's camera: level (no tilt, so the rows stay straight), 1040 units away,
+/// 18 degrees vertical field of view. The outermost ball's centre sits 9.8 degrees off
+/// the axis, where a pinhole stretches a sphere's outline radially by
+/// `1 / cos(9.8 deg) - 1 = 1.5 %` (the homework's 75 degrees stretches its outer balls
+/// by over 20 %). The eye sits 20 units left of the chart's middle and 6 below it, making
+/// room for the row labels at the left and the roughness labels under the bottom row.
+/// The distance is the nearest at which the chart and its row labels still fit the
+/// viewer's scene area (980 x 720 beside its panel); a 16:9 render shows them across two
+/// thirds of its width. Looking along `-z`, the studio's rim light (elevation 22 to 58
+/// degrees) is above the frame's 9 degrees and never shows clipped in the background.
+pub fn showcase_camera() -> Camera {
+    Camera {
+        position: DVec3::new(-20.0, -6.0, 1040.0),
+        target: DVec3::new(-20.0, -6.0, 0.0),
+        vfov_deg: 18.0,
+    }
+}
+
+/// Ball centres of the showcase: column `col` (0 at the left) of row `row` (0 at the top).
+pub fn showcase_position(row: u32, col: u32) -> DVec3 {
+    let x = SHOWCASE_COLUMN_STEP * (col as f64 - 2.0);
+    let y = if row == 0 {
+        SHOWCASE_ROW_HALF_GAP
+    } else {
+        -SHOWCASE_ROW_HALF_GAP
+    };
+    DVec3::new(x, y, 0.0)
+}
+
+impl Scene {
+    /// The showcase (module docs): the default scene of `render` and `view`. Top row with
+    /// the Kulla-Conty term, bottom row without; lit only by the studio map, which is also
+    /// the background; labels on. `assets/scenes/default.toml` is the same scene.
+    pub fn showcase() -> Self {
+        let material = Material::metal_srgb(REFERENCE_ALBEDO_SRGB);
+        let balls = (0..2u32)
+            .flat_map(|row| {
+                REFERENCE_ROUGHNESS
+                    .iter()
+                    .enumerate()
+                    .map(move |(col, &roughness)| Ball {
+                        center: showcase_position(row, col as u32),
+                        radius: SHOWCASE_RADIUS,
+                        roughness,
+                        material,
+                        model: if row == 0 {
+                            Model::KullaConty
+                        } else {
+                            Model::None
+                        },
+                    })
+            })
+            .collect();
+        Scene {
+            balls,
+            lights: Vec::new(),
+            environment: DVec3::ZERO,
+            environment_map: Some(Environment::builtin(Builtin::Studio)),
+            background: Background::Environment,
+            camera: showcase_camera(),
+            ..Scene::reference()
+        }
+    }
+}

@@ -1,0 +1,94 @@
+//! The default scene of `render` and `view`, the showcase (`Scene::showcase`): balls that
+//! stay round and fill the frame, lit by the studio map with no clipped light behind them,
+//! a picture bright enough to show (issue 27's goals).
+use shadeballs::labels::{ball_rects, layout};
+use shadeballs::scene::Scene;
+
+use crate::cli::{shadeballs, temp_dir};
+
+const W: u32 = 1280;
+const H: u32 = 720;
+
+/// Most a ball's screen bounds may be wider than high (or higher than wide): the outer
+/// balls sit 9.8 degrees off the axis, where a pinhole stretches them by 1.5 % (the
+/// showcase camera's docs); 3 % leaves room for the bounds' pad of a pixel a side. The
+/// homework's camera stretches its outer balls by over 20 %.
+const MOST_STRETCH: f32 = 0.03;
+
+#[test]
+fn showcase_balls_are_round_and_fill_the_frame() {
+    let scene = Scene::showcase();
+    let rects: Vec<_> = ball_rects(&scene, W, H)
+        .into_iter()
+        .map(|r| r.expect("every ball in frame"))
+        .collect();
+    for r in &rects {
+        let stretch = r.width() / r.height() - 1.0;
+        assert!(
+            stretch.abs() < MOST_STRETCH,
+            "ball {r:?} stretched {stretch}"
+        );
+    }
+    // Filling the frame: the balls span more than 65 % of the width (the homework's
+    // middle 60 %: issue 27; the showcase's 67 %, capped by the viewer's narrower scene
+    // area below), inside the image.
+    let left = rects.iter().map(|r| r.x0).fold(f32::MAX, f32::min);
+    let right = rects.iter().map(|r| r.x1).fold(f32::MIN, f32::max);
+    assert!(left > 0.0 && right < W as f32, "{left}..{right}");
+    assert!(right - left > 0.65 * W as f32, "{left}..{right}");
+    // The viewer's scene area (980 x 720 beside its 300-point panel) holds every ball and
+    // both row labels.
+    let viewer = layout(&scene, 980, 720);
+    assert!(ball_rects(&scene, 980, 720)
+        .iter()
+        .all(|r| r.is_some_and(|r| r.x0 > 0.0 && r.x1 < 980.0)));
+    assert_eq!(viewer.rows.len(), 2);
+    // Both axes labelled: a roughness under each of the 5 columns, a model at each row.
+    let labels = layout(&scene, W, H);
+    assert_eq!(labels.columns.len(), 5);
+    assert_eq!(labels.rows.len(), 2);
+    let rows: Vec<&str> = labels.rows.iter().map(|l| l.text.as_str()).collect();
+    assert_eq!(rows, ["Kulla-Conty", "no term"]);
+    assert!(scene.environment_map.is_some() && scene.lights.is_empty());
+}
+
+/// Mean of every channel of every pixel the default `render` writes must exceed 60/255
+/// (issue 27's goal; the homework's scene gives 3.4). The background, where no ball's
+/// bounds reach, must show no clipped light: the studio's grey gradient tone-maps to at
+/// most 0.12 / 1.12 ^ (1 / 2.2) = 92/255, and 160 leaves room for the balls' antialiased
+/// edges' glow while any softbox (radiance 4.5 and up: 200/255 and more) fails.
+#[test]
+fn default_render_is_bright_and_shows_no_clipped_light() {
+    let dir = temp_dir("showcase");
+    let out = dir.join("default.png");
+    let (ok, stderr) = shadeballs(&[
+        "render",
+        "--backend",
+        "vulkan",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let image = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(image.dimensions(), (W, H));
+    let sum: u64 = image.as_raw().iter().map(|&v| u64::from(v)).sum();
+    let mean = sum as f64 / image.as_raw().len() as f64;
+    println!("default render: mean pixel {mean:.1}/255");
+    assert!(mean > 60.0, "mean pixel {mean:.1}/255");
+    let scene = Scene::showcase();
+    let rects: Vec<_> = ball_rects(&scene, W, H).into_iter().flatten().collect();
+    let labels = layout(&scene, W, H);
+    let brightest = image
+        .enumerate_pixels()
+        .filter(|(x, y, _)| {
+            let (x, y) = (*x as f32 + 0.5, *y as f32 + 0.5);
+            let inside =
+                |r: &shadeballs::labels::Rect| x >= r.x0 && x <= r.x1 && y >= r.y0 && y <= r.y1;
+            !rects.iter().any(inside) && !labels.iter().any(|l| inside(&l.room))
+        })
+        .map(|(_, _, p)| p.0.into_iter().max().unwrap())
+        .max()
+        .unwrap();
+    assert!(brightest < 160, "the background reaches {brightest}/255");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
