@@ -1,6 +1,6 @@
 //! One source for the CPU/GPU boundary. The WGSL constants shared with Rust are generated
 //! from the Rust constants: each file's block between the markers below must be what
-//! [`blocks`] writes (`SHADEBALLS_BLESS=1 cargo test --release -- suite::boundary` rewrites
+//! [`blocks`] writes (`SHADEBALLS_BLESS=1 cargo test --release -- boundary::` rewrites
 //! the blocks). Every struct a program reads from a uniform or storage buffer has a Rust
 //! twin whose `size_of`, `offset_of` and member types equal naga's layout, member by
 //! member.
@@ -245,7 +245,7 @@ fn the_shared_wgsl_constants_are_generated_from_the_rust_constants() {
     assert!(
         stale.is_empty(),
         "generated WGSL constants differ from the Rust constants in {stale:?} \
-         (SHADEBALLS_BLESS=1 cargo test --release -- suite::boundary rewrites them)"
+         (SHADEBALLS_BLESS=1 cargo test --release -- boundary:: rewrites them)"
     );
 }
 
