@@ -119,7 +119,9 @@ const AA_EDGE_PX: f32 = 1.0; // scene::AA_EDGE_PX
 fn straddles_silhouette(distance: f32, c: vec3<f32>, r: f32) -> bool {
     let pixel_angle = 2.0 * max(length(globals.cam_right.xyz) / globals.size.x, length(globals.cam_up.xyz) / globals.size.y);
     let footprint = length(globals.cam_origin.xyz - c) * pixel_angle;
-    return abs(distance - r) <= AA_EDGE_PX * footprint;
+    // A ball under half a footprint (about a pixel) has no silhouette to linearise: the
+    // centre ray alone, as without antialiasing (src/cpu straddles_silhouette).
+    return r >= 0.5 * footprint && abs(distance - r) <= AA_EDGE_PX * footprint;
 }
 
 // The footprint of pixel position `frag` (a pixel's centre) on sphere (c, r).

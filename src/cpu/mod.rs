@@ -187,7 +187,11 @@ pub fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
 /// `straddles_silhouette` of `balls.wgsl`: whether the footprint of a pixel whose centre
 /// ray passes `distance` from the centre of the sphere `(c, r)` may straddle its
 /// silhouette: within [`AA_EDGE_PX`] footprints of `r`, a footprint being `|o - c|` times
-/// [`CameraBasis::pixel_angle`] (what the distance moves at most per pixel).
+/// [`CameraBasis::pixel_angle`] (what the distance moves at most per pixel). A ball whose
+/// radius is under half a footprint (about a pixel: the footprint bounds two pixels' angle)
+/// has no silhouette to linearise across the pixel (the covered part's centroid can miss
+/// it, leaving a knife edge, `n.v = 0`, that f32 and f64 shade apart): it is shaded along
+/// the centre ray, as without antialiasing (issue 28, finding 6).
 pub fn straddles_silhouette(
     basis: &CameraBasis,
     size: (u32, u32),
@@ -196,7 +200,7 @@ pub fn straddles_silhouette(
     r: f64,
 ) -> bool {
     let footprint = (basis.origin - c).length() * basis.pixel_angle(size.0, size.1);
-    (distance - r).abs() <= AA_EDGE_PX * footprint
+    r >= 0.5 * footprint && (distance - r).abs() <= AA_EDGE_PX * footprint
 }
 
 /// `ball_footprint` of `balls.wgsl`: the footprint of image position `frag` (a pixel's

@@ -764,3 +764,48 @@ fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Finding 6: Where balls are smaller than a pixel (1x1, 3x1, 16384x1 images) the GPU and the
+/// CPU disagreed by up to 31/255: the antialiased silhouette linearised over a pixel wider than
+/// the ball shaded a knife edge (n.v = 0) that f32 and f64 resolve differently. Now such a
+/// ball is shaded along the pixel's centre ray on both, which agree within 1/255 (the
+/// README's promise). The homework's scene (the tester's default then) and the showcase.
+#[test]
+fn gpu_and_cpu_agree_on_tiny_and_extreme_images() {
+    let dir = temp_dir("hostile-tiny");
+    for scene in ["homework.toml", "default.toml"] {
+        for (w, h) in [(1, 1), (3, 1), (16384, 1), (1, 9)] {
+            let mut images = Vec::new();
+            for backend in ["vulkan", "cpu"] {
+                let out = dir.join(format!("{scene}-{w}x{h}-{backend}.png"));
+                let (ws, hs) = (w.to_string(), h.to_string());
+                let args = [
+                    "render",
+                    "--scene",
+                    &scene_file(scene),
+                    "--no-labels",
+                    "--backend",
+                    backend,
+                    "--width",
+                    &ws,
+                    "--height",
+                    &hs,
+                    "--out",
+                    s(&out),
+                ];
+                assert!(run(&args, &[]).status.success());
+                images.push(image::open(&out).unwrap().to_rgba8().into_raw());
+            }
+            let worst = images[0]
+                .iter()
+                .zip(&images[1])
+                .map(|(a, b)| a.abs_diff(*b))
+                .max()
+                .unwrap();
+            assert!(
+                worst <= 1,
+                "{scene} at {w}x{h}: GPU and CPU differ by {worst}/255"
+            );
+        }
+    }
+}
