@@ -1,6 +1,10 @@
 // bindings.wgsl: group 0, shared by the ball renderer and the table probe
 // (src/gpu/bindings.rs creates the matching layout).
 
+#define_import_path shadeballs::bindings
+#import shadeballs::constants::LutParams
+#import shadeballs::types::{Globals, Ball, Light, EnvUniform, MAX_LIGHTS, MU_AXIS}
+
 @group(0) @binding(0) var<uniform> globals: Globals;
 // Every ball, for the full-screen path's loop (fs_main); the per-ball quads carry their
 // ball in the instance buffer instead (vs_ball). A storage buffer: MAX_BALLS balls of 80

@@ -2,6 +2,10 @@
 // (docs/design/model.md). Conventions: normal +z, mu_o = n.v, mu_i = n.l, alpha =
 // roughness^2. Fresnel-dependent functions take vec3 (one Rust call per channel).
 
+#define_import_path shadeballs::brdf
+#import shadeballs::constants::{PI, DIV_EPSILON, ROUGHNESS_MIN, LAMBDA_MAX}
+#import shadeballs::constants::{GEOMETRY_SMITH, GEOMETRY_SMITH_CORRELATED, F_ADD_GAMES202}
+
 // The roughness the model uses: clamped to [ROUGHNESS_MIN, 1] (src/brdf roughness_clamped;
 // the shader never sees NaN: scenes are validated on load).
 fn roughness_clamped(roughness: f32) -> f32 {

@@ -1,45 +1,40 @@
 // constants.wgsl: the constants and the table-read parameters of the crate's WGSL library
 // (constants, brdf, lut: shadeballs::wgsl::KULLA_CONTY). No bindings and no override
-// constants: a host program concatenates the library before its own shader and passes
-// the tables and their LutParams as arguments.
+// constants: a host program puts the library before its own shader (or imports
+// shadeballs::constants with naga_oil) and passes the tables and their LutParams as
+// arguments.
+
+#define_import_path shadeballs::constants
 
 const PI: f32 = 3.14159265358979;
-
-// Guard for divisions whose denominator can reach zero at the edge of the domain (grazing
-// angles, E_avg -> 1, F_avg -> 1): src/brdf DIV_EPSILON, representable in f32.
-const DIV_EPSILON: f32 = 1e-12;
-
-// Smallest roughness the model evaluates (src/brdf ROUGHNESS_MIN).
-const ROUGHNESS_MIN: f32 = 0.02;
 
 // lambda_smith at c = 0 is +infinity in the Rust model; WGSL has no infinity literal and
 // fast-math may drop it, so the shader uses this finite stand-in (G becomes ~1e-30, not 0).
 const LAMBDA_MAX: f32 = 1e30;
 
-// The GAMES202 homework's edge tint ("copper"), src/brdf GAMES202_EDGE_TINT.
-const GAMES202_EDGE_TINT: vec3<f32> = vec3<f32>(0.827, 0.792, 0.678);
-
-// Geometry ids, the `geometry` argument of geometry_g and f_micro (src/brdf Geometry, in
-// Geometry::ALL order).
-const GEOMETRY_SCHLICK: u32 = 0u;
-const GEOMETRY_SMITH: u32 = 1u;
-const GEOMETRY_SMITH_CORRELATED: u32 = 2u;
-
-// f_add forms, the `form` argument of f_add_preset (src/brdf FAvgForm).
-const F_ADD_ACCURATE: u32 = 0u;
-const F_ADD_GAMES202: u32 = 1u;
-
-// Mu axes, LutParams.mu_axis (src/lut MuAxis::id).
-const MU_AXIS_LINEAR: u32 = 0u;
-const MU_AXIS_SQRT: u32 = 1u;
-const MU_AXIS_WARPED: u32 = 2u;
-
-// E_avg reads, LutParams.e_avg_read (src/lut EAvgRead::id).
-const E_AVG_READ_LINEAR: u32 = 0u;
-const E_AVG_READ_POWER_LAW: u32 = 1u;
-
-// Smallest stored 1 - E_avg the power-law read takes the logarithm of (src/lut LOSS_AVG_MIN).
-const LOSS_AVG_MIN: f32 = 1e-20;
+// The constants the Rust side shares: DIV_EPSILON guards divisions whose denominator can
+// reach zero at the edge of the domain (grazing angles, E_avg -> 1, F_avg -> 1);
+// ROUGHNESS_MIN is the smallest roughness the model evaluates; GAMES202_EDGE_TINT the
+// GAMES202 homework's edge tint ("copper"); GEOMETRY_* the `geometry` argument of
+// geometry_g and f_micro (in Geometry::ALL order); F_ADD_* the `form` argument of
+// f_add_preset; MU_AXIS_* LutParams.mu_axis; E_AVG_READ_* LutParams.e_avg_read;
+// LOSS_AVG_MIN the smallest stored 1 - E_avg the power-law read takes the logarithm of.
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const DIV_EPSILON: f32 = 1e-12; // brdf::DIV_EPSILON
+const ROUGHNESS_MIN: f32 = 0.02; // brdf::ROUGHNESS_MIN
+const GAMES202_EDGE_TINT: vec3<f32> = vec3<f32>(0.827, 0.792, 0.678); // brdf::GAMES202_EDGE_TINT
+const GEOMETRY_SCHLICK: u32 = 0u; // gpu::shaders::geometry_id(Geometry::Schlick)
+const GEOMETRY_SMITH: u32 = 1u; // gpu::shaders::geometry_id(Geometry::Smith)
+const GEOMETRY_SMITH_CORRELATED: u32 = 2u; // gpu::shaders::geometry_id(Geometry::SmithCorrelated)
+const F_ADD_ACCURATE: u32 = 0u; // gpu::shaders::f_add_form_id(FAvgForm::Accurate)
+const F_ADD_GAMES202: u32 = 1u; // gpu::shaders::f_add_form_id(FAvgForm::Games202)
+const MU_AXIS_LINEAR: u32 = 0u; // MuAxis::Linear.id()
+const MU_AXIS_SQRT: u32 = 1u; // MuAxis::Sqrt.id()
+const MU_AXIS_WARPED: u32 = 2u; // MuAxis::Warped.id()
+const E_AVG_READ_LINEAR: u32 = 0u; // EAvgRead::Linear.id()
+const E_AVG_READ_POWER_LAW: u32 = 1u; // EAvgRead::PowerLaw.id()
+const LOSS_AVG_MIN: f32 = 1e-20; // lut::LOSS_AVG_MIN
+// end of the generated constants
 
 // How to address and read the tables: src/lut LutParams (Layout::lut_params), 48 bytes in a
 // uniform buffer. Texel i of an axis of n texels sits where x * scale + bias = i.
@@ -57,7 +52,7 @@ struct LutParams {
     e_avg_read: u32,
     // Roughness of the first row.
     r_min: f32,
-    padding0: f32,
-    padding1: f32,
-    padding2: f32,
+    padding_a: f32,
+    padding_b: f32,
+    padding_c: f32,
 }

@@ -3,11 +3,16 @@
 // functions: no bindings; the textures, the sampler and the split-sum table are arguments.
 // Each has a CPU twin of the same name in src/environment or src/lut.
 
-// Layers of the prefiltered textures (src/environment/prefilter.rs, same names).
-const SPECULAR_LEVELS: u32 = 7u;
-const CONVOLVED_LEVELS: u32 = 9u;
-// Texels of the split-sum bias table along each axis (src/lut/split_sum.rs SPLIT_SUM_SIZE).
-const SPLIT_SUM_SIZE: u32 = 32u;
+#define_import_path shadeballs::environment
+#import shadeballs::constants::{PI, ROUGHNESS_MIN}
+
+// SPECULAR_LEVELS and CONVOLVED_LEVELS: layers of the prefiltered textures;
+// SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis.
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const SPECULAR_LEVELS: u32 = 7u; // environment::prefilter::SPECULAR_LEVELS
+const CONVOLVED_LEVELS: u32 = 9u; // environment::prefilter::CONVOLVED_LEVELS
+const SPLIT_SUM_SIZE: u32 = 32u; // lut::SPLIT_SUM_SIZE
+// end of the generated constants
 
 // (u, v) of unit direction d: u = atan2(x, -z) / 2 pi + 1/2, v = acos(y) / pi (+y up; the
 // convention of src/environment).

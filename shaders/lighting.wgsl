@@ -1,9 +1,20 @@
-// lighting.wgsl: outgoing radiance at a ball's surface point and the display transform.
+// lighting.wgsl: outgoing radiance at a ball's surface point.
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
+
+#define_import_path shadeballs::lighting
+#import shadeballs::constants::PI
+#import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
+#import shadeballs::lut::lut_loss_row
+#import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
+#import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
+#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum}
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
-// buffer: balls.wgsl loop_counts says why).
+// buffer: screen.wgsl loop_counts says why).
 //
 // Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
 // + the ball's term + diffuse / pi; Lo += f_r L mu_i. The term (ball_term) is Kulla-Conty's
@@ -21,7 +32,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let ms = term_weight(b);
-    let term = u32(b.lut_row.w);
+    let term = b.term;
     let mu_o = max(dot(n, v), 0.0);
     // E(mu_o) is read for the term and for the environment's part, not otherwise.
     var loss_o = 0.0;
@@ -38,7 +49,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         norm = b.f_add_ms_norm.w;
         f_add = b.f_add_ms_norm.xyz;
     }
-    let kd = b.diffuse_ms.xyz * (1.0 - f_avg_ss);
+    let kd = b.diffuse * (1.0 - f_avg_ss);
     // The single-scattering albedo: the split sum with a map bound, else F_avg E(mu_o).
     var fss_ess = f_avg_ss * e_o;
     if IBL != 0u {
@@ -116,8 +127,8 @@ fn shade_environment_map(
 ) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
-    let rotation = env.rotation_intensity.xy;
-    let intensity = env.rotation_intensity.z;
+    let rotation = env.rotation;
+    let intensity = env.intensity;
     let r = 2.0 * dot(n, v) * n - v;
     let n_map = env_to_map(n, rotation);
     let dominant = specular_direction(n, r, roughness);
@@ -127,7 +138,7 @@ fn shade_environment_map(
     let single = prefiltered * fss_ess;
     var lo = single + kd * irradiance;
     if ms > 0.0 {
-        let term = u32(b.lut_row.w);
+        let term = b.term;
         if term == TERM_TURQUIN {
             lo += ms * term_turquin(single, f0, e_o);
         } else if term == TERM_FDEZ_AGUERA {
@@ -147,14 +158,7 @@ fn term_weight(b: Ball) -> f32 {
         return 1.0;
     }
     if MS_TERM == 1u {
-        return b.diffuse_ms.w;
+        return b.ms;
     }
     return 0.0;
-}
-
-// Display transform (docs/design/reference-scene.md, "The balls, the light and the
-// camera"): exposure, Reinhard c / (c + 1), gamma 1/2.2.
-fn tone_map(radiance: vec3<f32>, exposure: f32) -> vec3<f32> {
-    let c = max(radiance * exposure, vec3<f32>(0.0));
-    return pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2));
 }

@@ -11,8 +11,13 @@
 // src/gpu/upload.rs makes both), so a host program's shader can call them.
 //
 // No control flow here depends on LutParams, only select: a lavapipe workaround, explained
-// once at loop_counts in balls.wgsl (a uniform value that decides an if is inlined and the
+// once at loop_counts in screen.wgsl (a uniform value that decides an if is inlined and the
 // pipeline compiled again at every bind).
+
+#define_import_path shadeballs::lut
+#import shadeballs::constants::{LutParams, LOSS_AVG_MIN, MU_AXIS_SQRT, MU_AXIS_WARPED}
+#import shadeballs::constants::E_AVG_READ_POWER_LAW
+#import shadeballs::brdf::roughness_clamped
 
 struct LutSpan {
     i0: u32,
@@ -71,9 +76,9 @@ fn lut_loss(e_table: texture_2d<f32>, p: LutParams, mu: f32, roughness: f32) -> 
 }
 
 // lut_loss with the roughness half of the read done once per ball (Tables::lut_row):
-// row = (first row index, weight of the next row, alpha, unused). The same value as
+// row = (first row index, weight of the next row, alpha). The same value as
 // lut_loss(e_table, p, mu, roughness) (Tables::lut_loss_row).
-fn lut_loss_row(e_table: texture_2d<f32>, p: LutParams, mu: f32, row: vec4<f32>) -> f32 {
+fn lut_loss_row(e_table: texture_2d<f32>, p: LutParams, mu: f32, row: vec3<f32>) -> f32 {
     let x = mu_coord(mu, row.z, p.mu_axis);
     let sx = lut_texel_span(x, p.mu_size, p.mu_scale, p.mu_bias);
     let q = loss_quad(e_table, sx.i0, u32(row.x));

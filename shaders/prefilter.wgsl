@@ -1,12 +1,19 @@
 // prefilter.wgsl: prefiltering an environment map at load (src/gpu/environment.rs), the
-// GPU twin of src/environment/prefilter.rs (same names, same samples). Put after
-// constants.wgsl, brdf.wgsl and environment.wgsl. Each invocation writes one texel of one layer.
+// GPU twin of src/environment/prefilter.rs (same names, same samples). Each invocation
+// writes one texel of one layer.
 
-// Mirrors of src/environment/prefilter.rs.
-const KERNEL_SIZE: u32 = 64u;
-const FIS_LOD_BIAS: f32 = 0.0;
-const WEIGHT_EPSILON: f32 = 1e-30;
-const POLE_SIN_MIN: f32 = 1e-4;
+#define_import_path shadeballs::prefilter
+#import shadeballs::constants::PI
+#import shadeballs::brdf::geometry_g
+#import shadeballs::environment::{direction_to_uv, uv_to_direction}
+
+// The constants of src/environment/prefilter.rs, same names.
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const KERNEL_SIZE: u32 = 64u; // environment::prefilter::KERNEL_SIZE
+const FIS_LOD_BIAS: f32 = 0.0; // environment::prefilter::FIS_LOD_BIAS
+const WEIGHT_EPSILON: f32 = 1e-30; // environment::prefilter::WEIGHT_EPSILON
+const POLE_SIN_MIN: f32 = 0.0001; // environment::prefilter::POLE_SIN_MIN
+// end of the generated constants
 
 struct PrefilterParams {
     // Output layer size (texels), level-0 size of the map.

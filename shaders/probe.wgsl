@@ -1,6 +1,11 @@
 // probe.wgsl: evaluates lut_e and lut_e_avg, the functions the renderer reads the tables
 // with, on an N x N grid (mu = i / (N - 1), roughness = j / (N - 1)); `shadeballs probe`.
 
+#define_import_path shadeballs::probe
+#import shadeballs::brdf::roughness_clamped
+#import shadeballs::lut::{lut_e, lut_e_avg, lut_loss_row}
+#import shadeballs::bindings::{globals, e_table, e_avg_table}
+
 // x: N; y: the number of rows (probe_rows_main).
 @group(1) @binding(0) var<uniform> probe_grid: vec4<u32>;
 // Per sample (row-major, row = roughness): (E, E_avg).
@@ -31,7 +36,7 @@ fn probe_rows_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let j = k / n;
     let mu = f32(k % n) / f32(n - 1u);
     let r = roughness_clamped(textureLoad(e_avg_table, vec2<u32>(j, 1u), 0).r);
-    let row = vec4<f32>(f32(j), 0.0, r * r, 0.0);
+    let row = vec3<f32>(f32(j), 0.0, r * r);
     let loss_avg = textureLoad(e_avg_table, vec2<u32>(j, 0u), 0).r;
     probe_out[k] = vec2<f32>(1.0 - lut_loss_row(e_table, globals.lut, mu, row), 1.0 - loss_avg);
 }

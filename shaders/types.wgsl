@@ -1,11 +1,21 @@
 // types.wgsl: the renderer's override constants and uniform layouts, shared by its entry
-// points. Concatenated after the library (constants, brdf, lut; src/gpu/shaders.rs): naga
-// has no #include.
+// points. Every struct here has a Rust twin of the same layout (src/gpu/uniforms.rs,
+// src/gpu/environment.rs), checked member by member by tests/suite/boundary.rs.
 
-// Most balls and lights (src/scene MAX_BALLS, MAX_LIGHTS): the sizes of the balls storage
-// buffer and the lights uniform array.
-const MAX_BALLS: u32 = 4096u;
-const MAX_LIGHTS: u32 = 16u;
+#define_import_path shadeballs::types
+#import shadeballs::constants::LutParams
+
+// MAX_BALLS and MAX_LIGHTS: the sizes of the balls storage buffer and the lights uniform
+// array. TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
+// ball's own, so one pipeline draws every model (a branch per ball, coherent over its
+// pixels); 0 without one.
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
+const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS
+const TERM_KULLA_CONTY: u32 = 1u; // gpu::uniforms::TERM_CODES
+const TERM_TURQUIN: u32 = 2u; // gpu::uniforms::TERM_CODES
+const TERM_FDEZ_AGUERA: u32 = 3u; // gpu::uniforms::TERM_CODES
+// end of the generated constants
 
 // Pipeline-time choices (PipelineCompilationOptions::constants), folded by the compiler:
 // no uniform branches on them.
@@ -27,11 +37,6 @@ override HAS_LIGHTS: u32 = 1u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
 // 1: the map.
 override IBL: u32 = 0u;
-// A ball's multiple-scattering term (Ball.lut_row.w; src/scene Model): each ball's
-// own, so one pipeline draws every model (a branch per ball, coherent over its pixels).
-const TERM_KULLA_CONTY: u32 = 1u;
-const TERM_TURQUIN: u32 = 2u;
-const TERM_FDEZ_AGUERA: u32 = 3u;
 // 1 (default): antialiased silhouettes (balls.wgsl ball_footprint: a pixel the silhouette
 // crosses mixes the ball and the background by the fraction it covers); 0: one ray through
 // each pixel's centre, the image of before (src/scene Scene::antialias).
@@ -60,24 +65,29 @@ struct Ball {
     center_radius: vec4<f32>,
     // xyz: linear F0; w: roughness (raw; the BRDF functions clamp it).
     f0_roughness: vec4<f32>,
-    // xyz: linear diffuse albedo (dielectric base; 0 for metals); w: 1 with the
-    // multiple-scattering term, 0 without.
-    diffuse_ms: vec4<f32>,
+    // Linear diffuse albedo (dielectric base; 0 for metals).
+    diffuse: vec3<f32>,
+    // The multiple-scattering term's weight: 1 with it, 0 without.
+    ms: f32,
     // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: f_add of
     // the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm of 1 - E_avg at
     // the ball's roughness as read: lut_loss_avg of the 2-D table, or its own row's.
     f_add_ms_norm: vec4<f32>,
-    // xyz: the roughness half of an E read at the ball's roughness (Tables::lut_row;
-    // lut_loss_row in lut.wgsl): first row index, weight of the next row, alpha. w: the
-    // ball's term (TERM_*; 0 without one).
-    lut_row: vec4<f32>,
+    // The roughness half of an E read at the ball's roughness (Tables::lut_row;
+    // lut_loss_row in lut.wgsl): first row index, weight of the next row, alpha.
+    lut_row: vec3<f32>,
+    // The ball's term (TERM_*; 0 without one).
+    term: u32,
 }
 
 // Mirrors src/gpu/environment.rs EnvUniform.
 struct EnvUniform {
-    // cos and sin of -rotation_deg (env_to_map), intensity, 1 where the background shows
-    // the map.
-    rotation_intensity: vec4<f32>,
+    // cos and sin of -rotation_deg (env_to_map).
+    rotation: vec2<f32>,
+    // The map's intensity.
+    intensity: f32,
+    // The weight of the map in the background: 1 where it shows the map, 0 elsewhere.
+    shows_map: f32,
     // rgb: the background's fixed radiance.
     background: vec4<f32>,
 }

@@ -3,7 +3,7 @@
 // "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
 // src/walk (microsurface.rs, mod.rs trace), one estimate per pixel and frame, summed in
 // an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design/gpu-truth.md).
-// Concatenated after lighting.wgsl and balls.wgsl (src/gpu/shaders.rs).
+// Imports screen.wgsl for the rays, the quads and the output.
 //
 // A pixel's estimate: the lights' single scattering exactly (f_micro with Schlick F, GGX
 // D, height-correlated Smith G, plus the dielectric's Lambertian base), the base's
@@ -17,13 +17,25 @@
 // Differences from the CPU walk: f32; a path ends after WALK_MAX_EVENTS events (the CPU's
 // guard is 10 000); the generator is a PCG hash, not SplitMix64.
 
+#define_import_path shadeballs::walk
+#import shadeballs::constants::{PI, DIV_EPSILON, GEOMETRY_SMITH_CORRELATED}
+#import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, f_avg_schlick}
+#import shadeballs::brdf::f_micro
+#import shadeballs::environment::{direction_to_uv, env_to_map}
+#import shadeballs::types::{Ball, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
+#import shadeballs::screen::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
+#import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
+
 // Scattering events a GPU path may have (a cut, not a roulette: it loses the energy of
 // longer paths, a bias the furnace test of tests/suite/gpu_truth.rs bounds;
 // docs/design/gpu-truth.md, "Differences from the CPU walk", gives the share of longer
 // paths); the loop's cost grows with the longest path of a SIMD group.
 const WALK_MAX_EVENTS: u32 = 32u;
-// Russian roulette below this path mass (src/walk RR_BELOW).
-const WALK_RR_BELOW: f32 = 0.05;
+// WALK_RR_BELOW: Russian roulette below this path mass (src/walk RR_BELOW).
+// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+const WALK_RR_BELOW: f32 = 0.05; // walk::RR_BELOW
+// end of the generated constants
 // Smallest C1 value and exponent guard of walk_pow (f32: 1e-30 keeps log2 finite).
 const WALK_TINY: f32 = 1e-30;
 
@@ -150,8 +162,8 @@ fn walk_arriving(d: vec3<f32>) -> vec3<f32> {
         c = globals.environment.xyz;
     }
     if IBL != 0u {
-        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
-        c += env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+        let uv = direction_to_uv(env_to_map(d, env.rotation));
+        c += env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
     }
     return c;
 }
@@ -227,7 +239,7 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
     let roughness = b.f0_roughness.w;
     let alpha = alpha_from_roughness(roughness);
     let f0 = b.f0_roughness.xyz;
-    let kd = b.diffuse_ms.xyz * (1.0 - f_avg_schlick(f0));
+    let kd = b.diffuse * (1.0 - f_avg_schlick(f0));
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
         lo = globals.environment.xyz * kd;
@@ -253,8 +265,8 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
         let r = sqrt(u1);
         let phi = 2.0 * PI * u2;
         let d = frame * vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
-        let uv = direction_to_uv(env_to_map(d, env.rotation_intensity.xy));
-        lo += kd * env.rotation_intensity.z * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+        let uv = direction_to_uv(env_to_map(d, env.rotation));
+        lo += kd * env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
     }
     let wi = transpose(frame) * v;
     return lo + walk_estimate(frame, wi, f0, alpha, n_lights, rng);
@@ -320,20 +332,10 @@ fn fs_truth_occluder(in: BallOut) -> TruthFragment {
 // The mean of a truth pixel's estimates (sum / count) into the target; other pixels (a
 // zero count) keep what the ball pass drew.
 @fragment
-fn fs_truth_resolve(in: VsOut) -> @location(0) vec4<f32> {
+fn fs_truth_resolve(in: VsOut) -> @location(0) Colour {
     let s = textureLoad(truth_sum, vec2<i32>(in.position.xy), 0i);
     if !(s.w > 0.0) {
         discard;
     }
     return output_value(s.rgb / s.w);
-}
-
-// fs_truth_resolve for an Rgba32Uint target (output_bits).
-@fragment
-fn fs_truth_resolve_bits(in: VsOut) -> @location(0) vec4<u32> {
-    let s = textureLoad(truth_sum, vec2<i32>(in.position.xy), 0i);
-    if !(s.w > 0.0) {
-        discard;
-    }
-    return output_bits(s.rgb / s.w);
 }

@@ -2,7 +2,7 @@
 //! `shaders/lighting.wgsl`: what both renderers apply to linear radiance for a PNG or a
 //! window.
 
-/// The display transform of `shaders/lighting.wgsl` `tone_map` for one channel:
+/// The display transform of `shaders/screen.wgsl` `tone_map` for one channel:
 /// exposure, Reinhard `c / (c + 1)`, gamma 1/2.2.
 pub fn tone_map(radiance: f64, exposure: f64) -> f64 {
     let c = (radiance * exposure).max(0.0);

@@ -367,7 +367,7 @@ fn pixel_rect(ndc: [f64; 4], width: u32, height: u32) -> [u32; 4] {
     ]
 }
 
-/// `surface_normal` of `balls.wgsl`: the unit normal along `p` (hit point minus centre), or
+/// `surface_normal` of `screen.wgsl`: the unit normal along `p` (hit point minus centre), or
 /// facing the eye (`-d`) when `|p| <= DIV_EPSILON`, where `normalize` would give NaN (a
 /// ball far smaller than its distance from the camera, its hit point lost in rounding).
 pub fn surface_normal(p: DVec3, d: DVec3) -> DVec3 {

@@ -1,5 +1,5 @@
 //! Per-pixel maths of the CPU reference renderer, term for term `shaders/lighting.wgsl`
-//! and `intersect_sphere` of `shaders/balls.wgsl`, in f64.
+//! and `intersect_sphere` of `shaders/screen.wgsl`, in f64.
 
 use glam::DVec3;
 
@@ -21,7 +21,7 @@ pub(crate) fn loss_avg(e: &TableSet, roughness: f64) -> f64 {
     e.lut_loss_avg(roughness as f32) as f64
 }
 
-/// `intersect_sphere` of `balls.wgsl`: nearest positive distance along unit `d` from `o`
+/// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
 /// to the sphere, or -1.
 pub fn intersect_sphere(o: DVec3, d: DVec3, center: DVec3, r: f64) -> f64 {
     let oc = o - center;

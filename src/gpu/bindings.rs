@@ -21,7 +21,7 @@ pub struct Bindings {
     pub instances: wgpu::Buffer,
 }
 
-/// One ball's quad (`vs_ball` in `balls.wgsl`): its bounds in NDC and the ball's members,
+/// One ball's quad (`vs_ball` in `screen.wgsl`): its bounds in NDC and the ball's members,
 /// which reach the fragment stage as flat varyings. An instance attribute rather than a
 /// read of the balls buffer in the vertex stage: portable to adapters without storage
 /// buffers in the vertex stage, and no gather.
@@ -41,15 +41,17 @@ impl BallInstance {
             0 => Float32x4,
             2 => Float32x4,
             3 => Float32x4,
-            4 => Float32x4,
+            4 => Float32x3,
+            7 => Float32,
             5 => Float32x4,
-            6 => Float32x4
+            6 => Float32x3,
+            8 => Uint32
         ],
     };
 }
 
 /// A uniform buffer, visible to the vertex stage too: the ball renderer's vertex shaders read
-/// the loop counts from `globals` for the fragment stage (`loop_counts` in `balls.wgsl`).
+/// the loop counts from `globals` for the fragment stage (`loop_counts` in `screen.wgsl`).
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

@@ -19,13 +19,16 @@ use crate::scene::Scene;
 /// backend, and a storage format the compute passes can write.
 pub const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// Mirrors `EnvUniform` in `bindings.wgsl`.
+/// Mirrors `EnvUniform` in `types.wgsl` (member for member: tests/suite/boundary.rs).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct EnvUniform {
-    /// cos and sin of `-rotation_deg`, intensity (times the map's f16 scale), 1 when the
-    /// background shows the map.
-    pub rotation_intensity: [f32; 4],
+    /// cos and sin of `-rotation_deg`.
+    pub rotation: [f32; 2],
+    /// The map's intensity (times the map's f16 scale).
+    pub intensity: f32,
+    /// The map's weight in the background: 1 when it shows the map, else 0.
+    pub shows_map: f32,
     /// rgb: the background's fixed radiance (added to the map where it shows).
     pub background: [f32; 4],
 }
@@ -42,12 +45,9 @@ impl EnvUniform {
         let shows_map = scene.background_shows_map();
         let colour = scene.background_radiance();
         EnvUniform {
-            rotation_intensity: [
-                c as f32,
-                s as f32,
-                intensity as f32,
-                shows_map as u32 as f32,
-            ],
+            rotation: [c as f32, s as f32],
+            intensity: intensity as f32,
+            shows_map: shows_map as u32 as f32,
             background: [colour.x as f32, colour.y as f32, colour.z as f32, 0.0],
         }
     }
@@ -155,14 +155,14 @@ fn f16_bytes(texels: &[[f32; 4]]) -> Vec<u8> {
         .collect()
 }
 
-/// Mirrors `PrefilterParams` in `prefilter.wgsl`.
+/// Mirrors `PrefilterParams` in `prefilter.wgsl` (member for member: `gpu::boundary`).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct PrefilterParams {
-    size: [u32; 4],
-    source: [u32; 4],
-    layer: [f32; 4],
-    limits: [u32; 4],
+pub(crate) struct PrefilterParams {
+    pub(crate) size: [u32; 4],
+    pub(crate) source: [u32; 4],
+    pub(crate) layer: [f32; 4],
+    pub(crate) limits: [u32; 4],
 }
 
 impl EnvironmentTextures {

@@ -4,6 +4,7 @@
 //! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod bindings;
+pub mod boundary;
 mod context;
 mod depth;
 pub mod environment;

@@ -1,5 +1,6 @@
 //! The ball renderer's pipelines: one per shader variant and target, created on first use
-//! with the variant's override constants (`types.wgsl`), either the per-ball entry points
+//! with the variant's override constants (`types.wgsl`) from the module of the target's
+//! output (bits or not: the shader def `OUTPUT_BITS`), either the per-ball entry points
 //! with their instance buffer or the full-screen ones.
 
 use std::collections::HashMap;
@@ -10,21 +11,32 @@ use super::shaders;
 use crate::brdf::Geometry;
 use crate::lut::MuAxis;
 
-/// Target format, G, the tables' mu axis, per-ball quads (or the full-screen triangle),
-/// variant: everything a ball pipeline is compiled for.
-pub type PipelineKey = (wgpu::TextureFormat, Geometry, MuAxis, bool, Variant);
+/// Everything a ball pipeline is compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    /// The target's format (linear, display or bits output: [`is_linear`], [`is_bits`]).
+    pub format: wgpu::TextureFormat,
+    /// The G of `f_micro` (`GEOMETRY`).
+    pub geometry: Geometry,
+    /// The mu axis of the tables the pipeline reads (`MU_AXIS`).
+    pub mu_axis: MuAxis,
+    /// The per-ball quads (`vs_ball`, `fs_ball`), or the full-screen triangle.
+    pub per_ball: bool,
+    /// The shader variant (the override constants of `types.wgsl`).
+    pub variant: Variant,
+}
 
 /// The pipeline key that draws `variant` of `plan` into `format`. The mu axis is the plan's
 /// bake layout's: the tables it binds are baked with it (or, pinned by
 /// `Renderer::set_tables`, set it), and with no tables nothing reads the axis.
 pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) -> PipelineKey {
-    (
+    PipelineKey {
         format,
-        plan.geometry,
-        plan.bake.layout.mu_axis,
-        plan.per_ball,
+        geometry: plan.geometry,
+        mu_axis: plan.bake.layout.mu_axis,
+        per_ball: plan.per_ball,
         variant,
-    )
+    }
 }
 
 /// The depth target of the per-ball draw (`Renderer`'s own, sized to each colour target):
@@ -42,16 +54,17 @@ pub fn is_linear(format: wgpu::TextureFormat) -> bool {
     ) || is_bits(format)
 }
 
-/// Whether `format` gets the bits of linear radiance as f32 (`fs_ball_bits`, `fs_main_bits`):
-/// `Rgba32Uint`, the f32 target of backends that render to no 32-bit float format (GL;
+/// Whether `format` gets the bits of linear radiance as f32 (the modules composed with the
+/// shader def `OUTPUT_BITS`): `Rgba32Uint`, the f32 target of backends that render to no 32-bit float format (GL;
 /// integer formats are colour-renderable there), read back as f32 by `render_hdr`.
 pub fn is_bits(format: wgpu::TextureFormat) -> bool {
     format == wgpu::TextureFormat::Rgba32Uint
 }
 
-/// The ball module, its pipeline layout and the pipelines made so far.
+/// The ball modules (float or display output, and bits output: each created on first use),
+/// their pipeline layout and the pipelines made so far.
 pub struct Pipelines {
-    module: wgpu::ShaderModule,
+    modules: [Option<wgpu::ShaderModule>; 2],
     layout: wgpu::PipelineLayout,
     made: HashMap<PipelineKey, wgpu::RenderPipeline>,
     backgrounds: HashMap<PipelineKey, wgpu::RenderPipeline>,
@@ -63,26 +76,17 @@ impl Pipelines {
         bindings: &Bindings,
         environment: &wgpu::BindGroupLayout,
     ) -> Self {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("balls"),
-            source: wgpu::ShaderSource::Wgsl(shaders::balls_source().into()),
-        });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("balls"),
             bind_group_layouts: &[Some(&bindings.layout), Some(environment)],
             immediate_size: 0,
         });
         Pipelines {
-            module,
+            modules: [None, None],
             layout,
             made: HashMap::new(),
             backgrounds: HashMap::new(),
         }
-    }
-
-    /// The ball module (the truth's pipelines use it with their own layout).
-    pub fn module(&self) -> &wgpu::ShaderModule {
-        &self.module
     }
 
     /// The background pipeline (`fs_background`: the environment map behind the balls)
@@ -95,18 +99,20 @@ impl Pipelines {
         geometry: Geometry,
         mu_axis: MuAxis,
     ) -> &wgpu::RenderPipeline {
-        let key = (format, geometry, mu_axis, true, variant);
-        let (module, layout) = (&self.module, &self.layout);
+        let key = PipelineKey {
+            format,
+            geometry,
+            mu_axis,
+            per_ball: true,
+            variant,
+        };
+        let module = module(&mut self.modules, device, is_bits(format));
+        let layout = &self.layout;
         self.backgrounds.entry(key).or_insert_with(|| {
-            let fs = if is_bits(format) {
-                shaders::FS_BACKGROUND_BITS
-            } else {
-                shaders::FS_BACKGROUND
-            };
             let shape = Shape {
                 label: "background",
                 vs: shaders::VS_MAIN,
-                fs,
+                fs: shaders::FS_BACKGROUND,
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 depth: Some((false, wgpu::CompareFunction::Always)),
@@ -117,19 +123,14 @@ impl Pipelines {
 
     /// The pipeline of `key`, created on first use.
     pub fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let (format, _, _, per_ball, _) = key;
-        let (module, layout) = (&self.module, &self.layout);
+        let module = module(&mut self.modules, device, is_bits(key.format));
+        let layout = &self.layout;
         self.made.entry(key).or_insert_with(|| {
-            let bits = is_bits(format);
-            let shape = if per_ball {
+            let shape = if key.per_ball {
                 Shape {
                     label: "balls",
                     vs: shaders::VS_BALL,
-                    fs: if bits {
-                        shaders::FS_BALL_BITS
-                    } else {
-                        shaders::FS_BALL
-                    },
+                    fs: shaders::FS_BALL,
                     buffers: &[Some(BallInstance::LAYOUT)],
                     // A quad a ball: one strip of two triangles an instance (4 vertices,
                     // not 6).
@@ -141,11 +142,7 @@ impl Pipelines {
                 Shape {
                     label: "balls",
                     vs: shaders::VS_MAIN,
-                    fs: if bits {
-                        shaders::FS_MAIN_BITS
-                    } else {
-                        shaders::FS_MAIN
-                    },
+                    fs: shaders::FS_MAIN,
                     buffers: &[],
                     topology: wgpu::PrimitiveTopology::TriangleList,
                     depth: None,
@@ -154,6 +151,20 @@ impl Pipelines {
             create(device, layout, module, key, shape)
         })
     }
+}
+
+/// The ball module for a bits target (`bits`) or another, created on first use.
+fn module<'a>(
+    modules: &'a mut [Option<wgpu::ShaderModule>; 2],
+    device: &wgpu::Device,
+    bits: bool,
+) -> &'a wgpu::ShaderModule {
+    modules[bits as usize].get_or_insert_with(|| {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(if bits { "balls bits" } else { "balls" }),
+            source: wgpu::ShaderSource::Wgsl(shaders::balls_source(bits).into()),
+        })
+    })
 }
 
 /// What differs between the ball module's pipelines: entry points, vertex buffers,
@@ -177,7 +188,13 @@ pub(super) fn create(
     key: PipelineKey,
     shape: Shape<'_>,
 ) -> wgpu::RenderPipeline {
-    let (format, geometry, mu_axis, _, variant) = key;
+    let PipelineKey {
+        format,
+        geometry,
+        mu_axis,
+        variant,
+        ..
+    } = key;
     let constants = shaders::overrides_for(geometry, is_linear(format), mu_axis, variant);
     let options = wgpu::PipelineCompilationOptions {
         constants: &constants,

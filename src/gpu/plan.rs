@@ -101,7 +101,7 @@ pub struct Variant {
     /// The directional lights' loop compiled in.
     pub lights: bool,
     /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, 1 with one
-    /// (each ball's term is its own, `Ball.lut_row.w`).
+    /// (each ball's term is its own, `Ball.term`).
     pub ibl: u8,
     /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
     pub aa: bool,

@@ -293,7 +293,7 @@ impl Renderer {
         let frame = self.prepare_frame(scene, target.width, target.height);
         self.encode_balls(scene, &frame, target, encoder);
         if !frame.plan.truth.is_empty() && self.truth_frame(scene, &frame, encoder) {
-            let draw = truth_draw(&self.gpu, &self.pipelines, &frame);
+            let draw = truth_draw(&self.gpu, &frame);
             self.truth
                 .resolve(&draw, encoder, target.view, target.format, frame.size);
         }
@@ -388,7 +388,7 @@ impl Renderer {
     ) {
         let plan = &frame.plan;
         let device = &self.gpu.device;
-        let shows_map = frame.env_uniform.rotation_intensity[3] == 1.0;
+        let shows_map = frame.env_uniform.shows_map == 1.0;
         let background = match plan.draws.first() {
             Some((variant, _)) if plan.per_ball && shows_map => Some(
                 self.pipelines
@@ -496,7 +496,7 @@ impl Renderer {
             return false;
         }
         let quads = truth_pass::quads(scene, &frame.balls, &frame.hidden, frame.size);
-        let draw = truth_draw(&self.gpu, &self.pipelines, frame);
+        let draw = truth_draw(&self.gpu, frame);
         self.truth
             .accumulate(&draw, encoder, scene, frame.size, (&quads.0, &quads.1));
         true
@@ -638,12 +638,11 @@ fn ball_quads(scene: &Scene, frame: &Frame) -> (Vec<BallInstance>, Vec<std::ops:
     (quads, ranges)
 }
 
-/// The truth passes' device, module, groups and compile-time choices for `frame`.
-fn truth_draw<'a>(gpu: &'a Gpu, pipelines: &'a Pipelines, frame: &'a Frame) -> Draw<'a> {
+/// The truth passes' device, groups and compile-time choices for `frame`.
+fn truth_draw<'a>(gpu: &'a Gpu, frame: &'a Frame) -> Draw<'a> {
     Draw {
         device: &gpu.device,
         queue: &gpu.queue,
-        module: pipelines.module(),
         group0: &frame.group0,
         group1: &frame.group1,
         geometry: frame.plan.geometry,

@@ -1,87 +1,110 @@
-//! The WGSL sources and how they are combined. naga has no `#include`, so each module is
-//! the concatenation of the role files in one fixed order: the library (constants, BRDF
-//! terms, table reads: [`crate::wgsl::KULLA_CONTY`], no bindings), the renderer's types and
-//! bindings, then the entry points.
+//! The renderer's WGSL programs and their entry points. Each program is a root module of
+//! `shaders/` composed with the modules it imports under its shader defs
+//! ([`crate::wgsl::PROGRAMS`]), at build time (`build.rs`): the ball renderer, the truth,
+//! the table probe and the environment prefilter. Variants the entry points share are
+//! override constants chosen per pipeline ([`overrides_for`]); the target's output type
+//! (`OUTPUT_BITS`) is a shader def, one module per choice.
 
 use crate::brdf::{FAvgForm, Geometry};
 use crate::gpu::Variant;
 use crate::lut::MuAxis;
+use crate::wgsl::Program;
 
-/// The library's files (`crate::wgsl::KULLA_CONTY` is their concatenation), then the
-/// renderer's types and bindings: every module starts with these, by file name.
-pub const COMMON: [(&str, &str); 6] = [
-    (
-        "constants.wgsl",
-        include_str!("../../shaders/constants.wgsl"),
-    ),
-    ("brdf.wgsl", include_str!("../../shaders/brdf.wgsl")),
-    ("lut.wgsl", include_str!("../../shaders/lut.wgsl")),
-    (
-        "environment.wgsl",
-        include_str!("../../shaders/environment.wgsl"),
-    ),
-    ("types.wgsl", include_str!("../../shaders/types.wgsl")),
-    ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
-];
-const LIGHTING: &str = include_str!("../../shaders/lighting.wgsl");
-const BALLS: &str = include_str!("../../shaders/balls.wgsl");
-const WALK: &str = include_str!("../../shaders/walk.wgsl");
-const PROBE: &str = include_str!("../../shaders/probe.wgsl");
-const PREFILTER: &str = include_str!("../../shaders/prefilter.wgsl");
-
-/// Vertex entry point of the ball renderer module's full-screen draw (one triangle over
-/// the viewport).
+/// Vertex entry point of the full-screen draw (one triangle over the viewport).
 pub const VS_MAIN: &str = "vs_main";
-/// Fragment entry point of the full-screen draw: every pixel's radiance, background included.
+/// Fragment entry point of the full-screen draw: every pixel's radiance, background
+/// included.
 pub const FS_MAIN: &str = "fs_main";
-/// Vertex entry point of the per-ball draw (one quad per ball over its screen-space bounds).
+/// Vertex entry point of the per-ball draw (one quad per ball over its screen-space
+/// bounds).
 pub const VS_BALL: &str = "vs_ball";
-/// Fragment entry point of the per-ball draw: the pixel if its nearest hit is the quad's ball.
+/// Fragment entry point of the per-ball draw: the pixel if its nearest hit is the quad's
+/// ball.
 pub const FS_BALL: &str = "fs_ball";
-/// `FS_MAIN` for an `Rgba32Uint` target: the bits of linear radiance (`output_bits`).
-pub const FS_MAIN_BITS: &str = "fs_main_bits";
-/// `FS_BALL` for an `Rgba32Uint` target: the bits of linear radiance (`output_bits`).
-pub const FS_BALL_BITS: &str = "fs_ball_bits";
 /// Fragment entry point of the background draw (the environment map behind the balls).
 pub const FS_BACKGROUND: &str = "fs_background";
-/// `FS_BACKGROUND` for an `Rgba32Uint` target.
-pub const FS_BACKGROUND_BITS: &str = "fs_background_bits";
 /// Fragment entry point of a truth ball's quad in the accumulation pass (`walk.wgsl`).
 pub const FS_TRUTH: &str = "fs_truth";
 /// Fragment entry point of another ball's quad in the accumulation pass (depth, zero sum).
 pub const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
 /// Fragment entry point of the truth's resolve (the mean of each truth pixel's estimates).
 pub const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
-/// `FS_TRUTH_RESOLVE` for an `Rgba32Uint` target.
-pub const FS_TRUTH_RESOLVE_BITS: &str = "fs_truth_resolve_bits";
 /// Entry point of the table probe module.
 pub const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
 pub const PROBE_ROWS: &str = "probe_rows_main";
+/// Entry point of the prefilter's specular layers.
+pub const SPECULAR_MAIN: &str = "specular_main";
+/// Entry point of the prefilter's convolved layers.
+pub const CONVOLVED_MAIN: &str = "convolved_main";
 
-fn concat(parts: &[&str]) -> String {
-    let common = COMMON.iter().map(|(_, src)| *src);
-    common
-        .chain(parts.iter().copied())
-        .collect::<Vec<_>>()
-        .join("\n")
+/// The entry points each program's pipelines use (a test checks that every module a
+/// program imports serves one of them).
+pub fn entry_points(program: &Program) -> &'static [&'static str] {
+    match program.root {
+        "shadeballs::balls" => &[VS_MAIN, FS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
+        "shadeballs::walk" => &[
+            VS_BALL,
+            VS_MAIN,
+            FS_TRUTH,
+            FS_TRUTH_OCCLUDER,
+            FS_TRUTH_RESOLVE,
+        ],
+        "shadeballs::probe" => &[PROBE_MAIN, PROBE_ROWS],
+        "shadeballs::prefilter" => &[SPECULAR_MAIN, CONVOLVED_MAIN],
+        _ => &[],
+    }
 }
 
-/// The ball renderer: common files, `lighting.wgsl`, `balls.wgsl`, `walk.wgsl` (the truth
-/// on the GPU: its accumulation and resolve entry points).
-pub fn balls_source() -> String {
-    concat(&[LIGHTING, BALLS, WALK])
+/// The text the build composed for `name` (`NAME.wgsl` in the build's output).
+macro_rules! composed {
+    ($name:literal) => {
+        include_str!(concat!(env!("OUT_DIR"), "/", $name, ".wgsl"))
+    };
 }
 
-/// The environment prefilter (compute): `constants.wgsl`, `brdf.wgsl`, `environment.wgsl`,
-/// `prefilter.wgsl` (no renderer bindings).
-pub fn prefilter_source() -> String {
-    [COMMON[0].1, COMMON[1].1, COMMON[3].1, PREFILTER].join("\n")
+/// The text the build composed for `program`, if it is one of [`crate::wgsl::PROGRAMS`].
+pub fn source(program: &Program) -> Option<&'static str> {
+    Some(match program.name {
+        "balls" => composed!("balls"),
+        "balls_bits" => composed!("balls_bits"),
+        "truth" => composed!("truth"),
+        "truth_bits" => composed!("truth_bits"),
+        "probe" => composed!("probe"),
+        "prefilter" => composed!("prefilter"),
+        _ => return None,
+    })
 }
 
-/// The table probe: common files, `probe.wgsl`.
-pub fn probe_source() -> String {
-    concat(&[PROBE])
+/// The ball renderer (`balls.wgsl` and its imports); `bits`: for an `Rgba32Uint` target
+/// (the shader def `OUTPUT_BITS`).
+pub fn balls_source(bits: bool) -> &'static str {
+    if bits {
+        composed!("balls_bits")
+    } else {
+        composed!("balls")
+    }
+}
+
+/// The truth on the GPU (`walk.wgsl`: its accumulation and resolve entry points, and the
+/// ball renderer's vertex stages it imports); `bits`: for an `Rgba32Uint` target.
+pub fn truth_source(bits: bool) -> &'static str {
+    if bits {
+        composed!("truth_bits")
+    } else {
+        composed!("truth")
+    }
+}
+
+/// The environment prefilter (compute): `prefilter.wgsl` and its imports (no renderer
+/// bindings).
+pub fn prefilter_source() -> &'static str {
+    composed!("prefilter")
+}
+
+/// The table probe: `probe.wgsl` and its imports.
+pub fn probe_source() -> &'static str {
+    composed!("probe")
 }
 
 /// The `geometry` argument of the WGSL `geometry_g` and `f_micro` for `g`, and the value of

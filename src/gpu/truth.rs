@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::bindings::BallInstance;
-use super::pipelines::{self, is_bits, Shape, DEPTH_FORMAT};
+use super::pipelines::{self, is_bits, PipelineKey, Shape, DEPTH_FORMAT};
 use super::plan::Variant;
 use super::renderer::QUAD_PAD_PX;
 use super::shaders;
@@ -39,16 +39,16 @@ enum Role {
     Truth,
     /// `fs_truth_occluder` into the sums.
     Occluder,
-    /// `fs_truth_resolve` (or its bits form) into a target of this format.
+    /// `fs_truth_resolve` into a target of this format (from the bits module for a bits
+    /// target).
     Resolve(wgpu::TextureFormat),
 }
 
-/// What the accumulation and resolve passes draw with: the device, the ball module, the
-/// bind groups 0 and 1, and the pipelines' compile-time choices.
+/// What the accumulation and resolve passes draw with: the device, the bind groups 0 and
+/// 1, and the pipelines' compile-time choices.
 pub struct Draw<'a> {
     pub device: &'a wgpu::Device,
     pub queue: &'a wgpu::Queue,
-    pub module: &'a wgpu::ShaderModule,
     pub group0: &'a wgpu::BindGroup,
     pub group1: &'a wgpu::BindGroup,
     pub geometry: Geometry,
@@ -56,9 +56,11 @@ pub struct Draw<'a> {
     pub variant: Variant,
 }
 
-/// The truth's layout (group 2), pipelines, quads and the running sums.
+/// The truth's layout (group 2), modules (float or display output, and bits output: each
+/// created on first use), pipelines, quads and the running sums.
 pub struct TruthPass {
     layout: wgpu::BindGroupLayout,
+    modules: [Option<wgpu::ShaderModule>; 2],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<Key, wgpu::RenderPipeline>,
     /// The accumulation pass's quads: the truth balls', then the others'.
@@ -156,6 +158,7 @@ impl TruthPass {
         });
         TruthPass {
             layout,
+            modules: [None, None],
             pipeline_layout,
             pipelines: HashMap::new(),
             instances,
@@ -300,10 +303,18 @@ impl TruthPass {
     /// The pipeline of `role` for `draw`'s choices, created on first use.
     fn pipeline(&mut self, draw: &Draw<'_>, role: Role) -> &wgpu::RenderPipeline {
         let key = (draw.geometry, draw.mu_axis, draw.variant, role);
+        let bits = matches!(role, Role::Resolve(f) if is_bits(f));
+        let module = self.modules[bits as usize].get_or_insert_with(|| {
+            draw.device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(if bits { "truth bits" } else { "truth" }),
+                    source: wgpu::ShaderSource::Wgsl(shaders::truth_source(bits).into()),
+                })
+        });
         let layout = &self.pipeline_layout;
         self.pipelines
             .entry(key)
-            .or_insert_with(|| create(draw, layout, role))
+            .or_insert_with(|| create(draw, layout, module, role))
     }
 }
 
@@ -390,7 +401,12 @@ impl Sums {
 /// A truth pipeline: the per-ball quads into the sums (with the depth test) for
 /// [`Role::Truth`] and [`Role::Occluder`], the full-screen triangle into a target for
 /// [`Role::Resolve`].
-fn create(draw: &Draw<'_>, layout: &wgpu::PipelineLayout, role: Role) -> wgpu::RenderPipeline {
+fn create(
+    draw: &Draw<'_>,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    role: Role,
+) -> wgpu::RenderPipeline {
     let quads = [Some(BallInstance::LAYOUT)];
     let (format, shape) = match role {
         Role::Truth | Role::Occluder => (
@@ -413,17 +429,19 @@ fn create(draw: &Draw<'_>, layout: &wgpu::PipelineLayout, role: Role) -> wgpu::R
             Shape {
                 label: "truth resolve",
                 vs: shaders::VS_MAIN,
-                fs: if is_bits(f) {
-                    shaders::FS_TRUTH_RESOLVE_BITS
-                } else {
-                    shaders::FS_TRUTH_RESOLVE
-                },
+                fs: shaders::FS_TRUTH_RESOLVE,
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 depth: None,
             },
         ),
     };
-    let key = (format, draw.geometry, draw.mu_axis, true, draw.variant);
-    pipelines::create(draw.device, layout, draw.module, key, shape)
+    let key = PipelineKey {
+        format,
+        geometry: draw.geometry,
+        mu_axis: draw.mu_axis,
+        per_ball: true,
+        variant: draw.variant,
+    };
+    pipelines::create(draw.device, layout, module, key, shape)
 }

@@ -1,5 +1,7 @@
-//! The shader data's Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`
-//! (every member a 16-byte vector, so the WGSL uniform layout is the `repr(C)` one).
+//! The shader data's Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`, member
+//! for member (every vector of three followed by a scalar, every member 4-byte aligned
+//! within 16-byte rows, so the WGSL layout is the `repr(C)` one; tests/suite/boundary.rs
+//! compares naga's layout of each with these).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -39,14 +41,17 @@ pub struct GpuBall {
     pub center_radius: [f32; 4],
     /// xyz: linear F0; w: roughness (raw; the shader clamps it).
     pub f0_roughness: [f32; 4],
-    /// xyz: linear diffuse albedo (0 for a metal); w: 1 with the multiple-scattering term,
-    /// 0 without.
-    pub diffuse_ms: [f32; 4],
+    /// Linear diffuse albedo (0 for a metal).
+    pub diffuse: [f32; 3],
+    /// The multiple-scattering term's weight: 1 with it, 0 without.
+    pub ms: f32,
     /// xyz: `f_add` of the scene's preset; w: `f_ms_norm` of `1 - E_avg` at the ball's
     /// roughness as read; all 0 without the term.
     pub f_add_ms_norm: [f32; 4],
     /// The roughness half of the ball's E reads ([`TableSet::lut_row`]).
-    pub lut_row: [f32; 4],
+    pub lut_row: [f32; 3],
+    /// The ball's term ([`term_code`]: `TERM_*` of `types.wgsl`; 0 without one).
+    pub term: u32,
 }
 
 /// One light of the lights uniform array: `Light` of `types.wgsl` ([`lights`]).
@@ -116,30 +121,35 @@ pub fn balls(scene: &Scene, tables: &TableSet) -> Vec<GpuBall> {
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
-                diffuse_ms: v4(
-                    b.material.diffuse,
-                    if b.model.has_term() { 1.0 } else { 0.0 },
-                ),
+                diffuse: b.material.diffuse.as_vec3().to_array(),
+                ms: if b.model.has_term() { 1.0 } else { 0.0 },
                 f_add_ms_norm,
-                lut_row: {
-                    let [row, weight, alpha, _] = tables.lut_row(b.roughness as f32);
-                    [row, weight, alpha, term_code(b.model)]
-                },
+                lut_row: tables.lut_row(b.roughness as f32),
+                term: term_code(b.model),
             }
         })
         .collect()
 }
 
-/// A ball's term as `lighting.wgsl` reads it from `lut_row.w` (`TERM_*` in
-/// `types.wgsl`; 0 without one).
-pub fn term_code(model: Model) -> f32 {
+/// A ball's term as `lighting.wgsl` reads it from `Ball.term` (`TERM_*` in `types.wgsl`,
+/// generated from [`TERM_CODES`]; 0 without one).
+pub fn term_code(model: Model) -> u32 {
     match model.term() {
-        None => 0.0,
-        Some(IblTerm::KullaConty) => 1.0,
-        Some(IblTerm::Turquin) => 2.0,
-        Some(IblTerm::FdezAguera) => 3.0,
+        None => 0,
+        Some(term) => TERM_CODES
+            .iter()
+            .find(|(_, t)| *t == term)
+            .map_or(0, |(code, _)| *code),
     }
 }
+
+/// The code of each term in `Ball.term`, and the WGSL constant `TERM_*` of `types.wgsl`
+/// generated from it (tests/suite/boundary.rs).
+pub const TERM_CODES: [(u32, IblTerm); 3] = [
+    (1, IblTerm::KullaConty),
+    (2, IblTerm::Turquin),
+    (3, IblTerm::FdezAguera),
+];
 
 /// The lights array (the used prefix of the uniform array).
 pub fn lights(scene: &Scene) -> Vec<GpuLight> {

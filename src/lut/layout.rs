@@ -479,8 +479,14 @@ pub struct LutParams {
     pub e_avg_read: u32,
     /// Roughness of the first row (the roughness axis spans `[r_min, 1]`).
     pub r_min: f32,
-    /// Padding to the WGSL struct's 48-byte uniform size; zero.
-    pub padding: [f32; 3],
+    /// Padding to the WGSL struct's 48-byte uniform size (three scalars, as in the WGSL,
+    /// where a vector of three would align to 16 bytes; no name ends in a digit, which
+    /// naga's WGSL writer renames and naga_oil then rejects); zero.
+    pub padding_a: f32,
+    /// Padding; zero.
+    pub padding_b: f32,
+    /// Padding; zero.
+    pub padding_c: f32,
 }
 
 impl Layout {
@@ -498,7 +504,9 @@ impl Layout {
             mu_axis: self.mu_axis.id(),
             e_avg_read: self.e_avg_read.id(),
             r_min: self.r_axis.r_min() as f32,
-            padding: [0.0; 3],
+            padding_a: 0.0,
+            padding_b: 0.0,
+            padding_c: 0.0,
         }
     }
 }

@@ -251,13 +251,13 @@ fn bilinear(
 
 /// `lut_loss_row` of `shaders/lut.wgsl` over `rows` rows of `layout.mu_size` texels,
 /// texel (i, j) = `t(i, j)`: the mu half of the read at `mu`, the roughness half from `row`
-/// (`[first row, weight of the next, alpha, _]`). The one CPU copy behind
+/// (`[first row, weight of the next, alpha]`). The one CPU copy behind
 /// [`Tables::lut_loss_row`] and [`RowSet::lut_loss_row`].
 pub(crate) fn read_row(
     layout: &Layout,
     rows: usize,
     mu: f32,
-    row: [f32; 4],
+    row: [f32; 3],
     t: impl Fn(usize, usize) -> f32,
 ) -> f32 {
     let (sx, bx) = layout.scale_bias(layout.mu_size);
@@ -289,19 +289,19 @@ impl Tables {
     }
 
     /// The roughness half of a read at `roughness`, done once per ball (`lut_row` in a ball's
-    /// uniforms): `[first row index, weight of the next row, alpha, 0]`, the same f32
+    /// uniforms): `[first row index, weight of the next row, alpha]`, the same f32
     /// arithmetic as [`Tables::lut_loss`].
-    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
         let l = self.layout();
         let (sy, by) = l.scale_bias(l.r_size);
         let (j0, _, fy) = lut_texel_span(l.r_coord(roughness), l.r_size, sy as f32, by as f32);
         let r = roughness_coord(roughness);
-        [j0 as f32, fy, r * r, 0.0]
+        [j0 as f32, fy, r * r]
     }
 
     /// `lut_loss_row` of `shaders/lut.wgsl`: [`Tables::lut_loss`] with the roughness half
     /// from [`Tables::lut_row`]; equal to `lut_loss(mu, roughness)`.
-    pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
+    pub fn lut_loss_row(&self, mu: f32, row: [f32; 3]) -> f32 {
         let l = self.layout();
         read_row(l, l.r_size, mu, row, |i, j| {
             self.stored_loss[j * l.mu_size + i]

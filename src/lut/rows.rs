@@ -179,15 +179,15 @@ impl RowSet {
     }
 
     /// A ball's row for `lut_loss_row` (`Tables::lut_row`'s form): `[row index, 0 (no
-    /// weight on the next row), alpha, 0]`, alpha in f32 as `Tables::lut_row` forms it.
-    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+    /// weight on the next row), alpha]`, alpha in f32 as `Tables::lut_row` forms it.
+    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
         let r = roughness_coord(roughness);
-        [self.index_of(roughness) as f32, 0.0, r * r, 0.0]
+        [self.index_of(roughness) as f32, 0.0, r * r]
     }
 
     /// `lut_loss_row` of `shaders/lut.wgsl` on these rows: the f32 arithmetic of
     /// `Tables::lut_loss_row`, the next row weighted by `row[1]` (0 from [`RowSet::lut_row`]).
-    pub fn lut_loss_row(&self, mu: f32, row: [f32; 4]) -> f32 {
+    pub fn lut_loss_row(&self, mu: f32, row: [f32; 3]) -> f32 {
         let t = |i: usize, j: usize| self.rows[j].stored_loss[i];
         read_row(self.layout(), self.rows.len(), mu, row, t)
     }

@@ -113,11 +113,11 @@ impl TableSet {
     /// A ball's `lut_row` (the roughness half of its E reads). With no tables the read (of
     /// the GPU's 1 x 1 placeholder) still runs where a pipeline branches on the ball's
     /// flag, so alpha is the ball's own, keeping the warped axis's division away from 0 / 0.
-    pub fn lut_row(&self, roughness: f32) -> [f32; 4] {
+    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
         match self {
             TableSet::None => {
                 let r = roughness_coord(roughness);
-                [0.0, 0.0, r * r, 0.0]
+                [0.0, 0.0, r * r]
             }
             TableSet::Full(t) => t.lut_row(roughness),
             TableSet::Rows(rows) => rows.lut_row(roughness),

@@ -116,7 +116,7 @@ impl CameraBasis {
     }
 
     /// The unit direction of the primary ray through image position `(x, y)` in pixels
-    /// (pixel centres at `+ 0.5`; `primary_ray` in `balls.wgsl`).
+    /// (pixel centres at `+ 0.5`; `primary_ray` in `screen.wgsl`).
     pub fn ray_at(&self, x: f64, y: f64, width: u32, height: u32) -> DVec3 {
         let ndc_x = 2.0 * x / width as f64 - 1.0;
         let ndc_y = 1.0 - 2.0 * y / height as f64;

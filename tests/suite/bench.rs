@@ -250,7 +250,7 @@ fn display_error_counts_in_255ths() {
 
 #[test]
 fn lookup_module_validates_and_hashes_like_the_shader() {
-    let source = lookup::lookup_source();
+    let source = lookup::lookup_source().expect("the lookup module composes");
     let module = naga::front::wgsl::parse_str(&source)
         .unwrap_or_else(|e| panic!("lookup module:\n{}", e.emit_to_string(&source)));
     naga::valid::Validator::new(

@@ -39,6 +39,12 @@ pub const OUTPUTS: [&str; 19] = [
 const STRIDE_OUT: usize = 20;
 
 const ENTRY: &str = r#"
+#import shadeballs::constants
+#import shadeballs::brdf
+#import shadeballs::lut
+#import shadeballs::types
+#import shadeballs::bindings
+
 @group(1) @binding(0) var<storage, read> eval_in: array<f32>;
 @group(1) @binding(1) var<storage, read_write> eval_out: array<f32>;
 
@@ -99,8 +105,9 @@ pub fn evaluate(
     inputs: &[f32],
 ) -> Vec<[f32; 19]> {
     let (device, queue) = (&r.gpu().device, &r.gpu().queue);
-    let common: Vec<&str> = shaders::COMMON.iter().map(|(_, src)| *src).collect();
-    let source = format!("{}\n{ENTRY}", common.join("\n"));
+    let source = shadeballs::wgsl::compose("eval", ENTRY, &[])
+        .expect("the eval module composes")
+        .source;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("eval"),
         source: wgpu::ShaderSource::Wgsl(source.into()),

@@ -3,6 +3,7 @@
 mod antialias;
 mod bad_input;
 mod bench;
+mod boundary;
 mod bounds;
 mod brdf;
 mod clamp;

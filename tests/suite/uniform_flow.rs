@@ -14,17 +14,24 @@ use shadeballs::gpu::shaders;
 
 #[test]
 fn fragment_control_flow_reads_no_uniform_value() {
-    let found = inlinable_decisions(&shaders::balls_source());
-    assert!(
-        found.is_empty(),
-        "fragment control flow on globals: {found:?}"
-    );
+    for source in [
+        shaders::balls_source(false),
+        shaders::balls_source(true),
+        shaders::truth_source(false),
+        shaders::truth_source(true),
+    ] {
+        let found = inlinable_decisions(source);
+        assert!(
+            found.is_empty(),
+            "fragment control flow on globals: {found:?}"
+        );
+    }
 }
 
 #[test]
 fn a_loop_over_a_uniform_count_is_flagged() {
     // Control: the pattern that cost a compile a bind, reached through a call argument.
-    let source = shaders::balls_source()
+    let source = shaders::balls_source(false).to_string()
         + "
 fn count_up(n: u32) -> u32 {
     var s = 0u;
@@ -45,7 +52,7 @@ fn fs_control() -> @location(0) vec4<f32> {
 
 #[test]
 fn the_patterns_before_the_fix_are_flagged() {
-    let source = shaders::balls_source();
+    let source = shaders::balls_source(false);
     // The ball loop to the uniform count, and the table read's if on the uniform axis size.
     let loop_back = source.replace("k < n_balls;", "k < min(globals.counts.x, MAX_BALLS);");
     assert_ne!(loop_back, source, "the ball loop moved: update this test");

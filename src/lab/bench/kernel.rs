@@ -40,14 +40,10 @@ impl Filter {
     }
 }
 
-/// The lookup module: the common files and `lookup.wgsl`.
-pub fn lookup_source() -> String {
-    shaders::COMMON
-        .iter()
-        .map(|(_, src)| *src)
-        .chain([include_str!("lookup.wgsl")])
-        .collect::<Vec<_>>()
-        .join("\n")
+/// The lookup module: `lookup.wgsl` and the crate's modules it imports.
+pub fn lookup_source() -> std::result::Result<String, crate::wgsl::ComposeError> {
+    let root = include_str!("lookup.wgsl");
+    crate::wgsl::compose("lookup.wgsl", root, &[]).map(|c| c.source)
 }
 
 /// A compiled lookup pipeline with its bind groups and buffers (for up to
@@ -124,9 +120,12 @@ impl Kernel {
             bind_group_layouts: &[Some(&layout0), Some(&layout1)],
             immediate_size: 0,
         });
+        let source = lookup_source().map_err(|e| Error::Gpu {
+            message: e.to_string(),
+        })?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bench lookup"),
-            source: wgpu::ShaderSource::Wgsl(lookup_source().into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let constants = shaders::overrides(tables.config.geometry, false, tables.layout().mu_axis);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

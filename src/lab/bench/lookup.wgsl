@@ -1,7 +1,11 @@
 // lookup.wgsl (the lab's): what one read of the E table costs and returns, the shader's own
 // manual bilinear read (lut_loss of lut.wgsl, four textureLoad) against the sampler's
 // hardware filtering of the same texels (`shadeballs bench`, src/lab/bench/kernel.rs).
-// Concatenated after the common files; uses `globals` (table dims) and `e_table`.
+// Uses `globals` (table dims) and `e_table`.
+
+#import shadeballs::brdf::roughness_clamped
+#import shadeballs::lut
+#import shadeballs::bindings::{globals, e_table}
 
 // x: reads per invocation; y: invocation count.
 @group(1) @binding(0) var<uniform> lookup: vec4<u32>;

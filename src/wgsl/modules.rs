@@ -1,0 +1,98 @@
+//! The crate's WGSL modules by import path, and the programs the renderer composes from
+//! them (each root with its shader defs). Included by the build script too (`build.rs`),
+//! which composes every program at build time.
+
+use super::compose::Module;
+
+/// A module of `shaders/NAME.wgsl`, imported as `shadeballs::NAME`.
+macro_rules! module {
+    ($name:literal) => {
+        Module {
+            path: concat!("shadeballs::", $name),
+            file: concat!($name, ".wgsl"),
+            source: include_str!(concat!("../../shaders/", $name, ".wgsl")),
+        }
+    };
+}
+
+/// Every module, by import path. The library (no bindings, no override constants):
+/// `constants`, `brdf`, `lut`, `environment`. The renderer's: `types` (override constants,
+/// the boundary structs), `bindings` (groups 0 and 1), `lighting`, `screen` (the vertex
+/// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
+/// `walk` (the truth), `probe`, `prefilter`.
+pub const MODULES: [Module; 12] = [
+    module!("constants"),
+    module!("brdf"),
+    module!("lut"),
+    module!("environment"),
+    module!("types"),
+    module!("bindings"),
+    module!("lighting"),
+    module!("screen"),
+    module!("balls"),
+    module!("walk"),
+    module!("probe"),
+    module!("prefilter"),
+];
+
+/// The shader def of the modules that write to an `Rgba32Uint` target: the fragment entry
+/// points return the bits of linear radiance (`Colour` and `output_value` in `screen.wgsl`).
+pub const OUTPUT_BITS: &str = "OUTPUT_BITS";
+
+/// A program: a shader module the renderer creates, the composition of `root` under
+/// `defs`; `name` is its file in the build's output (`NAME.wgsl`).
+#[derive(Clone, Copy, Debug)]
+pub struct Program {
+    /// The file name in the build's output, without `.wgsl`.
+    pub name: &'static str,
+    /// The import path of the root module.
+    pub root: &'static str,
+    /// The shader defs it is composed under.
+    pub defs: &'static [&'static str],
+}
+
+/// The ball renderer's module for float and display targets.
+pub const BALLS: Program = Program {
+    name: "balls",
+    root: "shadeballs::balls",
+    defs: &[],
+};
+/// The ball renderer's module for an `Rgba32Uint` target.
+pub const BALLS_BITS: Program = Program {
+    name: "balls_bits",
+    root: "shadeballs::balls",
+    defs: &[OUTPUT_BITS],
+};
+/// The truth's module (accumulation and resolve) for float and display targets.
+pub const TRUTH: Program = Program {
+    name: "truth",
+    root: "shadeballs::walk",
+    defs: &[],
+};
+/// The truth's module for an `Rgba32Uint` target (its resolve writes bits).
+pub const TRUTH_BITS: Program = Program {
+    name: "truth_bits",
+    root: "shadeballs::walk",
+    defs: &[OUTPUT_BITS],
+};
+/// The table probe.
+pub const PROBE: Program = Program {
+    name: "probe",
+    root: "shadeballs::probe",
+    defs: &[],
+};
+/// The environment prefilter (compute).
+pub const PREFILTER: Program = Program {
+    name: "prefilter",
+    root: "shadeballs::prefilter",
+    defs: &[],
+};
+
+/// Every program the build composes.
+pub const PROGRAMS: [Program; 6] = [BALLS, BALLS_BITS, TRUTH, TRUTH_BITS, PROBE, PREFILTER];
+
+/// The root of [`crate::wgsl::KULLA_CONTY`]: the library's functions and the table reads.
+pub const KULLA_CONTY_ROOT: &str = "#import shadeballs::constants
+#import shadeballs::brdf
+#import shadeballs::lut
+";
