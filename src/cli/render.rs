@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::args::RenderArgs;
 use crate::cpu;
+use crate::environment::ChainOn;
 use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
 use crate::labels;
@@ -86,10 +87,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
             }
             phases.mark("bake");
-            if let Some(environment) = &scene.environment_map {
-                check_map_memory(&environment.map, "GPU", GPU_MAP_BYTES_PER_TEXEL)?;
+            if scene.environment_map.is_some() {
                 // Mip chain, split-sum table and the GPU's prefiltering of the map.
-                renderer.prepare_environment(&scene);
+                renderer.prepare_environment(&scene)?;
                 phases.mark("prefilter");
             }
             if scene.has_truth() {
@@ -139,7 +139,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
                 .filter(|_| !montecarlo && !truth)
             {
                 // The Monte Carlo backends read the map itself; the others its mip chain.
-                check_map_memory(&environment.map, "CPU", CPU_MAP_BYTES_PER_TEXEL)?;
+                environment.map.check_chain_memory(ChainOn::Cpu)?;
             }
             if args.verbose {
                 eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
@@ -443,32 +443,6 @@ fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
 /// results (mean, standard error, coverage: 56 bytes) split into the image's three vectors
 /// (49 bytes).
 const MONTECARLO_BYTES_PER_PIXEL: u64 = 56 + 49;
-
-/// Bytes a map texel adds on the GPU path, once the map is read: its mip chain (RGBA f32
-/// values, 16 a texel and a third more for the smaller levels: 21.3), the texture (f16,
-/// 8 and a third: 10.7; lavapipe keeps it in the host's memory), and level 0's f16 upload
-/// bytes and wgpu's staging copy of them (8 each, transient). Issue 28, 3: an 8192x4096 map
-/// on lavapipe fails between 2.8 and 3.0 GB of address space with 1.4 GB mapped before
-/// the chain, so it needs 1.4 to 1.6 GB more: 48 bytes a texel is the upper end.
-const GPU_MAP_BYTES_PER_TEXEL: u64 = 48;
-
-/// Bytes a map texel adds on the CPU path: its mip chain (the prefiltered layers are
-/// small). Issue 28, 3: an 8192x4096 map renders in 1.5 GB of address space, not 1.3.
-const CPU_MAP_BYTES_PER_TEXEL: u64 = 22;
-
-/// Fails in one line, before the mip chain is built, when `map` at `bytes_per_texel`
-/// needs more memory than is available ([`memory::check`]).
-fn check_map_memory(
-    map: &crate::environment::EnvMap,
-    on: &str,
-    bytes_per_texel: u64,
-) -> Result<()> {
-    let (w, h) = (map.width(), map.height());
-    memory::check(
-        &format!("the {w}x{h} environment map's mip chain and textures on the {on}"),
-        u64::from(w) * u64::from(h) * bytes_per_texel,
-    )
-}
 
 /// Peak bytes a pixel on the GPU path, measured on lavapipe (where the GPU's memory is the
 /// host's): the frame, the read-back buffer, its mapped copy and the unpadded image, each

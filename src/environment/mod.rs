@@ -22,7 +22,7 @@ use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
 pub use file::{load, load_bytes_per_texel, save, MapStats, MAX_MAP_TEXELS};
-pub use prefilter::{MipChain, Prefiltered};
+pub use prefilter::{ChainOn, MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
 
@@ -112,6 +112,20 @@ impl EnvMap {
     /// Whether every texel is black.
     pub fn is_black(&self) -> bool {
         self.peak == 0.0
+    }
+
+    /// Fails in one line, before the mip chain is built, when this map's chain and textures
+    /// on `on` need more memory than is available ([`crate::memory::check`]; issue 28, 3).
+    pub fn check_chain_memory(&self, on: ChainOn) -> Result<()> {
+        let (w, h) = (self.width, self.height);
+        let device = match on {
+            ChainOn::Gpu => "GPU",
+            ChainOn::Cpu => "CPU",
+        };
+        crate::memory::check(
+            &format!("the {w}x{h} environment map's mip chain and textures on the {device}"),
+            u64::from(w) * u64::from(h) * on.bytes_per_texel(),
+        )
     }
 
     /// Texels across.

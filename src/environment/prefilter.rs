@@ -547,3 +547,28 @@ impl Prefiltered {
         a.lerp(b, f)
     }
 }
+
+/// Where a map's mip chain is built, for [`crate::environment::EnvMap::check_chain_memory`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ChainOn {
+    /// The GPU renderer's path, once the map is read: its mip chain (RGBA f32 values, 16 a
+    /// texel and a third more for the smaller levels: 21.3), the texture (f16, 8 and a
+    /// third: 10.7; lavapipe keeps it in the host's memory), and level 0's f16 upload bytes
+    /// and wgpu's staging copy of them (8 each, transient). Issue 28, 3: an 8192x4096 map on
+    /// lavapipe fails between 2.8 and 3.0 GB of address space with 1.4 GB mapped before the
+    /// chain, so it needs 1.4 to 1.6 GB more: 48 bytes a texel is the upper end.
+    Gpu,
+    /// The CPU renderers': the mip chain (the prefiltered layers are small). Issue 28, 3: an
+    /// 8192x4096 map renders in 1.5 GB of address space, not 1.3: 22 bytes a texel.
+    Cpu,
+}
+
+impl ChainOn {
+    /// Bytes a map texel adds on this path (see the variants).
+    pub fn bytes_per_texel(self) -> u64 {
+        match self {
+            ChainOn::Gpu => 48,
+            ChainOn::Cpu => 22,
+        }
+    }
+}

@@ -140,10 +140,11 @@ fn render_readback(
         width,
         height,
     };
-    r.encode(scene, target, &mut encoder);
+    let encoded = r.encode(scene, target, &mut encoder);
     readback.record(&mut encoder, &texture);
     r.gpu().queue.submit([encoder.finish()]);
     scopes.pop()?;
+    encoded?;
     r.gpu().check()?;
     // A lost device fails the read; its own message says why, so it goes first.
     let data = readback.read(&device);

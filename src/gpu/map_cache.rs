@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 
 use super::context::Gpu;
 use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
-use crate::environment::{prefilter, Environment, MipChain};
+use crate::environment::{prefilter, ChainOn, Environment, MipChain};
+use crate::error::Result;
 use crate::lut::{self, BakeConfig, SplitSum};
 use crate::scene::Scene;
 
@@ -52,23 +53,30 @@ impl PrefilteredMaps {
     }
 
     /// The bind group for `scene`: its map, prepared on the first draw with it (or with
-    /// another G) and kept, or the stand-ins for a scene without one.
-    pub fn bind_group(&mut self, gpu: &Gpu, scene: &Scene, config: BakeConfig) -> wgpu::BindGroup {
+    /// another G) and kept, or the stand-ins for a scene without one. Fails, before any
+    /// work, where the map's mip chain would not fit in memory.
+    pub fn bind_group(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        config: BakeConfig,
+    ) -> Result<wgpu::BindGroup> {
         let Some(environment) = &scene.environment_map else {
-            return self.empty.clone();
+            return Ok(self.empty.clone());
         };
         let geometry = scene.effective_geometry();
         let key = EnvironmentKey::new(environment, geometry);
         if let Some(group) = self.most_recent(&key) {
-            return group;
+            return Ok(group);
         }
+        environment.map.check_chain_memory(ChainOn::Gpu)?;
         // Dropped first: at most MAX_PREFILTERED_MAPS maps' textures at once.
         self.loaded.truncate(MAX_PREFILTERED_MAPS - 1);
         let textures = prepare_map(gpu, environment, BakeConfig { geometry, ..config });
         self.last_prepared = Some(textures.prefilter_time);
         let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
         self.loaded.insert(0, (key, textures, group.clone()));
-        group
+        Ok(group)
     }
 
     /// The bind group of `key` if it is kept, made the most recently drawn.

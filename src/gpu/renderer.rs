@@ -250,10 +250,12 @@ impl Renderer {
     }
 
     /// Prefilters `scene`'s environment map now if it has one not yet held (otherwise done
-    /// at the first draw), so that its cost can be timed apart.
-    pub fn prepare_environment(&mut self, scene: &Scene) {
+    /// at the first draw), so that its cost can be timed apart. Fails where its mip chain
+    /// would not fit in memory.
+    pub fn prepare_environment(&mut self, scene: &Scene) -> Result<()> {
         self.environment
-            .bind_group(&self.gpu, scene, self.bake_config);
+            .bind_group(&self.gpu, scene, self.bake_config)
+            .map(drop)
     }
 
     /// Rows in the memory cache.
@@ -275,28 +277,31 @@ impl Renderer {
         self.check_truth_supported(scene)?;
         let scopes = super::Scopes::push(&self.gpu.device);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.encode(scene, target, &mut encoder);
+        let encoded = self.encode(scene, target, &mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         scopes.pop()?;
+        encoded?;
         self.gpu.check()
     }
 
     /// Records the draw of `scene` into `target` on `encoder` (plans the scene, bakes what
     /// its plan needs and is not cached, uploads uniforms and quads now): the balls' pass,
-    /// then the truth balls' accumulation and resolve.
+    /// then the truth balls' accumulation and resolve. Fails, recording nothing, where the
+    /// scene's map is new and its mip chain would not fit in memory.
     pub fn encode(
         &mut self,
         scene: &Scene,
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let frame = self.prepare_frame(scene, target.width, target.height);
+    ) -> Result<()> {
+        let frame = self.prepare_frame(scene, target.width, target.height)?;
         self.encode_balls(scene, &frame, target, encoder);
         if !frame.plan.truth.is_empty() && self.truth_frame(scene, &frame, encoder) {
             let draw = truth_draw(&self.gpu, &frame);
             self.truth
                 .resolve(&draw, encoder, target.view, target.format, frame.size);
         }
+        Ok(())
     }
 
     /// Records the balls' pass of `frame` into `target`: the map behind the balls (a
@@ -417,10 +422,10 @@ impl Renderer {
 
     /// Plans `scene`, binds its tables and map, and uploads the uniforms of a `w x h`
     /// frame.
-    fn prepare_frame(&mut self, scene: &Scene, w: u32, h: u32) -> Frame {
+    fn prepare_frame(&mut self, scene: &Scene, w: u32, h: u32) -> Result<Frame> {
         let env_group = self
             .environment
-            .bind_group(&self.gpu, scene, self.bake_config);
+            .bind_group(&self.gpu, scene, self.bake_config)?;
         let plan = self.plan_for(scene).clone();
         let bound = self.tables.bound().expect("plan_for binds");
         let tables = bound.tables.clone();
@@ -448,7 +453,7 @@ impl Renderer {
         } else {
             Vec::new()
         };
-        Frame {
+        Ok(Frame {
             plan,
             size: (w, h),
             group0: bind,
@@ -456,7 +461,7 @@ impl Renderer {
             balls,
             hidden,
             env_uniform,
-        }
+        })
     }
 
     /// Whether this device can accumulate the truth: it renders to `Rgba32Float` (GL
@@ -508,7 +513,13 @@ impl Renderer {
     pub fn accumulate_truth(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
         self.gpu.check()?;
         let scopes = super::Scopes::push(&self.gpu.device);
-        let frame = self.prepare_frame(scene, w, h);
+        let frame = match self.prepare_frame(scene, w, h) {
+            Ok(frame) => frame,
+            Err(e) => {
+                scopes.pop()?;
+                return Err(e);
+            }
+        };
         if frame.plan.truth.is_empty() {
             scopes.pop()?;
             return Ok(());

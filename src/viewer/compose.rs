@@ -121,7 +121,7 @@ impl Layers {
         scene_width: u32,
         overlay: &Overlay,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> &wgpu::Texture {
+    ) -> crate::Result<&wgpu::Texture> {
         let size = (width, height);
         let redraw_panel = self.panel_due(overlay.changed, overlay.panel_only, size, format);
         if !fits(&self.scene_image, size, format) || !fits(&self.frame_image, size, format) {
@@ -151,7 +151,7 @@ impl Layers {
                 width: scene_width,
                 height,
             };
-            renderer.encode(scene, target, encoder);
+            renderer.encode(scene, target, encoder)?;
             if !overlay.labels.is_empty() {
                 let labels = (&overlay.labels[..], overlay.pixels_per_point);
                 draw_egui(renderer, egui_labels, labels, scene_image, size, encoder);
@@ -172,7 +172,7 @@ impl Layers {
         } else if scene_changed {
             copy(encoder, scene_image, frame_image, (scene_width, height));
         }
-        frame_image
+        Ok(frame_image)
     }
 }
 

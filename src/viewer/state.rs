@@ -191,7 +191,7 @@ impl State {
             scene_width.clamp(1, width),
             overlay,
             &mut encoder,
-        );
+        )?;
         match &self.blit {
             None => compose::copy(&mut encoder, frame_image, &frame.texture, (width, height)),
             Some(blit) => {

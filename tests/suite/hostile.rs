@@ -298,6 +298,30 @@ fn maps_beyond_memory_fail_in_one_line_before_allocating() {
         );
         assert!(!png.exists());
     }
+    // The viewer prepares the same chain on the GPU at its first frame (the library's
+    // check, after the device opened, as `render`'s): refused in one line, not an abort.
+    let x = crate::viewer::Xvfb::start();
+    let script = format!(
+        "ulimit -v 2600000; exec \"$BIN\" view --environment '{}' --frames 2",
+        sky.display()
+    );
+    let child = x
+        .command("bash")
+        .args(["-c", &script])
+        .env("BIN", bin())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let o = crate::viewer::wait(child, Duration::from_secs(120));
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(errors.len(), 1, "{err}");
+    assert!(
+        errors[0].contains("mip chain") && errors[0].contains("needs about"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -318,7 +318,7 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
                 ..Environment::builtin(Builtin::White)
             };
             let scene = ibl_scene(environment, IblTerm::KullaConty);
-            renderer.prepare_environment(&scene);
+            renderer.prepare_environment(&scene)?;
             if let Some(t) = renderer.last_prefilter_time() {
                 times.push(t.as_secs_f64() * 1e3);
             }
