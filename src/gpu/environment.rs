@@ -368,7 +368,71 @@ fn prefilter(
         label: Some("prefilter"),
         source: wgpu::ShaderSource::Wgsl(shaders::prefilter_source().into()),
     });
-    // One layout for both entry points (each leaves one binding unused).
+    let group_layout = prefilter_layout(device);
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("prefilter"),
+        bind_group_layouts: &[Some(&group_layout)],
+        immediate_size: 0,
+    });
+    let pipeline = |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    let t0 = Instant::now();
+    let pipelines = [pipeline("specular_main"), pipeline("convolved_main")];
+    log::debug!(
+        "prefilter pipelines {:.1} ms",
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+    let kernel_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("kernels"),
+        size: 160 * 16,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut padded = kernels.to_vec();
+    padded.resize(160 * 4, 0.0);
+    queue.write_buffer(&kernel_buffer, 0, bytemuck::cast_slice(&padded));
+    let sampler = sampler(device);
+    let inputs = PrefilterInputs {
+        layout: &group_layout,
+        radiance,
+        sampler: &sampler,
+        kernels: &kernel_buffer,
+    };
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let mut keep = Vec::new();
+    for job in prefilter_jobs(chain, geometry) {
+        let target = [specular, convolved][job.pipeline];
+        let pipeline = &pipelines[job.pipeline];
+        keep.push(encode_job(
+            device,
+            queue,
+            &inputs,
+            &job,
+            target,
+            pipeline,
+            &mut encoder,
+        ));
+    }
+    queue.submit([encoder.finish()]);
+    let t1 = Instant::now();
+    let _ = device.poll(wgpu::PollType::wait_indefinitely());
+    log::debug!(
+        "prefilter dispatches {:.1} ms",
+        t1.elapsed().as_secs_f64() * 1e3
+    );
+}
+
+/// The prefilter's one bind group layout for both entry points (each leaves one binding
+/// unused): the map, its sampler, the layer written, the layer's parameters, the kernels.
+fn prefilter_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let compute = wgpu::ShaderStages::COMPUTE;
     let uniform = |binding| wgpu::BindGroupLayoutEntry {
         binding,
@@ -380,7 +444,7 @@ fn prefilter(
         },
         count: None,
     };
-    let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("prefilter"),
         entries: &[
             wgpu::BindGroupLayoutEntry {
@@ -412,39 +476,30 @@ fn prefilter(
             uniform(3),
             uniform(4),
         ],
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("prefilter"),
-        bind_group_layouts: &[Some(&group_layout)],
-        immediate_size: 0,
-    });
-    let pipeline = |entry: &str| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    };
-    let t0 = Instant::now();
-    let specular_pipeline = pipeline("specular_main");
-    let convolved_pipeline = pipeline("convolved_main");
-    log::debug!(
-        "prefilter pipelines {:.1} ms",
-        t0.elapsed().as_secs_f64() * 1e3
-    );
-    let sampler = sampler(device);
-    let kernel_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("kernels"),
-        size: 160 * 16,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut padded = kernels.to_vec();
-    padded.resize(160 * 4, 0.0);
-    queue.write_buffer(&kernel_buffer, 0, bytemuck::cast_slice(&padded));
+    })
+}
+
+/// What every prefilter dispatch binds besides its own layer and parameters.
+struct PrefilterInputs<'a> {
+    layout: &'a wgpu::BindGroupLayout,
+    radiance: &'a wgpu::TextureView,
+    sampler: &'a wgpu::Sampler,
+    kernels: &'a wgpu::Buffer,
+}
+
+/// One dispatch: which pipeline (0 specular, 1 convolved) writes which layer and mip level
+/// of its texture, of what size, with which parameters.
+struct PrefilterJob {
+    pipeline: usize,
+    layer: u32,
+    mip: u32,
+    size: (u32, u32),
+    params: PrefilterParams,
+}
+
+/// The dispatches of `chain` prefiltered for `geometry`: every specular layer (roughness
+/// `specular_roughness(k)`, its mip level and sample count), then every convolved one.
+fn prefilter_jobs(chain: &MipChain, geometry: crate::brdf::Geometry) -> Vec<PrefilterJob> {
     let base = &chain.levels[0];
     let (sw, sh) = specular_size(base.width);
     let lod0 = (base.width as f64 / sw as f64).log2() as f32;
@@ -452,7 +507,7 @@ fn prefilter(
     let source = &chain.levels[source_level as usize];
     let cw = CONVOLVED_WIDTH;
     let levels = specular_mip_levels(base.width);
-    // (pipeline, target texture, layer, mip level, size, layer params)
+    let base_size = [base.width, base.height];
     let mut jobs = Vec::new();
     for k in 0..SPECULAR_LEVELS {
         let alpha = if k == 0 {
@@ -464,83 +519,96 @@ fn prefilter(
         let size = (sw >> m, sh >> m);
         let geometry_id = shaders::geometry_id(geometry) as f32;
         let roughness = specular_roughness(k) as f32;
-        let limits = [specular_samples(k), fis_max_level(chain), 0, 0];
-        let params = ([0; 4], [alpha, lod0, roughness, geometry_id], limits);
-        jobs.push((&specular_pipeline, specular, k, m, size, params));
+        jobs.push(PrefilterJob {
+            pipeline: 0,
+            layer: k,
+            mip: m,
+            size,
+            params: PrefilterParams {
+                size: [size.0, size.1, base_size[0], base_size[1]],
+                source: [0; 4],
+                layer: [alpha, lod0, roughness, geometry_id],
+                limits: [specular_samples(k), fis_max_level(chain), 0, 0],
+            },
+        });
     }
     for j in 0..=CONVOLVED_LEVELS {
-        let params = (
-            [source.width, source.height, source_level, j],
-            [0.0; 4],
-            [0; 4],
-        );
-        jobs.push((&convolved_pipeline, convolved, j, 0, (cw, cw / 2), params));
+        let size = (cw, cw / 2);
+        jobs.push(PrefilterJob {
+            pipeline: 1,
+            layer: j,
+            mip: 0,
+            size,
+            params: PrefilterParams {
+                size: [size.0, size.1, base_size[0], base_size[1]],
+                source: [source.width, source.height, source_level, j],
+                layer: [0.0; 4],
+                limits: [0; 4],
+            },
+        });
     }
-    let mut encoder = device.create_command_encoder(&Default::default());
-    let mut keep = Vec::new();
-    for (pipeline, target, layer, mip, (w, h), params) in jobs {
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("prefilter params"),
-            size: std::mem::size_of::<PrefilterParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let p = PrefilterParams {
-            size: [w, h, base.width, base.height],
-            source: params.0,
-            layer: params.1,
-            limits: params.2,
-        };
-        queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&p));
-        let view = target.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            base_mip_level: mip,
-            mip_level_count: Some(1),
-            base_array_layer: layer,
-            array_layer_count: Some(1),
-            ..Default::default()
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("prefilter"),
-            layout: &group_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(radiance),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: kernel_buffer.as_entire_binding(),
-                },
-            ],
-        });
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-        }
-        keep.push((uniform, group));
+    jobs
+}
+
+/// Records `job` on `encoder`: its parameters' buffer, the view of its layer of `target`,
+/// the bind group and the dispatch. Returns the buffer and group, kept until the submit.
+fn encode_job(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    inputs: &PrefilterInputs<'_>,
+    job: &PrefilterJob,
+    target: &wgpu::Texture,
+    pipeline: &wgpu::ComputePipeline,
+    encoder: &mut wgpu::CommandEncoder,
+) -> (wgpu::Buffer, wgpu::BindGroup) {
+    let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("prefilter params"),
+        size: std::mem::size_of::<PrefilterParams>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&job.params));
+    let view = target.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_mip_level: job.mip,
+        mip_level_count: Some(1),
+        base_array_layer: job.layer,
+        array_layer_count: Some(1),
+        ..Default::default()
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("prefilter"),
+        layout: inputs.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(inputs.radiance),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(inputs.sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: inputs.kernels.as_entire_binding(),
+            },
+        ],
+    });
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(job.size.0.div_ceil(8), job.size.1.div_ceil(8), 1);
     }
-    queue.submit([encoder.finish()]);
-    let t1 = Instant::now();
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
-    log::debug!(
-        "prefilter dispatches {:.1} ms",
-        t1.elapsed().as_secs_f64() * 1e3
-    );
+    (uniform, group)
 }
 
 /// What the prefiltered textures depend on: the map (by identity: scenes share it through
