@@ -35,32 +35,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
-    output::check_output_path(&args.out)?;
-    let sidecar =
-        (args.backend == Backend::Truth && kind == ImageKind::Exr).then(|| stderr_path(&args.out));
-    if let Some(path) = &sidecar {
-        // Checked with the image, before the work (issue 28, 4).
-        output::check_output_path(path)?;
-        if args.spp == Some(1) {
-            return Err(Error::Invalid {
-                what: "samples per pixel",
-                message: format!(
-                    "--spp 1: one estimate a pixel has no standard error for {} \
-                     (use --spp 2 or more, or a .png)",
-                    path.display()
-                ),
-            }
-            .into());
-        }
-    }
-    super::check_wgpu_backend_env(args.backend)?;
-    if args.stderr.is_some() && args.backend != Backend::Truth {
-        eprintln!(
-            "warning: --stderr is ignored: only --backend truth stops at a standard error \
-             (--backend {} runs --spp samples)",
-            args.backend
-        );
-    }
+    let sidecar = check_before_the_work(&args, kind)?;
     let mut scene = args.scene.load()?;
     if args.backend == Backend::Truth {
         // Every ball is the walk's (and its label says so).
@@ -72,152 +47,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     phases.mark("scene");
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
-    let pixels = u64::from(w) * u64::from(h);
     let renderer = open(args.backend)?;
     phases.mark("device");
     let device = match renderer {
-        Some(mut renderer) => {
-            renderer.gpu().check_size(w, h)?;
-            memory::check(
-                &format!("a {w}x{h} {} on the GPU", kind_name(kind)),
-                pixels * gpu_bytes_per_pixel(kind),
-            )?;
-            let plan = renderer.plan_for(&scene);
-            if args.verbose {
-                eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
-            }
-            phases.mark("bake");
-            if scene.environment_map.is_some() {
-                // Mip chain, split-sum table and the GPU's prefiltering of the map.
-                renderer.prepare_environment(&scene)?;
-                phases.mark("prefilter");
-            }
-            if scene.has_truth() {
-                let spp = args.spp.unwrap_or(DEFAULT_SPP);
-                accumulate_gpu_truth(&mut renderer, &scene, w, h, spp)?;
-                phases.mark("truth");
-            }
-            match kind {
-                ImageKind::Png => {
-                    renderer.prepare(&scene, wgpu::TextureFormat::Rgba8Unorm);
-                    phases.mark("pipeline");
-                    let mut rgba = renderer.render_ldr(&scene, w, h)?.rgba;
-                    phases.mark("render");
-                    draw_labels(&scene, &args, &mut rgba, &mut phases)?;
-                    write_png(&args.out, w, h, rgba)?
-                }
-                ImageKind::Exr => {
-                    // The pipeline is created at the first draw (its float format is
-                    // chosen there): "render" includes it.
-                    let image = renderer.render_hdr(&scene, w, h)?;
-                    phases.mark("render");
-                    write_exr(&args.out, w, h, image.rgba)?
-                }
-            }
-            renderer.gpu().describe()
-        }
-        None => {
-            check_cpu_size(w, h)?;
-            let montecarlo = args.backend == Backend::Montecarlo;
-            let truth = args.backend == Backend::Truth;
-            // The Monte Carlo image also keeps a standard error and a coverage flag per pixel
-            // (the truth also its running sums per covered pixel: counted as twice that).
-            let extra = if truth {
-                2 * MONTECARLO_BYTES_PER_PIXEL
-            } else if montecarlo {
-                MONTECARLO_BYTES_PER_PIXEL
-            } else {
-                0
-            };
-            memory::check(
-                &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
-                pixels * (cpu_bytes_per_pixel(kind) + extra),
-            )?;
-            if let Some(environment) = scene
-                .environment_map
-                .as_ref()
-                .filter(|_| !montecarlo && !truth)
-            {
-                // The Monte Carlo backends read the map itself; the others its mip chain.
-                environment.map.check_chain_memory(ChainOn::Cpu)?;
-            }
-            if args.verbose {
-                eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
-            }
-            let tables = lut::TableSet::from(lut::bake(&BakeConfig {
-                geometry,
-                ..Default::default()
-            }));
-            phases.mark("bake");
-            let mut std_error = None;
-            let radiance = if truth {
-                let image = render_truth(&scene, &tables, &args)?;
-                phases.mark("render");
-                std_error = Some(image.image.std_error);
-                image.image.mean
-            } else if montecarlo {
-                let started = Instant::now();
-                let spp = args.spp.unwrap_or(DEFAULT_SPP);
-                let image = cpu::render_montecarlo(&scene, &tables, w, h, spp, args.seed)?;
-                phases.mark("render");
-                let noise = image
-                    .mean_relative_std_error()
-                    .map_or("n/a".to_string(), |r| format!("{:.3} %", 100.0 * r));
-                eprintln!(
-                    "montecarlo: {} spp, seed {}, {:.1} ms, mean relative standard error over \
-                     ball pixels {noise}",
-                    spp,
-                    args.seed,
-                    started.elapsed().as_secs_f64() * 1e3
-                );
-                image.mean
-            } else if scene.has_truth() {
-                // Truth balls by the walk, the others by the reference renderer.
-                let settings = cpu::TruthSettings {
-                    spp: args.spp.unwrap_or(DEFAULT_SPP),
-                    seed: args.seed,
-                    ..Default::default()
-                };
-                let radiance = cpu::render_radiance_with_truth(&scene, &tables, w, h, settings)?;
-                phases.mark("render");
-                radiance
-            } else {
-                let radiance = cpu::render_radiance(&scene, &tables, w, h);
-                phases.mark("render");
-                radiance
-            };
-            // The radiance (24 bytes a pixel) is dropped before the encoder starts.
-            match kind {
-                ImageKind::Png => {
-                    let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
-                    drop(radiance);
-                    draw_labels(&scene, &args, &mut rgba, &mut phases)?;
-                    write_png(&args.out, w, h, rgba)?
-                }
-                ImageKind::Exr => {
-                    let rgba = cpu::to_rgba_f32(&radiance);
-                    drop(radiance);
-                    match (&sidecar, std_error) {
-                        (Some(path), Some(std_error)) => {
-                            // Both written, then both renamed: a failed write leaves the old
-                            // pair (issue 28, 4).
-                            let side = output::stage_exr(path, w, h, cpu::to_rgba_f32(&std_error))?;
-                            let image = output::stage_exr(&args.out, w, h, rgba)?;
-                            output::commit_all(vec![side, image])?;
-                            eprintln!("per-pixel standard error -> {}", path.display());
-                        }
-                        _ => write_exr(&args.out, w, h, rgba)?,
-                    }
-                }
-            }
-            if truth {
-                "CPU truth (random walk)".to_string()
-            } else if montecarlo {
-                "CPU Monte Carlo reference".to_string()
-            } else {
-                "CPU reference renderer".to_string()
-            }
-        }
+        Some(mut renderer) => render_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?,
+        None => render_on_cpu(&scene, &args, kind, sidecar.as_deref(), &mut phases)?,
     };
     phases.mark("encode");
     eprintln!(
@@ -228,6 +62,218 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     Ok(())
+}
+
+/// What can be refused before any work (issue 28, 4): the output path, the truth's
+/// sidecar path (returned for an `.exr` of `--backend truth`) and its `--spp 1`, the
+/// `WGPU_BACKEND` variable; an ignored `--stderr` is warned of.
+fn check_before_the_work(args: &RenderArgs, kind: ImageKind) -> Result<Option<std::path::PathBuf>> {
+    output::check_output_path(&args.out)?;
+    let sidecar =
+        (args.backend == Backend::Truth && kind == ImageKind::Exr).then(|| stderr_path(&args.out));
+    if let Some(path) = &sidecar {
+        output::check_output_path(path)?;
+        if args.spp == Some(1) {
+            return Err(Error::Invalid {
+                what: "samples per pixel",
+                message: format!(
+                    "--spp 1: one estimate a pixel has no standard error for {} \
+                     (use --spp 2 or more, or a .png)",
+                    path.display()
+                ),
+            });
+        }
+    }
+    super::check_wgpu_backend_env(args.backend)?;
+    if args.stderr.is_some() && args.backend != Backend::Truth {
+        eprintln!(
+            "warning: --stderr is ignored: only --backend truth stops at a standard error \
+             (--backend {} runs --spp samples)",
+            args.backend
+        );
+    }
+    Ok(sidecar)
+}
+
+/// The render on the GPU (plan, bake, the map's prefilter, the truth's frames, the
+/// pipeline, the frame, labels, the file); the device's description.
+fn render_on_gpu(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    args: &RenderArgs,
+    kind: ImageKind,
+    phases: &mut Phases,
+) -> Result<String> {
+    let (w, h) = (args.width, args.height);
+    let pixels = u64::from(w) * u64::from(h);
+    renderer.gpu().check_size(w, h)?;
+    memory::check(
+        &format!("a {w}x{h} {} on the GPU", kind_name(kind)),
+        pixels * gpu_bytes_per_pixel(kind),
+    )?;
+    let plan = renderer.plan_for(scene);
+    if args.verbose {
+        eprintln!("plan: {}", plan.to_string().replace('\n', "\n      "));
+    }
+    phases.mark("bake");
+    if scene.environment_map.is_some() {
+        // Mip chain, split-sum table and the GPU's prefiltering of the map.
+        renderer.prepare_environment(scene)?;
+        phases.mark("prefilter");
+    }
+    if scene.has_truth() {
+        let spp = args.spp.unwrap_or(DEFAULT_SPP);
+        accumulate_gpu_truth(renderer, scene, w, h, spp)?;
+        phases.mark("truth");
+    }
+    match kind {
+        ImageKind::Png => {
+            renderer.prepare(scene, wgpu::TextureFormat::Rgba8Unorm);
+            phases.mark("pipeline");
+            let mut rgba = renderer.render_ldr(scene, w, h)?.rgba;
+            phases.mark("render");
+            draw_labels(scene, args, &mut rgba, phases)?;
+            write_png(&args.out, w, h, rgba)?
+        }
+        ImageKind::Exr => {
+            // The pipeline is created at the first draw (its float format is
+            // chosen there): "render" includes it.
+            let image = renderer.render_hdr(scene, w, h)?;
+            phases.mark("render");
+            write_exr(&args.out, w, h, image.rgba)?
+        }
+    }
+    Ok(renderer.gpu().describe())
+}
+
+/// The render on the CPU: the reference renderer, the Monte Carlo backend or the truth (its
+/// `sidecar` of standard errors written with the image, both or neither); the renderer's
+/// name.
+fn render_on_cpu(
+    scene: &Scene,
+    args: &RenderArgs,
+    kind: ImageKind,
+    sidecar: Option<&std::path::Path>,
+    phases: &mut Phases,
+) -> Result<String> {
+    let (w, h) = (args.width, args.height);
+    let pixels = u64::from(w) * u64::from(h);
+    let geometry = scene.effective_geometry();
+    check_cpu_size(w, h)?;
+    let montecarlo = args.backend == Backend::Montecarlo;
+    let truth = args.backend == Backend::Truth;
+    // The Monte Carlo image also keeps a standard error and a coverage flag per pixel
+    // (the truth also its running sums per covered pixel: counted as twice that).
+    let extra = if truth {
+        2 * MONTECARLO_BYTES_PER_PIXEL
+    } else if montecarlo {
+        MONTECARLO_BYTES_PER_PIXEL
+    } else {
+        0
+    };
+    memory::check(
+        &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
+        pixels * (cpu_bytes_per_pixel(kind) + extra),
+    )?;
+    if let Some(environment) = scene
+        .environment_map
+        .as_ref()
+        .filter(|_| !montecarlo && !truth)
+    {
+        // The Monte Carlo backends read the map itself; the others its mip chain.
+        environment.map.check_chain_memory(ChainOn::Cpu)?;
+    }
+    if args.verbose {
+        eprintln!("plan: the CPU reference renderer reads the 2-D table; no pipelines");
+    }
+    let tables = lut::TableSet::from(lut::bake(&BakeConfig {
+        geometry,
+        ..Default::default()
+    }));
+    phases.mark("bake");
+    let (radiance, std_error) = cpu_radiance(scene, &tables, args, phases)?;
+    // The radiance (24 bytes a pixel) is dropped before the encoder starts.
+    match kind {
+        ImageKind::Png => {
+            let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
+            drop(radiance);
+            draw_labels(scene, args, &mut rgba, phases)?;
+            write_png(&args.out, w, h, rgba)?
+        }
+        ImageKind::Exr => {
+            let rgba = cpu::to_rgba_f32(&radiance);
+            drop(radiance);
+            match (sidecar, std_error) {
+                (Some(path), Some(std_error)) => {
+                    // Both written, then both renamed: a failed write leaves the old
+                    // pair (issue 28, 4).
+                    let side = output::stage_exr(path, w, h, cpu::to_rgba_f32(&std_error))?;
+                    let image = output::stage_exr(&args.out, w, h, rgba)?;
+                    output::commit_all(vec![side, image])?;
+                    eprintln!("per-pixel standard error -> {}", path.display());
+                }
+                _ => write_exr(&args.out, w, h, rgba)?,
+            }
+        }
+    }
+    Ok(if truth {
+        "CPU truth (random walk)"
+    } else if montecarlo {
+        "CPU Monte Carlo reference"
+    } else {
+        "CPU reference renderer"
+    }
+    .to_string())
+}
+
+/// The CPU's radiance of `scene` by the backend `args` names, and the truth's per-pixel
+/// standard error.
+fn cpu_radiance(
+    scene: &Scene,
+    tables: &lut::TableSet,
+    args: &RenderArgs,
+    phases: &mut Phases,
+) -> Result<(Vec<glam::DVec3>, Option<Vec<glam::DVec3>>)> {
+    let (w, h) = (args.width, args.height);
+    let montecarlo = args.backend == Backend::Montecarlo;
+    let truth = args.backend == Backend::Truth;
+    if truth {
+        let image = render_truth(scene, tables, args)?;
+        phases.mark("render");
+        return Ok((image.image.mean, Some(image.image.std_error)));
+    }
+    let radiance = if montecarlo {
+        let started = Instant::now();
+        let spp = args.spp.unwrap_or(DEFAULT_SPP);
+        let image = cpu::render_montecarlo(scene, tables, w, h, spp, args.seed)?;
+        phases.mark("render");
+        let noise = image
+            .mean_relative_std_error()
+            .map_or("n/a".to_string(), |r| format!("{:.3} %", 100.0 * r));
+        eprintln!(
+            "montecarlo: {} spp, seed {}, {:.1} ms, mean relative standard error over \
+             ball pixels {noise}",
+            spp,
+            args.seed,
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        image.mean
+    } else if scene.has_truth() {
+        // Truth balls by the walk, the others by the reference renderer.
+        let settings = cpu::TruthSettings {
+            spp: args.spp.unwrap_or(DEFAULT_SPP),
+            seed: args.seed,
+            ..Default::default()
+        };
+        let radiance = cpu::render_radiance_with_truth(scene, tables, w, h, settings)?;
+        phases.mark("render");
+        radiance
+    } else {
+        let radiance = cpu::render_radiance(scene, tables, w, h);
+        phases.mark("render");
+        radiance
+    };
+    Ok((radiance, None))
 }
 
 /// Samples per pixel of the Monte Carlo backends without `--spp` (and of the truth without
