@@ -103,28 +103,54 @@ fn dispatch(
         ..bytemuck::Zeroable::zeroed()
     };
     queue.write_buffer(&bindings.globals, 0, bytemuck::bytes_of(&globals));
-
-    let count = count as u64;
-    let grid = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe grid"),
-        size: 16,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let buffer = |label, size, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    use wgpu::BufferUsages as U;
+    let grid = buffer("probe grid", 16, U::UNIFORM | U::COPY_DST);
     queue.write_buffer(&grid, 0, bytemuck::cast_slice(&grid_value));
-    let out_size = count * 8;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe out"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe readback"),
-        size: out_size,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
+    let out_size = u64::from(count) * 8;
+    let out = buffer("probe out", out_size, U::STORAGE | U::COPY_SRC);
+    let readback = buffer("probe readback", out_size, U::COPY_DST | U::MAP_READ);
+    let (pipeline, group1) = probe_pipeline(
+        &device,
+        &bindings.layout,
+        (&grid, &out),
+        shaders::overrides(geometry, false, read.mu_axis()),
+        entry_point,
+    );
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.set_bind_group(1, &group1, &[]);
+        pass.dispatch_workgroups(count.div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
+    queue.submit([encoder.finish()]);
+    scopes.pop()?;
+    r.gpu().check()?;
+    let values = read_buffer(&device, &readback);
+    r.gpu().check()?;
+    Ok(bytemuck::pod_collect_to_vec(&values?))
+}
+
+/// The probe's compute pipeline for `entry_point` with the override `constants`, over
+/// group 0 (`layout0`, the renderer's) and its own group 1 (the grid uniform and the output
+/// storage buffer), and that group bound to `grid` and `out`.
+fn probe_pipeline(
+    device: &wgpu::Device,
+    layout0: &wgpu::BindGroupLayout,
+    (grid, out): (&wgpu::Buffer, &wgpu::Buffer),
+    constants: [(&str, f64); 3],
+    entry_point: &str,
+) -> (wgpu::ComputePipeline, wgpu::BindGroup) {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -158,14 +184,13 @@ fn dispatch(
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("probe"),
-        bind_group_layouts: &[Some(&bindings.layout), Some(&layout1)],
+        bind_group_layouts: &[Some(layout0), Some(&layout1)],
         immediate_size: 0,
     });
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("probe"),
         source: wgpu::ShaderSource::Wgsl(shaders::probe_source().into()),
     });
-    let constants = shaders::overrides(geometry, false, read.mu_axis());
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("probe"),
         layout: Some(&layout),
@@ -177,21 +202,7 @@ fn dispatch(
         },
         cache: None,
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, bind, &[]);
-        pass.set_bind_group(1, &group1, &[]);
-        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, out_size);
-    queue.submit([encoder.finish()]);
-    scopes.pop()?;
-    r.gpu().check()?;
-    let values = read_buffer(&device, &readback);
-    r.gpu().check()?;
-    Ok(bytemuck::pod_collect_to_vec(&values?))
+    (pipeline, group1)
 }
 
 fn check_grid(n: u32) -> Result<()> {
