@@ -40,7 +40,7 @@ use super::{surface_normal, Bins};
 use crate::brdf::{f_avg_schlick, Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
 use crate::lut::TableSet;
-use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
+use crate::scene::{bounds_pad_px, Ball, CameraBasis, Model, Scene, MAX_BALLS};
 use crate::walk::microsurface::Microsurface;
 use crate::walk::single::{single_albedo, Rules};
 use crate::walk::{trace, Reflectance, Rng, Schlick};
@@ -160,27 +160,7 @@ pub fn render_truth(
     settings: TruthSettings,
     mut progress: impl FnMut(&TruthProgress) -> bool,
 ) -> Result<TruthImage> {
-    let invalid = |what, message: String| Err(Error::Invalid { what, message });
-    if !(1..=MAX_SPP).contains(&settings.spp) {
-        return invalid(
-            "samples per pixel",
-            format!("{}: must be in 1..={MAX_SPP}", settings.spp),
-        );
-    }
-    if let Some(s) = settings.stderr {
-        if !(MIN_STDERR..=1.0).contains(&s) {
-            return invalid(
-                "standard error",
-                format!("{s}: must be in {MIN_STDERR}..=1 (a fraction: 0.005 is 0.5 %)"),
-            );
-        }
-    }
-    if settings.max_order == 0 {
-        return invalid(
-            "scattering order",
-            "0: a path needs at least one event".into(),
-        );
-    }
+    settings.check()?;
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
@@ -197,40 +177,13 @@ pub fn render_truth(
         .environment_map
         .is_some()
         .then(|| Lighting::new(&map_scene));
-    let background = Lighting::new(scene);
-    let singles = SingleAlbedos::new(scene, balls);
-
-    let mut mean = vec![DVec3::ZERO; (width * height) as usize];
-    let mut covered = vec![false; mean.len()];
-    let mut pixels: Vec<Pixel> = Vec::new();
-    for py in 0..height {
-        for px in 0..width {
-            let index = (py * width + px) as usize;
-            let d = basis.ray(px, py, width, height);
-            let o = basis.origin;
-            match bins.nearest(balls, px, py, o, d) {
-                None => mean[index] = background.background(d),
-                Some((_, k)) if !settings.every_ball && balls[k].model != Model::Truth => {}
-                Some((t, k)) => {
-                    let b = &balls[k];
-                    let n = surface_normal(o + t * d - b.center, d);
-                    let fixed = single_fixed(scene, b, n, -d, e, &singles);
-                    covered[index] = true;
-                    pixels.push(Pixel {
-                        index,
-                        px,
-                        py,
-                        ball: k,
-                        n,
-                        v: -d,
-                        fixed,
-                        sum: DVec3::ZERO,
-                        sum_sq: DVec3::ZERO,
-                    });
-                }
-            }
-        }
-    }
+    let (mean, covered, mut pixels) = walked_pixels(
+        scene,
+        e,
+        (&basis, &bins),
+        (width, height),
+        settings.every_ball,
+    );
 
     let mut done = 0u32;
     let mut passes = Vec::new();
@@ -282,25 +235,114 @@ pub fn render_truth(
         }
     }
 
-    let n = f64::from(done.max(1));
-    let mut std_error = vec![DVec3::ZERO; mean.len()];
-    for p in &pixels {
-        let m = p.sum / n;
-        mean[p.index] = p.fixed + m;
-        std_error[p.index] = pixel_std_error(p, done);
-    }
+    let image = walked_image((width, height), done, mean, covered, &pixels);
     Ok(TruthImage {
-        image: MonteCarloImage {
-            width,
-            height,
-            spp: done,
-            mean,
-            std_error,
-            covered,
-        },
+        image,
         balls: ball_means,
         passes,
     })
+}
+
+/// The truth's image after `done` estimates a pixel: the walked `pixels`' means (their fixed
+/// part plus their estimates' mean) and standard errors over `mean`, which holds the rest.
+fn walked_image(
+    (width, height): (u32, u32),
+    done: u32,
+    mut mean: Vec<DVec3>,
+    covered: Vec<bool>,
+    pixels: &[Pixel],
+) -> MonteCarloImage {
+    let n = f64::from(done.max(1));
+    let mut std_error = vec![DVec3::ZERO; mean.len()];
+    for p in pixels {
+        mean[p.index] = p.fixed + p.sum / n;
+        std_error[p.index] = pixel_std_error(p, done);
+    }
+    MonteCarloImage {
+        width,
+        height,
+        spp: done,
+        mean,
+        std_error,
+        covered,
+    }
+}
+
+impl TruthSettings {
+    /// Errors when `spp` is outside `1..=MAX_SPP`, `stderr` outside `[MIN_STDERR, 1]`, or
+    /// `max_order` is 0.
+    fn check(&self) -> Result<()> {
+        let invalid = |what, message: String| Err(Error::Invalid { what, message });
+        if !(1..=MAX_SPP).contains(&self.spp) {
+            return invalid(
+                "samples per pixel",
+                format!("{}: must be in 1..={MAX_SPP}", self.spp),
+            );
+        }
+        if let Some(s) = self.stderr {
+            if !(MIN_STDERR..=1.0).contains(&s) {
+                return invalid(
+                    "standard error",
+                    format!("{s}: must be in {MIN_STDERR}..=1 (a fraction: 0.005 is 0.5 %)"),
+                );
+            }
+        }
+        if self.max_order == 0 {
+            return invalid(
+                "scattering order",
+                "0: a path needs at least one event".into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Each pixel of a `size` image of `scene` along the ray through its centre (`basis`, the
+/// balls found through `bins`): the background where no ball is hit (in the returned mean
+/// image), else a pixel to walk (every ball's, or only the truth balls' unless
+/// `every_ball`) with its fixed part (exact single scattering), and which pixels those are.
+fn walked_pixels(
+    scene: &Scene,
+    e: &TableSet,
+    (basis, bins): (&CameraBasis, &Bins),
+    (width, height): (u32, u32),
+    every_ball: bool,
+) -> (Vec<DVec3>, Vec<bool>, Vec<Pixel>) {
+    let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
+    let background = Lighting::new(scene);
+    let singles = SingleAlbedos::new(scene, balls);
+    let mut mean = vec![DVec3::ZERO; (width * height) as usize];
+    let mut covered = vec![false; mean.len()];
+    let mut pixels: Vec<Pixel> = Vec::new();
+    for py in 0..height {
+        for px in 0..width {
+            let index = (py * width + px) as usize;
+            let d = basis.ray(px, py, width, height);
+            let o = basis.origin;
+            match bins.nearest(balls, px, py, o, d) {
+                None => mean[index] = background.background(d),
+                Some((_, k)) if !every_ball && balls[k].model != Model::Truth => {}
+                Some((t, k)) => {
+                    let b = &balls[k];
+                    let n = surface_normal(o + t * d - b.center, d);
+                    let fixed = single_fixed(scene, b, n, -d, e, &singles);
+                    covered[index] = true;
+                    pixels.push(Pixel {
+                        index,
+                        px,
+                        py,
+                        ball: k,
+                        n,
+                        v: -d,
+                        fixed,
+                        sum: DVec3::ZERO,
+                        sum_sq: DVec3::ZERO,
+                    });
+                }
+            }
+        }
+    }
+    (mean, covered, pixels)
 }
 
 /// The standard error of a pixel's mean after `n` estimates (0 under 2).
