@@ -165,6 +165,69 @@ pub(crate) struct PrefilterParams {
     pub(crate) limits: [u32; 4],
 }
 
+/// The map's texture: `chain`'s levels uploaded as f16 (its mip levels).
+fn upload_chain(device: &wgpu::Device, queue: &wgpu::Queue, chain: &MipChain) -> wgpu::Texture {
+    let base = &chain.levels[0];
+    let radiance = texture(
+        device,
+        "environment map",
+        (base.width, base.height, 1),
+        chain.levels.len() as u32,
+        ENVIRONMENT_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    for (k, level) in chain.levels.iter().enumerate() {
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &radiance,
+                mip_level: k as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &f16_bytes(&level.texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(level.width * 8),
+                rows_per_image: Some(level.height),
+            },
+            wgpu::Extent3d {
+                width: level.width,
+                height: level.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    radiance
+}
+
+/// The split-sum bias table's texture (`R32Float`, `SPLIT_SUM_SIZE` square).
+fn upload_split_sum(device: &wgpu::Device, queue: &wgpu::Queue, split: &SplitSum) -> wgpu::Texture {
+    let n = SPLIT_SUM_SIZE as u32;
+    let split_tex = texture(
+        device,
+        "split-sum bias",
+        (n, n, 1),
+        1,
+        wgpu::TextureFormat::R32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    queue.write_texture(
+        split_tex.as_image_copy(),
+        bytemuck::cast_slice(&split.bias),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(n * 4),
+            rows_per_image: Some(n),
+        },
+        wgpu::Extent3d {
+            width: n,
+            height: n,
+            depth_or_array_layers: 1,
+        },
+    );
+    split_tex
+}
+
 impl EnvironmentTextures {
     /// Uploads `chain` and `split`, prefilters on the GPU with `kernels`
     /// ([`crate::environment::prefilter::kernels`]) and waits for the queue.
@@ -177,59 +240,8 @@ impl EnvironmentTextures {
     ) -> Self {
         let start = Instant::now();
         let base = &chain.levels[0];
-        let sampled = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
-        let radiance = texture(
-            device,
-            "environment map",
-            (base.width, base.height, 1),
-            chain.levels.len() as u32,
-            ENVIRONMENT_FORMAT,
-            sampled,
-        );
-        for (k, level) in chain.levels.iter().enumerate() {
-            queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &radiance,
-                    mip_level: k as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &f16_bytes(&level.texels),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(level.width * 8),
-                    rows_per_image: Some(level.height),
-                },
-                wgpu::Extent3d {
-                    width: level.width,
-                    height: level.height,
-                    depth_or_array_layers: 1,
-                },
-            );
-        }
-        let n = SPLIT_SUM_SIZE as u32;
-        let split_tex = texture(
-            device,
-            "split-sum bias",
-            (n, n, 1),
-            1,
-            wgpu::TextureFormat::R32Float,
-            sampled,
-        );
-        queue.write_texture(
-            split_tex.as_image_copy(),
-            bytemuck::cast_slice(&split.bias),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(n * 4),
-                rows_per_image: Some(n),
-            },
-            wgpu::Extent3d {
-                width: n,
-                height: n,
-                depth_or_array_layers: 1,
-            },
-        );
+        let radiance = upload_chain(device, queue, chain);
+        let split_tex = upload_split_sum(device, queue, split);
         let layered = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
         let (sw, sh) = specular_size(base.width);
         let specular = texture(
