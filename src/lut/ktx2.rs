@@ -458,7 +458,22 @@ pub fn parse_tables(bytes: &[u8]) -> Result<Tables> {
     let config = parse_layout(text, storage, width as usize, height as usize)?;
     let layout = config.layout;
 
-    // Texels, row-major; R = 1 - E, G = 1 - E_avg of the row.
+    let (stored_loss, stored_loss_avg) = read_texels(data, storage, &layout)?;
+    let tables = Tables {
+        config,
+        e: stored_loss.iter().map(|&v| 1.0 - v as f64).collect(),
+        e_avg: stored_loss_avg.iter().map(|&v| 1.0 - v as f64).collect(),
+        stored_loss,
+        stored_loss_avg,
+    };
+    check_as_written(bytes, &tables, kvd)?;
+    Ok(tables)
+}
+
+/// The texels of `data` in `storage`, row-major, as `layout`'s tables: R = 1 - E per texel,
+/// G = 1 - E_avg of the row (the same along it); each in [0, 1].
+fn read_texels(data: &[u8], storage: Storage, layout: &Layout) -> Result<(Vec<f32>, Vec<f32>)> {
+    let channel = storage.bytes_per_texel();
     let value = |k: usize| -> f32 {
         let at = &data[k * channel..(k + 1) * channel];
         match storage {
@@ -491,15 +506,7 @@ pub fn parse_tables(bytes: &[u8]) -> Result<Tables> {
         }
         stored_loss_avg.push(avg);
     }
-    let tables = Tables {
-        config,
-        e: stored_loss.iter().map(|&v| 1.0 - v as f64).collect(),
-        e_avg: stored_loss_avg.iter().map(|&v| 1.0 - v as f64).collect(),
-        stored_loss,
-        stored_loss_avg,
-    };
-    check_as_written(bytes, &tables, kvd)?;
-    Ok(tables)
+    Ok((stored_loss, stored_loss_avg))
 }
 
 /// The file must be the bytes the writer gives for the tables read from it, with the
