@@ -261,14 +261,25 @@ impl Scene {
 }
 
 fn two_rows(material: Material) -> Vec<Ball> {
+    term_rows(material, REFERENCE_RADIUS, grid_position)
+}
+
+/// The chart's two rows of `material` balls of `radius` over [`REFERENCE_ROUGHNESS`], the
+/// top row (0) with the Kulla-Conty term, the bottom one without, ball `(row, col)` at
+/// `position(row, col)`.
+pub(crate) fn term_rows(
+    material: Material,
+    radius: f64,
+    position: impl Fn(u32, u32) -> DVec3 + Copy,
+) -> Vec<Ball> {
     (0..2u32)
         .flat_map(|row| {
             REFERENCE_ROUGHNESS
                 .iter()
                 .enumerate()
                 .map(move |(col, &roughness)| Ball {
-                    center: grid_position(row, col as u32),
-                    radius: REFERENCE_RADIUS,
+                    center: position(row, col as u32),
+                    radius,
                     roughness,
                     material,
                     model: if row == 0 {

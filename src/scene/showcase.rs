@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{Ball, Camera, Material, Model, Scene, REFERENCE_ALBEDO_SRGB, REFERENCE_ROUGHNESS};
+use super::{Camera, Material, Scene, REFERENCE_ALBEDO_SRGB};
 use crate::environment::{Background, Builtin, Environment};
 
 /// The showcase's ball radius: a little over the homework's 35, so that the balls fill
@@ -51,24 +51,7 @@ impl Scene {
     /// the background; labels on. `assets/scenes/default.toml` is the same scene.
     pub fn showcase() -> Self {
         let material = Material::metal_srgb(REFERENCE_ALBEDO_SRGB);
-        let balls = (0..2u32)
-            .flat_map(|row| {
-                REFERENCE_ROUGHNESS
-                    .iter()
-                    .enumerate()
-                    .map(move |(col, &roughness)| Ball {
-                        center: showcase_position(row, col as u32),
-                        radius: SHOWCASE_RADIUS,
-                        roughness,
-                        material,
-                        model: if row == 0 {
-                            Model::KullaConty
-                        } else {
-                            Model::None
-                        },
-                    })
-            })
-            .collect();
+        let balls = super::term_rows(material, SHOWCASE_RADIUS, showcase_position);
         Scene {
             balls,
             lights: Vec::new(),
