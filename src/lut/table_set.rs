@@ -23,18 +23,6 @@ pub enum TableSet<R = Arc<RowSet>, F = Arc<Tables>> {
 /// ([`RowKey`]), or the 2-D table's bake settings.
 pub type TableKey = TableSet<Vec<RowKey>, BakeConfig>;
 
-impl<R, F> TableSet<R, F> {
-    /// What the set is, in a few words ("none", "5 rows", "the 2-D table") for logs and
-    /// reports; `rows` is the number of rows when there are rows.
-    fn describe(&self, rows: impl Fn(&R) -> usize) -> String {
-        match self {
-            TableSet::None => "none".to_string(),
-            TableSet::Rows(r) => format!("{} rows", rows(r)),
-            TableSet::Full(_) => "the 2-D table".to_string(),
-        }
-    }
-}
-
 impl TableKey {
     /// The key of one row per roughness in `roughness` (clamped like every read), or of
     /// nothing when it is empty.
@@ -52,11 +40,6 @@ impl TableKey {
             _ => Vec::new(),
         }
     }
-
-    /// "none", "N rows" or "the 2-D table".
-    pub fn summary(&self) -> String {
-        self.describe(Vec::len)
-    }
 }
 
 impl TableSet {
@@ -72,11 +55,6 @@ impl TableSet {
             TableSet::Rows(rows) => TableSet::Rows(rows.rows.iter().map(|r| r.key).collect()),
             TableSet::Full(t) => TableSet::Full(t.config),
         }
-    }
-
-    /// "none", "N rows" or "the 2-D table".
-    pub fn summary(&self) -> String {
-        self.describe(|r| r.rows.len())
     }
 
     /// The 2-D table, if that is what the set holds.
@@ -153,11 +131,5 @@ impl From<Tables> for TableSet {
 impl From<Arc<Tables>> for TableSet {
     fn from(tables: Arc<Tables>) -> Self {
         TableSet::Full(tables)
-    }
-}
-
-impl From<Arc<RowSet>> for TableSet {
-    fn from(rows: Arc<RowSet>) -> Self {
-        TableSet::Rows(rows)
     }
 }
