@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use crate::cli::{shadeballs, temp_dir};
 
-fn scene_file(name: &str) -> String {
+/// The path of the built-in scene file `name` (`assets/scenes/NAME`).
+pub fn scene_file(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes")
         .join(name)

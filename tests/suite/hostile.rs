@@ -1,7 +1,7 @@
 //! Issue 28, a hostile tester's findings: each case as the tester ran it (the real binary),
 //! with what it must do now. Numbered as in the issue.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -9,17 +9,10 @@ use shadeballs::environment::{save, EnvMap};
 
 use crate::bad_input::fails_with_one_line;
 use crate::cli::temp_dir;
+use crate::cli_render::scene_file;
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_shadeballs")
-}
-
-fn scene_file(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
 }
 
 fn s(p: &Path) -> &str {
