@@ -61,12 +61,9 @@ struct Gather<'a, F> {
     lights: &'a [DVec3],
     towards: &'a mut [[f64; MAX_CHANNELS]],
     /// Each light's `tau` draw, made at the first arrival at the base.
-    tau: Option<[bool; MAX_LIGHTS_GATHERED]>,
+    tau: Option<Vec<bool>>,
     on_exit: F,
 }
-
-/// Most light directions one [`Coating::estimate`] gathers towards.
-pub const MAX_LIGHTS_GATHERED: usize = 16;
 
 impl<F: FnMut(u32, DVec3, &[f64])> Visit for Gather<'_, F> {
     fn exit(&mut self, order: u32, dir: DVec3, weights: &[f64]) {
@@ -87,13 +84,12 @@ impl<F: FnMut(u32, DVec3, &[f64])> Visit for Gather<'_, F> {
 
     fn base(&mut self, weights: &[f64], rng: &mut Rng) {
         let coating = self.coating;
-        let lights = &self.lights[..self.lights.len().min(MAX_LIGHTS_GATHERED)];
+        let lights = self.lights;
         let tau = self.tau.get_or_insert_with(|| {
-            let mut t = [false; MAX_LIGHTS_GATHERED];
-            for (tk, &l) in t.iter_mut().zip(lights) {
-                *tk = coating.reaches_base(l, rng);
-            }
-            t
+            lights
+                .iter()
+                .map(|&l| coating.reaches_base(l, rng))
+                .collect()
         });
         let eta2 = (coating.eta * coating.eta).max(DIV_EPSILON);
         for ((out, &l), &reached) in self.towards.iter_mut().zip(lights).zip(tau.iter()) {
