@@ -25,6 +25,7 @@ pub use kulla_conty::{
     f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
 };
 pub use layering::{
+    base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, substrate_albedo,
 };

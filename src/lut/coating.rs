@@ -31,8 +31,8 @@ use crate::brdf::{
 };
 
 /// Values a coating row holds, at `sqrt(mu) = k / (COATING_ROW_LEN - 1)`; read by linear
-/// interpolation in `sqrt(mu)` ([`coating_albedo_read`], `coating_albedo` in
-/// `shaders/lighting.wgsl`). The square root spends the nodes where `E_F` changes fastest,
+/// interpolation in `sqrt(mu)` ([`coating_albedo`], `coating_albedo` in
+/// `shaders/coating.wgsl`). The square root spends the nodes where `E_F` changes fastest,
 /// towards grazing.
 pub const COATING_ROW_LEN: usize = 48;
 
@@ -163,8 +163,8 @@ pub fn coating_weights(
 
 /// `E_F(mu_o)` of the coating `key` by `rule`: `int F(o.m) G(mu_o, mu_i) / G1(mu_o)
 /// D_o(m) dw_m` over the visible normals `m`, `i` the mirror of `o` about `m`
-/// ([`coating_weights`]).
-pub fn coating_albedo(rule: &CoatingRule, mu_o: f64, key: &CoatingKey) -> f64 {
+/// ([`coating_weights`]); [`coating_albedo`] reads it from a row.
+pub fn coating_albedo_quadrature(rule: &CoatingRule, mu_o: f64, key: &CoatingKey) -> f64 {
     let weights = coating_weights(rule, mu_o, key.roughness(), key.geometry);
     fresnel_sum(&weights, key)
 }
@@ -199,21 +199,21 @@ fn coating_rows_sharing(rule: &CoatingRule, keys: &[CoatingKey]) -> Vec<[f32; CO
 pub fn coating_row(rule: &CoatingRule, key: &CoatingKey) -> [f32; COATING_ROW_LEN] {
     let mut row = [0.0; COATING_ROW_LEN];
     for (k, v) in row.iter_mut().enumerate() {
-        *v = coating_albedo(rule, row_mu(k), key) as f32;
+        *v = coating_albedo_quadrature(rule, row_mu(k), key) as f32;
     }
     row
 }
 
-/// `coating_albedo` of `lighting.wgsl`: the row read at `mu` in f32, linear in `sqrt(mu)`
+/// `coating_albedo` of `shaders/coating.wgsl`: the row read at `mu` in f32, linear in `sqrt(mu)`
 /// between its values.
-pub fn coating_albedo_read(row: &[f32; COATING_ROW_LEN], mu: f32) -> f32 {
+pub fn coating_albedo(row: &[f32; COATING_ROW_LEN], mu: f32) -> f32 {
     let x = mu.clamp(0.0, 1.0).sqrt() * (COATING_ROW_LEN - 1) as f32;
     let k = (x.floor() as usize).min(COATING_ROW_LEN - 2);
     let t = x - k as f32;
     row[k] + t * (row[k + 1] - row[k])
 }
 
-/// `2 int_0^1 E_F(mu) mu dmu` of the row as read ([`coating_albedo_read`]), exactly:
+/// `2 int_0^1 E_F(mu) mu dmu` of the row as read ([`coating_albedo`]), exactly:
 /// with `x = sqrt(mu)`, `2 mu dmu = 4 x^3 dx` and the read is linear in `x` between
 /// nodes, so each interval's integral is a polynomial's.
 pub fn coating_albedo_avg(row: &[f32; COATING_ROW_LEN]) -> f64 {
