@@ -7,7 +7,7 @@
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 // Every ball, for the full-screen path's loop (fs_main); the per-ball quads carry their
-// ball in the instance buffer instead (vs_ball). A storage buffer: MAX_BALLS balls of 80
+// ball in the instance buffer instead (vs_ball). A storage buffer: MAX_BALLS balls of 112
 // bytes exceed the 64 KiB a uniform binding may hold.
 @group(0) @binding(1) var<storage, read> balls: array<Ball>;
 @group(0) @binding(2) var<uniform> lights: array<Light, MAX_LIGHTS>;

@@ -19,7 +19,7 @@
 
 #define_import_path shadeballs::walk
 #import shadeballs::constants::{PI, DIV_EPSILON, GEOMETRY_SMITH_CORRELATED}
-#import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, f_avg_schlick}
+#import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick}
 #import shadeballs::brdf::f_micro
 #import shadeballs::environment::{direction_to_uv, env_to_map}
 #import shadeballs::types::{Ball, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
@@ -230,7 +230,9 @@ fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n
 
 // One estimate of the radiance leaving truth ball b at unit normal n towards v, lit by
 // the first `n_lights` lights (what src/cpu/truth.rs single_fixed + estimate give, with
-// the environment's single scattering drawn instead of tabulated).
+// the environment's single scattering drawn instead of tabulated). Conductors only: a
+// truth ball with a dielectric part is refused before it is drawn (src/gpu/renderer.rs
+// check_truth_supported).
 fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let mu_o = dot(n, v);
     if mu_o <= 0.0 {
@@ -239,11 +241,7 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
     let roughness = b.f0_roughness.w;
     let alpha = alpha_from_roughness(roughness);
     let f0 = b.f0_roughness.xyz;
-    let kd = b.diffuse * (1.0 - f_avg_schlick(f0));
     var lo = vec3<f32>(0.0);
-    if HAS_ENVIRONMENT == 1u {
-        lo = globals.environment.xyz * kd;
-    }
     if HAS_LIGHTS == 1u {
         for (var k = 0u; k < n_lights; k++) {
             let l = lights[k].direction.xyz;
@@ -253,21 +251,10 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
             }
             let h = normalize(v + l);
             let spec = f_micro(f_schlick(f0, dot(v, h)), mu_o, mu_i, dot(n, h), roughness, GEOMETRY_SMITH_CORRELATED);
-            lo += (spec + kd / PI) * lights[k].radiance.xyz * mu_i;
+            lo += spec * lights[k].radiance.xyz * mu_i;
         }
     }
     let frame = walk_frame(n);
-    if IBL != 0u {
-        // The base under the map: one cosine-distributed direction (density mu / pi), so
-        // (kd / pi) L mu / (mu / pi) = kd L.
-        let u1 = rng_uniform(rng);
-        let u2 = rng_uniform(rng);
-        let r = sqrt(u1);
-        let phi = 2.0 * PI * u2;
-        let d = frame * vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
-        let uv = direction_to_uv(env_to_map(d, env.rotation));
-        lo += kd * env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
-    }
     let wi = transpose(frame) * v;
     return lo + walk_estimate(frame, wi, f0, alpha, n_lights, rng);
 }

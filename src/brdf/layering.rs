@@ -96,5 +96,6 @@ pub fn base_albedo_view_only(albedo: f64, e_spec_o: f64) -> f64 {
 /// E_spec_avg) / (eta^2 (1 - rho F_in))`.
 pub fn base_albedo_physical(rho: f64, e_spec_o: f64, e_spec_avg: f64, eta: f64) -> f64 {
     let f_in = coating_inside_reflectance(e_spec_avg, eta);
-    rho * (1.0 - e_spec_o) * (1.0 - e_spec_avg) / ((eta * eta) * (1.0 - rho * f_in)).max(DIV_EPSILON)
+    rho * (1.0 - e_spec_o) * (1.0 - e_spec_avg)
+        / ((eta * eta) * (1.0 - rho * f_in)).max(DIV_EPSILON)
 }

@@ -74,8 +74,14 @@ impl CoatingPoint {
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
         let loss_avg = super::shade::loss_avg(e, roughness);
         let read = |mu: f64| loss(e, mu, roughness);
-        let c =
-            CoatingConstants::new(b.material.ior, &row, scene.preset, (ms, term), 1.0 - loss_avg, read);
+        let c = CoatingConstants::new(
+            b.material.ior,
+            &row,
+            scene.preset,
+            (ms, term),
+            1.0 - loss_avg,
+            read,
+        );
         // As the GPU's uniforms hold them: f32.
         let f32_of = |x: f64| x as f32 as f64;
         let constants = CoatingConstants {
@@ -132,7 +138,14 @@ impl CoatingPoint {
         let eta = self.constants.eta;
         let f_add = self.constants.f_add;
         let fresnel = f_dielectric(v.dot(h), eta, self.fresnel_form);
-        let spec = f_micro(fresnel, self.mu_o, mu_i, n.dot(h), self.roughness, self.geometry);
+        let spec = f_micro(
+            fresnel,
+            self.mu_o,
+            mu_i,
+            n.dot(h),
+            self.roughness,
+            self.geometry,
+        );
         let (mut lobe, mut loss_i) = (0.0, 0.0);
         if self.ms > 0.0 {
             loss_i = loss(e, mu_i, self.roughness);

@@ -3,7 +3,7 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
-mod coating;
+pub mod coating;
 pub mod montecarlo;
 mod shade;
 pub mod truth;

@@ -17,6 +17,7 @@ use std::f64::consts::PI;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::coating::CoatingPoint;
 use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
 use super::{surface_normal, Bins};
 use crate::brdf::{
@@ -25,7 +26,7 @@ use crate::brdf::{
 };
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
-use crate::lut::{SplitSum, TableSet};
+use crate::lut::{CoatingRows, SplitSum, TableSet};
 use crate::scene::{Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -145,6 +146,7 @@ pub fn render_montecarlo_part(
         && scene.balls.iter().any(|b| b.model == Model::FdezAguera))
     .then(|| SplitSum::shipped(scene.effective_geometry()));
     let split = &split;
+    let coating = &scene.coating_rows(&mut Default::default());
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -156,7 +158,7 @@ pub fn render_montecarlo_part(
                     Some((t, k)) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        let mut point = ShadingPoint::new(scene, b, n, -d, e);
+                        let mut point = ShadingPoint::with_rows(scene, b, (n, -d), e, coating);
                         point.part = part;
                         if let Some(split) = split {
                             point = point.with_split_sum(split);
@@ -207,8 +209,10 @@ pub struct ShadingPoint {
     pub norm: f64,
     /// The preset's Fresnel scale of the Kulla-Conty lobe, per channel.
     pub f_add: DVec3,
-    /// Diffuse albedo times `1 - F_avg` (zero for a metal).
-    pub kd: DVec3,
+    /// The metal's share (the metal's and the coating's BRDFs are mixed by it).
+    pub metallic: f64,
+    /// The dielectric coating's part (`None` for an all-metal ball).
+    pub coating: Option<CoatingPoint>,
     /// Which multiple-scattering model.
     pub term: IblTerm,
     /// The scene's effective G.
@@ -222,8 +226,21 @@ pub struct ShadingPoint {
 
 impl ShadingPoint {
     /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
-    /// and geometry and the ball's model, with E and E_avg from `e`.
+    /// and geometry and the ball's model, with E and E_avg from `e` (its coating's row
+    /// baked for the call: [`ShadingPoint::with_rows`] takes the scene's).
     pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
+        let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+        Self::with_rows(scene, b, (n, v), e, &rows)
+    }
+
+    /// [`ShadingPoint::new`] with the coating rows `rows`.
+    pub fn with_rows(
+        scene: &Scene,
+        b: &Ball,
+        (n, v): (DVec3, DVec3),
+        e: &TableSet,
+        rows: &CoatingRows,
+    ) -> Self {
         let roughness = b.roughness;
         let f0 = b.material.f0;
         let mu_o = n.dot(v).max(0.0);
@@ -240,7 +257,11 @@ impl ShadingPoint {
             loss_o: loss(e, mu_o, roughness),
             norm: f_ms_norm(loss_avg),
             f_add: f_add_rgb(form, f0, e_avg),
-            kd: b.material.diffuse * (DVec3::ONE - per_channel(f0, f_avg_schlick)),
+            metallic: b.material.metallic,
+            coating: b.material.has_dielectric().then(|| {
+                let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+                CoatingPoint::new(scene, b, (n, v), e, rows, ms)
+            }),
             term: b.model.term().unwrap_or(IblTerm::KullaConty),
             geometry: scene.effective_geometry(),
             fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
@@ -259,9 +280,10 @@ impl ShadingPoint {
 }
 
 /// The BRDF `f_r(v, l)` of the point's model, per channel (0 when `l` or `v` is below the
-/// horizon). Every model shares the single-scattering Cook-Torrance lobe `f_micro` with
-/// Schlick's F per channel and the diffuse lobe `kd / pi`; they differ in the
-/// multiple-scattering lobe, present only on balls with the term:
+/// horizon): the metal's and the coating's (`CoatingPoint::brdf`, the lights' loop of
+/// `shade_coating`) mixed by `metallic`. The metal's is the single-scattering Cook-Torrance
+/// lobe `f_micro` with Schlick's F per channel and a multiple-scattering lobe on balls with
+/// the term:
 ///
 /// - [`IblTerm::KullaConty`] (Kulla & Conty 2017, "Revisiting Physically Based Shading at
 ///   Imageworks"): `f_add f_ms(1 - E(mu_o), 1 - E(mu_i))`, term for term the
@@ -285,7 +307,23 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
     if len <= DIV_EPSILON {
         return DVec3::ZERO;
     }
-    let h = sum / len;
+    let coating = p.coating.map(|c| {
+        let f = c.brdf((p.v, l), p.n, e);
+        match p.part {
+            Part::Whole => DVec3::splat(f.spec + f.multiple) + f.base,
+            Part::Multiple => DVec3::splat(f.multiple),
+        }
+    });
+    match coating {
+        Some(c) if p.metallic <= 0.0 => c,
+        Some(c) => p.metallic * metal_brdf(p, l, sum / len, e) + (1.0 - p.metallic) * c,
+        None => metal_brdf(p, l, sum / len, e),
+    }
+}
+
+/// The metal's part of [`model_brdf`], `h` the half vector.
+fn metal_brdf(p: &ShadingPoint, l: DVec3, h: DVec3, e: &TableSet) -> DVec3 {
+    let mu_i = p.n.dot(l);
     let v_dot_h = p.v.dot(h);
     let n_dot_h = p.n.dot(h);
     let spec = per_channel(p.f0, |f| {
@@ -298,7 +336,6 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
             p.geometry,
         )
     });
-    let diffuse = p.kd / PI;
     let multiple = match p.term {
         IblTerm::KullaConty => {
             let loss_i = loss(e, mu_i, p.roughness);
@@ -316,7 +353,7 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
         }
     };
     match p.part {
-        Part::Whole => spec + multiple + diffuse,
+        Part::Whole => spec + multiple,
         Part::Multiple => multiple,
     }
 }

@@ -35,12 +35,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::montecarlo::{Frame, Lighting, MonteCarloImage, ShadingPoint, LUMINANCE, MAX_SPP};
-use super::shade::per_channel;
 use super::{surface_normal, Bins};
-use crate::brdf::{f_avg_schlick, Geometry, DIV_EPSILON};
+use crate::brdf::{Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
 use crate::lut::TableSet;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Model, Scene, MAX_BALLS};
+use crate::walk::coating::Coating;
 use crate::walk::microsurface::Microsurface;
 use crate::walk::single::{single_albedo, Rules};
 use crate::walk::{trace, Reflectance, Rng, Schlick};
@@ -436,18 +436,21 @@ impl SingleAlbedos {
     }
 }
 
-/// The single-scattering model at a point (no term, the walk's G).
+/// The metal's single-scattering model at a point (no term, the walk's G; the coating is
+/// walked whole).
 fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> ShadingPoint {
-    let none = Ball {
+    let metal = Ball {
         model: Model::None,
+        material: crate::scene::Material::metal(b.material.f0),
         ..*b
     };
-    let mut point = ShadingPoint::new(scene, &none, n, v, e);
+    let mut point = ShadingPoint::new(scene, &metal, n, v, e);
     point.geometry = Geometry::SmithCorrelated;
     point
 }
 
-/// The exact single scattering of the lights and the uniform environment at a point.
+/// The exact single scattering of the lights and the uniform environment at a point: the
+/// metal's, weighted by its share (the coating's is in its walk).
 fn single_fixed(
     scene: &Scene,
     b: &Ball,
@@ -456,6 +459,9 @@ fn single_fixed(
     e: &TableSet,
     singles: &SingleAlbedos,
 ) -> DVec3 {
+    if !b.material.has_metal() {
+        return DVec3::ZERO;
+    }
     let point = single_point(scene, b, n, v, e);
     let mut lo = DVec3::ZERO;
     for light in &scene.lights {
@@ -465,10 +471,9 @@ fn single_fixed(
         }
     }
     if scene.environment != DVec3::ZERO && point.mu_o > 0.0 {
-        let kd = b.material.diffuse * (DVec3::ONE - per_channel(b.material.f0, f_avg_schlick));
-        lo += scene.environment * (singles.at(b, point.mu_o) + kd);
+        lo += scene.environment * singles.at(b, point.mu_o);
     }
-    lo
+    b.material.metallic * lo
 }
 
 /// What a pixel's estimates share, formed once per pixel and pass rather than per
@@ -483,6 +488,9 @@ struct PixelWalk {
     lights: [(DVec3, DVec3, f64); crate::scene::MAX_LIGHTS],
     count: usize,
     point: Option<ShadingPoint>,
+    metallic: f64,
+    /// The dielectric part: its walk, its base's albedo, the lights' local directions.
+    coating: Option<(Coating, [f64; 3], [DVec3; crate::scene::MAX_LIGHTS])>,
 }
 
 impl PixelWalk {
@@ -509,13 +517,65 @@ impl PixelWalk {
             channels: b.material.f0.to_array().map(Schlick),
             lights,
             count,
-            point: map.then(|| single_point(scene, b, p.n, p.v, e)),
+            point: (map && b.material.has_metal()).then(|| single_point(scene, b, p.n, p.v, e)),
+            metallic: b.material.metallic,
+            coating: b.material.has_dielectric().then(|| {
+                let coating = Coating::new(b.roughness, b.material.ior);
+                (coating, b.material.diffuse.to_array(), lights.map(|l| l.0))
+            }),
         })
+    }
+
+    /// One walk through the coating from the view: its light towards each light
+    /// (`Coating::estimate`, every order) and its exit's share of the environment.
+    fn estimate_coating(&self, scene: &Scene, rng: &mut Rng) -> DVec3 {
+        let Some((coating, base, directions)) = &self.coating else {
+            return DVec3::ZERO;
+        };
+        let count = self.count;
+        let mut towards = [[0.0; crate::walk::MAX_CHANNELS]; crate::scene::MAX_LIGHTS];
+        let env = scene.environment;
+        let map_env = scene.environment_map.as_ref();
+        let mut escaped = DVec3::ZERO;
+        coating.estimate(
+            self.v_local,
+            base,
+            &directions[..count],
+            rng,
+            &mut towards[..count],
+            |_, dir, w| {
+                let world = self.frame.to_world(dir);
+                let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
+                escaped += DVec3::from_slice(&w[..3]) * arriving;
+            },
+        );
+        let mut x = escaped;
+        for (t, &(_, radiance, _)) in towards.iter().zip(&self.lights[..count]) {
+            x += DVec3::new(t[0], t[1], t[2]) * radiance;
+        }
+        x
     }
 
     /// One estimate of what the fixed part leaves out: the walk's second and later events
     /// towards the lights and out to the environment, and the map's single scattering.
     fn estimate(
+        &self,
+        scene: &Scene,
+        e: &TableSet,
+        map: Option<&Lighting<'_>>,
+        max_order: u32,
+        rng: &mut Rng,
+    ) -> DVec3 {
+        let coating = self.estimate_coating(scene, rng);
+        if self.metallic <= 0.0 {
+            return coating;
+        }
+        let metal = self.estimate_metal(scene, e, map, max_order, rng);
+        self.metallic * metal + (1.0 - self.metallic) * coating
+    }
+
+    /// The metal's part of [`PixelWalk::estimate`].
+    fn estimate_metal(
         &self,
         scene: &Scene,
         e: &TableSet,

@@ -92,6 +92,11 @@ pub const STRUCTS: [StructLayout; 6] = [
             f_add_ms_norm,
             lut_row,
             term,
+            coating,
+            e_spec_avg,
+            coating_row,
+            layering,
+            fresnel,
         }
     ),
     layout!(

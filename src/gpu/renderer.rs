@@ -5,8 +5,8 @@
 //! [`Renderer::render`] with its surface view; a host program hands its own device
 //! ([`Renderer::from_device`]).
 
-use std::sync::Arc;
 use std::collections::HashMap;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::bindings::{BallInstance, Bindings};
@@ -485,12 +485,19 @@ impl Renderer {
     }
 
     /// [`Error::TruthUnsupported`] if `scene` has truth balls and this device cannot
-    /// accumulate them.
+    /// accumulate them; [`Error::TruthCoatingOnGpu`] if a truth ball has a dielectric part.
     pub(crate) fn check_truth_supported(&self, scene: &Scene) -> Result<()> {
         if scene.has_truth() && !self.truth_supported() {
             return Err(Error::TruthUnsupported {
                 device: self.gpu.describe(),
             });
+        }
+        let coated = scene
+            .balls
+            .iter()
+            .position(|b| b.model == crate::scene::Model::Truth && b.material.has_dielectric());
+        if let Some(ball) = coated {
+            return Err(Error::TruthCoatingOnGpu { ball });
         }
         Ok(())
     }

@@ -135,7 +135,8 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                     let row = coating.row(&key).expect("every coating's row is baked");
                     let term = (ms, b.model.term().unwrap_or(IblTerm::KullaConty));
                     let loss = |mu: f64| f64::from(tables.lut_loss(mu as f32, b.roughness as f32));
-                    let c = CoatingConstants::new(b.material.ior, row, scene.preset, term, e_avg, loss);
+                    let c =
+                        CoatingConstants::new(b.material.ior, row, scene.preset, term, e_avg, loss);
                     (c, coating.index_of(&key) as u32)
                 }
                 None => (CoatingConstants::default(), 0),

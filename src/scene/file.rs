@@ -56,8 +56,8 @@ use super::values::{
     NonNegative, Positive, Radiance, Roughness,
 };
 use super::{
-    grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene,
-    DEFAULT_IOR, MAX_BALLS, MAX_LIGHTS,
+    grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
+    MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
 use crate::environment::{self, Builtin, Environment, IblTerm, Source};

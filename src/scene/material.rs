@@ -216,7 +216,14 @@ impl CoatingConstants {
 /// `E_spec(mu)` with the ball's term (weight `ms`), from its single scattering `e_f` and
 /// `loss = 1 - E(mu)`: Kulla-Conty's `e_f + f_add loss`, Turquin's `e_f (1 + F0 (1 / E -
 /// 1))`, Fdez-Aguera's `e_f + FmsEms`.
-pub fn coating_spec_albedo(e_f: f64, loss: f64, f0: f64, f_add: f64, ms: f64, term: IblTerm) -> f64 {
+pub fn coating_spec_albedo(
+    e_f: f64,
+    loss: f64,
+    f0: f64,
+    f_add: f64,
+    ms: f64,
+    term: IblTerm,
+) -> f64 {
     use crate::brdf::{term_fdez_aguera, term_turquin};
     let added = match term {
         IblTerm::KullaConty => f_add * loss,

@@ -232,7 +232,10 @@ impl Scene {
         >,
     ) -> crate::lut::CoatingRows {
         crate::lut::CoatingRows::bake(
-            self.balls.iter().take(MAX_BALLS).filter_map(|b| self.coating_key(b)),
+            self.balls
+                .iter()
+                .take(MAX_BALLS)
+                .filter_map(|b| self.coating_key(b)),
             cache,
         )
     }

@@ -130,7 +130,11 @@ fn renderer_constants() -> Vec<Constant> {
     }
     for (code, form) in LAYERING_CODES {
         let name = format!("LAYERING_{}", upper(form.name()));
-        c.push(uint(name, code as u64, "gpu::uniforms::LAYERING_CODES".into()));
+        c.push(uint(
+            name,
+            code as u64,
+            "gpu::uniforms::LAYERING_CODES".into(),
+        ));
     }
     c.push(uint(
         "COATING_ROW_LEN".into(),

@@ -1,7 +1,8 @@
 //! The truth on the GPU (`walk.wgsl`, src/gpu/truth.rs) against the CPU truth
 //! (`cpu::render_truth`): per ball, the mean radiance over the ball's inner pixels within 4
-//! combined standard errors, on a scene with two lights, a uniform environment, metals and
-//! dielectrics; the white furnace equal to its environment within 4 standard errors; the
+//! combined standard errors, on a scene with two lights, a uniform environment, metal truth
+//! balls beside dielectrics (the GPU walks conductors; a coated truth ball is refused);
+//! the white furnace equal to its environment within 4 standard errors; the
 //! progressive sums (restart on a change, count per draw); GL either agrees or refuses.
 //!
 //! The GPU's standard error comes from its own frames by batch means: the sums are read
@@ -211,13 +212,36 @@ fn show(v: DVec3, fmt: &str) -> String {
     format!("[{}, {}, {}]", one(v.x), one(v.y), one(v.z))
 }
 
-/// Two lights, a uniform environment, metals and dielectrics at five roughnesses: every
-/// part of the GPU truth (the lights' exact single scattering, the walk's next-event
-/// estimates, its escapes into the environment, the dielectric's base).
+/// Two lights, a uniform environment, metal truth balls at five roughnesses beside
+/// dielectrics drawn by the model: every part of the GPU truth (the lights' exact single
+/// scattering, the walk's next-event estimates, its escapes into the environment) and the
+/// truth pass beside the model's balls.
 fn agreement_scene() -> Scene {
-    let mut scene = all_truth(crate::render::mixed_scene());
+    let mut scene = crate::render::mixed_scene();
+    for b in &mut scene.balls {
+        if !b.material.has_dielectric() {
+            b.model = Model::Truth;
+        }
+    }
     scene.environment = DVec3::new(0.3, 0.25, 0.2);
     scene
+}
+
+/// A truth ball with a dielectric part is refused on the GPU, naming the ball, rather than
+/// drawn with a walk that does not trace its coating.
+#[test]
+fn gpu_truth_refuses_a_coated_truth_ball() {
+    let mut r = vulkan();
+    let scene = all_truth(crate::render::mixed_scene());
+    let err = r
+        .render_hdr(&scene, W, H)
+        .err()
+        .expect("a coated truth ball is refused");
+    assert!(
+        matches!(err, shadeballs::Error::TruthCoatingOnGpu { ball: 0 }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("dielectric coating"), "{err}");
 }
 
 fn agrees_with_cpu(r: &mut Renderer, what: &str) {
@@ -225,6 +249,16 @@ fn agrees_with_cpu(r: &mut Renderer, what: &str) {
     let owner = inner_pixels(&scene);
     let gpu = gpu_truth(r, &scene, &owner);
     let cpu = cpu_truth(&scene, &owner, 64);
+    // The truth balls (the CPU walks every ball; the GPU draws the others by the model).
+    let truth = |v: Vec<Estimate>| -> Vec<Estimate> {
+        v.into_iter()
+            .zip(&scene.balls)
+            .filter(|(_, b)| b.model == Model::Truth)
+            .map(|(e, _)| e)
+            .collect()
+    };
+    let (gpu, cpu) = (truth(gpu), truth(cpu));
+    assert_eq!(gpu.len(), 5, "the metal truth balls");
     let (worst, report) = z_scores(&gpu, &cpu);
     eprintln!("{what} truth vs CPU truth (worst {worst:.2} standard errors):{report}");
     assert!(

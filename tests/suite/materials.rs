@@ -3,7 +3,8 @@
 
 use shadeballs::brdf::{DielectricFresnel, Geometry};
 use shadeballs::lut::{
-    coating_albedo, coating_albedo_quadrature, coating_row, CoatingKey, CoatingRule, COATING_ROW_LEN,
+    coating_albedo, coating_albedo_quadrature, coating_row, CoatingKey, CoatingRule,
+    COATING_ROW_LEN,
 };
 use shadeballs::walk::single::{single_albedo, Rules};
 use shadeballs::walk::{Dielectric, Schlick};
@@ -172,7 +173,11 @@ fn furnace_worst(scene: &Scene, image: &[u8], w: u32, h: u32) -> (u8, usize) {
     let mut worst = (0, 0);
     for k in 0..scene.balls.len() {
         let px = interior(scene, k, w, h);
-        assert!(px.len() > 100, "ball {k} covers {} interior pixels", px.len());
+        assert!(
+            px.len() > 100,
+            "ball {k} covers {} interior pixels",
+            px.len()
+        );
         for p in px {
             for c in 0..3 {
                 let d = image[4 * p + c].abs_diff(bg[c]);
@@ -210,11 +215,15 @@ fn white_furnace_every_metallic_ior_and_roughness() {
                     assert!(worst <= 1, "{what}: CPU ball {k} is {worst}/255 off");
                     let mut map = scene.clone();
                     map.environment = DVec3::ZERO;
-                    map.environment_map = Some(shadeballs::environment::Environment::builtin(white));
+                    map.environment_map =
+                        Some(shadeballs::environment::Environment::builtin(white));
                     let image = gpu.render_ldr(&map, w, h).unwrap().rgba;
                     let (worst, k) = furnace_worst(&map, &image, w, h);
                     println!("{what}, white map: GPU {worst}/255 (ball {k})");
-                    assert!(worst <= 1, "{what}, white map: GPU ball {k} is {worst}/255 off");
+                    assert!(
+                        worst <= 1,
+                        "{what}, white map: GPU ball {k} is {worst}/255 off"
+                    );
                 }
             }
         }
@@ -226,11 +235,17 @@ fn white_furnace_every_metallic_ior_and_roughness() {
     let image = gpu.render_ldr(&constant, w, h).unwrap().rgba;
     let (worst, _) = furnace_worst(&constant, &image, w, h);
     println!("constant form: {worst}/255");
-    assert!(worst >= 3, "the constant form passes the furnace ({worst}/255)");
+    assert!(
+        worst >= 3,
+        "the constant form passes the furnace ({worst}/255)"
+    );
     let mut none = furnace_chart(1.5, IblTerm::KullaConty);
     none.balls.iter_mut().for_each(|b| b.model = Model::None);
     let image = gpu.render_ldr(&none, w, h).unwrap().rgba;
     let (worst, _) = furnace_worst(&none, &image, w, h);
     println!("without the term: {worst}/255");
-    assert!(worst >= 3, "the balls without the term pass the furnace ({worst}/255)");
+    assert!(
+        worst >= 3,
+        "the balls without the term pass the furnace ({worst}/255)"
+    );
 }
