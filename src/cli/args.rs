@@ -15,7 +15,7 @@ use crate::environment::{Background, Builtin, Environment, IblTerm};
 use crate::gpu::Backend;
 use crate::lab::bench::SweepKind;
 use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
-use crate::scene::Preset;
+use crate::scene::{Layering, Preset};
 
 /// Implements [`clap::ValueEnum`] for enums with `ALL` and `name()` (the names `FromStr`
 /// parses, see `named_enum!`): clap parses the flag, prints `[possible values: ...]` in
@@ -48,6 +48,7 @@ value_enum!(
     Builtin,
     BackgroundArg,
     OnOff,
+    Layering,
 );
 
 /// `--aa`: a switch spelled `on` or `off`.
@@ -184,6 +185,10 @@ pub struct SceneArgs {
     /// scenes use smith-correlated).
     #[arg(long)]
     pub geometry: Option<Geometry>,
+    /// How every dielectric's base sits under its coating (default: the scene's, else
+    /// physical, the form closest to the random walk; docs/design/materials.md).
+    #[arg(long)]
+    pub layering: Option<Layering>,
     /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
     #[arg(long, value_name = "NAME|FILE", help = environment_help())]
     pub environment: Option<String>,
@@ -228,6 +233,7 @@ impl SceneArgs {
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
+        scene.layering = self.layering.unwrap_or(scene.layering);
         if let Some(name) = &self.environment {
             scene.environment_map = Some(Environment::named(name)?);
             scene.environment = glam::DVec3::ZERO;

@@ -249,3 +249,116 @@ fn white_furnace_every_metallic_ior_and_roughness() {
         "the balls without the term pass the furnace ({worst}/255)"
     );
 }
+
+/// Per ball, the mean of `image` over `pixels[k]`.
+fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
+    pixels
+        .iter()
+        .map(|px| px.iter().map(|&p| image[p]).sum::<DVec3>() / px.len().max(1) as f64)
+        .collect()
+}
+
+/// `plastic.toml` (antialiasing off: the truth traces pixel centres, like with like) under
+/// its own light or the studio map.
+fn plastic_scene(studio: bool) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/plastic.toml");
+    let mut scene = shadeballs::scene::load(&path).unwrap();
+    scene.antialias = false;
+    if studio {
+        scene.lights.clear();
+        scene.environment_map = Some(shadeballs::environment::Environment::builtin(
+            shadeballs::environment::Builtin::Studio,
+        ));
+    }
+    scene
+}
+
+/// Every layering form against the truth (the random walk through the coating over the
+/// substrate, `cpu::render_truth`) on every ball of `plastic.toml`, under its light and
+/// under the studio: the relative error of each ball's mean radiance over its inner
+/// pixels (largest channel), with the truth's own standard error beside it. The goal: the
+/// physical form within 5 % on every plastic ball with the term, beyond 3 of the truth's
+/// standard errors (under the studio its walk only finds the map by its exits, so its
+/// noise is several per cent at this budget; the rows without the term leave
+/// out the coating's multiple scattering, as the metals' do: they are reported, not held
+/// to it). `--nocapture` prints the table docs/design/materials.md quotes (the mean of the
+/// channels' signed errors, per ball, rows of five).
+#[test]
+fn layering_forms_against_the_truth_on_plastic_toml() {
+    let (w, h) = (320, 180);
+    for studio in [false, true] {
+        let scene = plastic_scene(studio);
+        let light = if studio { "studio" } else { "reference light" };
+        let tables = shadeballs::lut::bake(&shadeballs::lut::BakeConfig {
+            geometry: scene.effective_geometry(),
+            ..Default::default()
+        });
+        let e = shadeballs::lut::TableSet::full(tables.clone());
+        let settings = shadeballs::cpu::TruthSettings {
+            spp: if studio { 256 } else { 64 },
+            seed: 11,
+            ..Default::default()
+        };
+        let truth = shadeballs::cpu::render_truth(&scene, &e, w, h, settings, |_| true).unwrap();
+        let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
+            .map(|k| interior(&scene, k, w, h))
+            .collect();
+        let t_means = ball_means(&truth.image.mean, &pixels);
+        let t_err: Vec<DVec3> = pixels
+            .iter()
+            .map(|px| {
+                let var: DVec3 = px.iter().map(|&p| truth.image.std_error[p].powf(2.0)).sum();
+                var.powf(0.5) / px.len().max(1) as f64
+            })
+            .collect();
+        let mut worst_physical = 0.0f64;
+        for layering in Layering::ALL {
+            let scene = Scene {
+                layering,
+                ..scene.clone()
+            };
+            let model = shadeballs::cpu::render_radiance(&scene, &e, w, h);
+            let m_means = ball_means(&model, &pixels);
+            let mut line = format!("{light}, {layering:>10}:");
+            let (mut worst, mut worst_term) = (0.0f64, 0.0f64);
+            for k in 0..scene.balls.len() {
+                let rel = ((m_means[k] - t_means[k]) / t_means[k]).abs().max_element();
+                worst = worst.max(rel);
+                // Held to the goal beyond the truth's own noise: 3 of its standard errors.
+                let noise = (t_err[k] / t_means[k]).max_element();
+                if scene.balls[k].model.has_term() {
+                    worst_term = worst_term.max(rel - 3.0 * noise);
+                }
+                if k % 5 == 0 {
+                    line += " |";
+                }
+                line += &format!(
+                    " {:+.1}",
+                    100.0 * ((m_means[k] - t_means[k]) / t_means[k]).element_sum() / 3.0
+                );
+            }
+            println!(
+                "{line} | worst {:.1} %, {:.1} % with the term beyond 3 standard errors",
+                100.0 * worst,
+                100.0 * worst_term
+            );
+            if layering == Layering::Physical {
+                worst_physical = worst_term;
+            }
+        }
+        let noise = t_err
+            .iter()
+            .zip(&t_means)
+            .map(|(e, m)| (*e / *m).max_element())
+            .fold(0.0, f64::max);
+        println!(
+            "{light}: the truth's largest relative standard error of a ball's mean {:.2} %",
+            100.0 * noise
+        );
+        assert!(
+            worst_physical <= 0.05,
+            "{light}: the physical form is {:.1} % beyond the truth's noise on a ball with the term",
+            100.0 * worst_physical
+        );
+    }
+}
