@@ -195,7 +195,7 @@ fn render_on_cpu(
     // The radiance (24 bytes a pixel) is dropped before the encoder starts.
     match kind {
         ImageKind::Png => {
-            let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
+            let mut rgba = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
             drop(radiance);
             draw_labels(scene, args, &mut rgba, phases)?;
             write_png(&args.out, w, h, rgba)?

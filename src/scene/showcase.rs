@@ -59,6 +59,9 @@ impl Scene {
             environment_map: Some(Environment::builtin(Builtin::Studio)),
             background: Background::Environment,
             camera: showcase_camera(),
+            // The preset's display (accurate: the sRGB curve and Khronos PBR Neutral).
+            tone_map: None,
+            transfer: None,
             ..Scene::reference()
         }
     }
