@@ -95,8 +95,8 @@ fn classify(scene: &Scene, w: u32, h: u32) -> Vec<Kind> {
 
 /// The reference: `scene` rendered on the GPU at `SCALE` times `w x h` as linear radiance
 /// (what `render --out x.exr` writes), box-filtered over each `SCALE x SCALE` block in
-/// linear radiance, then exposure, the PNG's tone map and 8-bit quantisation
-/// (`cpu::to_rgba8`, the same as `display::tone_map` and `to_unorm8`).
+/// linear radiance, then exposure, the scene's display transform and 8-bit quantisation
+/// (`cpu::to_display_rgba8`, the CPU twin of the shader's).
 fn reference(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> Vec<u8> {
     let (bw, bh) = (w * SCALE, h * SCALE);
     let big = r.render_hdr(scene, bw, bh).unwrap().rgba;
@@ -111,7 +111,7 @@ fn reference(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> Vec<u8> {
     for c in &mut radiance {
         *c /= (SCALE * SCALE) as f64;
     }
-    cpu::to_rgba8(&radiance, scene.exposure)
+    cpu::to_display_rgba8(&radiance, scene.exposure, scene.display())
 }
 
 /// The largest channel difference of pixel `p` between two RGBA8 images, in 1/255.

@@ -45,6 +45,7 @@ mod scene_gen;
 mod shaders;
 mod showcase;
 mod stress;
+mod tone_map;
 mod truth;
 mod truth_render;
 mod uniform_flow;
