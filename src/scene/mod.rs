@@ -23,7 +23,7 @@ pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use model::Model;
 pub use preset::Preset;
 pub use showcase::{
-    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS,
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
     SHOWCASE_ROW_HALF_GAP,
 };
 

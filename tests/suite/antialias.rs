@@ -3,6 +3,7 @@
 //! white furnace's edges, and the GPU against the CPU renderer.
 use glam::DVec3;
 use shadeballs::cpu;
+use shadeballs::display::DisplayTransform;
 use shadeballs::gpu::Renderer;
 use shadeballs::scene::Scene;
 
@@ -201,20 +202,37 @@ fn edges_match_the_supersampled_reference() {
 
 /// The same under the studio environment map (a background that varies along each ray,
 /// and bright rims): 640x360 to keep the 4x reference small. The goal is 3/255 at
-/// p99; NOT MET: measured p99 6/255, max 12/255, mean 1.29/255, held at 6 (the measured
-/// figure, as above).
+/// p99; NOT MET: measured p99 6/255, max 12/255, mean 1.29/255 under the homework's
+/// display (Reinhard, gamma 2.2), held at 6 (the measured figure, as above). Under the
+/// scene's own display since the accurate preset's became Khronos PBR Neutral with the
+/// sRGB curve (steeper in the darks the rims pass through): measured p99 8/255, max 20,
+/// held at 8.
 #[test]
 fn edges_match_the_reference_under_an_environment_map() {
     let (w, h) = (640, 360);
     let mut r = vulkan();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/studio.toml");
-    let scene = shadeballs::scene::load(&path).unwrap();
-    assert!(scene.antialias, "antialiasing is on by default");
-    let kinds = classify(&scene, w, h);
-    let reference = reference(&mut r, &scene, w, h);
-    let image = r.render_ldr(&scene, w, h).unwrap().rgba;
-    let (p99, max, _) = edge_error(&image, &reference, &kinds, "studio");
-    assert!(p99 <= 6, "studio: edge p99 {p99}/255 > 6/255 (max {max})");
+    let own = shadeballs::scene::load(&path).unwrap();
+    assert!(own.antialias, "antialiasing is on by default");
+    let homework = Scene {
+        tone_map: Some(DisplayTransform::HOMEWORK.tone_map),
+        transfer: Some(DisplayTransform::HOMEWORK.transfer),
+        ..own.clone()
+    };
+    // (scene, what, the measured bound above).
+    for (scene, what, bound) in [
+        (&homework, "studio, Reinhard + gamma 2.2", 6),
+        (&own, "studio, its own display", 8),
+    ] {
+        let kinds = classify(scene, w, h);
+        let reference = reference(&mut r, scene, w, h);
+        let image = r.render_ldr(scene, w, h).unwrap().rgba;
+        let (p99, max, _) = edge_error(&image, &reference, &kinds, what);
+        assert!(
+            p99 <= bound,
+            "{what}: edge p99 {p99}/255 > {bound}/255 (max {max})"
+        );
+    }
 }
 
 /// Interior pixels (the whole 4x4 block on one ball, more than 1.5 pixels from any
