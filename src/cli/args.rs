@@ -306,7 +306,9 @@ pub struct RenderArgs {
     /// Where to render: a GPU backend (auto: any adapter, else the CPU), the CPU
     /// reference renderer, the CPU Monte Carlo reference (montecarlo: the model
     /// integrated against the lights and the environment by importance sampling), or the
-    /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU).
+    /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU: a bar
+    /// with the time left on a terminal; Ctrl-C stops it after a pass and writes what it
+    /// has, exit status 130).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
     /// Samples per pixel of --backend montecarlo and truth, 1..=65536; on a GPU backend,

@@ -47,6 +47,7 @@ mod showcase;
 mod stress;
 mod tone_map;
 mod truth;
+mod truth_progress;
 mod truth_render;
 mod uniform_flow;
 mod viewer;
