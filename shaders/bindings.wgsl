@@ -15,6 +15,10 @@
 @group(0) @binding(3) var e_table: texture_2d<f32>;
 // 1 - E_avg(roughness) (Tables::stored_loss_avg) and each row's roughness (lut.wgsl).
 @group(0) @binding(4) var e_avg_table: texture_2d<f32>;
+// The scene's coating rows (lut::coating CoatingRows, COATING_ROW_LEN values each): a ball's
+// dielectric single scattering E_F(mu) (coating_albedo in coating.wgsl). A storage buffer,
+// written with the balls: it changes with the scene, not with the tables.
+@group(0) @binding(5) var<storage, read> coating_rows: array<f32>;
 
 // Group 1: the environment map, prefiltered (src/gpu/environment.rs). Stand-ins of one
 // texel when the scene has none (IBL = 0 compiles the reads out).

@@ -4,7 +4,7 @@
 
 #define_import_path shadeballs::brdf
 #import shadeballs::constants::{PI, DIV_EPSILON, ROUGHNESS_MIN, LAMBDA_MAX}
-#import shadeballs::constants::{GEOMETRY_SMITH, GEOMETRY_SMITH_CORRELATED, F_ADD_GAMES202}
+#import shadeballs::constants::{GEOMETRY_SMITH, GEOMETRY_SMITH_CORRELATED, F_ADD_GAMES202, FRESNEL_SCHLICK}
 
 // The roughness the model uses: clamped to [ROUGHNESS_MIN, 1] (src/brdf roughness_clamped;
 // the shader never sees NaN: scenes are validated on load).
@@ -248,4 +248,37 @@ fn f_base_physical(rho: vec3<f32>, e_spec_o: f32, e_spec_i: f32, e_spec_avg: f32
 fn substrate_albedo(apparent: vec3<f32>, e_spec_avg: f32, eta: f32) -> vec3<f32> {
     let f_in = coating_inside_reflectance(e_spec_avg, eta);
     return apparent / max(vec3<f32>(1.0 - f_in) + apparent * f_in, vec3<f32>(DIV_EPSILON));
+}
+
+// Each form's directional albedo, its integral over the light's hemisphere (what a uniform
+// light or a map's irradiance meets; src/brdf/layering.rs, name for name).
+// albedo (1 - F_avg).
+fn base_albedo_constant(albedo: vec3<f32>, f_avg: f32) -> vec3<f32> {
+    return albedo * (1.0 - f_avg);
+}
+
+// glTF's under image-based light, the view's Fresnel for the half vector's: albedo (1 - F(mu_o)).
+fn base_albedo_gltf(albedo: vec3<f32>, fresnel_o: f32) -> vec3<f32> {
+    return albedo * (1.0 - fresnel_o);
+}
+
+// The view-only and the reciprocal forms: albedo (1 - E_spec(mu_o)).
+fn base_albedo_view_only(albedo: vec3<f32>, e_spec_o: f32) -> vec3<f32> {
+    return albedo * (1.0 - e_spec_o);
+}
+
+// The physical form: rho (1 - E_spec(mu_o)) (1 - E_spec_avg) / (eta^2 (1 - rho F_in)).
+fn base_albedo_physical(rho: vec3<f32>, e_spec_o: f32, e_spec_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    let shape = (1.0 - e_spec_o) * (1.0 - e_spec_avg);
+    return rho * shape / max(eta * eta * (vec3<f32>(1.0) - rho * f_in), vec3<f32>(DIV_EPSILON));
+}
+
+// The coating's Fresnel (src/brdf/fresnel.rs f_dielectric): exact (FRESNEL_EXACT) or
+// Schlick's of the same index (FRESNEL_SCHLICK).
+fn f_dielectric(cos_theta: f32, eta: f32, form: u32) -> f32 {
+    if form == FRESNEL_SCHLICK {
+        return f_schlick(vec3<f32>(f0_from_ior(eta)), cos_theta).x;
+    }
+    return fresnel_dielectric(cos_theta, eta);
 }

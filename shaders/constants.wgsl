@@ -17,7 +17,7 @@ const LAMBDA_MAX: f32 = 1e30;
 // ROUGHNESS_MIN is the smallest roughness the model evaluates; GAMES202_EDGE_TINT the
 // GAMES202 homework's edge tint ("copper"); GEOMETRY_* the `geometry` argument of
 // geometry_g and f_micro (in Geometry::ALL order); F_ADD_* the `form` argument of
-// f_add_preset; MU_AXIS_* LutParams.mu_axis; E_AVG_READ_* LutParams.e_avg_read;
+// f_add_preset; FRESNEL_* the `form` argument of f_dielectric; MU_AXIS_* LutParams.mu_axis; E_AVG_READ_* LutParams.e_avg_read;
 // LOSS_AVG_MIN the smallest stored 1 - E_avg the power-law read takes the logarithm of.
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
 const DIV_EPSILON: f32 = 1e-12; // brdf::DIV_EPSILON
@@ -28,6 +28,8 @@ const GEOMETRY_SMITH: u32 = 1u; // gpu::shaders::geometry_id(Geometry::Smith)
 const GEOMETRY_SMITH_CORRELATED: u32 = 2u; // gpu::shaders::geometry_id(Geometry::SmithCorrelated)
 const F_ADD_ACCURATE: u32 = 0u; // gpu::shaders::f_add_form_id(FAvgForm::Accurate)
 const F_ADD_GAMES202: u32 = 1u; // gpu::shaders::f_add_form_id(FAvgForm::Games202)
+const FRESNEL_EXACT: u32 = 0u; // gpu::shaders::fresnel_id(DielectricFresnel::Exact)
+const FRESNEL_SCHLICK: u32 = 1u; // gpu::shaders::fresnel_id(DielectricFresnel::Schlick)
 const MU_AXIS_LINEAR: u32 = 0u; // MuAxis::Linear.id()
 const MU_AXIS_SQRT: u32 = 1u; // MuAxis::Sqrt.id()
 const MU_AXIS_WARPED: u32 = 2u; // MuAxis::Warped.id()

@@ -1,4 +1,5 @@
-// lighting.wgsl: outgoing radiance at a ball's surface point.
+// lighting.wgsl: outgoing radiance at a ball's surface point: the metal's shading here, the
+// dielectric coating's in coating.wgsl, mixed by the ball's metallic.
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
 
 #define_import_path shadeballs::lighting
@@ -9,26 +10,41 @@
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
 #import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::coating::shade_coating
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum}
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
-// buffer: screen.wgsl loop_counts says why).
+// buffer: screen.wgsl loop_counts says why): the metal's and the coating's, each with its
+// own term, mixed by the ball's metallic (an all-metal or all-dielectric ball shades one).
+fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
+    let metallic = b.coating.x;
+    if metallic >= 1.0 {
+        return shade_metal(b, n, v, n_lights);
+    }
+    let coating = shade_coating(b, n, v, n_lights, term_weight(b));
+    if metallic <= 0.0 {
+        return coating;
+    }
+    return metallic * shade_metal(b, n, v, n_lights) + (1.0 - metallic) * coating;
+}
+
+// The metal's part of `shade`.
 //
 // Directional lights: f_r = f_micro (Schlick F with F0 per channel, GGX D, the GEOMETRY G)
-// + the ball's term + diffuse / pi; Lo += f_r L mu_i. The term (ball_term) is Kulla-Conty's
+// + the ball's term; Lo += f_r L mu_i. The term (ball_term) is Kulla-Conty's
 // lobe f_add f_ms, Turquin's f_micro F0 (1 / E(mu_o) - 1), or Fdez-Aguera's FmsEms / pi.
 //
 // Uniform environment L_env: the cosine-weighted hemispherical integral of f_r. The
-// Kulla-Conty lobe integrates exactly to f_add (1 - E(mu_o)) (its construction), the
-// Lambertian base to its albedo, Fdez-Aguera's lobe to FmsEms. The single-scattering part
+// Kulla-Conty lobe integrates exactly to f_add (1 - E(mu_o)) (its construction),
+// Fdez-Aguera's lobe to FmsEms. The single-scattering part
 // with Schlick F, FssEss, has no table of its own without a map: it is approximated by
 // F_avg_schlick(F0) E(mu_o), i.e. F replaced by its cosine-weighted average. That is exact
 // when F is constant (F0 = 1, the furnace, where it gives E(mu_o) and Lo = L_env exactly
 // with the term on) and otherwise an approximation of the split-sum kind; with a map bound
 // FssEss is the split sum's F0 A + B (Karis 2013's second table).
-fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
+fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let ms = term_weight(b);
@@ -49,7 +65,6 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         norm = b.f_add_ms_norm.w;
         f_add = b.f_add_ms_norm.xyz;
     }
-    let kd = b.diffuse * (1.0 - f_avg_ss);
     // The single-scattering albedo: the split sum with a map bound, else F_avg E(mu_o).
     var fss_ess = f_avg_ss * e_o;
     if IBL != 0u {
@@ -70,10 +85,10 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
         } else if term == TERM_FDEZ_AGUERA {
             added = fms_ems;
         }
-        lo = globals.environment.xyz * (single + ms * added + kd);
+        lo = globals.environment.xyz * (single + ms * added);
     }
     if IBL != 0u {
-        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add, kd);
+        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
     }
     if HAS_LIGHTS == 0u {
         return lo;
@@ -100,7 +115,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
                 lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
             }
         }
-        let f_r = spec + lobe + kd / PI;
+        let f_r = spec + lobe;
         lo += f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
@@ -109,8 +124,8 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
 // Radiance leaving ball b at normal n towards v lit by the environment map
 // (docs/design/environment.md, "Shading under a map (image-based lighting)"): the split sum
 // (the prefiltered radiance along the mirror direction bent towards the normal,
-// specular_direction, times F0 A + B), the Lambertian base lit by the irradiance, and the
-// ball's multiple-scattering term, weighted by `ms`. `loss_o` is 1 - E(mu_o) as read from
+// specular_direction, times F0 A + B) and the ball's multiple-scattering term, weighted by
+// `ms`. `loss_o` is 1 - E(mu_o) as read from
 // the E table; `fss_ess` the split sum's F0 A + B; `fms_ems` Fdez-Aguera's energy (zero for
 // the other terms); f_add the ball's (zero with the term compiled out). Mirrored by
 // src/cpu/shade.rs shade_environment_map.
@@ -123,7 +138,6 @@ fn shade_environment_map(
     fms_ems: vec3<f32>,
     ms: f32,
     f_add: vec3<f32>,
-    kd: vec3<f32>,
 ) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
@@ -136,7 +150,7 @@ fn shade_environment_map(
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
     let single = prefiltered * fss_ess;
-    var lo = single + kd * irradiance;
+    var lo = single;
     if ms > 0.0 {
         let term = b.term;
         if term == TERM_TURQUIN {

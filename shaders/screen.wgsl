@@ -126,11 +126,19 @@ struct BallOut {
     @location(5) @interpolate(flat) f_add_ms_norm: vec4<f32>,
     @location(6) @interpolate(flat) lut_row: vec3<f32>,
     @location(8) @interpolate(flat) term: u32,
+    @location(9) @interpolate(flat) coating: vec4<f32>,
+    @location(10) @interpolate(flat) e_spec_avg: f32,
+    @location(11) @interpolate(flat) coating_row: u32,
+    @location(12) @interpolate(flat) layering: u32,
+    @location(13) @interpolate(flat) fresnel: u32,
 }
 
 // The ball a BallOut carries.
 fn ball_of(in: BallOut) -> Ball {
-    return Ball(in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, in.term);
+    return Ball(
+        in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, in.term,
+        in.coating, in.e_spec_avg, in.coating_row, in.layering, in.fresnel,
+    );
 }
 
 // One corner of a ball's quad per vertex (a triangle strip, vertices 0..4): `rect` is its
@@ -147,6 +155,11 @@ fn vs_ball(
     @location(5) f_add_ms_norm: vec4<f32>,
     @location(6) lut_row: vec3<f32>,
     @location(8) term: u32,
+    @location(9) coating: vec4<f32>,
+    @location(10) e_spec_avg: f32,
+    @location(11) coating_row: u32,
+    @location(12) layering: u32,
+    @location(13) fresnel: u32,
 ) -> BallOut {
     // Corners (0,0) (1,0) (0,1) (1,1): the index's bits.
     let cx = f32(index & 1u);
@@ -161,6 +174,11 @@ fn vs_ball(
     out.f_add_ms_norm = f_add_ms_norm;
     out.lut_row = lut_row;
     out.term = term;
+    out.coating = coating;
+    out.e_spec_avg = e_spec_avg;
+    out.coating_row = coating_row;
+    out.layering = layering;
+    out.fresnel = fresnel;
     return out;
 }
 

@@ -8,13 +8,21 @@
 // MAX_BALLS and MAX_LIGHTS: the sizes of the balls storage buffer and the lights uniform
 // array. TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
 // ball's own, so one pipeline draws every model (a branch per ball, coherent over its
-// pixels); 0 without one. TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
+// pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
+// (Ball.layering; src/scene Layering). COATING_ROW_LEN: the values of a coating row
+// (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
 const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS
 const TERM_KULLA_CONTY: u32 = 1u; // gpu::uniforms::TERM_CODES
 const TERM_TURQUIN: u32 = 2u; // gpu::uniforms::TERM_CODES
 const TERM_FDEZ_AGUERA: u32 = 3u; // gpu::uniforms::TERM_CODES
+const LAYERING_CONSTANT: u32 = 0u; // gpu::uniforms::LAYERING_CODES
+const LAYERING_GLTF: u32 = 1u; // gpu::uniforms::LAYERING_CODES
+const LAYERING_VIEW_ONLY: u32 = 2u; // gpu::uniforms::LAYERING_CODES
+const LAYERING_RECIPROCAL: u32 = 3u; // gpu::uniforms::LAYERING_CODES
+const LAYERING_PHYSICAL: u32 = 4u; // gpu::uniforms::LAYERING_CODES
+const COATING_ROW_LEN: u32 = 48u; // lut::COATING_ROW_LEN
 const TONE_MAP_REINHARD: u32 = 0u; // display::ToneMap::code
 const TONE_MAP_ACES: u32 = 1u; // display::ToneMap::code
 const TONE_MAP_AGX: u32 = 2u; // display::ToneMap::code
@@ -77,21 +85,34 @@ struct Globals {
 struct Ball {
     // xyz: centre; w: radius.
     center_radius: vec4<f32>,
-    // xyz: linear F0; w: roughness (raw; the BRDF functions clamp it).
+    // xyz: the metal's linear F0; w: roughness (raw; the BRDF functions clamp it).
     f0_roughness: vec4<f32>,
-    // Linear diffuse albedo (dielectric base; 0 for metals).
+    // The dielectric's linear base colour (0 for a metal): the albedo a viewer sees or
+    // the substrate's, as the layering form reads it.
     diffuse: vec3<f32>,
     // The multiple-scattering term's weight: 1 with it, 0 without.
     ms: f32,
-    // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: f_add of
-    // the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm of 1 - E_avg at
-    // the ball's roughness as read: lut_loss_avg of the 2-D table, or its own row's.
+    // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: the
+    // metal's f_add of the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm
+    // of 1 - E_avg at the ball's roughness as read: lut_loss_avg of the 2-D table, or its
+    // own row's.
     f_add_ms_norm: vec4<f32>,
     // The roughness half of an E read at the ball's roughness (Tables::lut_row;
     // lut_loss_row in lut.wgsl): first row index, weight of the next row, alpha.
     lut_row: vec3<f32>,
     // The ball's term (TERM_*; 0 without one).
     term: u32,
+    // The coating (src/scene CoatingConstants): x: metallic, the metal's share; y: the
+    // coating's index eta; z: its f_add (0 without the term); w: its average Fresnel.
+    coating: vec4<f32>,
+    // The average of the coating's specular albedo with the ball's term, E_spec_avg.
+    e_spec_avg: f32,
+    // The ball's row in coating_rows (0 for an all-metal ball, which reads none).
+    coating_row: u32,
+    // The layering form (LAYERING_*).
+    layering: u32,
+    // The coating's Fresnel (FRESNEL_*; the preset's).
+    fresnel: u32,
 }
 
 // Mirrors src/gpu/environment.rs EnvUniform.

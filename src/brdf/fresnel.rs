@@ -94,3 +94,21 @@ fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
 pub fn f_avg_inside(eta: f64) -> f64 {
     1.0 - (1.0 - f_avg_dielectric(eta)) / (eta * eta).max(super::DIV_EPSILON)
 }
+
+/// Which Fresnel a dielectric coating uses: the preset's choice (`accurate`: the exact
+/// one; `games202`: Schlick's of the same index).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DielectricFresnel {
+    /// [`fresnel_dielectric`].
+    Exact,
+    /// [`f_schlick`] with `F0 = f0_from_ior(eta)`.
+    Schlick,
+}
+
+/// The coating's Fresnel at cosine `cos_theta` for relative index `eta`, in `form`.
+pub fn f_dielectric(cos_theta: f64, eta: f64, form: DielectricFresnel) -> f64 {
+    match form {
+        DielectricFresnel::Exact => fresnel_dielectric(cos_theta, eta),
+        DielectricFresnel::Schlick => f_schlick(f0_from_ior(eta), cos_theta),
+    }
+}

@@ -74,3 +74,28 @@ pub fn substrate_albedo(apparent: f64, e_spec_avg: f64, eta: f64) -> f64 {
     let f_in = coating_inside_reflectance(e_spec_avg, eta);
     apparent / ((1.0 - f_in) + apparent * f_in).max(DIV_EPSILON)
 }
+
+/// The directional albedo of [`f_base_constant`]: `albedo (1 - F_avg)`.
+pub fn base_albedo_constant(albedo: f64, f_avg: f64) -> f64 {
+    albedo * (1.0 - f_avg)
+}
+
+/// The directional albedo glTF's viewers give [`f_base_gltf`] under image-based light, the
+/// Fresnel of the view direction in place of the half vector's: `albedo (1 - F(mu_o))`.
+pub fn base_albedo_gltf(albedo: f64, fresnel_o: f64) -> f64 {
+    albedo * (1.0 - fresnel_o)
+}
+
+/// The directional albedo of [`f_base_view_only`] and of [`f_base_reciprocal`] (its
+/// normalisation makes the integral over `mu_i` one): `albedo (1 - E_spec(mu_o))`.
+pub fn base_albedo_view_only(albedo: f64, e_spec_o: f64) -> f64 {
+    albedo * (1.0 - e_spec_o)
+}
+
+/// The directional albedo of [`f_base_physical`]: `rho (1 - E_spec(mu_o)) (1 -
+/// E_spec_avg) / (eta^2 (1 - rho F_in))`.
+pub fn base_albedo_physical(rho: f64, e_spec_o: f64, e_spec_avg: f64, eta: f64) -> f64 {
+    let f_in = coating_inside_reflectance(e_spec_avg, eta);
+    rho * (1.0 - e_spec_o) * (1.0 - e_spec_avg)
+        / ((eta * eta) * (1.0 - rho * f_in)).max(DIV_EPSILON)
+}

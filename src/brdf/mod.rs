@@ -15,8 +15,8 @@ mod ndf;
 
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
-    f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_schlick,
-    fresnel_dielectric, GAMES202_EDGE_TINT,
+    f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,
+    f_schlick, fresnel_dielectric, DielectricFresnel, GAMES202_EDGE_TINT,
 };
 pub use geometry::{
     g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,
@@ -25,10 +25,11 @@ pub use kulla_conty::{
     f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
 };
 pub use layering::{
+    base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, substrate_albedo,
 };
-pub use ndf::d_ggx;
+pub use ndf::{d_ggx, visible_normal};
 
 /// Smallest roughness the model evaluates. Roughness 0 makes GGX a delta (alpha = 0, a
 /// division by zero at the mirror direction); every layer clamps to this value first, so

@@ -27,3 +27,26 @@ pub fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
     let denom = (c2 * a2 + s2).max(DIV_EPSILON);
     a2 / (PI * denom * denom)
 }
+
+/// A microfacet normal of GGX drawn from the distribution of normals visible from `wi`
+/// (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), at the
+/// point `(p1, p2)` of the unit disk: stretch `wi` to `alpha = 1`, warp the disk onto the
+/// projected visible hemisphere (`p2 -> (1 - s) sqrt(1 - p1^2) + s p2`, `s = (1 + z) / 2`),
+/// lift it and unstretch. The walk draws the disk point at random; the coating's tables
+/// (`lut::coating`) take it from a quadrature rule.
+pub fn visible_normal(alpha: f64, wi: glam::DVec3, p1: f64, p2: f64) -> glam::DVec3 {
+    use glam::DVec3;
+    let vh = DVec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > 0.0 {
+        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+    } else {
+        DVec3::X
+    };
+    let t2 = vh.cross(t1);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
+    let lift = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    let nh = p1 * t1 + p2 * t2 + lift * vh;
+    DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+}

@@ -3,6 +3,7 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
+mod coating;
 pub mod montecarlo;
 mod shade;
 pub mod truth;
@@ -16,7 +17,7 @@ pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
 
-use shade::{shade_with_terms, Forms};
+use shade::{shade_point, Forms};
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;
@@ -51,6 +52,7 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         (environment, CpuEnvironment::new(environment, &tables))
     });
     let ibl = &ibl;
+    let coating = &scene.coating_rows(&mut Default::default());
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
     // What a ray in unit direction d that hits no ball sees (`background_radiance`).
@@ -66,12 +68,9 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
             form,
             geometry,
             split: ibl.as_ref().map(|(_, map)| &map.split),
+            coating,
         };
-        let (lo, terms) = shade_with_terms(scene, b, n, -d, e, &forms);
-        match ibl {
-            Some((_, map)) => lo + shade_environment_map(scene, b, n, -d, &terms, map),
-            None => lo,
-        }
+        shade_point(scene, b, n, -d, e, &forms, ibl.as_ref().map(|(_, map)| map))
     };
     let o = basis.origin;
     let size = (width, height);

@@ -1,5 +1,6 @@
 //! Per-pixel maths of the CPU reference renderer, term for term `shaders/lighting.wgsl`
-//! and `intersect_sphere` of `shaders/screen.wgsl`, in f64.
+//! (the coating's part is `coating.rs`, `shaders/coating.wgsl`'s twin) and
+//! `intersect_sphere` of `shaders/screen.wgsl`, in f64.
 
 use glam::DVec3;
 
@@ -8,7 +9,7 @@ use crate::brdf::{
     term_turquin, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
 use crate::environment::{Environment, IblTerm, MipChain, Prefiltered};
-use crate::lut::{SplitSum, TableSet, Tables};
+use crate::lut::{CoatingRows, SplitSum, TableSet, Tables};
 use crate::scene::{Ball, Scene};
 
 /// `1 - E(mu, roughness)` as the shader reads `e` (f32, [`TableSet::lut_loss`]), in f64.
@@ -62,7 +63,8 @@ pub(crate) fn f_add_rgb(form: FAvgForm, f0: DVec3, e_avg: f64) -> DVec3 {
 
 /// `shade` of `lighting.wgsl` without the environment map's part: radiance leaving ball `b`
 /// at unit normal `n` towards `v` (see the shader for the model and the environment
-/// approximation). [`shade_environment_map`] adds the map's.
+/// approximation), its coating's rows baked for the call. The renderer's shading, with
+/// the map's part, is [`shade_point`].
 pub fn shade(
     scene: &Scene,
     b: &Ball,
@@ -72,20 +74,55 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
+    let coating = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
     let forms = Forms {
         form,
         geometry,
         split: None,
+        coating: &coating,
     };
-    shade_with_terms(scene, b, n, v, e, &forms).0
+    shade_point(scene, b, n, v, e, &forms, None)
 }
 
-/// The scene-wide choices a point's shading takes: the preset's forms, G, and the split
-/// sum's table where the scene has a map (it gives `FssEss`).
+/// The scene-wide choices a point's shading takes: the preset's forms, G, the split
+/// sum's table where the scene has a map (it gives `FssEss`), and the scene's coating rows.
 pub(super) struct Forms<'a> {
     pub form: FAvgForm,
     pub geometry: Geometry,
     pub split: Option<&'a SplitSum>,
+    pub coating: &'a CoatingRows,
+}
+
+/// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
+/// lit by the scene's lights, its uniform environment and, with `map`, its map: the
+/// metal's and the coating's parts, each with its own term, mixed by `metallic` (an
+/// all-metal or all-dielectric ball shades one).
+pub(super) fn shade_point(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableSet,
+    forms: &Forms<'_>,
+    map: Option<&CpuEnvironment>,
+) -> DVec3 {
+    let metallic = b.material.metallic as f32 as f64;
+    let metal = || {
+        let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
+        match map {
+            Some(map) => lo + shade_environment_map(scene, b, n, v, &terms, map),
+            None => lo,
+        }
+    };
+    if metallic >= 1.0 {
+        return metal();
+    }
+    let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+    let coating = super::coating::shade_coating(scene, b, n, v, e, forms, ms, map);
+    if metallic <= 0.0 {
+        return coating;
+    }
+    metallic * metal() + (1.0 - metallic) * coating
 }
 
 /// What `shade` forms once per pixel and the environment map's part takes from it, as
@@ -107,11 +144,10 @@ pub struct PointTerms {
     pub fms_ems: DVec3,
     /// `f_add` of the preset per channel.
     pub f_add: DVec3,
-    /// The Lambertian base's weight, `diffuse (1 - F_avg)`.
-    pub kd: DVec3,
 }
 
-/// [`shade`], and the terms it formed.
+/// The metal's part of [`shade_point`] without the map's (`shade_metal` of
+/// `lighting.wgsl`), and the terms it formed.
 pub(super) fn shade_with_terms(
     scene: &Scene,
     b: &Ball,
@@ -124,6 +160,7 @@ pub(super) fn shade_with_terms(
         form,
         geometry,
         split,
+        ..
     } = *forms;
     let roughness = b.roughness;
     let f0 = b.material.f0;
@@ -137,7 +174,6 @@ pub(super) fn shade_with_terms(
     let norm = f_ms_norm(loss_avg);
     let f_avg_ss = per_channel(f0, f_avg_schlick);
     let f_add = f_add_rgb(form, f0, e_avg);
-    let kd = b.material.diffuse * (DVec3::ONE - f_avg_ss);
     let fss_ess = match split {
         Some(split) => {
             let bias = split.bias_at(mu_o as f32, roughness as f32) as f64;
@@ -162,7 +198,7 @@ pub(super) fn shade_with_terms(
         IblTerm::Turquin => turquin_rgb(single, f0, e_o),
         IblTerm::FdezAguera => fms_ems,
     };
-    let mut lo = scene.environment * (single + ms * added + kd);
+    let mut lo = scene.environment * (single + ms * added);
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -187,7 +223,7 @@ pub(super) fn shade_with_terms(
             IblTerm::Turquin => turquin_rgb(spec, f0, e_o),
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
-        let f_r = spec + ms * lobe + kd / std::f64::consts::PI;
+        let f_r = spec + ms * lobe;
         lo += f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {
@@ -198,7 +234,6 @@ pub(super) fn shade_with_terms(
         fss_ess,
         fms_ems,
         f_add,
-        kd,
     };
     (lo, terms)
 }
@@ -241,8 +276,8 @@ impl CpuEnvironment {
     }
 }
 
-/// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b` at normal `n`
-/// towards `v` lit by the scene's environment map (zero without one), from the terms
+/// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b`'s metal at normal
+/// `n` towards `v` lit by the scene's environment map (zero without one), from the terms
 /// [`shade`] formed at the point.
 pub fn shade_environment_map(
     scene: &Scene,
@@ -264,7 +299,6 @@ pub fn shade_environment_map(
         fss_ess,
         fms_ems,
         f_add,
-        kd,
         ..
     } = *terms;
     let e_o = 1.0 - loss_o;
@@ -278,7 +312,7 @@ pub fn shade_environment_map(
             .specular(environment.to_map(dominant), roughness);
     let irradiance = intensity * ibl.prefiltered.irradiance(n_map);
     let single = prefiltered * fss_ess;
-    let mut lo = single + kd * irradiance;
+    let mut lo = single;
     if ms > 0.0 {
         lo += ms
             * match term {

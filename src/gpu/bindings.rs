@@ -6,6 +6,7 @@ use std::mem::size_of;
 
 use super::uniforms::{Globals, GpuBall, GpuLight};
 use super::upload::GpuTables;
+use crate::lut::COATING_ROW_LEN;
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 
 /// Buffers and the layout of group 0; the bind group follows the tables. Cloning shares
@@ -19,6 +20,8 @@ pub struct Bindings {
     pub lights: wgpu::Buffer,
     /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
     pub instances: wgpu::Buffer,
+    /// The scene's coating rows (storage, a row for each of up to [`MAX_BALLS`] balls).
+    pub coating_rows: wgpu::Buffer,
 }
 
 /// One ball's quad (`vs_ball` in `screen.wgsl`): its bounds in NDC and the ball's members,
@@ -45,7 +48,12 @@ impl BallInstance {
             7 => Float32,
             5 => Float32x4,
             6 => Float32x3,
-            8 => Uint32
+            8 => Uint32,
+            9 => Float32x4,
+            10 => Float32,
+            11 => Uint32,
+            12 => Uint32,
+            13 => Uint32
         ],
     };
 }
@@ -67,8 +75,8 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// The balls' storage buffer, read by the full-screen path's fragments (`fs_main`; the
-/// probe's compute stage shares the layout).
+/// A read-only storage buffer: the balls, read by the full-screen path's fragments
+/// (`fs_main`; the probe's compute stage shares the layout), and the coating rows.
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -105,6 +113,7 @@ impl Bindings {
                 uniform_entry(2),
                 GpuTables::layout_entry(3, TABLE_STAGES),
                 GpuTables::layout_entry(4, TABLE_STAGES),
+                storage_entry(5),
             ],
         });
         Bindings {
@@ -121,6 +130,12 @@ impl Bindings {
                 label: Some("ball quads"),
                 size: (size_of::<BallInstance>() * MAX_BALLS) as u64,
                 usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            coating_rows: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("coating rows"),
+                size: (size_of::<f32>() * COATING_ROW_LEN * MAX_BALLS) as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
         }
@@ -151,6 +166,10 @@ impl Bindings {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::TextureView(&tables.e_avg),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: self.coating_rows.as_entire_binding(),
                 },
             ],
         })

@@ -5,8 +5,9 @@
 //! [`Renderer::render`] with its surface view; a host program hands its own device
 //! ([`Renderer::from_device`]).
 
+use std::collections::HashMap;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
@@ -22,7 +23,7 @@ use super::truth::{self as truth_pass, Draw, TruthPass, SUM_FORMAT};
 use super::uniforms::{self, GpuBall};
 use crate::brdf::Geometry;
 use crate::error::{Error, Result};
-use crate::lut::{BakeConfig, RowSet, TableSet, Tables};
+use crate::lut::{BakeConfig, CoatingKey, CoatingRows, RowSet, TableSet, Tables, COATING_ROW_LEN};
 use crate::scene::Scene;
 
 /// Where to draw: a view of a texture of `format`; the image is `width x height` pixels at
@@ -69,6 +70,9 @@ pub struct Renderer {
     environment: PrefilteredMaps,
     /// The truth balls' accumulation (`walk.wgsl`, `truth.rs`).
     truth: TruthPass,
+    /// Every coating row baked so far, by key (`lut::coating`), and the latest scene's.
+    coating_cache: HashMap<CoatingKey, [f32; COATING_ROW_LEN]>,
+    coating: CoatingRows,
 }
 
 impl Renderer {
@@ -90,6 +94,8 @@ impl Renderer {
             bake_config: BakeConfig::default(),
             plan: None,
             depth: DepthTarget::default(),
+            coating_cache: HashMap::new(),
+            coating: CoatingRows::default(),
             environment,
             truth,
         }
@@ -171,7 +177,13 @@ impl Renderer {
             .plan
             .as_ref()
             .is_none_or(|p| p.tables != plan.tables || p.bake != plan.bake);
-        let baked = self.tables.ensure(&plan.tables);
+        let mut baked = self.tables.ensure(&plan.tables);
+        // The coating rows the scene's dielectrics read, baked where not yet cached.
+        let (rows_before, start) = (self.coating_cache.len(), Instant::now());
+        self.coating = scene.coating_rows(&mut self.coating_cache);
+        if self.coating_cache.len() > rows_before {
+            baked += start.elapsed();
+        }
         // A change of plan that bakes nothing reports zero.
         if changed || !baked.is_zero() {
             self.last_bake = Some(baked);
@@ -433,7 +445,9 @@ impl Renderer {
         let queue = &self.gpu.queue;
         let globals = uniforms::globals(scene, &tables, w, h);
         queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
-        let balls = uniforms::balls(scene, &tables);
+        let balls = uniforms::balls(scene, &tables, &self.coating);
+        let rows = self.coating.flat();
+        queue.write_buffer(&self.bindings.coating_rows, 0, bytemuck::cast_slice(&rows));
         // Only the full-screen path reads the balls buffer; the quads carry their ball.
         if !plan.per_ball && !balls.is_empty() {
             queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));

@@ -122,6 +122,14 @@ pub fn f_add_form_id(form: FAvgForm) -> u32 {
     }
 }
 
+/// The `form` argument of the WGSL `f_dielectric` (`FRESNEL_*` in `constants.wgsl`).
+pub fn fresnel_id(form: crate::brdf::DielectricFresnel) -> u32 {
+    match form {
+        crate::brdf::DielectricFresnel::Exact => 0,
+        crate::brdf::DielectricFresnel::Schlick => 1,
+    }
+}
+
 /// Pipeline-time constants for every override the modules declare without a default;
 /// `mu_axis` is that of the tables the pipeline reads (`MU_AXIS`, [`MuAxis::id`]).
 pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'static str, f64); 3] {

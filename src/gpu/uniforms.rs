@@ -7,8 +7,8 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
 use crate::environment::IblTerm;
-use crate::lut::{LutParams, TableSet};
-use crate::scene::{Model, Scene, MAX_BALLS, MAX_LIGHTS};
+use crate::lut::{CoatingRows, LutParams, TableSet};
+use crate::scene::{CoatingConstants, Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
 #[repr(C)]
@@ -39,9 +39,9 @@ pub struct Globals {
 pub struct GpuBall {
     /// xyz: centre; w: radius.
     pub center_radius: [f32; 4],
-    /// xyz: linear F0; w: roughness (raw; the shader clamps it).
+    /// xyz: the metal's linear F0; w: roughness (raw; the shader clamps it).
     pub f0_roughness: [f32; 4],
-    /// Linear diffuse albedo (0 for a metal).
+    /// The dielectric's linear base colour (0 for a metal).
     pub diffuse: [f32; 3],
     /// The multiple-scattering term's weight: 1 with it, 0 without.
     pub ms: f32,
@@ -52,6 +52,17 @@ pub struct GpuBall {
     pub lut_row: [f32; 3],
     /// The ball's term ([`term_code`]: `TERM_*` of `types.wgsl`; 0 without one).
     pub term: u32,
+    /// x: metallic; y: the coating's index; z: its `f_add` (0 without the term); w: its
+    /// average Fresnel ([`CoatingConstants`]).
+    pub coating: [f32; 4],
+    /// The coating's `E_spec_avg` ([`CoatingConstants::e_spec_avg`]).
+    pub e_spec_avg: f32,
+    /// The ball's row of the coating rows (0 for an all-metal ball).
+    pub coating_row: u32,
+    /// The layering form ([`LAYERING_CODES`]).
+    pub layering: u32,
+    /// The coating's Fresnel (`FRESNEL_*`, [`crate::gpu::shaders::fresnel_id`]).
+    pub fresnel: u32,
 }
 
 /// One light of the lights uniform array: `Light` of `types.wgsl` ([`lights`]).
@@ -98,18 +109,18 @@ pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Glo
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
 /// on lavapipe (docs/benchmarks.md, "Measured results").
-pub fn balls(scene: &Scene, tables: &TableSet) -> Vec<GpuBall> {
+pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
     scene
         .balls
         .iter()
         .take(MAX_BALLS)
         .map(|b| {
+            let loss_avg = tables.lut_loss_avg(b.roughness as f32);
+            let e_avg = 1.0 - loss_avg as f64;
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
             let f_add_ms_norm = if b.model.has_term() {
-                let loss_avg = tables.lut_loss_avg(b.roughness as f32);
-                let e_avg = 1.0 - loss_avg as f64;
                 let f0 = b.material.f0.to_array();
                 let f_add =
                     |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
@@ -118,17 +129,57 @@ pub fn balls(scene: &Scene, tables: &TableSet) -> Vec<GpuBall> {
             } else {
                 [0.0; 4]
             };
+            let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+            let (coating_constants, coating_row) = match scene.coating_key(b) {
+                Some(key) => {
+                    let row = coating.row(&key).expect("every coating's row is baked");
+                    let term = (ms, b.model.term().unwrap_or(IblTerm::KullaConty));
+                    let loss = |mu: f64| f64::from(tables.lut_loss(mu as f32, b.roughness as f32));
+                    let c =
+                        CoatingConstants::new(b.material.ior, row, scene.preset, term, e_avg, loss);
+                    (c, coating.index_of(&key) as u32)
+                }
+                None => (CoatingConstants::default(), 0),
+            };
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
                 diffuse: b.material.diffuse.as_vec3().to_array(),
-                ms: if b.model.has_term() { 1.0 } else { 0.0 },
+                ms: ms as f32,
                 f_add_ms_norm,
                 lut_row: tables.lut_row(b.roughness as f32),
                 term: term_code(b.model),
+                coating: [
+                    b.material.metallic as f32,
+                    coating_constants.eta as f32,
+                    coating_constants.f_add as f32,
+                    coating_constants.f_avg as f32,
+                ],
+                e_spec_avg: coating_constants.e_spec_avg as f32,
+                coating_row,
+                layering: layering_code(scene.layering),
+                fresnel: crate::gpu::shaders::fresnel_id(scene.preset.dielectric_fresnel()),
             }
         })
         .collect()
+}
+
+/// The code of each layering form in `Ball.layering`, and the WGSL constant `LAYERING_*`
+/// of `types.wgsl` generated from it (tests/suite/boundary.rs).
+pub const LAYERING_CODES: [(u32, Layering); 5] = [
+    (0, Layering::Constant),
+    (1, Layering::Gltf),
+    (2, Layering::ViewOnly),
+    (3, Layering::Reciprocal),
+    (4, Layering::Physical),
+];
+
+/// A layering form as `coating.wgsl` reads it from `Ball.layering`.
+pub fn layering_code(form: Layering) -> u32 {
+    LAYERING_CODES
+        .iter()
+        .find(|(_, f)| *f == form)
+        .map_or(0, |(code, _)| *code)
 }
 
 /// A ball's term as `lighting.wgsl` reads it from `Ball.term` (`TERM_*` in `types.wgsl`,

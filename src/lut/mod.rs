@@ -5,6 +5,7 @@
 
 pub mod accuracy;
 mod chebyshev;
+pub mod coating;
 mod estimators;
 mod integrand;
 pub mod io;
@@ -20,6 +21,10 @@ mod table_set;
 use rayon::prelude::*;
 
 pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
+pub use coating::{
+    coating_albedo, coating_albedo_avg, coating_albedo_quadrature, coating_row, CoatingKey,
+    CoatingRows, CoatingRule, COATING_ROW_LEN,
+};
 pub use estimators::{Estimator, Method, PointSet};
 pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
 pub use layout::{

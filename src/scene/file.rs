@@ -3,6 +3,8 @@
 //! ```toml
 //! preset = "accurate"          # optional: accurate | games202
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
+//! layering = "physical"        # optional: how a dielectric's base sits under its coating:
+//!                              #   constant | gltf | view-only | reciprocal | physical (default)
 //! exposure = 1.0               # optional, > 0
 //! background = "environment"   # optional: environment (default) | black | [r, g, b]
 //! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
@@ -36,6 +38,10 @@
 //!                              # (default: the scene's ibl_term, kulla-conty unless set);
 //! # multiple_scattering = true #   shorthand: true = that default, false = "none"
 //! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
+//! # material = { base_color = [0.8, 0.3, 0.1], metallic = 0.5, ior = 1.5 }
+//! #   the engines' material: base_color sRGB (the sRGB curve), metallic in [0, 1]
+//! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
+//! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (or a grey f0 for the ior)
 //! ```
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
@@ -51,11 +57,11 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{
-    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, Named, NonNegative, Positive,
-    Radiance, Roughness,
+    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, Ior, Metallic, Named,
+    NonNegative, Positive, Radiance, Roughness,
 };
 use super::{
-    grid_position, Ball, Camera, Light, Material, MaterialKind, Model, Scene, DIELECTRIC_F0,
+    grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
     MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
@@ -68,6 +74,7 @@ use crate::error::{Error, Result};
 struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
+    layering: Option<Named<Layering>>,
     exposure: Option<Positive>,
     antialias: Option<bool>,
     background: Option<BackgroundValue>,
@@ -131,11 +138,21 @@ enum KindFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MaterialFile {
-    kind: KindFile,
-    /// sRGB colour: a metal's F0 (decoded with pow 2.2) or a dielectric's diffuse base.
+    /// The shorthands: a metal (`albedo` or `f0`) or a dielectric (`albedo`, `ior` or a
+    /// grey `f0`).
+    kind: Option<KindFile>,
+    /// sRGB colour (decoded with pow 2.2, the homework's): a metal's F0 or a dielectric's
+    /// base.
     albedo: Option<Colour>,
-    /// Linear F0 (a metal: instead of albedo; a dielectric: default 0.04).
+    /// Linear F0: a metal's (instead of albedo), or a dielectric's (grey: it gives the IOR).
     f0: Option<Colour>,
+    /// The engines' metallic-roughness material: sRGB colour (the sRGB curve), the metal's
+    /// F0 and the dielectric's base.
+    base_color: Option<Colour>,
+    /// With `base_color`: in [0, 1], default 0.
+    metallic: Option<Metallic>,
+    /// The dielectric's index of refraction (default 1.5).
+    ior: Option<Ior>,
 }
 
 /// Reads and parses the scene file at `path`.
@@ -332,6 +349,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         exposure: file.exposure.map_or(1.0, |e| e.0),
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
+        layering: file.layering.map_or(reference.layering, |l| l.0),
         labels: file.labels,
         antialias: file.antialias.unwrap_or(reference.antialias),
         tone_map,
@@ -432,21 +450,64 @@ fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
 fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let span = m.span();
     let m = m.into_inner();
-    match (m.kind, m.albedo, m.f0) {
-        (KindFile::Metal, Some(a), None) => Ok(Material::metal_srgb(a.0.to_array())),
-        (KindFile::Metal, None, Some(f0)) => Ok(Material {
-            kind: MaterialKind::Metal,
-            f0: f0.0,
-            diffuse: DVec3::ZERO,
-        }),
-        (KindFile::Metal, _, _) => Err((
-            span,
-            "a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)".into(),
-        )),
-        (KindFile::Dielectric, albedo, f0) => Ok(Material {
-            kind: MaterialKind::Dielectric,
-            f0: f0.map_or(DVec3::splat(DIELECTRIC_F0), |f| f.0),
-            diffuse: albedo.map_or(DVec3::ZERO, |a| super::srgb_to_linear(a.0.to_array())),
-        }),
+    let fail = |message: &str| Err((span.clone(), message.to_string()));
+    let ior = m.ior.map(|i| i.0);
+    match (m.kind, m.base_color) {
+        (Some(_), Some(_)) => fail("a material takes `kind` or `base_color`, not both"),
+        (None, None) => fail(
+            "a material needs `base_color` (with `metallic` and `ior`) or a `kind` \
+             (metal or dielectric)",
+        ),
+        (None, Some(base)) => {
+            if m.albedo.is_some() || m.f0.is_some() {
+                return fail("`base_color` takes no `albedo` or `f0`");
+            }
+            Ok(Material::metallic_roughness(
+                srgb_decode(base.0.to_array()),
+                m.metallic.map_or(0.0, |x| x.0),
+                ior.unwrap_or(DEFAULT_IOR),
+            ))
+        }
+        (Some(_), None) if m.metallic.is_some() => {
+            fail("`metallic` goes with `base_color`: a `kind` is all metal or all dielectric")
+        }
+        (Some(KindFile::Metal), None) => match (m.albedo, m.f0, ior) {
+            (_, _, Some(_)) => fail("a metal takes no `ior` (its F0 is `albedo` or `f0`)"),
+            (Some(a), None, None) => Ok(Material::metal_srgb(a.0.to_array())),
+            (None, Some(f0), None) => Ok(Material::metal(f0.0)),
+            _ => fail("a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)"),
+        },
+        (Some(KindFile::Dielectric), None) => {
+            let diffuse = m
+                .albedo
+                .map_or(DVec3::ZERO, |a| super::srgb_to_linear(a.0.to_array()));
+            let ior = match (m.f0, ior) {
+                (Some(_), Some(_)) => return fail("a dielectric takes `ior` or `f0`, not both"),
+                (Some(f0), None) => ior_from_f0(f0.0).map_err(|e| (span.clone(), e))?,
+                (None, ior) => ior.unwrap_or(DEFAULT_IOR),
+            };
+            Ok(Material::dielectric(diffuse, ior))
+        }
     }
+}
+
+/// The IOR of a dielectric's grey `f0`: `(1 + sqrt F0) / (1 - sqrt F0)`, the inverse of
+/// `brdf::f0_from_ior`.
+fn ior_from_f0(f0: DVec3) -> std::result::Result<f64, String> {
+    if f0.max_element() - f0.min_element() > 1e-9 {
+        return Err(format!(
+            "a dielectric's f0 must be grey (one index of refraction), not {:?}; give `ior`",
+            f0.to_array()
+        ));
+    }
+    let r = f0.x.sqrt();
+    let (lo, hi) = super::IOR_RANGE;
+    let ior = (1.0 + r) / (1.0 - r).max(crate::brdf::DIV_EPSILON);
+    if !(lo..=hi).contains(&ior) {
+        return Err(format!(
+            "a dielectric's f0 {} gives ior {ior:.3}, outside [{lo}, {hi}]",
+            f0.x
+        ));
+    }
+    Ok(ior)
 }

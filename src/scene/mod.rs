@@ -9,6 +9,7 @@
 mod camera;
 #[cfg(feature = "scene-files")]
 mod file;
+mod material;
 mod model;
 mod preset;
 mod showcase;
@@ -20,6 +21,10 @@ use glam::DVec3;
 pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
+pub use material::{
+    coating_spec_albedo, srgb_decode, srgb_to_linear, CoatingConstants, Layering, Material,
+    DEFAULT_IOR, IOR_RANGE,
+};
 pub use model::Model;
 pub use preset::Preset;
 pub use showcase::{
@@ -36,9 +41,6 @@ use crate::environment::{Background, Environment, IblTerm};
 /// cost follows the pixels the balls cover, not their number (docs/reliability.md,
 /// "Limits").
 pub const MAX_BALLS: usize = 4096;
-/// The F0 a dielectric gets when the scene file gives none (common glass and plastics,
-/// ~1.5 IOR).
-pub const DIELECTRIC_F0: f64 = 0.04;
 
 /// Most directional lights a scene may hold.
 pub const MAX_LIGHTS: usize = 16;
@@ -56,45 +58,6 @@ pub const MAX_MAGNITUDE: f64 = 1e12;
 /// 180, each column 80 to the left; row 0 at y = +60, each row 120 lower; z = 0.
 pub fn grid_position(row: u32, col: u32) -> DVec3 {
     DVec3::new(180.0 - 80.0 * col as f64, 60.0 - 120.0 * row as f64, 0.0)
-}
-
-/// What a ball is made of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MaterialKind {
-    /// Specular only, `F0` coloured.
-    Metal,
-    /// Specular with a (usually grey) `F0` over a Lambertian base of colour `albedo`,
-    /// weighted by `1 - F_avg` (the energy the specular layer does not reflect on average).
-    Dielectric,
-}
-
-/// A ball's material, resolved to linear values.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Metal or dielectric.
-    pub kind: MaterialKind,
-    /// Linear reflectance at normal incidence, per channel.
-    pub f0: DVec3,
-    /// Linear diffuse albedo of a dielectric's base; zero for a metal.
-    pub diffuse: DVec3,
-}
-
-impl Material {
-    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2`
-    /// (docs/design/reference-scene.md, "The balls, the light and the camera": the
-    /// homework's decoding).
-    pub fn metal_srgb(albedo: [f64; 3]) -> Self {
-        Material {
-            kind: MaterialKind::Metal,
-            f0: srgb_to_linear(albedo),
-            diffuse: DVec3::ZERO,
-        }
-    }
-}
-
-/// `pow(c, 2.2)` per channel: the homework's sRGB decoding.
-pub fn srgb_to_linear(c: [f64; 3]) -> DVec3 {
-    DVec3::from_array(c).powf(2.2)
 }
 
 /// One exact sphere.
@@ -146,6 +109,8 @@ pub struct Scene {
     /// The G the `accurate` preset uses (`games202` always uses schlick); default
     /// height-correlated Smith.
     pub geometry: Geometry,
+    /// How every dielectric's base is weighted under its coating.
+    pub layering: Layering,
     /// Whether the chart's labels (roughness under each column, the row's model, a
     /// caption) are drawn into PNG pictures and the viewer (`crate::labels`); the
     /// renderers themselves never draw them. On in the built-in scenes, off by default in
@@ -192,6 +157,7 @@ impl Scene {
             preset: Preset::Accurate,
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
+            layering: Layering::default(),
             labels: true,
             antialias: true,
             // The homework's display: Reinhard and gamma 1/2.2, whichever the preset.
@@ -204,11 +170,7 @@ impl Scene {
     /// balls with `F0 = 1`, no lights, a uniform white environment. With the term on, the
     /// balls vanish into the background.
     pub fn furnace() -> Self {
-        let white = Material {
-            kind: MaterialKind::Metal,
-            f0: DVec3::ONE,
-            diffuse: DVec3::ZERO,
-        };
+        let white = Material::metal(DVec3::ONE);
         Scene {
             balls: two_rows(white),
             lights: Vec::new(),
@@ -257,6 +219,36 @@ impl Scene {
             .iter()
             .find_map(|b| b.model.term())
             .unwrap_or(IblTerm::KullaConty)
+    }
+
+    /// The key of ball `b`'s coating row (`lut::coating`); `None` for an all-metal ball.
+    pub fn coating_key(&self, b: &Ball) -> Option<crate::lut::CoatingKey> {
+        b.material.has_dielectric().then(|| {
+            crate::lut::CoatingKey::new(
+                b.roughness,
+                b.material.ior,
+                self.preset.dielectric_fresnel(),
+                self.effective_geometry(),
+            )
+        })
+    }
+
+    /// The coating rows of every ball with a dielectric part, baked (or taken from
+    /// `cache`).
+    pub fn coating_rows(
+        &self,
+        cache: &mut std::collections::HashMap<
+            crate::lut::CoatingKey,
+            [f32; crate::lut::COATING_ROW_LEN],
+        >,
+    ) -> crate::lut::CoatingRows {
+        crate::lut::CoatingRows::bake(
+            self.balls
+                .iter()
+                .take(MAX_BALLS)
+                .filter_map(|b| self.coating_key(b)),
+            cache,
+        )
     }
 
     /// Whether any ball is the random-walk truth.

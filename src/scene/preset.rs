@@ -1,7 +1,7 @@
 //! Presets: which Fresnel average and which `f_add` form the multiple-scattering term uses
 //! (docs/design/model.md, "Presets").
 
-use crate::brdf::{FAvgForm, Geometry};
+use crate::brdf::{DielectricFresnel, FAvgForm, Geometry};
 use crate::display::{ToneMap, Transfer};
 
 /// A named choice of `F_avg`, `f_add` and (for `games202`) G.
@@ -34,6 +34,15 @@ impl Preset {
         match self {
             Preset::Accurate => FAvgForm::Accurate,
             Preset::Games202 => FAvgForm::Games202,
+        }
+    }
+
+    /// The Fresnel of a dielectric coating: the exact one (`accurate`) or Schlick's of the
+    /// same index (`games202`).
+    pub fn dielectric_fresnel(self) -> DielectricFresnel {
+        match self {
+            Preset::Accurate => DielectricFresnel::Exact,
+            Preset::Games202 => DielectricFresnel::Schlick,
         }
     }
 

@@ -142,6 +142,39 @@ impl TryFrom<f64> for Roughness {
     }
 }
 
+/// A metallic weight in `[0, 1]`.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Metallic(pub f64);
+
+impl TryFrom<f64> for Metallic {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(Metallic(v))
+        } else {
+            Err(format!("metallic {v:?} is outside [0, 1]"))
+        }
+    }
+}
+
+/// An index of refraction in [`super::IOR_RANGE`].
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Ior(pub f64);
+
+impl TryFrom<f64> for Ior {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        let (lo, hi) = super::IOR_RANGE;
+        if (lo..=hi).contains(&v) {
+            Ok(Ior(v))
+        } else {
+            Err(format!("ior {v:?} is outside [{lo}, {hi}]"))
+        }
+    }
+}
+
 /// A vertical field of view in degrees, in `(0, 180)`.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]

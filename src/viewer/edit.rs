@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::environment::{Background, Builtin, EnvMap, Environment, Source};
 
-use crate::scene::{grid_position, Ball, Light, Material, MaterialKind, Model, Scene};
+use crate::scene::{grid_position, Ball, Light, Material, Model, Scene};
 use crate::scene::{REFERENCE_ALBEDO_SRGB, REFERENCE_RADIUS};
 
 /// Most balls per row the panel offers (two rows stay within [`crate::scene::MAX_BALLS`]).
@@ -63,11 +63,8 @@ impl MaterialChoice {
 
     /// The metal this choice names; `None` for [`MaterialChoice::AsScene`].
     pub fn material(self) -> Option<Material> {
-        let metal = |f0: [f64; 3]| Material {
-            kind: MaterialKind::Metal,
-            f0: DVec3::from_array(f0).clamp(DVec3::ZERO, DVec3::ONE),
-            diffuse: DVec3::ZERO,
-        };
+        let metal =
+            |f0: [f64; 3]| Material::metal(DVec3::from_array(f0).clamp(DVec3::ZERO, DVec3::ONE));
         match self {
             MaterialChoice::AsScene => None,
             MaterialChoice::Copper => Some(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),

@@ -98,30 +98,10 @@ impl Microsurface {
     /// hemisphere (`s = (1 + z) / 2`), lift it and unstretch. Valid for `wi` on either side
     /// of the horizon (the visible region is then the disk minus a half ellipse).
     pub fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
-        let a = self.alpha;
-        let vh = DVec3::new(a * wi.x, a * wi.y, wi.z).normalize();
-        let lensq = vh.x * vh.x + vh.y * vh.y;
-        let t1 = if lensq > 0.0 {
-            DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
-        } else {
-            DVec3::X
-        };
-        let t2 = vh.cross(t1);
-        let (p1, p2) = disk_to_visible(u1, u2, vh.z);
-        let lift = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-        let nh = p1 * t1 + p2 * t2 + lift * vh;
-        DVec3::new(a * nh.x, a * nh.y, nh.z.max(0.0)).normalize()
+        let r = u1.sqrt();
+        let (s, c) = (std::f64::consts::TAU * u2).sin_cos();
+        crate::brdf::visible_normal(self.alpha, wi, r * c, r * s)
     }
-}
-
-/// A uniform point on the unit disk (`r = sqrt(u1)`, `phi = 2 pi u2`) warped onto the
-/// projected visible hemisphere of a direction with stretched cosine `z` (Heitz 2018): `p2 -> (1 - s) sqrt(1 - p1^2) + s p2`, `s = (1 + z) / 2`.
-pub fn disk_to_visible(u1: f64, u2: f64, z: f64) -> (f64, f64) {
-    let r = u1.sqrt();
-    let phi = std::f64::consts::TAU * u2;
-    let (p1, p2) = (r * phi.cos(), r * phi.sin());
-    let s = 0.5 * (1.0 + z);
-    (p1, (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2)
 }
 
 /// Mirror reflection of the ray direction `dir` about the microfacet normal `m`.

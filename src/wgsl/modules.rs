@@ -17,16 +17,17 @@ macro_rules! module {
 
 /// Every module, by import path. The library (no bindings, no override constants):
 /// `constants`, `brdf`, `lut`, `environment`. The renderer's: `types` (override constants,
-/// the boundary structs), `bindings` (groups 0 and 1), `lighting`, `screen` (the vertex
+/// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
 /// `walk` (the truth), `probe`, `prefilter`.
-pub const MODULES: [Module; 12] = [
+pub const MODULES: [Module; 13] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
     module!("environment"),
     module!("types"),
     module!("bindings"),
+    module!("coating"),
     module!("lighting"),
     module!("screen"),
     module!("balls"),

@@ -6,12 +6,12 @@
 //! member.
 use std::collections::BTreeMap;
 
-use shadeballs::brdf::{self, FAvgForm, Geometry};
+use shadeballs::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
 use shadeballs::display::{self, ToneMap, Transfer};
 use shadeballs::environment::prefilter;
 use shadeballs::gpu::boundary::{StructLayout, STRUCTS};
 use shadeballs::gpu::shaders;
-use shadeballs::gpu::uniforms::TERM_CODES;
+use shadeballs::gpu::uniforms::{LAYERING_CODES, TERM_CODES};
 use shadeballs::lut::{self, EAvgRead, MuAxis};
 use shadeballs::wgsl::PROGRAMS;
 
@@ -81,6 +81,17 @@ fn library_constants() -> Vec<Constant> {
             from,
         ));
     }
+    for (name, form) in [
+        ("EXACT", DielectricFresnel::Exact),
+        ("SCHLICK", DielectricFresnel::Schlick),
+    ] {
+        let from = format!("gpu::shaders::fresnel_id(DielectricFresnel::{form:?})");
+        c.push(uint(
+            format!("FRESNEL_{name}"),
+            shaders::fresnel_id(form) as u64,
+            from,
+        ));
+    }
     for a in MuAxis::ALL {
         let from = format!("MuAxis::{a:?}.id()");
         c.push(uint(
@@ -119,6 +130,19 @@ fn renderer_constants() -> Vec<Constant> {
         let name = format!("TERM_{}", upper(term.name()));
         c.push(uint(name, code as u64, "gpu::uniforms::TERM_CODES".into()));
     }
+    for (code, form) in LAYERING_CODES {
+        let name = format!("LAYERING_{}", upper(form.name()));
+        c.push(uint(
+            name,
+            code as u64,
+            "gpu::uniforms::LAYERING_CODES".into(),
+        ));
+    }
+    c.push(uint(
+        "COATING_ROW_LEN".into(),
+        lut::COATING_ROW_LEN as u64,
+        "lut::COATING_ROW_LEN".into(),
+    ));
     for t in ToneMap::ALL {
         let name = format!("TONE_MAP_{}", upper(t.name()));
         c.push(uint(name, t.code() as u64, "display::ToneMap::code".into()));

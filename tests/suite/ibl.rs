@@ -104,7 +104,7 @@ use shadeballs::cpu;
 use shadeballs::environment::prefilter::{MipChain, Prefiltered};
 use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::TableSet;
-use shadeballs::scene::{Material, MaterialKind, Model, Scene};
+use shadeballs::scene::{Material, Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
 use crate::render::both;
@@ -190,11 +190,7 @@ fn gpu_matches_its_cpu_twin_under_maps() {
     let (w, h) = (640, 360);
     let mut balls = Scene::reference().balls;
     for b in balls.iter_mut().skip(5) {
-        b.material = Material {
-            kind: MaterialKind::Dielectric,
-            f0: DVec3::splat(0.04),
-            diffuse: DVec3::new(0.6, 0.1, 0.1),
-        };
+        b.material = Material::dielectric(DVec3::new(0.6, 0.1, 0.1), 1.5);
         b.model = Model::KullaConty;
     }
     let base = Scene {

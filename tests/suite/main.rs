@@ -31,6 +31,7 @@ mod labels;
 mod layers;
 mod lut;
 mod lut_chebyshev;
+mod materials;
 mod montecarlo;
 mod pixels;
 mod plan;

@@ -12,7 +12,7 @@ use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage};
 use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::TableSet;
 use shadeballs::lut::{self, BakeConfig, Tables};
-use shadeballs::scene::{Ball, Material, MaterialKind, Model, Preset, Scene};
+use shadeballs::scene::{Ball, Material, Model, Preset, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 
@@ -293,11 +293,7 @@ fn quadrature(scene: &Scene, e: &TableSet) -> DVec3 {
 #[test]
 fn estimate_is_unbiased_against_a_dense_quadrature() {
     let copper = Material::metal_srgb(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
-    let plastic = Material {
-        kind: MaterialKind::Dielectric,
-        f0: DVec3::splat(0.04),
-        diffuse: DVec3::new(0.1, 0.4, 0.6),
-    };
+    let plastic = Material::dielectric(DVec3::new(0.1, 0.4, 0.6), 1.5);
     for term in IblTerm::ALL {
         for material in [copper, plastic] {
             let scene = one_pixel_scene(term, material);
@@ -310,14 +306,14 @@ fn estimate_is_unbiased_against_a_dense_quadrature() {
             println!(
                 "{} {:?}: Monte Carlo {mc:.5} +- {err:.5}, quadrature {want:.5}",
                 term.name(),
-                material.kind
+                material.metallic
             );
             for c in 0..3 {
                 assert!(
                     (mc[c] - want[c]).abs() <= 3.0 * err[c] + 1e-4 * want[c],
                     "{} {:?} channel {c}: {} +- {} vs {}",
                     term.name(),
-                    material.kind,
+                    material.metallic,
                     mc[c],
                     err[c],
                     want[c]

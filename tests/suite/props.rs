@@ -18,7 +18,7 @@ use shadeballs::brdf::{f_ms, f_ms_norm, FAvgForm, Geometry, ROUGHNESS_MIN};
 use shadeballs::cpu::shade;
 use shadeballs::lut::TableSet;
 use shadeballs::lut::{adaptive, bake, e_reference, BakeConfig, Tables};
-use shadeballs::scene::{Ball, Light, Material, MaterialKind, Model, Scene};
+use shadeballs::scene::{Ball, Light, Material, Model, Scene};
 
 /// The default tables of each geometry, baked once for every test here.
 fn tables(g: Geometry) -> &'static Tables {
@@ -122,11 +122,7 @@ fn radiance(s: &Sample, v: DVec3, l: DVec3) -> DVec3 {
         center: DVec3::ZERO,
         radius: 1.0,
         roughness: s.roughness,
-        material: Material {
-            kind: MaterialKind::Metal,
-            f0: DVec3::splat(s.f0),
-            diffuse: DVec3::ZERO,
-        },
+        material: Material::metal(DVec3::splat(s.f0)),
         model: Model::KullaConty,
     };
     let scene = Scene {

@@ -49,18 +49,14 @@ fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {
 
 /// The reference scene with a second, coloured light and every other ball a dielectric.
 pub fn mixed_scene() -> Scene {
-    use shadeballs::scene::{Light, Material, MaterialKind};
+    use shadeballs::scene::{Light, Material};
     let mut scene = Scene::reference();
     scene.lights.push(Light {
         direction: DVec3::new(1.0, 1.0, 0.5).normalize(),
         radiance: DVec3::new(2.0, 1.5, 1.0),
     });
     for b in scene.balls.iter_mut().step_by(2) {
-        b.material = Material {
-            kind: MaterialKind::Dielectric,
-            f0: DVec3::splat(0.04),
-            diffuse: DVec3::new(0.1, 0.4, 0.6),
-        };
+        b.material = Material::dielectric(DVec3::new(0.1, 0.4, 0.6), 1.5);
     }
     scene
 }

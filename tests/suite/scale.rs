@@ -7,7 +7,7 @@ use shadeballs::cpu;
 use shadeballs::gpu::{DrawOptions, Renderer};
 use shadeballs::lab::bench::scale::chart;
 use shadeballs::lut::TableSet;
-use shadeballs::scene::{self, Ball, Material, MaterialKind, Model, Scene, MAX_BALLS};
+use shadeballs::scene::{self, Ball, Material, Model, Scene, MAX_BALLS};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
 use crate::render::both;
@@ -19,11 +19,7 @@ use crate::render::both;
 fn overlapping() -> Scene {
     let mut scene = Scene::reference();
     let metal = |rgb: [f64; 3]| Material::metal_srgb(rgb);
-    let dielectric = Material {
-        kind: MaterialKind::Dielectric,
-        f0: DVec3::splat(0.04),
-        diffuse: DVec3::new(0.2, 0.5, 0.7),
-    };
+    let dielectric = Material::dielectric(DVec3::new(0.2, 0.5, 0.7), 1.5);
     let ball = |c: [f64; 3], r: f64, roughness: f64, material: Material, ms: bool| Ball {
         center: DVec3::from_array(c),
         radius: r,

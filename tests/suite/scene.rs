@@ -82,10 +82,8 @@ material = { kind = "dielectric", albedo = [0.5, 0.5, 0.5] }
         "directions are normalised"
     );
     assert_eq!(s.balls.len(), 1);
-    assert_eq!(
-        s.balls[0].material.f0,
-        glam::DVec3::splat(scene::DIELECTRIC_F0)
-    );
+    assert_eq!(s.balls[0].material.ior, scene::DEFAULT_IOR);
+    assert_eq!(s.balls[0].material.metallic, 0.0);
     assert!(!s.balls[0].model.has_term());
 }
 

@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::gpu::{Renderer, Target};
 use crate::lab::plot::{Plot, Series, Style};
 use crate::lut::BakeConfig;
-use crate::scene::{Material, MaterialKind, Model, Scene, REFERENCE_ROUGHNESS};
+use crate::scene::{Material, Model, Scene, REFERENCE_ROUGHNESS};
 
 /// Luminance weights (Rec. 709) of the relative errors.
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
@@ -41,11 +41,7 @@ pub fn ibl_scene(environment: Environment, term: IblTerm) -> Scene {
     let mut scene = Scene::reference();
     for b in scene.balls.iter_mut() {
         if !b.model.has_term() {
-            b.material = Material {
-                kind: MaterialKind::Metal,
-                f0: DVec3::splat(0.95),
-                diffuse: DVec3::ZERO,
-            };
+            b.material = Material::metal(DVec3::splat(0.95));
         }
         b.model = Model::from_term(term);
     }

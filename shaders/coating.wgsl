@@ -1,0 +1,196 @@
+// coating.wgsl: the dielectric part of a ball's shading, a rough coating of index eta over
+// a Lambertian base (docs/design/materials.md). Mirrored in f64 by src/cpu/coating.rs
+// (same model, same order of terms).
+
+#define_import_path shadeballs::coating
+#import shadeballs::constants::PI
+#import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
+#import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
+#import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
+#import shadeballs::lut::lut_loss_row
+#import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
+#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
+#import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
+#import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
+
+// The coating's single-scattering albedo E_F(mu) from the ball's row of coating_rows
+// (src/lut/coating.rs): values at sqrt(mu) = k / (COATING_ROW_LEN - 1), linear between.
+fn coating_albedo(row: u32, mu: f32) -> f32 {
+    let x = sqrt(clamp(mu, 0.0, 1.0)) * f32(COATING_ROW_LEN - 1u);
+    let k = min(u32(floor(x)), COATING_ROW_LEN - 2u);
+    let t = x - f32(k);
+    let first = row * COATING_ROW_LEN + k;
+    let a = coating_rows[first];
+    return a + t * (coating_rows[first + 1u] - a);
+}
+
+// The coating's specular albedo E_spec(mu) with the ball's term (weight ms): Kulla-Conty's
+// e_f + f_add loss, Turquin's e_f (1 + F0 (1 / E - 1)), Fdez-Aguera's e_f + FmsEms; loss
+// is 1 - E(mu) (src/scene coating_spec_albedo).
+fn coating_spec_albedo(e_f: f32, loss: f32, f0: f32, f_add: f32, ms: f32, term: u32) -> f32 {
+    var added = f_add * loss;
+    if term == TERM_TURQUIN {
+        added = term_turquin(vec3<f32>(e_f), vec3<f32>(f0), 1.0 - loss).x;
+    } else if term == TERM_FDEZ_AGUERA {
+        added = term_fdez_aguera(vec3<f32>(e_f), vec3<f32>(f0), loss).x;
+    }
+    return e_f + ms * added;
+}
+
+// Whether the ball's layering form reads E_spec at the light's direction too.
+fn two_sided(b: Ball) -> bool {
+    return b.layering == LAYERING_RECIPROCAL || b.layering == LAYERING_PHYSICAL;
+}
+
+// The base's BRDF under the ball's layering form (src/brdf/layering.rs): e_spec_o and
+// e_spec_i the coating's specular albedo at the view and the light, fresnel_vh the
+// coating's Fresnel at the half vector.
+fn coating_base(b: Ball, e_spec_o: f32, e_spec_i: f32, fresnel_vh: f32) -> vec3<f32> {
+    let albedo = b.diffuse;
+    switch b.layering {
+        case LAYERING_CONSTANT: {
+            return f_base_constant(albedo, b.coating.w);
+        }
+        case LAYERING_GLTF: {
+            return f_base_gltf(albedo, fresnel_vh);
+        }
+        case LAYERING_VIEW_ONLY: {
+            return f_base_view_only(albedo, e_spec_o);
+        }
+        case LAYERING_RECIPROCAL: {
+            return f_base_reciprocal(albedo, e_spec_o, e_spec_i, b.e_spec_avg);
+        }
+        default: {
+            return f_base_physical(albedo, e_spec_o, e_spec_i, b.e_spec_avg, b.coating.y);
+        }
+    }
+}
+
+// The base's directional albedo under the ball's layering form: what a uniform light or a
+// map's irradiance meets (fresnel_o the coating's Fresnel at the view).
+fn coating_base_albedo(b: Ball, e_spec_o: f32, fresnel_o: f32) -> vec3<f32> {
+    let albedo = b.diffuse;
+    switch b.layering {
+        case LAYERING_CONSTANT: {
+            return base_albedo_constant(albedo, b.coating.w);
+        }
+        case LAYERING_GLTF: {
+            return base_albedo_gltf(albedo, fresnel_o);
+        }
+        case LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL: {
+            return base_albedo_view_only(albedo, e_spec_o);
+        }
+        default: {
+            return base_albedo_physical(albedo, e_spec_o, b.e_spec_avg, b.coating.y);
+        }
+    }
+}
+
+// Radiance leaving ball b's coating at unit normal n towards v, lit by the first n_lights
+// lights, the uniform environment and the map; ms the weight of the ball's term
+// (term_weight in lighting.wgsl). The specular is the metal's with the coating's Fresnel
+// (f_dielectric of the index: exact, or Schlick's in games202) and the coating's own term
+// (Kulla-Conty's f_add from the coating's F_avg); under uniform light its albedo is the
+// row's E_F(mu_o) with the term's part, E_spec(mu_o), and the base is weighted by the
+// ball's layering form.
+fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) -> vec3<f32> {
+    let roughness = b.f0_roughness.w;
+    let eta = b.coating.y;
+    let f_add = b.coating.z;
+    let f0 = f0_from_ior(eta);
+    let term = b.term;
+    let norm = b.f_add_ms_norm.w;
+    let mu_o = max(dot(n, v), 0.0);
+    var loss_o = 0.0;
+    if ms > 0.0 {
+        loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
+    }
+    let e_o = 1.0 - loss_o;
+    let e_f_o = coating_albedo(b.coating_row, mu_o);
+    let e_spec_o = coating_spec_albedo(e_f_o, loss_o, f0, f_add, ms, term);
+    let base_o = coating_base_albedo(b, e_spec_o, f_dielectric(mu_o, eta, b.fresnel));
+    var lo = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        lo = globals.environment.xyz * (vec3<f32>(e_spec_o) + base_o);
+    }
+    // Fdez-Aguera's energy, formed once for every light (zero for the other terms).
+    var fms_ems = 0.0;
+    if ms > 0.0 && term == TERM_FDEZ_AGUERA {
+        fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss_o).x;
+    }
+    if IBL != 0u {
+        lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o);
+    }
+    if HAS_LIGHTS == 0u {
+        return lo;
+    }
+    for (var k = 0u; k < n_lights; k++) {
+        let l = lights[k].direction.xyz;
+        let mu_i = dot(n, l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = normalize(v + l);
+        let fresnel = f_dielectric(dot(v, h), eta, b.fresnel);
+        let spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
+        var lobe = 0.0;
+        var loss_i = 0.0;
+        if ms > 0.0 {
+            loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
+            if term == TERM_TURQUIN {
+                lobe = term_turquin(vec3<f32>(spec), vec3<f32>(f0), e_o).x;
+            } else if term == TERM_FDEZ_AGUERA {
+                lobe = fms_ems / PI;
+            } else {
+                lobe = f_add * f_ms(loss_o, loss_i, norm);
+            }
+        }
+        var e_spec_i = 0.0;
+        if two_sided(b) {
+            e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
+        }
+        let f_r = vec3<f32>(spec + ms * lobe) + coating_base(b, e_spec_o, e_spec_i, fresnel);
+        lo += f_r * lights[k].radiance.xyz * mu_i;
+    }
+    return lo;
+}
+
+// The map's part of shade_coating (docs/design/environment.md, "Shading under a map"): the
+// prefiltered radiance along the dominant direction times the row's E_F(mu_o) (the split
+// sum's second factor is the directional albedo), the coating's term as the metal's, and
+// the base's albedo times the irradiance.
+fn shade_coating_map(
+    b: Ball,
+    n: vec3<f32>,
+    v: vec3<f32>,
+    e_f_o: f32,
+    loss_o: f32,
+    fms_ems: f32,
+    ms: f32,
+    base_o: vec3<f32>,
+) -> vec3<f32> {
+    let roughness = b.f0_roughness.w;
+    let rotation = env.rotation;
+    let intensity = env.intensity;
+    let r = 2.0 * dot(n, v) * n - v;
+    let n_map = env_to_map(n, rotation);
+    let dominant = specular_direction(n, r, roughness);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
+    let single = prefiltered * e_f_o;
+    var lo = single + base_o * irradiance;
+    if ms > 0.0 {
+        let term = b.term;
+        if term == TERM_TURQUIN {
+            lo += ms * term_turquin(single, vec3<f32>(f0_from_ior(b.coating.y)), 1.0 - loss_o);
+        } else if term == TERM_FDEZ_AGUERA {
+            lo += ms * fms_ems * irradiance;
+        } else {
+            let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+            lo += ms * b.coating.z * loss_o * multiple;
+        }
+    }
+    return lo;
+}

@@ -1,0 +1,271 @@
+//! The dielectric part of a ball's shading on the CPU, term for term
+//! `shaders/coating.wgsl` in f64: a rough coating of the ball's index over a Lambertian
+//! base weighted by the scene's layering form.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use super::shade::{loss, Forms};
+use super::CpuEnvironment;
+use crate::brdf::{
+    base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
+    f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
+    f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
+};
+use crate::environment::IblTerm;
+use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::scene::{coating_spec_albedo, Ball, CoatingConstants, Layering, Scene};
+
+/// A point of a ball's coating: what `shade_coating` forms once per pixel (the GPU's
+/// per-ball members and its per-pixel reads at the view), for its light loop and the
+/// Monte Carlo of the model (`montecarlo::model_brdf`).
+#[derive(Clone, Copy, Debug)]
+pub struct CoatingPoint {
+    row: [f32; COATING_ROW_LEN],
+    constants: CoatingConstants,
+    layering: Layering,
+    albedo: DVec3,
+    fresnel_form: crate::brdf::DielectricFresnel,
+    geometry: crate::brdf::Geometry,
+    roughness: f64,
+    ms: f64,
+    term: IblTerm,
+    f0: f64,
+    norm: f64,
+    mu_o: f64,
+    /// `1 - E(mu_o)` (0 without the term).
+    pub loss_o: f64,
+    /// The row's `E_F(mu_o)`.
+    pub e_f_o: f64,
+    /// `E_spec(mu_o)`.
+    pub e_spec_o: f64,
+    /// Fdez-Aguera's energy (0 for the other terms).
+    pub fms_ems: f64,
+    /// The base's directional albedo at the view.
+    pub base_o: DVec3,
+}
+
+/// The coating's BRDF at one light direction, by part.
+#[derive(Clone, Copy, Debug)]
+pub struct CoatingBrdf {
+    /// The interface's single scattering.
+    pub spec: f64,
+    /// The term's lobe, weighted by `ms`.
+    pub multiple: f64,
+    /// The base under the layering form.
+    pub base: DVec3,
+}
+
+impl CoatingPoint {
+    /// Ball `b`'s coating seen at unit normal `n` from `v`, with its rows in `coating`, E
+    /// from `e` and the term weight `ms`.
+    pub fn new(
+        scene: &Scene,
+        b: &Ball,
+        (n, v): (DVec3, DVec3),
+        e: &TableSet,
+        coating: &crate::lut::CoatingRows,
+        ms: f64,
+    ) -> Self {
+        let key = scene.coating_key(b).expect("a ball with a coating");
+        let row = *coating.row(&key).expect("every coating's row is baked");
+        let roughness = b.roughness;
+        let term = b.model.term().unwrap_or(IblTerm::KullaConty);
+        let loss_avg = super::shade::loss_avg(e, roughness);
+        let read = |mu: f64| loss(e, mu, roughness);
+        let c = CoatingConstants::new(
+            b.material.ior,
+            &row,
+            scene.preset,
+            (ms, term),
+            1.0 - loss_avg,
+            read,
+        );
+        // As the GPU's uniforms hold them: f32.
+        let f32_of = |x: f64| x as f32 as f64;
+        let constants = CoatingConstants {
+            eta: f32_of(c.eta),
+            f_add: f32_of(c.f_add),
+            f_avg: f32_of(c.f_avg),
+            e_spec_avg: f32_of(c.e_spec_avg),
+        };
+        let eta = constants.eta;
+        let f0 = f0_from_ior(eta);
+        let fresnel_form = scene.preset.dielectric_fresnel();
+        let mu_o = n.dot(v).max(0.0);
+        let loss_o = if ms > 0.0 { read(mu_o) } else { 0.0 };
+        let e_f_o = f64::from(coating_albedo(&row, mu_o as f32));
+        let e_spec_o = coating_spec_albedo(e_f_o, loss_o, f0, constants.f_add, ms, term);
+        let fms_ems = if ms > 0.0 && term == IblTerm::FdezAguera {
+            term_fdez_aguera(e_f_o, f0, loss_o)
+        } else {
+            0.0
+        };
+        let mut point = CoatingPoint {
+            row,
+            constants,
+            layering: scene.layering,
+            albedo: b.material.diffuse,
+            fresnel_form,
+            geometry: scene.effective_geometry(),
+            roughness,
+            ms,
+            term,
+            f0,
+            norm: if ms > 0.0 { f_ms_norm(loss_avg) } else { 0.0 },
+            mu_o,
+            loss_o,
+            e_f_o,
+            e_spec_o,
+            fms_ems,
+            base_o: DVec3::ZERO,
+        };
+        point.base_o = point.base_albedo(e_spec_o, f_dielectric(mu_o, eta, fresnel_form));
+        point
+    }
+
+    /// The coating's directional albedo at the view: `E_spec(mu_o)` and the base's.
+    pub fn albedo(&self) -> DVec3 {
+        DVec3::splat(self.e_spec_o) + self.base_o
+    }
+
+    /// The coating's BRDF towards unit light direction `l` (`mu_i = n.l > 0`), `h` their
+    /// half vector, `e` the tables (the light loop of `shade_coating`).
+    pub fn brdf(&self, (v, l): (DVec3, DVec3), n: DVec3, e: &TableSet) -> CoatingBrdf {
+        let mu_i = n.dot(l);
+        let h = (v + l).normalize();
+        let eta = self.constants.eta;
+        let f_add = self.constants.f_add;
+        let fresnel = f_dielectric(v.dot(h), eta, self.fresnel_form);
+        let spec = f_micro(
+            fresnel,
+            self.mu_o,
+            mu_i,
+            n.dot(h),
+            self.roughness,
+            self.geometry,
+        );
+        let (mut lobe, mut loss_i) = (0.0, 0.0);
+        if self.ms > 0.0 {
+            loss_i = loss(e, mu_i, self.roughness);
+            lobe = match self.term {
+                IblTerm::Turquin => term_turquin(spec, self.f0, 1.0 - self.loss_o),
+                IblTerm::FdezAguera => self.fms_ems / PI,
+                IblTerm::KullaConty => f_add * f_ms(self.loss_o, loss_i, self.norm),
+            };
+        }
+        let e_spec_i = if self.two_sided() {
+            let e_f_i = f64::from(coating_albedo(&self.row, mu_i as f32));
+            coating_spec_albedo(e_f_i, loss_i, self.f0, f_add, self.ms, self.term)
+        } else {
+            0.0
+        };
+        CoatingBrdf {
+            spec,
+            multiple: self.ms * lobe,
+            base: self.base(self.e_spec_o, e_spec_i, fresnel),
+        }
+    }
+
+    /// `coating_base` of `coating.wgsl`: the base's BRDF under the layering form.
+    fn base(&self, e_spec_o: f64, e_spec_i: f64, fresnel_vh: f64) -> DVec3 {
+        let c = &self.constants;
+        let f = |a: f64| match self.layering {
+            Layering::Constant => f_base_constant(a, c.f_avg),
+            Layering::Gltf => f_base_gltf(a, fresnel_vh),
+            Layering::ViewOnly => f_base_view_only(a, e_spec_o),
+            Layering::Reciprocal => f_base_reciprocal(a, e_spec_o, e_spec_i, c.e_spec_avg),
+            Layering::Physical => f_base_physical(a, e_spec_o, e_spec_i, c.e_spec_avg, c.eta),
+        };
+        DVec3::new(f(self.albedo.x), f(self.albedo.y), f(self.albedo.z))
+    }
+
+    /// `coating_base_albedo` of `coating.wgsl`: the base's directional albedo.
+    fn base_albedo(&self, e_spec_o: f64, fresnel_o: f64) -> DVec3 {
+        let c = &self.constants;
+        let f = |a: f64| match self.layering {
+            Layering::Constant => base_albedo_constant(a, c.f_avg),
+            Layering::Gltf => base_albedo_gltf(a, fresnel_o),
+            Layering::ViewOnly | Layering::Reciprocal => base_albedo_view_only(a, e_spec_o),
+            Layering::Physical => base_albedo_physical(a, e_spec_o, c.e_spec_avg, c.eta),
+        };
+        DVec3::new(f(self.albedo.x), f(self.albedo.y), f(self.albedo.z))
+    }
+
+    /// Whether the form reads `E_spec` at the light's direction too (`two_sided`).
+    fn two_sided(&self) -> bool {
+        matches!(self.layering, Layering::Reciprocal | Layering::Physical)
+    }
+}
+
+/// `shade_coating` of `coating.wgsl`, the map's part (`shade_coating_map`) included where
+/// `map` is given: radiance leaving ball `b`'s coating at unit normal `n` towards `v`; `ms`
+/// the weight of its term.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn shade_coating(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    e: &TableSet,
+    forms: &Forms<'_>,
+    ms: f64,
+    map: Option<&CpuEnvironment>,
+) -> DVec3 {
+    let point = CoatingPoint::new(scene, b, (n, v), e, forms.coating, ms);
+    let mut lo = scene.environment * point.albedo();
+    if let Some(map) = map {
+        lo += shade_coating_map(scene, b, n, v, &point, map);
+    }
+    for light in &scene.lights {
+        let mu_i = n.dot(light.direction);
+        if mu_i <= 0.0 || point.mu_o <= 0.0 {
+            continue;
+        }
+        let f = point.brdf((v, light.direction), n, e);
+        let f_r = DVec3::splat(f.spec + f.multiple) + f.base;
+        lo += f_r * light.radiance * mu_i;
+    }
+    lo
+}
+
+/// `shade_coating_map` of `coating.wgsl`.
+fn shade_coating_map(
+    scene: &Scene,
+    b: &Ball,
+    n: DVec3,
+    v: DVec3,
+    p: &CoatingPoint,
+    map: &CpuEnvironment,
+) -> DVec3 {
+    let Some(environment) = &scene.environment_map else {
+        return DVec3::ZERO;
+    };
+    let roughness = b.roughness;
+    let intensity = map.intensity(environment);
+    let r = 2.0 * n.dot(v) * n - v;
+    let n_map = environment.to_map(n);
+    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let prefiltered = intensity
+        * map
+            .prefiltered
+            .specular(environment.to_map(dominant), roughness);
+    let irradiance = intensity * map.prefiltered.irradiance(n_map);
+    let single = prefiltered * p.e_f_o;
+    let mut lo = single + p.base_o * irradiance;
+    if p.ms > 0.0 {
+        lo += p.ms
+            * match p.term {
+                IblTerm::Turquin => single * term_turquin(1.0, p.f0, 1.0 - p.loss_o),
+                IblTerm::FdezAguera => p.fms_ems * irradiance,
+                IblTerm::KullaConty => {
+                    p.constants.f_add
+                        * p.loss_o
+                        * intensity
+                        * map.prefiltered.multiple(n_map, roughness)
+                }
+            };
+    }
+    lo
+}

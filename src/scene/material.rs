@@ -1,0 +1,234 @@
+//! A ball's material as engines have it (docs/design/materials.md): a metal and a
+//! dielectric mixed by `metallic`, the dielectric a rough coating of index `ior` over a
+//! Lambertian base, and the layering form that weights the base.
+
+use glam::DVec3;
+
+use crate::brdf::DielectricFresnel;
+use crate::environment::IblTerm;
+
+/// The index of refraction a dielectric gets when none is given: glTF's
+/// `KHR_materials_ior` default, common plastics and glass (`F0 = 0.04`).
+pub const DEFAULT_IOR: f64 = 1.5;
+
+/// The range of indices a material may have: 1 (no interface) to 4 (above every common
+/// dielectric: diamond is 2.42, silicon's real part about 4).
+pub const IOR_RANGE: (f64, f64) = (1.0, 4.0);
+
+/// A ball's material, resolved to linear values: `metallic` mixes the metal's shading
+/// (specular only, `F0` coloured) and the dielectric's (a coating of index `ior` over a
+/// base of colour `diffuse`), each with its own multiple-scattering term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// How much of the ball is metal, in `[0, 1]` (glTF's and OpenPBR's `metallic`).
+    pub metallic: f64,
+    /// The metal's linear reflectance at normal incidence, per channel.
+    pub f0: DVec3,
+    /// The dielectric's base colour, linear: the albedo a viewer sees or the substrate's,
+    /// as the scene's [`Layering`] reads it.
+    pub diffuse: DVec3,
+    /// The dielectric coating's index of refraction (relative to the outside).
+    pub ior: f64,
+}
+
+impl Material {
+    /// A metal of linear `F0`.
+    pub fn metal(f0: DVec3) -> Self {
+        Material {
+            metallic: 1.0,
+            f0,
+            diffuse: DVec3::ZERO,
+            ior: DEFAULT_IOR,
+        }
+    }
+
+    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2`
+    /// (docs/design/reference-scene.md, "The balls, the light and the camera": the
+    /// homework's decoding).
+    pub fn metal_srgb(albedo: [f64; 3]) -> Self {
+        Material::metal(srgb_to_linear(albedo))
+    }
+
+    /// A dielectric: a coating of index `ior` over a base of linear colour `diffuse`.
+    pub fn dielectric(diffuse: DVec3, ior: f64) -> Self {
+        Material {
+            metallic: 0.0,
+            f0: DVec3::ZERO,
+            diffuse,
+            ior,
+        }
+    }
+
+    /// The engines' metallic-roughness material: `base_color` (linear) is the metal's
+    /// `F0` and the dielectric's base alike.
+    pub fn metallic_roughness(base_color: DVec3, metallic: f64, ior: f64) -> Self {
+        Material {
+            metallic,
+            f0: base_color,
+            diffuse: base_color,
+            ior,
+        }
+    }
+
+    /// Whether any part is metal.
+    pub fn has_metal(&self) -> bool {
+        self.metallic > 0.0
+    }
+
+    /// Whether any part is dielectric.
+    pub fn has_dielectric(&self) -> bool {
+        self.metallic < 1.0
+    }
+}
+
+/// `pow(c, 2.2)` per channel: the homework's sRGB decoding (`albedo` keys).
+pub fn srgb_to_linear(c: [f64; 3]) -> DVec3 {
+    DVec3::from_array(c).powf(2.2)
+}
+
+/// The sRGB transfer function's inverse (IEC 61966-2-1): `c / 12.92` up to 0.04045, else
+/// `((c + 0.055) / 1.055)^2.4`, per channel (`base_color` keys, as glTF reads them).
+pub fn srgb_decode(c: [f64; 3]) -> DVec3 {
+    let f = |c: f64| {
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    DVec3::new(f(c[0]), f(c[1]), f(c[2]))
+}
+
+/// How the dielectric's base is weighted under its coating (docs/design/materials.md,
+/// "Layering forms"; each form is a function of `brdf::layering`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Layering {
+    /// `albedo (1 - F_avg) / pi`: the design before the materials work.
+    Constant,
+    /// glTF 2.0's `fresnel_mix`: `albedo (1 - F(v.h)) / pi`.
+    Gltf,
+    /// Cycles' Principled v2 and MaterialX: `albedo (1 - E_spec(mu_o)) / pi`.
+    ViewOnly,
+    /// OpenPBR's reciprocal albedo scaling: `albedo (1 - E_spec(mu_i)) (1 - E_spec(mu_o))
+    /// / (pi (1 - E_spec_avg))`, the colour the albedo a viewer sees.
+    Reciprocal,
+    /// A Lambertian substrate of albedo `diffuse` inside the coating, its internal
+    /// reflections summed: closest to the random walk (docs/design/materials.md, "The
+    /// physical form against the truth").
+    #[default]
+    Physical,
+}
+
+impl Layering {
+    /// Every form, in the order the help and the charts list them.
+    pub const ALL: [Layering; 5] = [
+        Layering::Constant,
+        Layering::Gltf,
+        Layering::ViewOnly,
+        Layering::Reciprocal,
+        Layering::Physical,
+    ];
+
+    /// The name the scene file and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Layering::Constant => "constant",
+            Layering::Gltf => "gltf",
+            Layering::ViewOnly => "view-only",
+            Layering::Reciprocal => "reciprocal",
+            Layering::Physical => "physical",
+        }
+    }
+}
+
+crate::named_enum!(Layering, "layering");
+
+/// What a ball's coating shading takes that is constant over the ball, formed once per ball
+/// on the CPU (the GPU's `Ball.coating`, `Ball.e_spec_avg`; `cpu::coating`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct CoatingConstants {
+    /// The coating's relative index.
+    pub eta: f64,
+    /// Kulla-Conty's `f_add` of the coating, from its average Fresnel (0 without the term).
+    pub f_add: f64,
+    /// The coating's average Fresnel `F_avg` (the preset's: exact or Schlick's).
+    pub f_avg: f64,
+    /// `E_spec_avg`, the cosine-weighted average of the coating's specular albedo with the
+    /// ball's term ([`coating_spec_albedo`]) as the shader reads it.
+    pub e_spec_avg: f64,
+}
+
+/// Gauss-Legendre nodes of the average of `E_spec` under Turquin's and Fdez-Aguera's terms
+/// (Kulla-Conty's is in closed form from the rows and `E_avg`).
+const SPEC_AVG_NODES: usize = 48;
+
+impl CoatingConstants {
+    /// The constants of a coating of index `eta` read from `row`, for a ball whose term
+    /// weight is `ms` and term `term`, with the preset `preset`; `e_avg` is `E_avg` at the
+    /// ball's roughness as the shader reads it and `loss(mu)` its `1 - E(mu)` read.
+    pub fn new(
+        eta: f64,
+        row: &[f32; crate::lut::COATING_ROW_LEN],
+        preset: super::Preset,
+        (ms, term): (f64, IblTerm),
+        e_avg: f64,
+        loss: impl Fn(f64) -> f64,
+    ) -> Self {
+        use crate::brdf::{f0_from_ior, f_add_accurate, f_add_games202, f_avg_dielectric};
+        let f0 = f0_from_ior(eta);
+        let f_avg = match preset.dielectric_fresnel() {
+            DielectricFresnel::Exact => f_avg_dielectric(eta),
+            DielectricFresnel::Schlick => crate::brdf::f_avg_schlick(f0),
+        };
+        let f_add = if ms > 0.0 {
+            match preset.f_avg_form() {
+                crate::brdf::FAvgForm::Accurate => f_add_accurate(f_avg, e_avg),
+                crate::brdf::FAvgForm::Games202 => f_add_games202(f_avg, e_avg),
+            }
+        } else {
+            0.0
+        };
+        let e_f_avg = crate::lut::coating_albedo_avg(row);
+        let e_spec_avg = match term {
+            _ if ms == 0.0 => e_f_avg,
+            IblTerm::KullaConty => e_f_avg + ms * f_add * (1.0 - e_avg),
+            IblTerm::Turquin | IblTerm::FdezAguera => {
+                let (x, w) = crate::lut::gauss_legendre_unit(SPEC_AVG_NODES);
+                x.iter()
+                    .zip(&w)
+                    .map(|(&mu, wk)| {
+                        let e_f = f64::from(crate::lut::coating_albedo(row, mu as f32));
+                        2.0 * wk * mu * coating_spec_albedo(e_f, loss(mu), f0, f_add, ms, term)
+                    })
+                    .sum()
+            }
+        };
+        CoatingConstants {
+            eta,
+            f_add,
+            f_avg,
+            e_spec_avg,
+        }
+    }
+}
+
+/// `coating_spec_albedo` of `shaders/coating.wgsl`: the coating's specular albedo
+/// `E_spec(mu)` with the ball's term (weight `ms`), from its single scattering `e_f` and
+/// `loss = 1 - E(mu)`: Kulla-Conty's `e_f + f_add loss`, Turquin's `e_f (1 + F0 (1 / E -
+/// 1))`, Fdez-Aguera's `e_f + FmsEms`.
+pub fn coating_spec_albedo(
+    e_f: f64,
+    loss: f64,
+    f0: f64,
+    f_add: f64,
+    ms: f64,
+    term: IblTerm,
+) -> f64 {
+    use crate::brdf::{term_fdez_aguera, term_turquin};
+    let added = match term {
+        IblTerm::KullaConty => f_add * loss,
+        IblTerm::Turquin => term_turquin(e_f, f0, 1.0 - loss),
+        IblTerm::FdezAguera => term_fdez_aguera(e_f, f0, loss),
+    };
+    e_f + ms * added
+}

@@ -1,0 +1,251 @@
+//! Materials as engines have them (docs/design/materials.md): the coating's tables, the
+//! scene's material keys, the furnace of every metallic value, the layering forms.
+
+use shadeballs::brdf::{DielectricFresnel, Geometry};
+use shadeballs::lut::{
+    coating_albedo, coating_albedo_quadrature, coating_row, CoatingKey, CoatingRule,
+    COATING_ROW_LEN,
+};
+use shadeballs::walk::single::{single_albedo, Rules};
+use shadeballs::walk::{Dielectric, Schlick};
+
+/// The coating's albedo against the precise quadrature of `walk::single_albedo` (48 x 48
+/// nodes a segment, peak-mapped), at the nodes and as read between them.
+#[test]
+fn coating_rows_meet_the_precise_quadrature() {
+    let rules = Rules::default();
+    let rule = CoatingRule::default();
+    let mut worst_node = 0.0f64;
+    let mut worst_read = 0.0f64;
+    let mut worst_read_above = 0.0f64;
+    for geometry in Geometry::ALL {
+        for r in [0.02, 0.05, 0.15, 0.35, 0.6, 1.0] {
+            for eta in [1.1, 1.33, 1.5, 2.0, 2.5] {
+                for fresnel in [DielectricFresnel::Exact, DielectricFresnel::Schlick] {
+                    let key = CoatingKey::new(r, eta, fresnel, geometry);
+                    let row = coating_row(&rule, &key);
+                    for j in 0..=40 {
+                        let mu = (j as f64 / 40.0).max(0.002);
+                        let exact = match fresnel {
+                            DielectricFresnel::Exact => single_albedo(
+                                &rules,
+                                mu,
+                                key.roughness(),
+                                &[Dielectric(key.eta())],
+                                &[geometry],
+                            )[0][0],
+                            DielectricFresnel::Schlick => single_albedo(
+                                &rules,
+                                mu,
+                                key.roughness(),
+                                &[Schlick(shadeballs::brdf::f0_from_ior(key.eta()))],
+                                &[geometry],
+                            )[0][0],
+                        };
+                        let node = (coating_albedo_quadrature(&rule, mu, &key) - exact).abs();
+                        let read = (f64::from(coating_albedo(&row, mu as f32)) - exact).abs();
+                        worst_node = worst_node.max(node);
+                        worst_read = worst_read.max(read);
+                        if mu >= 0.01 {
+                            worst_read_above = worst_read_above.max(read);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("worst node {worst_node:.2e} read {worst_read:.2e}, {worst_read_above:.2e} at mu >= 0.01 ({COATING_ROW_LEN} values a row)");
+    // Thresholds: the measured worst with a little room: 1.3e-3 at the nodes (at mu =
+    // 0.002 and roughness 0.02, where E_F changes over a span of mu of about alpha), 8.8e-4
+    // as read from mu = 0.01 up, 4.8e-3 as read below.
+    assert!(worst_node < 2e-3, "{worst_node}");
+    assert!(worst_read_above < 1.2e-3, "{worst_read_above}");
+    assert!(worst_read < 1e-2, "{worst_read}");
+}
+
+/// What the coating's rows cost at startup: the 15 of `plastic.toml` (3 indices x 5
+/// roughness values), printed (docs/design/materials.md quotes it).
+#[test]
+fn coating_rows_bake_time() {
+    let keys: Vec<CoatingKey> = [1.33, 1.5, 2.0]
+        .iter()
+        .flat_map(|&eta| {
+            shadeballs::scene::REFERENCE_ROUGHNESS.map(|r| {
+                CoatingKey::new(r, eta, DielectricFresnel::Exact, Geometry::SmithCorrelated)
+            })
+        })
+        .collect();
+    let mut times = Vec::new();
+    for _ in 0..5 {
+        let start = std::time::Instant::now();
+        let rows =
+            shadeballs::lut::CoatingRows::bake(keys.iter().copied(), &mut Default::default());
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        assert_eq!(rows.rows.len(), 15);
+    }
+    times.sort_by(f64::total_cmp);
+    println!("15 coating rows: median {:.2} ms", times[2]);
+}
+
+use glam::DVec3;
+use shadeballs::environment::IblTerm;
+use shadeballs::scene::{Ball, Camera, Layering, Light, Material, Model, Preset, Scene};
+
+use crate::pixels::{assert_close, compare, renderer, vulkan};
+
+/// Balls on a `rows x cols` grid (step 80 across, 90 down, radius 35, y up), looked at
+/// head on through an 18 degree field of view from far enough to frame them at 16:9.
+fn chart(rows: usize, cols: usize, ball: impl Fn(usize, usize) -> (f64, Material, Model)) -> Scene {
+    let mut balls = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            let (roughness, material, model) = ball(r, c);
+            balls.push(Ball {
+                center: DVec3::new(
+                    80.0 * (c as f64 - (cols - 1) as f64 / 2.0),
+                    90.0 * ((rows - 1) as f64 / 2.0 - r as f64),
+                    0.0,
+                ),
+                radius: 35.0,
+                roughness,
+                material,
+                model,
+            });
+        }
+    }
+    let height = (90.0 * rows as f64 + 60.0).max((80.0 * cols as f64 + 60.0) * 9.0 / 16.0);
+    let z = height / (2.0 * 9f64.to_radians().tan());
+    Scene {
+        balls,
+        lights: Vec::new(),
+        camera: Camera {
+            position: DVec3::new(0.0, 0.0, z),
+            target: DVec3::ZERO,
+            vfov_deg: 18.0,
+        },
+        labels: false,
+        ..Scene::reference()
+    }
+}
+
+/// Pixels whose centre ray and its 4 neighbours' hit ball `k` (no silhouette).
+fn interior(scene: &Scene, k: usize, w: u32, h: u32) -> Vec<usize> {
+    let basis = scene.camera.basis(w, h);
+    let b = &scene.balls[k];
+    let hit = |x: u32, y: u32| {
+        shadeballs::cpu::intersect_sphere(basis.origin, basis.ray(x, y, w, h), b.center, b.radius)
+            > 0.0
+    };
+    let mut out = Vec::new();
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            if [(x, y), (x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)]
+                .iter()
+                .all(|&(a, b)| hit(a, b))
+            {
+                out.push((y * w + x) as usize);
+            }
+        }
+    }
+    out
+}
+
+/// The white furnace of the materials issue: white base (`base_color` 1), metallic 0 to 1
+/// down the rows, roughness 0.05 to 1 across, the term on, for one IOR.
+fn furnace_chart(ior: f64, term: IblTerm) -> Scene {
+    const METALLIC: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+    const ROUGHNESS: [f64; 6] = [0.05, 0.2, 0.4, 0.6, 0.8, 1.0];
+    let mut scene = chart(5, 6, |r, c| {
+        (
+            ROUGHNESS[c],
+            Material::metallic_roughness(DVec3::ONE, METALLIC[r], ior),
+            Model::from_term(term),
+        )
+    });
+    scene.environment = DVec3::ONE;
+    scene
+}
+
+/// The largest difference, in 1/255, of any interior pixel of any ball of `image` from
+/// the background (the corner pixel, which no ball covers), and the ball it is on.
+fn furnace_worst(scene: &Scene, image: &[u8], w: u32, h: u32) -> (u8, usize) {
+    let bg = [image[0], image[1], image[2]];
+    let mut worst = (0, 0);
+    for k in 0..scene.balls.len() {
+        let px = interior(scene, k, w, h);
+        assert!(
+            px.len() > 100,
+            "ball {k} covers {} interior pixels",
+            px.len()
+        );
+        for p in px {
+            for c in 0..3 {
+                let d = image[4 * p + c].abs_diff(bg[c]);
+                if d > worst.0 {
+                    worst = (d, k);
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Every metallic value, IOR and roughness vanishes in the white furnace with the term,
+/// under every energy-conserving layering form and every term, on the GPU and the CPU,
+/// under the uniform environment and through the map path (`builtin = "white"`).
+#[test]
+fn white_furnace_every_metallic_ior_and_roughness() {
+    let (w, h) = (640, 360);
+    let mut gpu = vulkan();
+    let white = shadeballs::environment::Builtin::White;
+    for ior in [1.1, 1.33, 1.5, 2.0, 2.5] {
+        for term in IblTerm::ALL {
+            for layering in [Layering::ViewOnly, Layering::Reciprocal, Layering::Physical] {
+                let mut scene = furnace_chart(ior, term);
+                scene.layering = layering;
+                let what = format!("IOR {ior}, {term}, {layering}");
+                let image = gpu.render_ldr(&scene, w, h).unwrap().rgba;
+                let (worst, k) = furnace_worst(&scene, &image, w, h);
+                println!("{what}: GPU {worst}/255 (ball {k})");
+                // The goal: within 1/255 of the background.
+                assert!(worst <= 1, "{what}: GPU ball {k} is {worst}/255 off");
+                if layering == Layering::Physical && term == IblTerm::KullaConty {
+                    let cpu = crate::render::both(&mut gpu, &scene, w, h).1;
+                    let (worst, k) = furnace_worst(&scene, &cpu, w, h);
+                    assert!(worst <= 1, "{what}: CPU ball {k} is {worst}/255 off");
+                    let mut map = scene.clone();
+                    map.environment = DVec3::ZERO;
+                    map.environment_map =
+                        Some(shadeballs::environment::Environment::builtin(white));
+                    let image = gpu.render_ldr(&map, w, h).unwrap().rgba;
+                    let (worst, k) = furnace_worst(&map, &image, w, h);
+                    println!("{what}, white map: GPU {worst}/255 (ball {k})");
+                    assert!(
+                        worst <= 1,
+                        "{what}, white map: GPU ball {k} is {worst}/255 off"
+                    );
+                }
+            }
+        }
+    }
+    // The check can fail: the design before (the constant form) and the balls without
+    // the term show in the same furnace (the issue measured 0.949 at roughness 0.95).
+    let mut constant = furnace_chart(1.5, IblTerm::KullaConty);
+    constant.layering = Layering::Constant;
+    let image = gpu.render_ldr(&constant, w, h).unwrap().rgba;
+    let (worst, _) = furnace_worst(&constant, &image, w, h);
+    println!("constant form: {worst}/255");
+    assert!(
+        worst >= 3,
+        "the constant form passes the furnace ({worst}/255)"
+    );
+    let mut none = furnace_chart(1.5, IblTerm::KullaConty);
+    none.balls.iter_mut().for_each(|b| b.model = Model::None);
+    let image = gpu.render_ldr(&none, w, h).unwrap().rgba;
+    let (worst, _) = furnace_worst(&none, &image, w, h);
+    println!("without the term: {worst}/255");
+    assert!(
+        worst >= 3,
+        "the balls without the term pass the furnace ({worst}/255)"
+    );
+}
