@@ -168,6 +168,7 @@ fn the_srgb_curve_is_continuous_and_its_own_inverse() {
     assert_eq!(encode_srgb(0.0), 0.0);
     // 1e-12: f64 rounding of 1.055 - 0.055.
     assert!((encode_srgb(1.0) - 1.0).abs() < 1e-12);
+    // 1.055 * 0.18^(1/2.4) - 0.055 = 0.46135612; 1e-6: the 7 digits written here.
     assert!(
         (encode_srgb(0.18) - 0.4613561).abs() < 1e-6,
         "{}",
@@ -197,7 +198,9 @@ fn known_values_of_each_tone_mapper() {
     let out = apply_tone_map(grey(0.5), ToneMap::KhronosNeutral);
     // 1e-12: f64 rounding of one subtraction.
     assert!((out - grey(0.46)).abs().max_element() < 1e-12, "{out}");
-    // Highlights compress towards 1, desaturated to white.
+    // Highlights compress towards 1, desaturated to white: at (1e3, 10, 1) the peak is
+    // p = 999.96, p_n = 1 - 0.0576 / (p - 0.52) = 0.99994 and the weight towards it
+    // 1 - 1 / (0.15 (p - p_n) + 1) = 0.9934, so every channel is above 0.99.
     let hot = apply_tone_map(DVec3::new(1e3, 10.0, 1.0), ToneMap::KhronosNeutral);
     assert!(
         hot.min_element() > 0.99 && hot.max_element() <= 1.0,
@@ -211,6 +214,8 @@ fn known_values_of_each_tone_mapper() {
     // (the inset's rows sum to 1 within 1.4e-4, the outset's to 1 within 2e-4).
     assert_eq!(apply_tone_map(grey(0.0), ToneMap::Agx), grey(0.0));
     let top = apply_tone_map(grey(1e4), ToneMap::Agx);
+    // 0.99: the sigmoid's top p(1) = 0.99858, through the outset (rows summing to 0.9998
+    // to 1.0001) and pow 2.2, is 0.9965.
     assert!(top.min_element() > 0.99, "{top}");
     let mid = apply_tone_map(grey(0.18), ToneMap::Agx);
     // 1e-3: the matrices' row sums above, through the sigmoid's slope (below 2).
