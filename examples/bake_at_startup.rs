@@ -107,7 +107,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let lobe = f_add * f_ms(loss_o, loss_i, norm);
         radiance = (single + lobe) * view.light_radiance.xyz * mu_i;
     }
-    // Exposure, Reinhard, gamma 1/2.2: the display transform of shadeballs' PNGs.
+    // Exposure, Reinhard, gamma 1/2.2: the display transform one_ball.toml names for
+    // shadeballs' PNGs (`tone_map = "reinhard"`, `transfer = "gamma-2.2"`).
     let c = max(radiance * view.size.z, vec3<f32>(0.0));
     return vec4<f32>(pow(c / (c + 1.0), vec3<f32>(1.0 / 2.2)), 1.0);
 }

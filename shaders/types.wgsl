@@ -10,7 +10,7 @@
 // ball's own, so one pipeline draws every model (a branch per ball, coherent over its
 // pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
 // (Ball.layering; src/scene Layering). COATING_ROW_LEN: the values of a coating row
-// (coating_rows, lut::coating).
+// (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
 const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS
@@ -23,6 +23,13 @@ const LAYERING_VIEW_ONLY: u32 = 2u; // gpu::uniforms::LAYERING_CODES
 const LAYERING_RECIPROCAL: u32 = 3u; // gpu::uniforms::LAYERING_CODES
 const LAYERING_PHYSICAL: u32 = 4u; // gpu::uniforms::LAYERING_CODES
 const COATING_ROW_LEN: u32 = 48u; // lut::COATING_ROW_LEN
+const TONE_MAP_REINHARD: u32 = 0u; // display::ToneMap::code
+const TONE_MAP_ACES: u32 = 1u; // display::ToneMap::code
+const TONE_MAP_AGX: u32 = 2u; // display::ToneMap::code
+const TONE_MAP_KHRONOS_NEUTRAL: u32 = 3u; // display::ToneMap::code
+const TONE_MAP_NONE: u32 = 4u; // display::ToneMap::code
+const TRANSFER_SRGB: u32 = 0u; // display::Transfer::code
+const TRANSFER_GAMMA_2_2: u32 = 1u; // display::Transfer::code
 // end of the generated constants
 
 // Pipeline-time choices (PipelineCompilationOptions::constants), folded by the compiler:
@@ -33,6 +40,13 @@ override GEOMETRY: u32;
 override MU_AXIS: u32;
 // 1: write linear radiance (float target, for EXR); 0: tone-mapped display value.
 override OUTPUT_LINEAR: u32;
+// The display transform of a display target (src/display.rs; the scene's, Scene::display):
+// the tone mapper (TONE_MAP_*) and the transfer curve (TRANSFER_*); SRGB_TARGET = 1 on a
+// `*Srgb` format, whose hardware encodes: the shader then writes the display value decoded
+// to linear (target_value in screen.wgsl). Ignored when OUTPUT_LINEAR = 1.
+override TONE_MAP: u32 = 0u;
+override TRANSFER: u32 = 0u;
+override SRGB_TARGET: u32 = 0u;
 // The multiple-scattering term (src/gpu/plan.rs TermMode): 0: compiled out (no E read
 // for it), the same image as every flag off; 1 (default): a branch on each ball's flag (one
 // pipeline for every ball); 2: compiled in for every ball the pipeline draws (the planned

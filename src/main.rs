@@ -31,7 +31,8 @@ fn give_mesa_a_runtime_dir() {
 #[cfg(not(unix))]
 fn give_mesa_a_runtime_dir() {}
 
-/// On SIGINT (Ctrl-C) or SIGTERM: remove the temporary files of writes in flight (a 4096 x
+/// On SIGINT (Ctrl-C) or SIGTERM, unless a render that stops cleanly takes it
+/// (`cli::interrupt`): remove the temporary files of writes in flight (a 4096 x
 /// 4096 table or an 8192 x 8192 image is hundreds of MB), say so in one line, and exit
 /// with 128 + the signal's number (130, 143), as a shell reports a process it interrupted.
 /// A thread reads the signals, so the removal runs outside any signal handler.
@@ -42,7 +43,17 @@ fn clean_up_on_interrupt() {
         return;
     };
     std::thread::spawn(move || {
-        if let Some(signal) = signals.forever().next() {
+        for signal in signals.forever() {
+            // A render that stops cleanly (the CPU truth) finishes its pass and writes what
+            // it has; a second signal exits at once.
+            if shadeballs::cli::interrupt::request_stop(signal) {
+                eprintln!(
+                    "\n{}: stopping after this pass to write what is rendered (again to quit \
+                     at once)",
+                    shadeballs::cli::interrupt::signal_name(signal)
+                );
+                continue;
+            }
             let removed = shadeballs::output::remove_temp_files_in_flight();
             let name = if signal == SIGINT {
                 "SIGINT"

@@ -407,6 +407,92 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: Vec<u8>) -> Result<
     )
 }
 
+/// [`write_png`] with a `Comment` text chunk holding `note` (what the picture is, as the
+/// samples a pixel of a truth render; `png`'s encoder, since `image`'s writes no text).
+pub fn write_png_noted(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+    note: &str,
+) -> Result<()> {
+    if rgba.len() as u64 != 4 * u64::from(width) * u64::from(height) {
+        return Err(Error::Encode {
+            path: path.to_path_buf(),
+            message: "pixel count does not match the size".into(),
+        });
+    }
+    let encode_error = |e: png::EncodingError| match e {
+        png::EncodingError::IoError(reason) => write_error(path, reason),
+        e => Error::Encode {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        },
+    };
+    write_atomic_with(path, |w| {
+        let mut encoder = png::Encoder::new(w, width, height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder
+            .add_text_chunk("Comment".to_string(), note.to_string())
+            .map_err(encode_error)?;
+        let mut writer = encoder.write_header().map_err(encode_error)?;
+        writer.write_image_data(&rgba).map_err(encode_error)?;
+        writer.finish().map_err(encode_error)
+    })
+}
+
+/// [`stage_exr`] with a `comment` text attribute holding `note` (`exr`'s encoder, since
+/// `image`'s writes no attributes), losslessly compressed.
+pub fn stage_exr_noted(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: Vec<f32>,
+    note: &str,
+) -> Result<Staged> {
+    use exr::prelude::{
+        AttributeValue, Encoding, Image, Layer, LayerAttributes, SpecificChannels, Text, Vec2,
+        WritableImage,
+    };
+    let (w, h) = (width as usize, height as usize);
+    if rgba.len() != 4 * w * h {
+        return Err(Error::Encode {
+            path: path.to_path_buf(),
+            message: "pixel count does not match the size".into(),
+        });
+    }
+    let pixel = |p: Vec2<usize>| {
+        let i = 4 * (p.y() * w + p.x());
+        (rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3])
+    };
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        SpecificChannels::rgba(pixel),
+    );
+    let mut image = Image::from_layer(layer);
+    image.attributes.other.insert(
+        Text::from("comment"),
+        AttributeValue::Text(Text::from(note)),
+    );
+    stage_with(path, |out| {
+        let mut out = Recording {
+            inner: out,
+            error: None,
+        };
+        let result = image.write().to_buffered(&mut out);
+        result.map_err(|e| match (e, out.error) {
+            (exr::error::Error::Io(reason), _) | (_, Some(reason)) => write_error(path, reason),
+            (e, None) => Error::Encode {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            },
+        })
+    })
+}
+
 /// Writes RGBA f32 linear radiance as OpenEXR.
 pub fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<()> {
     stage_exr(path, width, height, rgba)?.commit()

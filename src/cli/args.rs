@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use clap::error::ErrorKind;
 
 use crate::brdf::Geometry;
+use crate::display::ToneMap;
 use crate::environment::{Background, Builtin, Environment, IblTerm};
 use crate::gpu::Backend;
 use crate::lab::bench::SweepKind;
@@ -49,6 +50,7 @@ value_enum!(
     BackgroundArg,
     OnOff,
     Layering,
+    ToneMap,
 );
 
 /// `--aa`: a switch spelled `on` or `off`.
@@ -212,6 +214,11 @@ pub struct SceneArgs {
     /// ray through each pixel's centre).
     #[arg(long, value_name = "on|off")]
     pub aa: Option<OnOff>,
+    /// Tone mapper of .png pictures and the window (default: the scene's `tone_map`, else
+    /// the preset's: accurate khronos-neutral with the sRGB curve, games202 reinhard with
+    /// gamma 2.2). An .exr stays linear radiance, before exposure and tone mapping.
+    #[arg(long)]
+    pub tone_map: Option<ToneMap>,
 }
 
 impl SceneArgs {
@@ -249,6 +256,9 @@ impl SceneArgs {
         }
         if let Some(aa) = self.aa {
             scene.antialias = aa.is_on();
+        }
+        if let Some(t) = self.tone_map {
+            scene.tone_map = Some(t);
         }
         if let Some(warning) = ignored_geometry(scene.preset, self.geometry) {
             eprintln!("warning: {warning}");
@@ -295,13 +305,16 @@ pub struct RenderArgs {
     /// Image height in pixels, 1..=16384.
     #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
     pub height: u32,
-    /// .png (tone-mapped, 8 bit) or .exr (linear radiance).
+    /// .png (tone-mapped, 8 bit: --tone-map) or .exr (linear radiance: no exposure, tone
+    /// map or transfer curve).
     #[arg(long, default_value = "shading_balls.png")]
     pub out: PathBuf,
     /// Where to render: a GPU backend (auto: any adapter, else the CPU), the CPU
     /// reference renderer, the CPU Monte Carlo reference (montecarlo: the model
     /// integrated against the lights and the environment by importance sampling), or the
-    /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU).
+    /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU: a bar
+    /// with the time left on a terminal; Ctrl-C stops it after a pass and writes what it
+    /// has, exit status 130).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
     /// Samples per pixel of --backend montecarlo and truth, 1..=65536; on a GPU backend,

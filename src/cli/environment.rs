@@ -4,8 +4,11 @@
 use std::time::Instant;
 
 use super::args::EnvironmentArgs;
-use crate::display::{to_unorm8, tone_map};
+use glam::DVec3;
+
+use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::environment::{self, EnvMap};
+use crate::scene::Preset;
 
 pub fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
     let kind = crate::output::extension(&args.out);
@@ -42,15 +45,20 @@ pub fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The map as an opaque RGBA8 picture, each texel through the renderers' display
-/// transform at exposure 1 ([`tone_map`]): what `render --background environment` shows
-/// of it, unwrapped.
+/// The map as an opaque RGBA8 picture, each texel through the display transform of the
+/// default (accurate) preset at exposure 1 ([`to_rgba8_pixel`]): what `render
+/// --background environment` shows of it in the default scene, unwrapped.
 pub fn preview(map: &EnvMap) -> Vec<u8> {
+    let preset = Preset::default();
+    let display = DisplayTransform {
+        tone_map: preset.tone_map(),
+        transfer: preset.transfer(),
+    };
     map.texels()
         .iter()
         .flat_map(|t| {
-            let c = |v: f32| to_unorm8(tone_map(f64::from(v), 1.0));
-            [c(t[0]), c(t[1]), c(t[2]), 255]
+            let c = DVec3::new(f64::from(t[0]), f64::from(t[1]), f64::from(t[2]));
+            to_rgba8_pixel(c, 1.0, display)
         })
         .collect()
 }

@@ -8,7 +8,9 @@ mod bake;
 mod bench;
 mod compare;
 mod environment;
+pub mod interrupt;
 mod probe;
+pub mod progress;
 mod render;
 mod truth;
 mod view;
@@ -114,6 +116,14 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<interrupt::Interrupted>() => {
+            // What was rendered is written: the one line says where, the status why.
+            let status = e
+                .downcast_ref::<interrupt::Interrupted>()
+                .map_or(1, interrupt::Interrupted::exit_status);
+            eprintln!("error: {e}");
+            ExitCode::from(status)
+        }
         Err(e) => {
             let advice = advice(&e).map_or(String::new(), |a| format!(" ({a})"));
             eprintln!(

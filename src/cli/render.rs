@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::args::RenderArgs;
+use super::{interrupt, progress};
 use crate::cpu;
 use crate::environment::ChainOn;
 use crate::error::{Error, Result};
@@ -49,8 +50,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let (w, h) = (args.width, args.height);
     let renderer = open(args.backend)?;
     phases.mark("device");
-    let device = match renderer {
-        Some(mut renderer) => render_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?,
+    let (device, truth_spp) = match renderer {
+        Some(mut renderer) => (
+            render_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?,
+            None,
+        ),
         None => render_on_cpu(&scene, &args, kind, sidecar.as_deref(), &mut phases)?,
     };
     phases.mark("encode");
@@ -61,6 +65,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         phases.1.trim_end_matches(", "),
         args.out.display()
     );
+    // A truth render Ctrl-C stopped has written what it had: the command still fails, with
+    // the signal's status.
+    if let (Some(signal), Some(spp)) = (interrupt::stop_requested(), truth_spp) {
+        return Err(interrupt::Interrupted {
+            signal,
+            spp,
+            out: args.out.clone(),
+        }
+        .into());
+    }
     Ok(())
 }
 
@@ -148,14 +162,14 @@ fn render_on_gpu(
 
 /// The render on the CPU: the reference renderer, the Monte Carlo backend or the truth (its
 /// `sidecar` of standard errors written with the image, both or neither); the renderer's
-/// name.
+/// name, and the truth's samples a pixel.
 fn render_on_cpu(
     scene: &Scene,
     args: &RenderArgs,
     kind: ImageKind,
     sidecar: Option<&std::path::Path>,
     phases: &mut Phases,
-) -> Result<String> {
+) -> Result<(String, Option<u32>)> {
     let (w, h) = (args.width, args.height);
     let pixels = u64::from(w) * u64::from(h);
     let geometry = scene.effective_geometry();
@@ -191,56 +205,84 @@ fn render_on_cpu(
         ..Default::default()
     }));
     phases.mark("bake");
-    let (radiance, std_error) = cpu_radiance(scene, &tables, args, phases)?;
+    let (radiance, walked) = cpu_radiance(scene, &tables, args, phases)?;
+    let spp = walked.as_ref().map(|(_, spp)| *spp);
     // The radiance (24 bytes a pixel) is dropped before the encoder starts.
     match kind {
         ImageKind::Png => {
-            let mut rgba = cpu::to_rgba8(&radiance, scene.exposure);
+            let mut rgba = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
             drop(radiance);
             draw_labels(scene, args, &mut rgba, phases)?;
-            write_png(&args.out, w, h, rgba)?
+            match spp {
+                Some(spp) => output::write_png_noted(&args.out, w, h, rgba, &truth_note(spp))?,
+                None => write_png(&args.out, w, h, rgba)?,
+            }
         }
         ImageKind::Exr => {
             let rgba = cpu::to_rgba_f32(&radiance);
             drop(radiance);
-            match (sidecar, std_error) {
-                (Some(path), Some(std_error)) => {
+            match (sidecar, walked) {
+                (Some(path), Some((std_error, spp))) if spp >= 2 => {
                     // Both written, then both renamed: a failed write leaves the old
                     // pair (issue 28, 4).
-                    let side = output::stage_exr(path, w, h, cpu::to_rgba_f32(&std_error))?;
-                    let image = output::stage_exr(&args.out, w, h, rgba)?;
+                    let note = truth_note(spp);
+                    let side = cpu::to_rgba_f32(&std_error);
+                    let side = output::stage_exr_noted(path, w, h, side, &note)?;
+                    let image = output::stage_exr_noted(&args.out, w, h, rgba, &note)?;
                     output::commit_all(vec![side, image])?;
                     eprintln!("per-pixel standard error -> {}", path.display());
+                }
+                (Some(path), Some((_, spp))) => {
+                    // Stopped after the first pass: one estimate a pixel has no error.
+                    let note = truth_note(spp);
+                    output::stage_exr_noted(&args.out, w, h, rgba, &note)?.commit()?;
+                    eprintln!(
+                        "{} not written: one estimate a pixel has no standard error",
+                        path.display()
+                    );
                 }
                 _ => write_exr(&args.out, w, h, rgba)?,
             }
         }
     }
-    Ok(if truth {
+    let name = if truth {
         "CPU truth (random walk)"
     } else if montecarlo {
         "CPU Monte Carlo reference"
     } else {
         "CPU reference renderer"
-    }
-    .to_string())
+    };
+    Ok((name.to_string(), spp))
 }
 
+/// The text a truth PNG carries (its `Comment`): the samples a pixel, and the signal that
+/// stopped the render early, if one did.
+fn truth_note(spp: u32) -> String {
+    let stopped = interrupt::stop_requested().map_or(String::new(), |s| {
+        format!(", interrupted by {}", interrupt::signal_name(s))
+    });
+    format!("shadeballs truth (random walk): {spp} spp{stopped}")
+}
+
+/// The CPU's radiance, and the truth's per-pixel standard error with its samples a pixel.
+type CpuRadiance = (Vec<glam::DVec3>, Option<(Vec<glam::DVec3>, u32)>);
+
 /// The CPU's radiance of `scene` by the backend `args` names, and the truth's per-pixel
-/// standard error.
+/// standard error and samples a pixel.
 fn cpu_radiance(
     scene: &Scene,
     tables: &lut::TableSet,
     args: &RenderArgs,
     phases: &mut Phases,
-) -> Result<(Vec<glam::DVec3>, Option<Vec<glam::DVec3>>)> {
+) -> Result<CpuRadiance> {
     let (w, h) = (args.width, args.height);
     let montecarlo = args.backend == Backend::Montecarlo;
     let truth = args.backend == Backend::Truth;
     if truth {
         let image = render_truth(scene, tables, args)?;
         phases.mark("render");
-        return Ok((image.image.mean, Some(image.image.std_error)));
+        let spp = image.image.spp;
+        return Ok((image.image.mean, Some((image.image.std_error, spp))));
     }
     let radiance = if montecarlo {
         let started = Instant::now();
@@ -280,8 +322,9 @@ fn cpu_radiance(
 /// `--stderr`).
 const DEFAULT_SPP: u32 = 64;
 
-/// `--backend truth`: the render with a progress line on stderr (redrawn in place on a
-/// terminal) and a summary of every ball's mean and its standard error.
+/// `--backend truth`: the render with its progress on stderr (`progress`: a bar with the
+/// time left, redrawn in place on a terminal, else a line a pass), stopped after a pass by
+/// Ctrl-C (`interrupt`), and a summary of every ball's mean and its standard error.
 fn render_truth(
     scene: &crate::scene::Scene,
     e: &lut::TableSet,
@@ -300,25 +343,22 @@ fn render_truth(
         every_ball: true,
     };
     let terminal = std::io::stderr().is_terminal();
-    let line = |p: &cpu::TruthProgress| {
-        let worst = p
-            .worst_stderr
-            .map_or("n/a".to_string(), |s| format!("{:.3} %", 100.0 * s));
-        format!(
-            "truth: {} spp, worst ball standard error {worst}, {:.1} s",
-            p.spp, p.seconds
-        )
+    let line = |p: &cpu::TruthProgress, terminal| {
+        progress::line(p, settings.spp, settings.stderr, terminal)
     };
-    // A line per pass: redrawn in place on a terminal, else one after another (the curve
-    // of the error against time, docs/truth.md).
+    // A bar redrawn in place on a terminal, else a line a pass (the curve of the error
+    // against time, docs/truth.md). Ctrl-C stops after the pass (`interrupt`): the image
+    // then holds the passes done.
+    let stoppable = interrupt::Stoppable::start();
     let image = cpu::render_truth(scene, e, args.width, args.height, settings, |p| {
         if terminal {
-            eprint!("\r{}   ", line(p));
+            eprint!("\r{}   ", line(p, true));
         } else {
-            eprintln!("{}", line(p));
+            eprintln!("{}", line(p, false));
         }
-        true
+        interrupt::stop_requested().is_none()
     })?;
+    drop(stoppable);
     if terminal {
         eprintln!();
     }
@@ -326,7 +366,11 @@ fn render_truth(
         let target = settings
             .stderr
             .map_or(String::new(), |s| format!(" (target {:.3} %)", 100.0 * s));
-        eprintln!("{}{target}, seed {}", line(last), settings.seed);
+        eprintln!(
+            "{}{target}, seed {}",
+            progress::summary(last),
+            settings.seed
+        );
         if let (Some(target), Some(worst)) = (settings.stderr, last.worst_stderr) {
             if worst > target {
                 eprintln!(

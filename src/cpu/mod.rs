@@ -19,7 +19,7 @@ pub use truth::{
 
 use shade::{shade_point, Forms};
 
-use crate::display::{to_unorm8, tone_map};
+use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALLS};
 
@@ -378,14 +378,19 @@ pub fn surface_normal(p: DVec3, d: DVec3) -> DVec3 {
     }
 }
 
-/// Tone-mapped RGBA8 of `radiance` (alpha 255).
+/// RGBA8 of `radiance` (alpha 255) through the homework's display transform (Reinhard,
+/// gamma 1/2.2: [`DisplayTransform::HOMEWORK`]); [`to_display_rgba8`] takes any.
 pub fn to_rgba8(radiance: &[DVec3], exposure: f64) -> Vec<u8> {
+    to_display_rgba8(radiance, exposure, DisplayTransform::HOMEWORK)
+}
+
+/// RGBA8 of `radiance` (alpha 255) through the display transform `display` under
+/// `exposure` ([`crate::display::display_value`], as the GPU's `target_value` into an
+/// `Rgba8Unorm` target).
+pub fn to_display_rgba8(radiance: &[DVec3], exposure: f64, display: DisplayTransform) -> Vec<u8> {
     radiance
         .iter()
-        .flat_map(|c| {
-            let m = |v| to_unorm8(tone_map(v, exposure));
-            [m(c.x), m(c.y), m(c.z), 255]
-        })
+        .flat_map(|&c| to_rgba8_pixel(c, exposure, display))
         .collect()
 }
 

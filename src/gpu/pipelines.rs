@@ -179,8 +179,8 @@ pub(super) struct Shape<'a> {
 }
 
 /// A pipeline of the ball module of `shape`, compiled with the override constants of
-/// `key` (its G, mu axis and variant; linear or bits output for its format) into its
-/// format.
+/// `key` (its G, mu axis and variant; linear or bits output for its format, and whether
+/// the format is sRGB) into its format.
 pub(super) fn create(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
@@ -195,7 +195,13 @@ pub(super) fn create(
         variant,
         ..
     } = key;
-    let constants = shaders::overrides_for(geometry, is_linear(format), mu_axis, variant);
+    let constants = shaders::overrides_for(
+        geometry,
+        is_linear(format),
+        mu_axis,
+        variant,
+        format.is_srgb(),
+    );
     let options = wgpu::PipelineCompilationOptions {
         constants: &constants,
         ..Default::default()

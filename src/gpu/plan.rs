@@ -21,6 +21,7 @@
 use std::fmt;
 
 use crate::brdf::Geometry;
+use crate::display::DisplayTransform;
 use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
 use crate::scene::{Model, Scene, MAX_BALLS};
 
@@ -105,6 +106,9 @@ pub struct Variant {
     pub ibl: u8,
     /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
     pub aa: bool,
+    /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
+    /// [`Scene::display`]).
+    pub display: DisplayTransform,
 }
 
 /// The plan of one scene.
@@ -140,6 +144,7 @@ impl Plan {
         let environment = scene.environment != glam::DVec3::ZERO;
         let lights = !scene.lights.is_empty();
         let ibl = u8::from(scene.environment_map.is_some());
+        let display = scene.display();
         let uses_term = |b: &crate::scene::Ball| options.term && b.model.has_term();
         let is_truth = |b: &crate::scene::Ball| b.model == Model::Truth;
         // Balls that read E: with the term (its lobe), or all of them but the truth under an
@@ -165,6 +170,7 @@ impl Plan {
             lights: !options.per_ball || lights,
             ibl,
             aa: scene.antialias,
+            display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
         // The per-ball draws leave the truth out; the full-screen triangle covers every ball.
@@ -202,6 +208,7 @@ impl Plan {
                 lights,
                 ibl,
                 aa: false,
+                display,
             },
         }
     }

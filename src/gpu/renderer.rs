@@ -568,8 +568,9 @@ impl Renderer {
         self.truth.reset();
     }
 
-    /// Renders `scene` into an `Rgba8Unorm` texture (not sRGB: gamma is applied in the
-    /// shader) and reads it back.
+    /// Renders `scene` into an `Rgba8Unorm` texture (not sRGB: the transfer curve is
+    /// applied in the shader) and reads it back. Into a host's own `*Srgb` target the
+    /// renderer writes linear values, which the hardware encodes to the same bytes.
     pub fn render_ldr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<LdrImage> {
         headless::render_ldr(self, scene, width, height)
     }
@@ -698,7 +699,7 @@ fn hidden_duplicates(balls: &[GpuBall]) -> Vec<bool> {
 
 /// The clear colour: what the shader would give a pixel that hits no ball (the
 /// environment, linear on a float target, its f32 bits on an `Rgba32Uint` one, else
-/// through the display transform). wgpu clears an integer target with each component
+/// through the display transform, decoded to linear on an sRGB target). wgpu clears an integer target with each component
 /// `as u32` (Vulkan and GL alike), which keeps a u32 held in an f64 exactly.
 fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
     let env = scene.background_radiance();
@@ -711,17 +712,16 @@ fn background(scene: &Scene, format: wgpu::TextureFormat) -> wgpu::Color {
             a: bits(1.0),
         };
     }
-    let value = |c: f64| {
-        if is_linear(format) {
-            c as f32 as f64
-        } else {
-            crate::display::tone_map(c, scene.exposure)
-        }
+    let value = if is_linear(format) {
+        env.as_vec3().as_dvec3()
+    } else {
+        // wgpu clears an sRGB target with a linear colour, which the hardware encodes.
+        crate::display::target_value(env, scene.exposure, scene.display(), format.is_srgb())
     };
     wgpu::Color {
-        r: value(env.x),
-        g: value(env.y),
-        b: value(env.z),
+        r: value.x,
+        g: value.y,
+        b: value.z,
         a: 1.0,
     }
 }

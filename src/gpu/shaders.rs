@@ -141,13 +141,16 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 }
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
-/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `AA`.
+/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `AA`, the display
+/// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
+/// (`srgb`: the hardware encodes, so the shader writes linear).
 pub fn overrides_for(
     geometry: Geometry,
     linear: bool,
     mu_axis: MuAxis,
     variant: Variant,
-) -> [(&'static str, f64); 8] {
+    srgb: bool,
+) -> [(&'static str, f64); 11] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -159,5 +162,8 @@ pub fn overrides_for(
         ("HAS_LIGHTS", flag(variant.lights)),
         ("IBL", variant.ibl as f64),
         ("AA", flag(variant.aa)),
+        ("TONE_MAP", variant.display.tone_map.code() as f64),
+        ("TRANSFER", variant.display.transfer.code() as f64),
+        ("SRGB_TARGET", flag(srgb)),
     ]
 }

@@ -84,13 +84,16 @@ struct Sums {
     frames: u32,
 }
 
-/// Whether two scenes give the same truth image but for its exposure: equal but for the
-/// exposure, with the same map (the same shared texels, turned and scaled alike), so that
+/// Whether two scenes give the same truth image but for its exposure and display transform
+/// (the sums are linear radiance): equal but for the exposure, tone mapper and transfer
+/// curve, with the same map (the same shared texels, turned and scaled alike), so that
 /// no frame compares a map's texels.
 pub fn same_scene(a: &Scene, b: &Scene) -> bool {
     let strip = |s: &Scene| Scene {
         environment_map: None,
         exposure: 1.0,
+        tone_map: None,
+        transfer: None,
         ..s.clone()
     };
     let maps = match (&a.environment_map, &b.environment_map) {

@@ -12,6 +12,11 @@
 //! labels = true                # optional, default false: roughness, row model and a
 //!                              #   caption drawn into PNG pictures and the viewer
 //! antialias = true             # optional: antialiased silhouettes (default true)
+//! tone_map = "khronos-neutral" # optional: reinhard | aces | agx | khronos-neutral | none
+//!                              #   (default: the preset's: accurate khronos-neutral,
+//!                              #   games202 reinhard); PNGs and the window, not EXR
+//! transfer = "srgb"            # optional: srgb | gamma-2.2 (default: the preset's:
+//!                              #   accurate srgb, games202 gamma-2.2)
 //! [camera]                     # optional: the reference camera
 //! position = [0, 80, 300]
 //! target = [0, 0, 0]
@@ -60,6 +65,7 @@ use super::{
     MAX_BALLS, MAX_LIGHTS,
 };
 use crate::brdf::Geometry;
+use crate::display::{ToneMap, Transfer};
 use crate::environment::{self, Builtin, Environment, IblTerm, Source};
 use crate::error::{Error, Result};
 
@@ -73,6 +79,8 @@ struct SceneFile {
     antialias: Option<bool>,
     background: Option<BackgroundValue>,
     ibl_term: Option<Named<IblTerm>>,
+    tone_map: Option<Named<ToneMap>>,
+    transfer: Option<Named<Transfer>>,
     #[serde(default)]
     labels: bool,
     camera: Option<Spanned<CameraFile>>,
@@ -282,6 +290,7 @@ type Spanned2<T> = std::result::Result<T, (Range<usize>, String)>;
 
 fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
     let reference = Scene::reference();
+    let (tone_map, transfer) = display(&file);
     let camera = match file.camera {
         None => reference.camera,
         Some(c) => {
@@ -343,7 +352,17 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         layering: file.layering.map_or(reference.layering, |l| l.0),
         labels: file.labels,
         antialias: file.antialias.unwrap_or(reference.antialias),
+        tone_map,
+        transfer,
     })
+}
+
+/// `tone_map` and `transfer`: each `None` (the preset's) where the file names none.
+fn display(file: &SceneFile) -> (Option<ToneMap>, Option<Transfer>) {
+    (
+        file.tone_map.as_ref().map(|t| t.0),
+        file.transfer.as_ref().map(|t| t.0),
+    )
 }
 
 /// The folder a scene file's relative paths start from: the file's own.

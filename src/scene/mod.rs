@@ -28,11 +28,12 @@ pub use material::{
 pub use model::Model;
 pub use preset::Preset;
 pub use showcase::{
-    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS,
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
     SHOWCASE_ROW_HALF_GAP,
 };
 
 use crate::brdf::Geometry;
+use crate::display::{DisplayTransform, ToneMap, Transfer};
 use crate::environment::{Background, Environment, IblTerm};
 
 /// Most balls a scene may hold: a 64 x 64 chart. The GPU keeps them in a storage buffer
@@ -120,6 +121,13 @@ pub struct Scene {
     /// in linear radiance (docs/design/antialiasing.md); off, one ray through each pixel's
     /// centre.
     pub antialias: bool,
+    /// The tone mapper of PNG pictures and the window (`tone_map` in a scene file,
+    /// `--tone-map`); `None`: the preset's ([`Preset::tone_map`]). EXR output is linear
+    /// radiance, before exposure and tone mapping.
+    pub tone_map: Option<ToneMap>,
+    /// The transfer curve (`transfer` in a scene file); `None`: the preset's
+    /// ([`Preset::transfer`]).
+    pub transfer: Option<Transfer>,
 }
 
 /// The reference scene's metal albedo (sRGB, docs/design/reference-scene.md, "The balls,
@@ -152,6 +160,9 @@ impl Scene {
             layering: Layering::default(),
             labels: true,
             antialias: true,
+            // The homework's display: Reinhard and gamma 1/2.2, whichever the preset.
+            tone_map: Some(DisplayTransform::HOMEWORK.tone_map),
+            transfer: Some(DisplayTransform::HOMEWORK.transfer),
         }
     }
 
@@ -243,6 +254,15 @@ impl Scene {
     /// Whether any ball is the random-walk truth.
     pub fn has_truth(&self) -> bool {
         self.balls.iter().any(|b| b.model == Model::Truth)
+    }
+
+    /// The display transform: the scene's tone mapper and transfer curve, each the
+    /// preset's where the scene names none.
+    pub fn display(&self) -> DisplayTransform {
+        DisplayTransform {
+            tone_map: self.tone_map.unwrap_or(self.preset.tone_map()),
+            transfer: self.transfer.unwrap_or(self.preset.transfer()),
+        }
     }
 
     /// The G the tables and the shader use: the preset's, or `self.geometry` for

@@ -2,6 +2,7 @@
 //! (docs/design/model.md, "Presets").
 
 use crate::brdf::{DielectricFresnel, FAvgForm, Geometry};
+use crate::display::{ToneMap, Transfer};
 
 /// A named choice of `F_avg`, `f_add` and (for `games202`) G.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -42,6 +43,26 @@ impl Preset {
         match self {
             Preset::Accurate => DielectricFresnel::Exact,
             Preset::Games202 => DielectricFresnel::Schlick,
+        }
+    }
+
+    /// The tone mapper of a scene that names none. `accurate`: Khronos PBR Neutral, the
+    /// curve made for material preview (a base colour shows as itself up to its start of
+    /// compression, so the balls' albedo reads true, as in three.js's and model-viewer's
+    /// neutral mode); `games202`: Reinhard, the homework's.
+    pub fn tone_map(self) -> ToneMap {
+        match self {
+            Preset::Accurate => ToneMap::KhronosNeutral,
+            Preset::Games202 => ToneMap::Reinhard,
+        }
+    }
+
+    /// The transfer curve of a scene that names none: `accurate`, the sRGB curve (what a
+    /// display decodes); `games202`, gamma 1/2.2, the homework's.
+    pub fn transfer(self) -> Transfer {
+        match self {
+            Preset::Accurate => Transfer::Srgb,
+            Preset::Games202 => Transfer::Gamma22,
         }
     }
 

@@ -17,6 +17,7 @@ mod labels;
 pub mod orbit;
 mod panel;
 mod state;
+pub use state::surface_format;
 
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use crate::brdf::Geometry;
+use crate::display::ToneMap;
 use crate::environment::{Background, IblTerm};
 use crate::lut::{Layout, LayoutKind};
 use crate::scene::{Material, Preset, Scene, MAX_MAGNITUDE};
@@ -256,6 +257,17 @@ fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             .clamping(egui::SliderClamping::Edits),
     );
     scene.exposure = scene.exposure.clamp(f64::MIN_POSITIVE, MAX_MAGNITUDE);
+    tone_map(ui, scene);
+}
+
+/// The tone mapper's dropdown: the scene's (or its preset's), set on the scene once chosen.
+fn tone_map(ui: &mut egui::Ui, scene: &mut Scene) {
+    let current = scene.display().tone_map;
+    let mut choice = current;
+    combo(ui, "tone map", &mut choice, &ToneMap::ALL, ToneMap::name);
+    if choice != current {
+        scene.tone_map = Some(choice);
+    }
 }
 
 fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {

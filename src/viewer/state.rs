@@ -231,9 +231,11 @@ impl State {
     }
 }
 
-/// The surface's configuration: a format without an sRGB suffix (the shader writes display
-/// values itself, as into the headless renderer's `Rgba8Unorm`), copies allowed where the
-/// surface offers them (for screenshots), vsync.
+/// The surface's configuration: an 8-bit format, one without an sRGB suffix where the
+/// surface offers one (the shader writes display values itself, as into the headless
+/// renderer's `Rgba8Unorm`), else an sRGB one (the renderer then writes linear values that
+/// the hardware encodes to the same bytes, and the panel's egui does likewise), copies
+/// allowed where the surface offers them (for screenshots), vsync.
 fn surface_config(
     surface: &wgpu::Surface<'_>,
     gpu: &Gpu,
@@ -245,22 +247,12 @@ fn surface_config(
         message: "the viewer needs the adapter it opened".into(),
     })?;
     let caps = surface.get_capabilities(adapter);
-    let format = caps
-        .formats
-        .iter()
-        .copied()
-        .find(|f| {
-            matches!(
-                f,
-                wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
-            )
-        })
-        .ok_or_else(|| Error::Gpu {
-            message: format!(
-                "the window's surface offers no 8-bit non-sRGB format (it offers {:?})",
-                caps.formats
-            ),
-        })?;
+    let format = surface_format(&caps.formats).ok_or_else(|| Error::Gpu {
+        message: format!(
+            "the window's surface offers no 8-bit RGBA or BGRA format (it offers {:?})",
+            caps.formats
+        ),
+    })?;
     // The frame image is copied in where the surface allows it, else drawn ([`Blit`]).
     let usage =
         wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
@@ -281,9 +273,20 @@ fn surface_config(
     })
 }
 
+/// The surface format the viewer draws into, of those `offered`: 8-bit RGBA or BGRA,
+/// without an sRGB suffix where one is offered, else with it.
+pub fn surface_format(offered: &[wgpu::TextureFormat]) -> Option<wgpu::TextureFormat> {
+    use wgpu::TextureFormat as F;
+    let pick = |wanted: [F; 2]| offered.iter().copied().find(|f| wanted.contains(f));
+    pick([F::Bgra8Unorm, F::Rgba8Unorm]).or_else(|| pick([F::Bgra8UnormSrgb, F::Rgba8UnormSrgb]))
+}
+
 /// The window's pixels as RGBA8 (the surface may be BGRA).
 fn to_rgba(mut pixels: Vec<u8>, format: wgpu::TextureFormat) -> Vec<u8> {
-    if format == wgpu::TextureFormat::Bgra8Unorm {
+    if matches!(
+        format,
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    ) {
         for px in pixels.chunks_exact_mut(4) {
             px.swap(0, 2);
         }

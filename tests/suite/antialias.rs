@@ -3,6 +3,7 @@
 //! white furnace's edges, and the GPU against the CPU renderer.
 use glam::DVec3;
 use shadeballs::cpu;
+use shadeballs::display::DisplayTransform;
 use shadeballs::gpu::Renderer;
 use shadeballs::scene::Scene;
 
@@ -95,8 +96,8 @@ fn classify(scene: &Scene, w: u32, h: u32) -> Vec<Kind> {
 
 /// The reference: `scene` rendered on the GPU at `SCALE` times `w x h` as linear radiance
 /// (what `render --out x.exr` writes), box-filtered over each `SCALE x SCALE` block in
-/// linear radiance, then exposure, the PNG's tone map and 8-bit quantisation
-/// (`cpu::to_rgba8`, the same as `display::tone_map` and `to_unorm8`).
+/// linear radiance, then exposure, the scene's display transform and 8-bit quantisation
+/// (`cpu::to_display_rgba8`, the CPU twin of the shader's).
 fn reference(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> Vec<u8> {
     let (bw, bh) = (w * SCALE, h * SCALE);
     let big = r.render_hdr(scene, bw, bh).unwrap().rgba;
@@ -111,7 +112,7 @@ fn reference(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> Vec<u8> {
     for c in &mut radiance {
         *c /= (SCALE * SCALE) as f64;
     }
-    cpu::to_rgba8(&radiance, scene.exposure)
+    cpu::to_display_rgba8(&radiance, scene.exposure, scene.display())
 }
 
 /// The largest channel difference of pixel `p` between two RGBA8 images, in 1/255.
@@ -201,20 +202,37 @@ fn edges_match_the_supersampled_reference() {
 
 /// The same under the studio environment map (a background that varies along each ray,
 /// and bright rims): 640x360 to keep the 4x reference small. The goal is 3/255 at
-/// p99; NOT MET: measured p99 6/255, max 12/255, mean 1.29/255, held at 6 (the measured
-/// figure, as above).
+/// p99; NOT MET: measured p99 6/255, max 12/255, mean 1.29/255 under the homework's
+/// display (Reinhard, gamma 2.2), held at 6 (the measured figure, as above). Under the
+/// scene's own display since the accurate preset's became Khronos PBR Neutral with the
+/// sRGB curve (steeper in the darks the rims pass through): measured p99 8/255, max 20,
+/// held at 8.
 #[test]
 fn edges_match_the_reference_under_an_environment_map() {
     let (w, h) = (640, 360);
     let mut r = vulkan();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/studio.toml");
-    let scene = shadeballs::scene::load(&path).unwrap();
-    assert!(scene.antialias, "antialiasing is on by default");
-    let kinds = classify(&scene, w, h);
-    let reference = reference(&mut r, &scene, w, h);
-    let image = r.render_ldr(&scene, w, h).unwrap().rgba;
-    let (p99, max, _) = edge_error(&image, &reference, &kinds, "studio");
-    assert!(p99 <= 6, "studio: edge p99 {p99}/255 > 6/255 (max {max})");
+    let own = shadeballs::scene::load(&path).unwrap();
+    assert!(own.antialias, "antialiasing is on by default");
+    let homework = Scene {
+        tone_map: Some(DisplayTransform::HOMEWORK.tone_map),
+        transfer: Some(DisplayTransform::HOMEWORK.transfer),
+        ..own.clone()
+    };
+    // (scene, what, the measured bound above).
+    for (scene, what, bound) in [
+        (&homework, "studio, Reinhard + gamma 2.2", 6),
+        (&own, "studio, its own display", 8),
+    ] {
+        let kinds = classify(scene, w, h);
+        let reference = reference(&mut r, scene, w, h);
+        let image = r.render_ldr(scene, w, h).unwrap().rgba;
+        let (p99, max, _) = edge_error(&image, &reference, &kinds, what);
+        assert!(
+            p99 <= bound,
+            "{what}: edge p99 {p99}/255 > {bound}/255 (max {max})"
+        );
+    }
 }
 
 /// Interior pixels (the whole 4x4 block on one ball, more than 1.5 pixels from any

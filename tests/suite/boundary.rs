@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 
 use shadeballs::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
+use shadeballs::display::{self, ToneMap, Transfer};
 use shadeballs::environment::prefilter;
 use shadeballs::gpu::boundary::{StructLayout, STRUCTS};
 use shadeballs::gpu::shaders;
@@ -45,9 +46,10 @@ fn uint(name: String, value: u64, from: String) -> Constant {
     }
 }
 
-/// `NAME` of a kebab-case name (`smith-correlated` -> `SMITH_CORRELATED`).
+/// `NAME` of a kebab-case name (`smith-correlated` -> `SMITH_CORRELATED`, `gamma-2.2` ->
+/// `GAMMA_2_2`).
 fn upper(name: &str) -> String {
-    name.to_uppercase().replace('-', "_")
+    name.to_uppercase().replace(['-', '.'], "_")
 }
 
 /// The constants of `constants.wgsl`.
@@ -141,7 +143,42 @@ fn renderer_constants() -> Vec<Constant> {
         lut::COATING_ROW_LEN as u64,
         "lut::COATING_ROW_LEN".into(),
     ));
+    for t in ToneMap::ALL {
+        let name = format!("TONE_MAP_{}", upper(t.name()));
+        c.push(uint(name, t.code() as u64, "display::ToneMap::code".into()));
+    }
+    for t in Transfer::ALL {
+        let name = format!("TRANSFER_{}", upper(t.name()));
+        c.push(uint(
+            name,
+            t.code() as u64,
+            "display::Transfer::code".into(),
+        ));
+    }
     c
+}
+
+/// The constants of `screen.wgsl`: the display transform's (src/display.rs).
+fn display_constants() -> Vec<Constant> {
+    vec![
+        float(
+            "MAX_DISPLAY_RADIANCE",
+            display::MAX_DISPLAY_RADIANCE,
+            "display::MAX_DISPLAY_RADIANCE",
+        ),
+        float(
+            "DISPLAY_EPSILON",
+            display::DISPLAY_EPSILON,
+            "display::DISPLAY_EPSILON",
+        ),
+        float("AGX_MIN_EV", display::AGX_MIN_EV, "display::AGX_MIN_EV"),
+        float("AGX_MAX_EV", display::AGX_MAX_EV, "display::AGX_MAX_EV"),
+        float(
+            "AGX_LOG_FLOOR",
+            display::AGX_LOG_FLOOR,
+            "display::AGX_LOG_FLOOR",
+        ),
+    ]
 }
 
 /// The constants of `environment.wgsl`.
@@ -202,6 +239,7 @@ fn blocks() -> Vec<(&'static str, Vec<String>)> {
     vec![
         ("constants.wgsl", lines(library_constants())),
         ("types.wgsl", lines(renderer_constants())),
+        ("screen.wgsl", lines(display_constants())),
         ("environment.wgsl", lines(environment_constants())),
         ("prefilter.wgsl", lines(prefilter_constants())),
         (

@@ -552,11 +552,15 @@ fn environment_command_writes_a_map_a_scene_can_use() {
     let preview = image::open(&png).unwrap().to_rgba8();
     let map = Builtin::Studio.generate(64);
     assert_eq!(preview.dimensions(), (64, 32));
+    // The default (accurate) preset's display transform, as `render` shows the map.
+    let preset = shadeballs::scene::Preset::default();
+    let display = shadeballs::display::DisplayTransform {
+        tone_map: preset.tone_map(),
+        transfer: preset.transfer(),
+    };
     for (t, p) in map.texels().iter().zip(preview.pixels()) {
-        let c = |v: f32| {
-            shadeballs::display::to_unorm8(shadeballs::display::tone_map(f64::from(v), 1.0))
-        };
-        assert_eq!(p.0, [c(t[0]), c(t[1]), c(t[2]), 255]);
+        let c = glam::DVec3::new(f64::from(t[0]), f64::from(t[1]), f64::from(t[2]));
+        assert_eq!(p.0, shadeballs::display::to_rgba8_pixel(c, 1.0, display));
     }
     let cases: [(&[&str], &str); 4] = [
         (

@@ -1,6 +1,7 @@
 //! The plan (`scene::plan`): which rows are baked and which pipelines exist, per case of
 //! issue 7, and the rows' read against the precise reference. CPU only.
 use glam::DVec3;
+use shadeballs::display::DisplayTransform;
 use shadeballs::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 use shadeballs::lab::bench::no_term;
 use shadeballs::lut::{
@@ -35,6 +36,8 @@ fn variant(term: TermMode) -> Variant {
         lights: true,
         ibl: 0,
         aa: true,
+        // The reference scene's display (the homework's).
+        display: DisplayTransform::HOMEWORK,
     }
 }
 
@@ -90,6 +93,7 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             lights: false,
             ibl: 0,
             aa: true,
+            display: DisplayTransform::HOMEWORK,
         }]
     );
 }
@@ -133,6 +137,7 @@ fn past_the_threshold_the_2d_table() {
             lights: true,
             ibl: 0,
             aa: true,
+            display: DisplayTransform::HOMEWORK,
         }]
     );
 }

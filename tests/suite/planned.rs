@@ -22,14 +22,19 @@ const H: u32 = 360;
 fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     let bound = r.bound_tables();
     let rows = match &bound {
-        TableSet::Rows(_) => Some(cpu::to_rgba8(
+        TableSet::Rows(_) => Some(cpu::to_display_rgba8(
             &cpu::render_radiance(scene, &bound, W, H),
             scene.exposure,
+            scene.display(),
         )),
         _ => None,
     };
     let full = TableSet::full(r.tables_for(scene.effective_geometry()));
-    let full = cpu::to_rgba8(&cpu::render_radiance(scene, &full, W, H), scene.exposure);
+    let full = cpu::to_display_rgba8(
+        &cpu::render_radiance(scene, &full, W, H),
+        scene.exposure,
+        scene.display(),
+    );
     (full, rows)
 }
 

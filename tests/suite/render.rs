@@ -22,7 +22,10 @@ pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8
             cpu::render_radiance(scene, &tables, w, h)
         }
     };
-    (gpu, cpu::to_rgba8(&radiance, scene.exposure))
+    (
+        gpu,
+        cpu::to_display_rgba8(&radiance, scene.exposure, scene.display()),
+    )
 }
 
 fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {
