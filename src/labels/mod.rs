@@ -183,15 +183,24 @@ impl Labels {
     }
 }
 
-/// The text at the left of the row a ball heads: what the ball's model is. The one place
-/// that names a row's model.
+/// The text at the left of the row a ball heads: what the ball's model is, after its
+/// material where it is not all metal (`IOR 1.5 · Kulla-Conty`, `metallic 0.5 ·
+/// Kulla-Conty`). The one place that names a row's model.
 pub fn row_label(ball: &Ball) -> String {
-    match ball.model {
-        Model::None => "no term".to_string(),
-        Model::KullaConty => "Kulla-Conty".to_string(),
-        Model::Turquin => "Turquin".to_string(),
-        Model::FdezAguera => "Fdez-Aguera".to_string(),
-        Model::Truth => "truth".to_string(),
+    let model = match ball.model {
+        Model::None => "no term",
+        Model::KullaConty => "Kulla-Conty",
+        Model::Turquin => "Turquin",
+        Model::FdezAguera => "Fdez-Aguera",
+        Model::Truth => "truth",
+    };
+    let m = &ball.material;
+    if !m.has_dielectric() {
+        model.to_string()
+    } else if m.has_metal() {
+        format!("metallic {} \u{b7} {model}", number(m.metallic))
+    } else {
+        format!("IOR {} \u{b7} {model}", number(m.ior))
     }
 }
 
@@ -239,8 +248,13 @@ pub fn caption(scene: &Scene) -> String {
             }
         }
     };
+    let layering = if scene.balls.iter().any(|b| b.material.has_dielectric()) {
+        format!(" \u{b7} {} layering", scene.layering)
+    } else {
+        String::new()
+    };
     format!(
-        "{} preset \u{b7} {} G \u{b7} {environment}",
+        "{} preset \u{b7} {} G{layering} \u{b7} {environment}",
         scene.preset,
         scene.effective_geometry()
     )

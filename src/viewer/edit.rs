@@ -32,11 +32,22 @@ pub enum MaterialChoice {
     White,
     /// A metal of any linear F0.
     Custom([f64; 3]),
+    /// A red plastic: base colour sRGB (0.8, 0.15, 0.1) under a coating of IOR 1.5.
+    Plastic,
+    /// The engines' material: base colour (sRGB), metallic, IOR.
+    MetallicRoughness {
+        /// sRGB.
+        base_color: [f64; 3],
+        /// In [0, 1].
+        metallic: f64,
+        /// In `scene::IOR_RANGE`.
+        ior: f64,
+    },
 }
 
 impl MaterialChoice {
     /// Every choice the panel lists (custom with the homework copper's F0 to start from).
-    pub fn all() -> [MaterialChoice; 7] {
+    pub fn all() -> [MaterialChoice; 9] {
         [
             MaterialChoice::AsScene,
             MaterialChoice::Copper,
@@ -45,6 +56,12 @@ impl MaterialChoice {
             MaterialChoice::Aluminium,
             MaterialChoice::White,
             MaterialChoice::Custom(Material::metal_srgb(REFERENCE_ALBEDO_SRGB).f0.to_array()),
+            MaterialChoice::Plastic,
+            MaterialChoice::MetallicRoughness {
+                base_color: [1.0, 0.847, 0.569],
+                metallic: 0.5,
+                ior: crate::scene::DEFAULT_IOR,
+            },
         ]
     }
 
@@ -58,10 +75,12 @@ impl MaterialChoice {
             MaterialChoice::Aluminium => "aluminium",
             MaterialChoice::White => "white (F0 = 1)",
             MaterialChoice::Custom(_) => "custom F0",
+            MaterialChoice::Plastic => "red plastic (IOR 1.5)",
+            MaterialChoice::MetallicRoughness { .. } => "base colour, metallic, IOR",
         }
     }
 
-    /// The metal this choice names; `None` for [`MaterialChoice::AsScene`].
+    /// The material this choice names; `None` for [`MaterialChoice::AsScene`].
     pub fn material(self) -> Option<Material> {
         let metal =
             |f0: [f64; 3]| Material::metal(DVec3::from_array(f0).clamp(DVec3::ZERO, DVec3::ONE));
@@ -73,6 +92,20 @@ impl MaterialChoice {
             MaterialChoice::Aluminium => Some(metal([0.913, 0.922, 0.924])),
             MaterialChoice::White => Some(metal([1.0; 3])),
             MaterialChoice::Custom(f0) => Some(metal(f0)),
+            MaterialChoice::Plastic => Some(Material::metallic_roughness(
+                crate::scene::srgb_decode([0.8, 0.15, 0.1]),
+                0.0,
+                crate::scene::DEFAULT_IOR,
+            )),
+            MaterialChoice::MetallicRoughness {
+                base_color,
+                metallic,
+                ior,
+            } => Some(Material::metallic_roughness(
+                crate::scene::srgb_decode(base_color.map(|c| c.clamp(0.0, 1.0))),
+                metallic.clamp(0.0, 1.0),
+                ior.clamp(crate::scene::IOR_RANGE.0, crate::scene::IOR_RANGE.1),
+            )),
         }
     }
 }

@@ -8,7 +8,7 @@ use crate::brdf::Geometry;
 use crate::display::ToneMap;
 use crate::environment::{Background, IblTerm};
 use crate::lut::{Layout, LayoutKind};
-use crate::scene::{Material, Preset, Scene, MAX_MAGNITUDE};
+use crate::scene::{Layering, Material, Preset, Scene, MAX_MAGNITUDE};
 
 use super::edit::{
     self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice, SavedLighting,
@@ -154,6 +154,16 @@ fn model(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
         ui.add(egui::DragValue::new(&mut controls.table_size.1).range(range));
         ui.label("roughness");
     });
+    // Only where a ball has a dielectric part: the form weights nothing else.
+    if scene.balls.iter().any(|b| b.material.has_dielectric()) {
+        combo(
+            ui,
+            "layering (dielectrics)",
+            &mut scene.layering,
+            &Layering::ALL,
+            |l| l.name(),
+        );
+    }
 }
 
 fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
@@ -213,6 +223,23 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
                 *f0 = rgb.map(f64::from);
             }
         });
+    }
+    if let MaterialChoice::MetallicRoughness {
+        base_color,
+        metallic,
+        ior,
+    } = &mut controls.material
+    {
+        let mut srgb = base_color.map(|c| (c * 255.0).round() as u8);
+        ui.horizontal(|ui| {
+            ui.label("base colour (sRGB)");
+            if ui.color_edit_button_srgb(&mut srgb).changed() {
+                *base_color = srgb.map(|c| f64::from(c) / 255.0);
+            }
+        });
+        ui.add(egui::Slider::new(metallic, 0.0..=1.0).text("metallic"));
+        let (lo, hi) = crate::scene::IOR_RANGE;
+        ui.add(egui::Slider::new(ior, lo..=hi).text("IOR"));
     }
     if controls.material != before {
         match controls.material.material() {
