@@ -89,9 +89,10 @@ fn coating_rows_bake_time() {
 
 use glam::DVec3;
 use shadeballs::environment::IblTerm;
-use shadeballs::scene::{Ball, Camera, Layering, Light, Material, Model, Preset, Scene};
+use shadeballs::scene::{Ball, Camera, Layering, Material, Model, Scene};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
+use shadeballs::scene::Preset;
 
 /// Balls on a `rows x cols` grid (step 80 across, 90 down, radius 35, y up), looked at
 /// head on through an 18 degree field of view from far enough to frame them at 16:9.
@@ -361,4 +362,52 @@ fn layering_forms_against_the_truth_on_plastic_toml() {
             100.0 * worst_physical
         );
     }
+}
+
+/// A scene file of `assets/scenes`.
+fn asset_scene(name: &str) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(name);
+    shadeballs::scene::load(&path).unwrap()
+}
+
+/// The GPU and its CPU twin within the house's bound (99.9 % of pixels within 1/255) on
+/// the materials' scenes: `plastic.toml` under every layering form and both presets, and
+/// the metallic-roughness chart under the studio with every term, on `backends`.
+fn materials_match_cpu(backends: wgpu::Backends, what: &str) {
+    let (w, h) = (320, 180);
+    let mut r = renderer(backends);
+    for preset in Preset::ALL {
+        for layering in Layering::ALL {
+            let scene = Scene {
+                preset,
+                layering,
+                ..asset_scene("plastic.toml")
+            };
+            let (gpu, cpu) = crate::render::both(&mut r, &scene, w, h);
+            assert_close(
+                &compare(&gpu, &cpu, w),
+                &format!("{what} vs CPU, plastic.toml, {preset}, {layering}"),
+            );
+        }
+    }
+    for term in IblTerm::ALL {
+        let scene = asset_scene("metallic_roughness.toml").with_term(term);
+        let (gpu, cpu) = crate::render::both(&mut r, &scene, w, h);
+        assert_close(
+            &compare(&gpu, &cpu, w),
+            &format!("{what} vs CPU, metallic_roughness.toml, {term}"),
+        );
+    }
+}
+
+#[test]
+fn materials_vulkan_matches_cpu() {
+    materials_match_cpu(wgpu::Backends::VULKAN, "Vulkan");
+}
+
+#[test]
+fn materials_gl_matches_cpu() {
+    materials_match_cpu(wgpu::Backends::GL, "GL");
 }
