@@ -64,7 +64,7 @@ pub(crate) fn f_add_rgb(form: FAvgForm, f0: DVec3, e_avg: f64) -> DVec3 {
 /// `shade` of `lighting.wgsl` without the environment map's part: radiance leaving ball `b`
 /// at unit normal `n` towards `v` (see the shader for the model and the environment
 /// approximation), its coating's rows baked for the call. The renderer's shading, with
-/// the map's part, is [`shade_point`].
+/// the map's part, is `shade_point`.
 pub fn shade(
     scene: &Scene,
     b: &Ball,
