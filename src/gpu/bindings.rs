@@ -14,7 +14,8 @@ use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 pub struct Bindings {
     pub layout: wgpu::BindGroupLayout,
     pub globals: wgpu::Buffer,
-    /// Every ball (storage, [`MAX_BALLS`] of them): read by the full-screen path only.
+    /// Every ball (storage, [`MAX_BALLS`] of them): read by no entry point since the
+    /// full-screen path went (`bindings.wgsl` says why it stays).
     pub balls: wgpu::Buffer,
     pub lights: wgpu::Buffer,
     /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
@@ -67,8 +68,8 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// The balls' storage buffer, read by the full-screen path's fragments (`fs_main`; the
-/// probe's compute stage shares the layout).
+/// The balls' storage buffer (read by no entry point: `bindings.wgsl` says why it stays;
+/// the probe's compute stage shares the layout).
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

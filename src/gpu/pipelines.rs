@@ -1,7 +1,7 @@
 //! The ball renderer's pipelines: one per shader variant and target, created on first use
 //! with the variant's override constants (`types.wgsl`) from the module of the target's
-//! output (bits or not: the shader def `OUTPUT_BITS`), either the per-ball entry points
-//! with their instance buffer or the full-screen ones.
+//! output (bits or not: the shader def `OUTPUT_BITS`): the per-ball entry points with
+//! their instance buffer, and the background's full-screen triangle.
 
 use std::collections::HashMap;
 
@@ -20,8 +20,6 @@ pub struct PipelineKey {
     pub geometry: Geometry,
     /// The mu axis of the tables the pipeline reads (`MU_AXIS`).
     pub mu_axis: MuAxis,
-    /// The per-ball quads (`vs_ball`, `fs_ball`), or the full-screen triangle.
-    pub per_ball: bool,
     /// The shader variant (the override constants of `types.wgsl`).
     pub variant: Variant,
 }
@@ -34,7 +32,6 @@ pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) 
         format,
         geometry: plan.geometry,
         mu_axis: plan.bake.layout.mu_axis,
-        per_ball: plan.per_ball,
         variant,
     }
 }
@@ -103,7 +100,6 @@ impl Pipelines {
             format,
             geometry,
             mu_axis,
-            per_ball: true,
             variant,
         };
         let module = module(&mut self.modules, device, is_bits(format));
@@ -126,27 +122,16 @@ impl Pipelines {
         let module = module(&mut self.modules, device, is_bits(key.format));
         let layout = &self.layout;
         self.made.entry(key).or_insert_with(|| {
-            let shape = if key.per_ball {
-                Shape {
-                    label: "balls",
-                    vs: shaders::VS_BALL,
-                    fs: shaders::FS_BALL,
-                    buffers: &[Some(BallInstance::LAYOUT)],
-                    // A quad a ball: one strip of two triangles an instance (4 vertices,
-                    // not 6).
-                    topology: wgpu::PrimitiveTopology::TriangleStrip,
-                    // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
-                    depth: Some((true, wgpu::CompareFunction::Less)),
-                }
-            } else {
-                Shape {
-                    label: "balls",
-                    vs: shaders::VS_MAIN,
-                    fs: shaders::FS_MAIN,
-                    buffers: &[],
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    depth: None,
-                }
+            let shape = Shape {
+                label: "balls",
+                vs: shaders::VS_BALL,
+                fs: shaders::FS_BALL,
+                buffers: &[Some(BallInstance::LAYOUT)],
+                // A quad a ball: one strip of two triangles an instance (4 vertices,
+                // not 6).
+                topology: wgpu::PrimitiveTopology::TriangleStrip,
+                // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
+                depth: Some((true, wgpu::CompareFunction::Less)),
             };
             create(device, layout, module, key, shape)
         })

@@ -10,11 +10,9 @@ use crate::gpu::Variant;
 use crate::lut::MuAxis;
 use crate::wgsl::Program;
 
-/// Vertex entry point of the full-screen draw (one triangle over the viewport).
+/// Vertex entry point of the full-screen draws (one triangle over the viewport: the
+/// background, the truth's resolve).
 pub const VS_MAIN: &str = "vs_main";
-/// Fragment entry point of the full-screen draw: every pixel's radiance, background
-/// included.
-pub const FS_MAIN: &str = "fs_main";
 /// Vertex entry point of the per-ball draw (one quad per ball over its screen-space
 /// bounds).
 pub const VS_BALL: &str = "vs_ball";
@@ -42,7 +40,7 @@ pub const CONVOLVED_MAIN: &str = "convolved_main";
 /// program imports serves one of them).
 pub fn entry_points(program: &Program) -> &'static [&'static str] {
     match program.root {
-        "shadeballs::balls" => &[VS_MAIN, FS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
+        "shadeballs::balls" => &[VS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
         "shadeballs::walk" => &[
             VS_BALL,
             VS_MAIN,

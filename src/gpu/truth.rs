@@ -440,7 +440,6 @@ fn create(
         format,
         geometry: draw.geometry,
         mu_axis: draw.mu_axis,
-        per_ball: true,
         variant: draw.variant,
     };
     pipelines::create(draw.device, layout, module, key, shape)
