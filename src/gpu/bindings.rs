@@ -11,7 +11,7 @@ use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 /// Buffers and the layout of group 0; the bind group follows the tables. Cloning shares
 /// the buffers (wgpu's handles are references).
 #[derive(Clone)]
-pub struct Bindings {
+pub(crate) struct Bindings {
     pub layout: wgpu::BindGroupLayout,
     pub globals: wgpu::Buffer,
     /// Every ball (storage, [`MAX_BALLS`] of them): read by no entry point since the
@@ -35,7 +35,7 @@ pub struct BallInstance {
 
 impl BallInstance {
     /// The vertex layout of [`BallInstance`], one per instance (locations as in `vs_ball`).
-    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    pub(crate) const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
         array_stride: size_of::<BallInstance>() as u64,
         step_mode: wgpu::VertexStepMode::Instance,
         attributes: &wgpu::vertex_attr_array![

@@ -13,7 +13,7 @@ use crate::lut::MuAxis;
 
 /// Everything a ball pipeline is compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
+pub(crate) struct PipelineKey {
     /// The target's format (linear, display or bits output: [`is_linear`], [`is_bits`]).
     pub format: wgpu::TextureFormat,
     /// The G of `f_micro` (`GEOMETRY`).
@@ -27,7 +27,11 @@ pub struct PipelineKey {
 /// The pipeline key that draws `variant` of `plan` into `format`. The mu axis is the plan's
 /// bake layout's: the tables it binds are baked with it (or, pinned by
 /// `Renderer::set_tables`, set it), and with no tables nothing reads the axis.
-pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) -> PipelineKey {
+pub(crate) fn pipeline_key(
+    plan: &Plan,
+    format: wgpu::TextureFormat,
+    variant: Variant,
+) -> PipelineKey {
     PipelineKey {
         format,
         geometry: plan.geometry,

@@ -93,7 +93,7 @@ fn clenshaw(a: &[f64], s: f64) -> f64 {
 /// (`samples` nodes a segment) at `n` Chebyshev points of that row and nothing across
 /// roughness, so the row carries no interpolation error in roughness (a scene's own rows,
 /// `rows.rs`). Evaluate with [`ChebyshevSurface::e_in_row`].
-pub fn exact_row(geometry: Geometry, samples: usize, roughness: f64, n: usize) -> Vec<f64> {
+pub(crate) fn exact_row(geometry: Geometry, samples: usize, roughness: f64, n: usize) -> Vec<f64> {
     let n = n.max(2);
     let alpha = alpha_from_roughness(roughness);
     let mut est = Estimator::new(Method::Quadrature, PointSet::Sobol, samples);
@@ -115,7 +115,7 @@ impl ChebyshevSurface {
 
     /// As [`ChebyshevSurface::new`] with `n` points along `y = sqrt(x)` and `nr` along
     /// roughness (each at least 2).
-    pub fn with_grid(geometry: Geometry, samples: usize, n: usize, nr: usize) -> Self {
+    pub(crate) fn with_grid(geometry: Geometry, samples: usize, n: usize, nr: usize) -> Self {
         let (n, nr) = (n.max(2), nr.max(2));
         let values: Vec<f64> = (0..n * nr)
             .into_par_iter()
@@ -172,7 +172,7 @@ impl ChebyshevSurface {
     }
 
     /// E at every texel of row `j` of `layout`.
-    pub fn texel_row(&self, layout: &Layout, j: usize) -> Vec<f64> {
+    pub(crate) fn texel_row(&self, layout: &Layout, j: usize) -> Vec<f64> {
         let r = layout.roughness_of_texel(j);
         let row = self.row(r);
         (0..layout.mu_size)

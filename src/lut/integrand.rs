@@ -148,7 +148,7 @@ impl EIntegrand {
     }
 
     /// `G Phi sin(theta_i) / (4 mu_o)`, the integrand of E over `theta_i` in `[0, pi/2]`.
-    pub fn at_theta(&self, theta_i: f64) -> f64 {
+    pub(crate) fn at_theta(&self, theta_i: f64) -> f64 {
         let (s_i, mu_i) = theta_i.sin_cos();
         if mu_i <= 0.0 {
             return 0.0;
@@ -204,7 +204,7 @@ impl EIntegrand {
     }
 
     /// `theta_i` at a segment's variable `x`, and `d theta_i / dx`.
-    pub fn theta_at_segment(&self, seg: &Segment, x: f64) -> (f64, f64) {
+    pub(crate) fn theta_at_segment(&self, seg: &Segment, x: f64) -> (f64, f64) {
         let (d, jacobian) = match seg.mapping {
             Mapping::Tan => {
                 let w = self.width();

@@ -166,11 +166,11 @@ pub fn load(path: &Path) -> Result<Scene> {
 /// Bytes a `[[ball]]` table may take in a scene file: the longest legal ball, every number
 /// written with 17 digits and an exponent, is about 350 bytes; the rest is room for
 /// comments and indentation.
-pub const SCENE_BYTES_PER_BALL: u64 = 1024;
+pub(crate) const SCENE_BYTES_PER_BALL: u64 = 1024;
 /// Bytes a `[[light]]` table may take (the longest legal one is about 130 bytes).
-pub const SCENE_BYTES_PER_LIGHT: u64 = 512;
+pub(crate) const SCENE_BYTES_PER_LIGHT: u64 = 512;
 /// Bytes for the rest: the top-level keys, `[camera]`, `[environment]`, comments.
-pub const SCENE_BYTES_OTHER: u64 = 64 * 1024;
+pub(crate) const SCENE_BYTES_OTHER: u64 = 64 * 1024;
 
 /// Largest scene file read (`load`): the largest legal scene, [`MAX_BALLS`] balls and
 /// [`MAX_LIGHTS`] lights written out in full, so that a huge file is refused before toml

@@ -41,7 +41,7 @@ impl Microsurface {
     /// Probability that a ray leaving height `c = C1(h)` along upward `dir` escapes
     /// (Heitz et al. 2016, height-correlated masking): `G1 = c^Lambda`; 0 for a
     /// direction at or below the horizon.
-    pub fn g1(&self, dir_z: f64, c: f64) -> f64 {
+    pub(crate) fn g1(&self, dir_z: f64, c: f64) -> f64 {
         if dir_z <= 0.0 {
             return 0.0;
         }
@@ -53,7 +53,7 @@ impl Microsurface {
     /// probability `(c / c')^Lambda` (Heitz et al. 2016, the walk's height sampling): upward rays
     /// hit with probability `1 - G1`, so `u` is scaled into `[0, 1 - G1)`; downward rays
     /// always hit.
-    pub fn next_height(&self, dir_z: f64, c: f64, u: f64) -> f64 {
+    pub(crate) fn next_height(&self, dir_z: f64, c: f64, u: f64) -> f64 {
         let lambda = self.lambda(dir_z);
         if dir_z > 0.0 {
             let escape = c.powf(lambda);
@@ -68,7 +68,7 @@ impl Microsurface {
     /// Projected area of the microsurface seen along `w` (either side of the horizon):
     /// `(1 + Lambda(w)) w.z = (w.z + sqrt(w.z^2 + alpha^2 (1 - w.z^2))) / 2` (Heitz 2014,
     /// "Understanding the Masking-Shadowing Function": projected area under Smith).
-    pub fn projected_area(&self, z: f64) -> f64 {
+    pub(crate) fn projected_area(&self, z: f64) -> f64 {
         let z = z.clamp(-1.0, 1.0);
         0.5 * (z + (z * z + self.alpha * self.alpha * (1.0 - z * z)).sqrt())
     }
@@ -97,7 +97,7 @@ impl Microsurface {
     /// to `alpha = 1`, draw a uniform point on the disk, warp it onto the projected visible
     /// hemisphere (`s = (1 + z) / 2`), lift it and unstretch. Valid for `wi` on either side
     /// of the horizon (the visible region is then the disk minus a half ellipse).
-    pub fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
+    pub(crate) fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
         let a = self.alpha;
         let vh = DVec3::new(a * wi.x, a * wi.y, wi.z).normalize();
         let lensq = vh.x * vh.x + vh.y * vh.y;
@@ -116,7 +116,7 @@ impl Microsurface {
 
 /// A uniform point on the unit disk (`r = sqrt(u1)`, `phi = 2 pi u2`) warped onto the
 /// projected visible hemisphere of a direction with stretched cosine `z` (Heitz 2018): `p2 -> (1 - s) sqrt(1 - p1^2) + s p2`, `s = (1 + z) / 2`.
-pub fn disk_to_visible(u1: f64, u2: f64, z: f64) -> (f64, f64) {
+pub(crate) fn disk_to_visible(u1: f64, u2: f64, z: f64) -> (f64, f64) {
     let r = u1.sqrt();
     let phi = std::f64::consts::TAU * u2;
     let (p1, p2) = (r * phi.cos(), r * phi.sin());
