@@ -2,7 +2,6 @@
 //! markdown and PNG (figures are not asserted), and its errors are measured against the
 //! precise reference, not against another estimator.
 use std::collections::HashSet;
-use std::time::Instant;
 
 use shadeballs::brdf::Geometry;
 use shadeballs::lut::{self, e_avg_reference, e_reference, BakeConfig, Method};
@@ -10,7 +9,7 @@ use shadeballs::scene::{Model, Scene};
 use shadeballs_lab::bench::exact::exact_tables;
 use shadeballs_lab::bench::{bake_errors, display_error, lookup, HOMEWORK};
 
-use crate::cli::{lab, temp_dir};
+use crate::cli::{lab, lab_timed, temp_dir};
 
 const CSVS: [&str; 8] = [
     "bake",
@@ -58,9 +57,8 @@ fn quick_bench_writes_well_formed_csv_markdown_and_png() {
         "{} is missing: build it first (cargo build --release), the startup sweep runs it",
         shadeballs.display()
     );
-    let start = Instant::now();
-    let (ok, stderr) = lab(&["bench", "--quick", "--out", dir.to_str().unwrap()]);
-    let secs = start.elapsed().as_secs_f64();
+    let (ok, stderr, took) = lab_timed(&["bench", "--quick", "--out", dir.to_str().unwrap()]);
+    let secs = took.as_secs_f64();
     println!("shadeballs-lab bench --quick: {secs:.1} s");
     assert!(ok, "bench failed: {stderr}");
     assert!(
