@@ -18,7 +18,7 @@
 //! `y = sqrt(x)` instead, where the term is `y^2 ln y`. With precise values at the points
 //! (48 nodes a segment), 25 points along y and 17 along roughness interpolate E within
 //! 1.9e-7 (Schlick), 6.0e-7 (Smith) and 1.9e-6 (height-correlated Smith) at every texel of
-//! the 64 x 64 default and the homework's 128 x 128 layout (tests/suite/lut_chebyshev.rs).
+//! the 64 x 64 default and the homework's 128 x 128 layout (its unit tests, below).
 
 //! ## How
 //!

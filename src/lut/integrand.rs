@@ -47,7 +47,7 @@
 //! With height-correlated Smith G, `G = 1 / (1 + L(mu_o) + L(mu_i))` changes with mu_i
 //! on the scale of mu_o: at grazing that is a feature near the peak far narrower than it,
 //! and the peak segment towards the normal is split at `d = GRAZING_SPLIT mu_o` (measured
-//! in tests/suite/lut_chebyshev.rs: at mu = 4.5e-4, roughness 1, 24 nodes a segment go
+//! in the unit tests of lut/chebyshev.rs: at mu = 4.5e-4, roughness 1, 24 nodes a segment go
 //! from 1.8e-4 to 8.5e-6 error).
 //!
 //! Each segment is smooth in its variable, so a few Gauss-Legendre nodes integrate it to

@@ -1,4 +1,4 @@
-//! The measurement harness behind `shadeballs-lab bench` and `cargo bench`: run time against
+//! The measurement harness behind `shadeballs-lab bench` and `cargo bench -p shadeballs-lab`: run time against
 //! error, each time the median of repeated runs in one process, errors always against the
 //! precise reference. Writes one CSV per sweep, log-log plots as PNG and a markdown
 //! summary that states each goal of issue 5 with its figure.
