@@ -2,45 +2,23 @@
 // screen.wgsl's).
 //
 // Each pixel casts its primary ray and intersects balls analytically (exact spheres, no
-// tessellation). Two ways to cover the pixels:
-// - vs_ball / fs_ball (the planned renderer, src/gpu/renderer.rs): one quad per ball over
-//   its screen-space bounds (CameraBasis::sphere_bounds), instanced per shader variant; a
-//   fragment intersects its own ball only, discards where the ray misses it, and writes
-//   the hit's distance as its depth (ball_depth): the depth test keeps the nearest ball,
-//   so a pixel costs one intersection whatever the number of balls. The background is the
-//   render pass's clear. Only the pixels a ball's quad covers are shaded.
-// - vs_main / fs_main: one full-screen triangle that also paints the background, each
-//   pixel intersecting every ball (nearest_hit; the design before planning, kept for
-//   comparison in `shadeballs bench`).
+// tessellation). vs_ball / fs_ball (src/gpu/renderer.rs): one quad per ball over its
+// screen-space bounds (CameraBasis::sphere_bounds), instanced per shader variant; a
+// fragment intersects its own ball only, discards where the ray misses it, and writes the
+// hit's distance as its depth (ball_depth): the depth test keeps the nearest ball, so a
+// pixel costs one intersection whatever the number of balls. The background is the render
+// pass's clear (or fs_background's map). Only the pixels a ball's quad covers are shaded.
+// (The design before planning, one full-screen triangle whose pixels intersected every
+// ball, is gone: docs/benchmarks.md, "Before planning".)
 
 #define_import_path shadeballs::balls
 #import shadeballs::constants::DIV_EPSILON
 #import shadeballs::environment::{direction_to_uv, env_to_map}
 #import shadeballs::types::{Ball, IBL, AA}
-#import shadeballs::bindings::{globals, balls, env, env_radiance, env_sampler}
+#import shadeballs::bindings::{globals, env, env_radiance, env_sampler}
 #import shadeballs::lighting::shade
 #import shadeballs::screen::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
-
-struct Hit {
-    // Distance along the ray, or -1 for no hit.
-    t: f32,
-    ball: u32,
-}
-
-// The nearest of the first `n_balls` balls along the ray (lowest index on a tie).
-fn nearest_hit(o: vec3<f32>, d: vec3<f32>, n_balls: u32) -> Hit {
-    var best_t = -1.0;
-    var best = 0u;
-    for (var k = 0u; k < n_balls; k++) {
-        let t = intersect_sphere(o, d, balls[k].center_radius.xyz, balls[k].center_radius.w);
-        if t > 0.0 && (best_t < 0.0 || t < best_t) {
-            best_t = t;
-            best = k;
-        }
-    }
-    return Hit(best_t, best);
-}
 
 // Antialiased silhouettes (docs/design/antialiasing.md). A pixel integrates radiance over
 // its square footprint (a box filter, as offline renderers do). Near a ball's silhouette
@@ -183,34 +161,6 @@ fn shade_hit(o: vec3<f32>, d: vec3<f32>, t: f32, b: Ball, n_lights: u32) -> vec3
     return shade(b, n, -d, n_lights);
 }
 
-// Linear radiance seen through pixel position `frag`, background included; `counts` from
-// loop_counts. Without antialiasing (AA = 0), the nearest hit of the centre ray; with it, of every
-// ball's footprint (ball_footprint) the one whose shading distance is the nearest (lowest
-// index on a tie), as the per-ball draw's depth test keeps.
-fn radiance_at(frag: vec2<f32>, counts: vec2<u32>) -> vec3<f32> {
-    let ray = primary_ray(frag);
-    if AA == 0u {
-        let hit = nearest_hit(ray[0], ray[1], counts.x);
-        if hit.t < 0.0 {
-            return background_radiance(ray[1]);
-        }
-        return shade_hit(ray[0], ray[1], hit.t, balls[hit.ball], counts.y);
-    }
-    var best = Footprint(-1.0, frag, frag, 0.0);
-    var best_ball = 0u;
-    for (var k = 0u; k < counts.x; k++) {
-        let f = ball_footprint(frag, balls[k].center_radius.xyz, balls[k].center_radius.w);
-        if f.t > 0.0 && (best.t <= 0.0 || f.t < best.t) {
-            best = f;
-            best_ball = k;
-        }
-    }
-    if !(best.t > 0.0) {
-        return background_radiance(ray[1]);
-    }
-    return footprint_radiance(best, balls[best_ball], counts.y);
-}
-
 // What a pixel whose ray (unit direction d) hits no ball shows: the background's fixed
 // radiance, plus the environment map along d where the background shows it (IBL != 0).
 // The map's share is weighted by the 0/1 flag rather than branched on: a branch on a
@@ -223,11 +173,6 @@ fn background_radiance(d: vec3<f32>) -> vec3<f32> {
         c += shown * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
     }
     return c;
-}
-
-@fragment
-fn fs_main(in: VsOut) -> @location(0) Colour {
-    return output_value(radiance_at(in.position.xy, in.counts));
 }
 
 struct BallFragment {

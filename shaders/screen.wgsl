@@ -184,7 +184,7 @@ fn vs_ball(
 
 // The depth of a hit at distance t > 0: t scaled by the power of two DEPTH_SCALE, which is
 // exact in f32 (no two distances the f32 ray tells apart share a depth), so the depth
-// test (less) keeps the nearest hit as nearest_hit does. Every distance in a valid scene
+// test (less) keeps the nearest hit, as the CPU renderer does. Every distance in a valid scene
 // is below 2^43 (coordinates and radii within MAX_MAGNITUDE = 1e12 of src/scene: at most
 // 2 sqrt(3) 1e12 + 1e12 = 4.5e12), so depths stay in [0, 1).
 const DEPTH_SCALE: f32 = 5.684341886080802e-14; // 2^-44

@@ -47,11 +47,6 @@ pub mod wgsl;
 
 #[cfg(feature = "cli")]
 pub mod cli;
-#[cfg(feature = "lab")]
-// The measurement lab (`shadeballs bench` and `truth`): outside the library's public API
-// promise, so not held to missing_docs.
-#[allow(missing_docs)]
-pub mod lab;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 

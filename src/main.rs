@@ -1,87 +1,9 @@
-//! The `shadeballs` binary: sets up the process (Mesa's runtime folder, logging) and runs
-//! the command line ([`shadeballs::cli`]).
+//! The `shadeballs` binary: sets up the process ([`shadeballs::cli::process::init`]) and
+//! runs the command line ([`shadeballs::cli`]).
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Mesa's drivers print "error: XDG_RUNTIME_DIR is invalid or not set" on every start
-/// without a private runtime folder, which reads like a failure. When none is set, point
-/// it at a 0700 folder of this user's under the temp folder. Runs first, before any thread exists.
-#[cfg(unix)]
-fn give_mesa_a_runtime_dir() {
-    use std::os::unix::fs::{MetadataExt, PermissionsExt};
-    let usable = std::env::var_os("XDG_RUNTIME_DIR")
-        .map(PathBuf::from)
-        .is_some_and(|d| d.is_dir());
-    if usable {
-        return;
-    }
-    // One folder per user, reused by every run (the uid of this process owns /proc/self).
-    let uid = std::fs::metadata("/proc/self")
-        .map(|m| m.uid())
-        .unwrap_or(0);
-    let dir = std::env::temp_dir().join(format!("shadeballs-runtime-{uid}"));
-    let made = std::fs::create_dir_all(&dir)
-        .and_then(|_| std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700)));
-    if made.is_ok() {
-        std::env::set_var("XDG_RUNTIME_DIR", &dir);
-    }
-}
-
-#[cfg(not(unix))]
-fn give_mesa_a_runtime_dir() {}
-
-/// On SIGINT (Ctrl-C) or SIGTERM, unless a render that stops cleanly takes it
-/// (`cli::interrupt`): remove the temporary files of writes in flight (a 4096 x
-/// 4096 table or an 8192 x 8192 image is hundreds of MB), say so in one line, and exit
-/// with 128 + the signal's number (130, 143), as a shell reports a process it interrupted.
-/// A thread reads the signals, so the removal runs outside any signal handler.
-#[cfg(unix)]
-fn clean_up_on_interrupt() {
-    use signal_hook::consts::{SIGINT, SIGTERM};
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
-        return;
-    };
-    std::thread::spawn(move || {
-        for signal in signals.forever() {
-            // A render that stops cleanly (the CPU truth) finishes its pass and writes what
-            // it has; a second signal exits at once.
-            if shadeballs::cli::interrupt::request_stop(signal) {
-                eprintln!(
-                    "\n{}: stopping after this pass to write what is rendered (again to quit \
-                     at once)",
-                    shadeballs::cli::interrupt::signal_name(signal)
-                );
-                continue;
-            }
-            let removed = shadeballs::output::remove_temp_files_in_flight();
-            let name = if signal == SIGINT {
-                "SIGINT"
-            } else {
-                "SIGTERM"
-            };
-            eprintln!(
-                "error: interrupted by {name}{}",
-                match removed {
-                    0 => String::new(),
-                    n => format!("; removed {n} unfinished output file(s)"),
-                }
-            );
-            std::process::exit(128 + signal);
-        }
-    });
-}
-
-#[cfg(not(unix))]
-fn clean_up_on_interrupt() {}
-
 fn main() -> ExitCode {
-    give_mesa_a_runtime_dir();
-    clean_up_on_interrupt();
-    // wgpu, naga and the drivers log through `log`: warnings by default, `RUST_LOG` to
-    // choose (`RUST_LOG=wgpu=info`).
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
-        .format_timestamp(None)
-        .init();
+    shadeballs::cli::process::init();
     shadeballs::cli::main()
 }

@@ -65,7 +65,7 @@ fn follow_links(path: &Path) -> Result<PathBuf> {
 /// regular file (a folder, a device, a pipe), which the final rename would replace, nor a
 /// read-only file, which a rename would silently replace. Other permissions are left to
 /// the write itself.
-pub fn check_output_path(path: &Path) -> Result<()> {
+pub(crate) fn check_output_path(path: &Path) -> Result<()> {
     if path.file_name().is_none() {
         return Err(invalid(path, "not a file name"));
     }
@@ -382,7 +382,7 @@ pub fn image_kind(path: &Path) -> Result<ImageKind> {
 
 /// `expected`, or for a name that is all extension (`.png`: a hidden file with no
 /// extension) a hint to name the file.
-pub fn format_hint(path: &Path, expected: &'static str) -> &'static str {
+pub(crate) fn format_hint(path: &Path, expected: &'static str) -> &'static str {
     let dotted = path
         .file_name()
         .and_then(|n| n.to_str())

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# The whole test suite, from a fresh Debian machine: installs what the tests need (Mesa's
-# lavapipe Vulkan driver, Xvfb and xdotool for the viewer test), then checks formatting,
-# lints, the library alone (no default features), the docs, and runs every test, the
-# examples' and the doctests in release mode (one build serves the tests and the program;
-# docs/design/machine.md, "Build").
+# The whole test suite of both crates (the library and binary at the root, the lab in lab/),
+# from a fresh Debian machine: installs what the tests need (Mesa's lavapipe Vulkan driver,
+# Xvfb and xdotool for the viewer test), then checks formatting, lints, the library alone
+# (no default features), the docs, and runs every test, the examples' and the doctests in
+# release mode (one build serves the tests and the programs; docs/design/machine.md,
+# "Build").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# g++ builds FLIP's C++ reference (nv-flip-sys, for `shadeballs compare`).
+# g++ builds FLIP's C++ reference (nv-flip-sys, for the lab's `shadeballs-lab compare`).
 # The viewer's window under Xvfb also needs the X11 client libraries winit loads at run
 # time (Xlib, Xcursor, Xrandr, XInput2, xkbcommon-x11).
 packages=(g++ mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool
@@ -31,11 +32,13 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "$XDG_RUNTIME_DIR" ]; then
 fi
 
 cargo fmt --all -- --check
-cargo clippy --release --all-targets -- -D warnings
-# The library as another program links it: no winit, egui, clap or plotting crate.
+cargo clippy --release --workspace --all-targets -- -D warnings
+# The library as another program links it: no winit, egui, clap or plotting crate, and
+# not the lab (this builds the root package alone).
 cargo build --release --no-default-features --lib
-RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
-RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features
-# Unit and integration tests (one binary), the examples (built, and run by their tests)
-# and the doctests of the facade.
-cargo test --release
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features -p shadeballs
+# Both crates: the library's unit tests (the maths, beside its code) and its integration
+# test binary, the lab's test binary, the examples (built, and run by their tests) and the
+# doctests of the facade.
+cargo test --release --workspace

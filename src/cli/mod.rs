@@ -1,18 +1,18 @@
 //! The `shadeballs` command line (feature `cli`): one file per subcommand, each parsing
-//! nothing itself (the flags are in `args.rs`), calling the library and the lab, and
-//! reporting on stderr. The binary (`src/main.rs`) only sets up the process and calls
-//! [`main`].
+//! nothing itself (the flags are in `args.rs`), calling the library, and reporting on
+//! stderr. The binary (`src/main.rs`) only sets up the process ([`process::init`]) and
+//! calls [`main`]. The lab's binary (`shadeballs-lab`, lab/) shares the scene's flags
+//! ([`SceneArgs`]), the process set-up, [`open_renderer`], [`one_line_error`] and
+//! [`advice`].
 
 mod args;
 mod bake;
-mod bench;
-mod compare;
 mod environment;
 pub mod interrupt;
 mod probe;
 pub mod progress;
+pub mod process;
 mod render;
-mod truth;
 mod view;
 
 use std::process::ExitCode;
@@ -20,6 +20,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub use args::*;
+pub use render::open as open_renderer;
 
 #[derive(Parser)]
 #[command(
@@ -36,20 +37,12 @@ struct Cli {
 enum Command {
     /// Bake E(mu, roughness) and E_avg(roughness) and write them to a file.
     Bake(BakeArgs),
-    /// Measure run time against error (writes CSV, PNG plots and a markdown summary).
-    Bench(BenchArgs),
-    /// Render every model's row of balls beside the truth's (a random walk) and measure
-    /// each image's error against it (CSV, labelled PNG, heatmaps, a time-error plot).
-    Compare(CompareArgs),
     /// Write a built-in environment map (studio, sky, white) to .exr or .hdr.
     Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
     Probe(ProbeArgs),
-    /// Compare the models with the exact multiple scattering of a random walk on the
-    /// microsurface (CSV tables, PNG plots, summary.md).
-    Truth(TruthArgs),
     /// Open a window showing the shading balls, with a panel to change them live.
     View(ViewArgs),
 }
@@ -62,7 +55,7 @@ const WGPU_BACKEND_NAMES: [&str; 11] = [
 
 /// Checks `WGPU_BACKEND` where `--backend auto` honours it: a name wgpu does not know
 /// would leave no backend, and the error would then advise installing a driver.
-pub(crate) fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Result<()> {
+pub fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Result<()> {
     if backend != crate::gpu::Backend::Auto {
         return Ok(());
     }
@@ -86,7 +79,7 @@ pub(crate) fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Res
 
 /// Writes `text` and a newline to stdout; a reader that closed the pipe (`| head`) is not
 /// an error worth a panic (`println!` panics on it).
-fn print_stdout(text: &str) {
+pub fn print_stdout(text: &str) {
     use std::io::Write as _;
     let _ = writeln!(std::io::stdout().lock(), "{text}");
 }
@@ -106,12 +99,9 @@ pub fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Bake(args) => bake::run(args),
-        Command::Bench(args) => bench::run(args),
-        Command::Compare(args) => compare::run(args),
         Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
         Command::Probe(args) => probe::run(args),
-        Command::Truth(args) => truth::run(args),
         Command::View(args) => view::run(args),
     };
     match result {
@@ -137,7 +127,7 @@ pub fn main() -> ExitCode {
 
 /// What the user can do about a library error, in the command line's words: the library's
 /// messages state what happened, the front end names the flag or command that helps.
-pub(crate) fn advice(e: &anyhow::Error) -> Option<&'static str> {
+pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
     use crate::Error;
     match e.chain().find_map(|c| c.downcast_ref::<Error>())? {
         Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),

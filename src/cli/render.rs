@@ -17,8 +17,8 @@ use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
 use crate::scene::Scene;
 
 /// The GPU renderer of `backend`, or `None` for the CPU: a CPU backend, or `auto` with no
-/// adapter (with a warning). `compare` opens its models' renderer the same way.
-pub(super) fn open(backend: Backend) -> Result<Option<Renderer>> {
+/// adapter (with a warning). The lab's `compare` opens its models' renderer the same way.
+pub fn open(backend: Backend) -> Result<Option<Renderer>> {
     let Some(backends) = backend.wgpu_backends() else {
         return Ok(None);
     };

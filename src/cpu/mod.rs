@@ -401,3 +401,23 @@ pub fn to_rgba_f32(radiance: &[DVec3]) -> Vec<f32> {
         .flat_map(|c| [c.x as f32, c.y as f32, c.z as f32, 1.0])
         .collect()
 }
+
+/// Per pixel (row-major, row 0 at the top), the ball whose sphere the centre ray hits
+/// first (`None`: background): which ball each pixel of a Monte Carlo image belongs to.
+pub fn ball_index_map(scene: &Scene, width: u32, height: u32) -> Vec<Option<usize>> {
+    let basis = scene.camera.basis(width, height);
+    (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let d = basis.ray(x, y, width, height);
+            scene
+                .balls
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (intersect_sphere(basis.origin, d, b.center, b.radius), i))
+                .filter(|(t, _)| *t > 0.0)
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, i)| i)
+        })
+        .collect()
+}

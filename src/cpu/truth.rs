@@ -123,7 +123,7 @@ pub struct BallMean {
 impl BallMean {
     /// `Y(std_error) / Y(mean)` (Rec. 709 luminance); 0 for a black ball with no noise,
     /// `None` for a ball no pixel sees.
-    pub fn relative_std_error(&self) -> Option<f64> {
+    pub(crate) fn relative_std_error(&self) -> Option<f64> {
         if self.pixels == 0 {
             return None;
         }

@@ -190,7 +190,7 @@ fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
 
 /// A soft rectangle of light in (azimuth, elevation): centre, full sizes and radiance.
 #[derive(Clone, Copy, Debug)]
-pub struct AreaLight {
+pub(crate) struct AreaLight {
     /// Azimuth of the centre, degrees.
     pub phi_deg: f64,
     /// Elevation of the centre, degrees.
@@ -210,7 +210,7 @@ pub const STUDIO_EDGE_DEG: f64 = 1.0;
 /// The studio's lights: key (up, front-left of the balls as the reference camera sees
 /// them: the direction towards it is about `(-0.5, 0.5, 0.7)`), fill (front-right, dimmer,
 /// lower) and rim (behind and above the balls, for their silhouettes).
-pub const STUDIO_LIGHTS: [AreaLight; 3] = [
+pub(crate) const STUDIO_LIGHTS: [AreaLight; 3] = [
     AreaLight {
         phi_deg: -145.0,
         elevation_deg: 30.0,
@@ -291,19 +291,19 @@ pub fn studio_key_direction() -> DVec3 {
 // sky
 
 /// The sky's turbidity (Preetham: 2 very clear, 3 clear, 6 hazy).
-pub const SKY_TURBIDITY: f64 = 3.0;
+pub(crate) const SKY_TURBIDITY: f64 = 3.0;
 /// The sun's elevation above the horizon, degrees.
-pub const SUN_ELEVATION_DEG: f64 = 35.0;
+pub(crate) const SUN_ELEVATION_DEG: f64 = 35.0;
 /// The sun's azimuth: front-left of the balls, like the studio's key light.
-pub const SUN_AZIMUTH_DEG: f64 = -145.0;
+pub(crate) const SUN_AZIMUTH_DEG: f64 = -145.0;
 /// The sun disk's angular radius, degrees: widened from the real 0.27 so that a
 /// 1024-wide map (0.35-degree texels) resolves it over some 50 texels.
 pub const SUN_RADIUS_DEG: f64 = 1.5;
 /// The sun disk's radiance as a multiple of the zenith sky's.
-pub const SUN_TO_ZENITH: f64 = 150.0;
+pub(crate) const SUN_TO_ZENITH: f64 = 150.0;
 /// The ground's grey albedo: below the horizon the map shows this times the average
 /// radiance along the horizon.
-pub const GROUND_ALBEDO: f64 = 0.3;
+pub(crate) const GROUND_ALBEDO: f64 = 0.3;
 
 /// The direction towards the sky's sun.
 pub fn sun_direction() -> DVec3 {

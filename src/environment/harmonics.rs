@@ -36,7 +36,7 @@ use super::{uv_to_direction, EnvMap};
 use crate::lut::gauss_legendre_unit;
 
 /// Coefficients of `bands` bands: `bands^2`.
-pub fn coefficient_count(bands: usize) -> usize {
+pub(crate) fn coefficient_count(bands: usize) -> usize {
     bands * bands
 }
 

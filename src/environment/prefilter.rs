@@ -40,7 +40,7 @@ pub const SPECULAR_LEVELS: u32 = 7;
 pub const SPECULAR_WIDTH: u32 = 256;
 /// Mip levels of the specular texture: layer `k` is stored at level [`specular_mip`]`(k)`,
 /// `SPECULAR_WIDTH >> level` wide.
-pub const SPECULAR_MIP_LEVELS: u32 = 3;
+pub(crate) const SPECULAR_MIP_LEVELS: u32 = 3;
 /// GGX samples per texel of the sharpest prefiltered layer (roughness 1/6); rougher
 /// layers take more ([`specular_samples`]).
 pub const SPECULAR_SAMPLES: u32 = 64;
@@ -64,7 +64,7 @@ pub const KERNEL_SIZE: usize = 64;
 /// fit ([`EnvMap::f16_scale`]).
 pub const F16_MAX: f32 = 65504.0;
 /// The smallest positive f16 (a subnormal, 2^-24); half of it rounds to 0.
-pub const F16_MIN_SUBNORMAL: f32 = 5.960_464_5e-8;
+pub(crate) const F16_MIN_SUBNORMAL: f32 = 5.960_464_5e-8;
 /// A weight sum below this is treated as zero (no texel in the kernel's support).
 pub const WEIGHT_EPSILON: f64 = 1e-30;
 /// Smallest `sin theta` the texel solid angle uses at the poles (filtered importance
@@ -414,7 +414,7 @@ pub fn specular_samples(layer: u32) -> u32 {
 
 /// The coarsest mip level filtered importance sampling reads in `chain`: the last at
 /// least [`FIS_MIN_WIDTH`] wide (level 0 for a narrower map).
-pub fn fis_max_level(chain: &MipChain) -> u32 {
+pub(crate) fn fis_max_level(chain: &MipChain) -> u32 {
     chain
         .levels
         .iter()
@@ -443,7 +443,7 @@ pub fn specular_mip(layer: u32, levels: u32) -> u32 {
 
 /// Mip levels of the specular texture for a map `width` wide (fewer for tiny maps: the
 /// smallest level is at least 2 x 1).
-pub fn specular_mip_levels(width: u32) -> u32 {
+pub(crate) fn specular_mip_levels(width: u32) -> u32 {
     let (_, h) = specular_size(width);
     SPECULAR_MIP_LEVELS.min(h.ilog2() + 1)
 }

@@ -12,10 +12,11 @@ use crate::scene::{MAX_BALLS, MAX_LIGHTS};
 /// Buffers and the layout of group 0; the bind group follows the tables. Cloning shares
 /// the buffers (wgpu's handles are references).
 #[derive(Clone)]
-pub struct Bindings {
+pub(crate) struct Bindings {
     pub layout: wgpu::BindGroupLayout,
     pub globals: wgpu::Buffer,
-    /// Every ball (storage, [`MAX_BALLS`] of them): read by the full-screen path only.
+    /// Every ball (storage, [`MAX_BALLS`] of them): read by no entry point since the
+    /// full-screen path went (`bindings.wgsl` says why it stays).
     pub balls: wgpu::Buffer,
     pub lights: wgpu::Buffer,
     /// Per-ball quads of the planned draw: [`BallInstance`] per ball, grouped by variant.
@@ -37,7 +38,7 @@ pub struct BallInstance {
 
 impl BallInstance {
     /// The vertex layout of [`BallInstance`], one per instance (locations as in `vs_ball`).
-    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    pub(crate) const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
         array_stride: size_of::<BallInstance>() as u64,
         step_mode: wgpu::VertexStepMode::Instance,
         attributes: &wgpu::vertex_attr_array![
@@ -75,8 +76,8 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-/// A read-only storage buffer: the balls, read by the full-screen path's fragments
-/// (`fs_main`; the probe's compute stage shares the layout), and the coating rows.
+/// A read-only storage buffer: the balls (read by no entry point: `bindings.wgsl` says why
+/// they stay; the probe's compute stage shares the layout), and the coating rows.
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

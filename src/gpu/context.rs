@@ -223,7 +223,7 @@ impl Gpu {
 
     /// Checks an image size against 1 and the device's largest 2-D texture.
     /// (`Renderer::render_ldr` / `render_hdr` also check the read-back buffer's size.)
-    pub fn check_size(&self, width: u32, height: u32) -> Result<()> {
+    pub(crate) fn check_size(&self, width: u32, height: u32) -> Result<()> {
         let max = self.device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
             return Err(Error::Invalid {

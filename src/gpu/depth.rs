@@ -6,7 +6,7 @@ use super::pipelines::DEPTH_FORMAT;
 
 /// A depth texture and its view, of a colour target's size.
 #[derive(Default)]
-pub struct DepthTarget {
+pub(crate) struct DepthTarget {
     held: Option<((u32, u32), wgpu::Texture, wgpu::TextureView)>,
 }
 

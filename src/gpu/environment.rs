@@ -17,7 +17,7 @@ use crate::scene::Scene;
 
 /// The format of the map, its mip chain and the prefiltered layers: filterable on every
 /// backend, and a storage format the compute passes can write.
-pub const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub(crate) const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// Mirrors `EnvUniform` in `types.wgsl` (member for member: tests/suite/boundary.rs).
 #[repr(C)]
@@ -627,7 +627,7 @@ fn encode_job(
 /// an `Arc`; the key holds a clone, so the address cannot be reused by another map while
 /// the textures are kept) and the G of the tables the kernels and the split sum come from.
 #[derive(Clone, Debug)]
-pub struct EnvironmentKey {
+pub(crate) struct EnvironmentKey {
     map: std::sync::Arc<crate::environment::EnvMap>,
     geometry: crate::brdf::Geometry,
 }

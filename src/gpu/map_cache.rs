@@ -20,7 +20,7 @@ pub const MAX_PREFILTERED_MAPS: usize = 4;
 /// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
 /// map, and the latest maps' prefiltered textures with their bind groups, most recently
 /// drawn first.
-pub struct PrefilteredMaps {
+pub(crate) struct PrefilteredMaps {
     pub layout: wgpu::BindGroupLayout,
     /// The map's uniform ([`EnvUniform`]), written every frame.
     pub uniform: wgpu::Buffer,
@@ -55,7 +55,7 @@ impl PrefilteredMaps {
     /// The bind group for `scene`: its map, prepared on the first draw with it (or with
     /// another G) and kept, or the stand-ins for a scene without one. Fails, before any
     /// work, where the map's mip chain would not fit in memory.
-    pub fn bind_group(
+    pub(crate) fn bind_group(
         &mut self,
         gpu: &Gpu,
         scene: &Scene,
@@ -89,7 +89,7 @@ impl PrefilteredMaps {
     }
 
     /// Wall time of the latest preparation (see `Renderer::last_prefilter_time`).
-    pub fn last_prepared(&self) -> Option<Duration> {
+    pub(crate) fn last_prepared(&self) -> Option<Duration> {
         self.last_prepared
     }
 }

@@ -1,7 +1,7 @@
 //! The ball renderer's pipelines: one per shader variant and target, created on first use
 //! with the variant's override constants (`types.wgsl`) from the module of the target's
-//! output (bits or not: the shader def `OUTPUT_BITS`), either the per-ball entry points
-//! with their instance buffer or the full-screen ones.
+//! output (bits or not: the shader def `OUTPUT_BITS`): the per-ball entry points with
+//! their instance buffer, and the background's full-screen triangle.
 
 use std::collections::HashMap;
 
@@ -13,15 +13,13 @@ use crate::lut::MuAxis;
 
 /// Everything a ball pipeline is compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
+pub(crate) struct PipelineKey {
     /// The target's format (linear, display or bits output: [`is_linear`], [`is_bits`]).
     pub format: wgpu::TextureFormat,
     /// The G of `f_micro` (`GEOMETRY`).
     pub geometry: Geometry,
     /// The mu axis of the tables the pipeline reads (`MU_AXIS`).
     pub mu_axis: MuAxis,
-    /// The per-ball quads (`vs_ball`, `fs_ball`), or the full-screen triangle.
-    pub per_ball: bool,
     /// The shader variant (the override constants of `types.wgsl`).
     pub variant: Variant,
 }
@@ -29,12 +27,15 @@ pub struct PipelineKey {
 /// The pipeline key that draws `variant` of `plan` into `format`. The mu axis is the plan's
 /// bake layout's: the tables it binds are baked with it (or, pinned by
 /// `Renderer::set_tables`, set it), and with no tables nothing reads the axis.
-pub fn pipeline_key(plan: &Plan, format: wgpu::TextureFormat, variant: Variant) -> PipelineKey {
+pub(crate) fn pipeline_key(
+    plan: &Plan,
+    format: wgpu::TextureFormat,
+    variant: Variant,
+) -> PipelineKey {
     PipelineKey {
         format,
         geometry: plan.geometry,
         mu_axis: plan.bake.layout.mu_axis,
-        per_ball: plan.per_ball,
         variant,
     }
 }
@@ -103,7 +104,6 @@ impl Pipelines {
             format,
             geometry,
             mu_axis,
-            per_ball: true,
             variant,
         };
         let module = module(&mut self.modules, device, is_bits(format));
@@ -126,27 +126,16 @@ impl Pipelines {
         let module = module(&mut self.modules, device, is_bits(key.format));
         let layout = &self.layout;
         self.made.entry(key).or_insert_with(|| {
-            let shape = if key.per_ball {
-                Shape {
-                    label: "balls",
-                    vs: shaders::VS_BALL,
-                    fs: shaders::FS_BALL,
-                    buffers: &[Some(BallInstance::LAYOUT)],
-                    // A quad a ball: one strip of two triangles an instance (4 vertices,
-                    // not 6).
-                    topology: wgpu::PrimitiveTopology::TriangleStrip,
-                    // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
-                    depth: Some((true, wgpu::CompareFunction::Less)),
-                }
-            } else {
-                Shape {
-                    label: "balls",
-                    vs: shaders::VS_MAIN,
-                    fs: shaders::FS_MAIN,
-                    buffers: &[],
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    depth: None,
-                }
+            let shape = Shape {
+                label: "balls",
+                vs: shaders::VS_BALL,
+                fs: shaders::FS_BALL,
+                buffers: &[Some(BallInstance::LAYOUT)],
+                // A quad a ball: one strip of two triangles an instance (4 vertices,
+                // not 6).
+                topology: wgpu::PrimitiveTopology::TriangleStrip,
+                // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
+                depth: Some((true, wgpu::CompareFunction::Less)),
             };
             create(device, layout, module, key, shape)
         })

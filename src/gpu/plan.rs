@@ -25,7 +25,7 @@ use crate::display::DisplayTransform;
 use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
 use crate::scene::{Model, Scene, MAX_BALLS};
 
-/// Most rows planned before the 2-D table is used instead. Measured by `shadeballs bench`
+/// Most rows planned before the 2-D table is used instead. Measured by `shadeballs-lab bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
 /// row costs 25 quadratures and the table 425; 16 rows baked faster than the table in each
 /// of six runs, 24 and 32 in only one (docs/benchmarks.md, "Planning").
@@ -37,23 +37,18 @@ pub enum TablePolicy {
     /// Rows up to [`MAX_PLANNED_ROWS`], the 2-D table past it (the default).
     #[default]
     Auto,
-    /// Always the 2-D table (the design before planning; for comparison).
+    /// Always the 2-D table (what [`crate::gpu::Renderer::set_tables`] pins).
     Full,
-    /// Always rows, however many.
-    Rows,
 }
 
-/// What the renderer does besides the tables: how it draws.
+/// What the renderer does besides the tables: how it draws. Each ball is drawn over its
+/// screen-space bounds, the background a clear, by a pipeline per shader variant (the
+/// design before planning, one full-screen triangle branching on each ball's flag, is
+/// gone; its figures are in docs/benchmarks.md, "Before planning").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct DrawOptions {
     /// How the tables are chosen.
     pub tables: TablePolicy,
-    /// Each ball drawn over its screen-space bounds, the background a clear (`true`), or one
-    /// full-screen triangle that paints the background too (`false`, the earlier design).
-    pub per_ball: bool,
-    /// One pipeline per shader variant (`true`), or one pipeline branching on each ball's
-    /// flag (`false`, for comparison).
-    pub variants: bool,
     /// The term compiled in where balls use it (`true`), or out of every pipeline.
     pub term: bool,
 }
@@ -62,32 +57,17 @@ impl Default for DrawOptions {
     fn default() -> Self {
         DrawOptions {
             tables: TablePolicy::Auto,
-            per_ball: true,
-            variants: true,
             term: true,
         }
     }
 }
 
-impl DrawOptions {
-    /// The design before planning: a full table, one full-screen pipeline with a branch.
-    pub fn unplanned() -> Self {
-        DrawOptions {
-            tables: TablePolicy::Full,
-            per_ball: false,
-            variants: false,
-            term: true,
-        }
-    }
-}
-
-/// How a pipeline treats the multiple-scattering term (`MS_TERM` in `types.wgsl`).
+/// How a pipeline treats the multiple-scattering term (`MS_TERM` in `types.wgsl`; the
+/// value 1, a branch on each ball's flag, was the design before planning's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum TermMode {
     /// Compiled out.
     Out = 0,
-    /// A branch on each ball's flag (one pipeline for every ball).
-    Branch = 1,
     /// Compiled in for every ball the pipeline draws.
     In = 2,
 }
@@ -123,11 +103,8 @@ pub struct Plan {
     pub tables: TableKey,
     /// The variants drawn, each with the indices of its balls (in the scene's order).
     pub draws: Vec<(Variant, Vec<usize>)>,
-    /// Whether each ball is drawn over its screen-space bounds ([`DrawOptions::per_ball`]).
-    pub per_ball: bool,
     /// The truth balls (scene order), path traced and accumulated (`walk.wgsl`); the
-    /// per-ball draws leave them out (the full-screen one shades them, and the truth's
-    /// resolve draws over them).
+    /// per-ball draws leave them out.
     pub truth: Vec<usize>,
     /// The variant the truth's pipelines are compiled with (no term; the scene's lights,
     /// environment and map).
@@ -158,7 +135,6 @@ impl Plan {
         roughness.dedup();
         let tables = match options.tables {
             _ if roughness.is_empty() => TableSet::None,
-            TablePolicy::Rows => TableKey::rows(&bake, &roughness),
             TablePolicy::Auto if roughness.len() <= MAX_PLANNED_ROWS => {
                 TableKey::rows(&bake, &roughness)
             }
@@ -166,22 +142,17 @@ impl Plan {
         };
         let variant = |term| Variant {
             term,
-            environment: !options.per_ball || environment,
-            lights: !options.per_ball || lights,
+            environment,
+            lights,
             ibl,
             aa: scene.antialias,
             display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
-        // The per-ball draws leave the truth out; the full-screen triangle covers every ball.
-        let all: Vec<usize> = (0..balls.len())
-            .filter(|&k| !options.per_ball || !is_truth(&balls[k]))
-            .collect();
+        // The per-ball draws leave the truth out.
+        let all: Vec<usize> = (0..balls.len()).filter(|&k| !is_truth(&balls[k])).collect();
         let draws = if !options.term {
             vec![(variant(TermMode::Out), all)]
-        } else if !options.variants || !options.per_ball {
-            // One full-screen triangle is one pipeline: it branches.
-            vec![(variant(TermMode::Branch), all)]
         } else {
             let (with, without): (Vec<usize>, Vec<usize>) =
                 all.into_iter().partition(|&k| balls[k].model.has_term());
@@ -198,7 +169,6 @@ impl Plan {
             bake,
             tables,
             draws,
-            per_ball: options.per_ball,
             truth,
             // The walk traces one ray through each pixel's centre: truth balls are not
             // antialiased.
@@ -228,7 +198,6 @@ impl fmt::Display for Variant {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let term = match self.term {
             TermMode::Out => "term out",
-            TermMode::Branch => "term by per-ball branch",
             TermMode::In => "term in",
         };
         let part = |on: bool, name: &str| format!("{}{name}", if on { "" } else { "no " });
@@ -279,12 +248,10 @@ impl fmt::Display for Plan {
                 l.mu_size, l.r_size, l.kind, l.storage, self.geometry
             )?,
         }
-        let how = if self.per_ball {
-            "each ball over its screen-space bounds, background cleared"
-        } else {
-            "one full-screen triangle"
-        };
-        write!(f, "draw: {how}; pipelines:")?;
+        write!(
+            f,
+            "draw: each ball over its screen-space bounds, background cleared; pipelines:"
+        )?;
         for (v, balls) in &self.draws {
             write!(f, "\n  {v}: {} balls", balls.len())?;
         }

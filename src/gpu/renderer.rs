@@ -144,13 +144,12 @@ impl Renderer {
 
     /// Compiles the multiple-scattering term in where balls use it (`true`, the default) or
     /// out of every pipeline from now on; out, the image equals the one with every ball's
-    /// flag off (`shadeballs bench` measures what the term costs with it).
+    /// flag off (`shadeballs-lab bench` measures what the term costs with it).
     pub fn set_multiple_scattering_term(&mut self, on: bool) {
         self.options.term = on;
     }
 
-    /// How the next draws plan and draw (default: [`DrawOptions::default`], planned;
-    /// [`DrawOptions::unplanned`] is the design before planning, for comparison).
+    /// How the next draws plan and draw (default: [`DrawOptions::default`]).
     pub fn set_draw_options(&mut self, options: DrawOptions) {
         self.options = options;
     }
@@ -317,8 +316,7 @@ impl Renderer {
     }
 
     /// Records the balls' pass of `frame` into `target`: the map behind the balls (a
-    /// full-screen draw before the quads; the full-screen path paints it itself), then each
-    /// variant's quads with its pipeline (or one full-screen triangle).
+    /// full-screen draw before the quads), then each variant's quads with its pipeline.
     fn encode_balls(
         &mut self,
         scene: &Scene,
@@ -326,24 +324,19 @@ impl Renderer {
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
     ) {
-        let plan = &frame.plan;
         let (quads, ranges) = ball_quads(scene, frame);
         let (background_pipeline, draws) = self.ball_pipelines(frame, target.format, ranges);
         if !quads.is_empty() {
             let queue = &self.gpu.queue;
             queue.write_buffer(&self.bindings.instances, 0, bytemuck::cast_slice(&quads));
         }
-        let clear = if plan.per_ball {
-            background(scene, target.format)
-        } else {
-            wgpu::Color::BLACK
-        };
+        let clear = background(scene, target.format);
         // The per-ball draw's depth target, the size of the whole colour attachment.
-        let depth = plan.per_ball.then(|| {
+        let depth = {
             let texture = target.view.texture();
             let size = (texture.width(), texture.height());
             self.depth.view(&self.gpu.device, size)
-        });
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("balls"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -355,8 +348,8 @@ impl Renderer {
                     store: wgpu::StoreOp::Store,
                 },
             })],
-            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
-                view,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
                     store: wgpu::StoreOp::Discard,
@@ -377,22 +370,18 @@ impl Renderer {
         }
         let stride = std::mem::size_of::<BallInstance>() as u64;
         for (pipeline, range) in draws {
-            pass.set_pipeline(&pipeline);
-            if plan.per_ball {
-                if range.is_empty() {
-                    continue;
-                }
-                let bytes = range.start as u64 * stride..range.end as u64 * stride;
-                pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
-                pass.draw(0..4, 0..range.len() as u32);
-            } else {
-                pass.draw(0..3, 0..1);
+            if range.is_empty() {
+                continue;
             }
+            pass.set_pipeline(&pipeline);
+            let bytes = range.start as u64 * stride..range.end as u64 * stride;
+            pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
+            pass.draw(0..4, 0..range.len() as u32);
         }
     }
 
     /// The pipelines of `frame`'s balls' pass into `format`: the map's background draw
-    /// (where the per-ball path shows it), and each planned draw's pipeline with its range
+    /// (where the background shows it), and each planned draw's pipeline with its range
     /// of quads.
     fn ball_pipelines(
         &mut self,
@@ -407,7 +396,7 @@ impl Renderer {
         let device = &self.gpu.device;
         let shows_map = frame.env_uniform.shows_map == 1.0;
         let background = match plan.draws.first() {
-            Some((variant, _)) if plan.per_ball && shows_map => Some(
+            Some((variant, _)) if shows_map => Some(
                 self.pipelines
                     .background(
                         device,
@@ -445,13 +434,10 @@ impl Renderer {
         let queue = &self.gpu.queue;
         let globals = uniforms::globals(scene, &tables, w, h);
         queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
+        // The quads carry their ball (the balls' storage buffer is no longer read).
         let balls = uniforms::balls(scene, &tables, &self.coating);
         let rows = self.coating.flat();
         queue.write_buffer(&self.bindings.coating_rows, 0, bytemuck::cast_slice(&rows));
-        // Only the full-screen path reads the balls buffer; the quads carry their ball.
-        if !plan.per_ball && !balls.is_empty() {
-            queue.write_buffer(&self.bindings.balls, 0, bytemuck::cast_slice(&balls));
-        }
         let env_uniform = EnvUniform::of(scene);
         queue.write_buffer(
             &self.environment.uniform,
@@ -462,11 +448,7 @@ impl Renderer {
         if !lights.is_empty() {
             queue.write_buffer(&self.bindings.lights, 0, bytemuck::cast_slice(&lights));
         }
-        let hidden = if plan.per_ball || !plan.truth.is_empty() {
-            hidden_duplicates(&balls)
-        } else {
-            Vec::new()
-        };
+        let hidden = hidden_duplicates(&balls);
         Ok(Frame {
             plan,
             size: (w, h),
@@ -636,13 +618,13 @@ struct Frame {
     group0: wgpu::BindGroup,
     group1: wgpu::BindGroup,
     balls: Vec<GpuBall>,
-    /// [`hidden_duplicates`] of `balls` (empty when nothing draws a quad per ball).
+    /// [`hidden_duplicates`] of `balls`.
     hidden: Vec<bool>,
     env_uniform: EnvUniform,
 }
 
 /// The per-ball quads of `frame`, grouped by the plan's draws, and each draw's range of
-/// them (empty ranges on the full-screen path, which draws no quads).
+/// them.
 fn ball_quads(scene: &Scene, frame: &Frame) -> (Vec<BallInstance>, Vec<std::ops::Range<u32>>) {
     let (w, h) = frame.size;
     let basis = scene.camera.basis(w, h);
@@ -651,21 +633,19 @@ fn ball_quads(scene: &Scene, frame: &Frame) -> (Vec<BallInstance>, Vec<std::ops:
     let mut ranges = Vec::with_capacity(frame.plan.draws.len());
     for (_, members) in &frame.plan.draws {
         let start = quads.len() as u32;
-        if frame.plan.per_ball {
-            quads.extend(
-                members
-                    .iter()
-                    .filter(|&&k| !frame.hidden[k])
-                    .filter_map(|&k| {
-                        let b = &scene.balls[k];
-                        let rect = basis.sphere_bounds(b.center, b.radius, w, h, pad)?;
-                        Some(BallInstance {
-                            rect: rect.map(|v| v as f32),
-                            ball: frame.balls[k],
-                        })
-                    }),
-            );
-        }
+        quads.extend(
+            members
+                .iter()
+                .filter(|&&k| !frame.hidden[k])
+                .filter_map(|&k| {
+                    let b = &scene.balls[k];
+                    let rect = basis.sphere_bounds(b.center, b.radius, w, h, pad)?;
+                    Some(BallInstance {
+                        rect: rect.map(|v| v as f32),
+                        ball: frame.balls[k],
+                    })
+                }),
+        );
         ranges.push(start..quads.len() as u32);
     }
     (quads, ranges)
@@ -686,7 +666,7 @@ fn truth_draw<'a>(gpu: &'a Gpu, frame: &'a Frame) -> Draw<'a> {
 
 /// Which balls are hidden by an earlier one of the same centre and radius (as the shader
 /// sees them, in f32): such a pair ties at every pixel, where the nearest hit is the lower
-/// index's (`nearest_hit` in `balls.wgsl`, `cpu::render_radiance`); the depth test would
+/// index's (`cpu::render_radiance`); the depth test would
 /// keep whichever quad is drawn first, so the later ball is not drawn at all.
 fn hidden_duplicates(balls: &[GpuBall]) -> Vec<bool> {
     let mut seen = std::collections::HashSet::with_capacity(balls.len());

@@ -10,39 +10,37 @@ use crate::gpu::Variant;
 use crate::lut::MuAxis;
 use crate::wgsl::Program;
 
-/// Vertex entry point of the full-screen draw (one triangle over the viewport).
-pub const VS_MAIN: &str = "vs_main";
-/// Fragment entry point of the full-screen draw: every pixel's radiance, background
-/// included.
-pub const FS_MAIN: &str = "fs_main";
+/// Vertex entry point of the full-screen draws (one triangle over the viewport: the
+/// background, the truth's resolve).
+pub(crate) const VS_MAIN: &str = "vs_main";
 /// Vertex entry point of the per-ball draw (one quad per ball over its screen-space
 /// bounds).
-pub const VS_BALL: &str = "vs_ball";
+pub(crate) const VS_BALL: &str = "vs_ball";
 /// Fragment entry point of the per-ball draw: the pixel if its nearest hit is the quad's
 /// ball.
-pub const FS_BALL: &str = "fs_ball";
+pub(crate) const FS_BALL: &str = "fs_ball";
 /// Fragment entry point of the background draw (the environment map behind the balls).
-pub const FS_BACKGROUND: &str = "fs_background";
+pub(crate) const FS_BACKGROUND: &str = "fs_background";
 /// Fragment entry point of a truth ball's quad in the accumulation pass (`walk.wgsl`).
-pub const FS_TRUTH: &str = "fs_truth";
+pub(crate) const FS_TRUTH: &str = "fs_truth";
 /// Fragment entry point of another ball's quad in the accumulation pass (depth, zero sum).
-pub const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
+pub(crate) const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
 /// Fragment entry point of the truth's resolve (the mean of each truth pixel's estimates).
-pub const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
+pub(crate) const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
 /// Entry point of the table probe module.
-pub const PROBE_MAIN: &str = "probe_main";
+pub(crate) const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
-pub const PROBE_ROWS: &str = "probe_rows_main";
+pub(crate) const PROBE_ROWS: &str = "probe_rows_main";
 /// Entry point of the prefilter's specular layers.
-pub const SPECULAR_MAIN: &str = "specular_main";
+pub(crate) const SPECULAR_MAIN: &str = "specular_main";
 /// Entry point of the prefilter's convolved layers.
-pub const CONVOLVED_MAIN: &str = "convolved_main";
+pub(crate) const CONVOLVED_MAIN: &str = "convolved_main";
 
 /// The entry points each program's pipelines use (a test checks that every module a
 /// program imports serves one of them).
 pub fn entry_points(program: &Program) -> &'static [&'static str] {
     match program.root {
-        "shadeballs::balls" => &[VS_MAIN, FS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
+        "shadeballs::balls" => &[VS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
         "shadeballs::walk" => &[
             VS_BALL,
             VS_MAIN,
@@ -98,7 +96,7 @@ pub fn truth_source(bits: bool) -> &'static str {
 
 /// The environment prefilter (compute): `prefilter.wgsl` and its imports (no renderer
 /// bindings).
-pub fn prefilter_source() -> &'static str {
+pub(crate) fn prefilter_source() -> &'static str {
     composed!("prefilter")
 }
 

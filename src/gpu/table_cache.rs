@@ -62,7 +62,7 @@ impl TableCache {
 
     /// Bakes (what is not cached), uploads and binds the tables of `key`. Returns the wall
     /// time spent baking (zero when everything was cached or bound).
-    pub fn ensure(&mut self, key: &TableKey) -> Duration {
+    pub(crate) fn ensure(&mut self, key: &TableKey) -> Duration {
         match key {
             TableSet::None => {
                 if self.bound.is_none() && !self.reuse(key) {
@@ -145,7 +145,7 @@ impl TableCache {
 
     /// The 2-D table for `config`, baked if neither held nor kept bound, and bound; with
     /// the wall time spent baking it (zero when it was held).
-    pub fn full_table(&mut self, config: BakeConfig) -> (Arc<Tables>, Duration) {
+    pub(crate) fn full_table(&mut self, config: BakeConfig) -> (Arc<Tables>, Duration) {
         if self.reuse(&TableSet::Full(config)) {
             if let Some(t) = self.bound.as_ref().and_then(|b| b.tables.as_full()) {
                 let t = t.clone();

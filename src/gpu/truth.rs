@@ -28,7 +28,7 @@ use crate::lut::MuAxis;
 use crate::scene::{Model, Scene, MAX_BALLS};
 
 /// The accumulation's format: f32 sums (rgb) and the count of estimates (alpha).
-pub const SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub(crate) const SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// What a truth pipeline is compiled for: G, mu axis, variant, and the entry point's role.
 type Key = (Geometry, MuAxis, Variant, Role);
@@ -58,7 +58,7 @@ pub struct Draw<'a> {
 
 /// The truth's layout (group 2), modules (float or display output, and bits output: each
 /// created on first use), pipelines, quads and the running sums.
-pub struct TruthPass {
+pub(crate) struct TruthPass {
     layout: wgpu::BindGroupLayout,
     modules: [Option<wgpu::ShaderModule>; 2],
     pipeline_layout: wgpu::PipelineLayout,
@@ -443,7 +443,6 @@ fn create(
         format,
         geometry: draw.geometry,
         mu_axis: draw.mu_axis,
-        per_ball: true,
         variant: draw.variant,
     };
     pipelines::create(draw.device, layout, module, key, shape)

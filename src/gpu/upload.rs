@@ -55,7 +55,11 @@ impl GpuTables {
 
     /// Uploads a scene's rows as a `mu_size x rows` table (a ball reads its row with a zero
     /// weight on the next: `lut_loss_row`), with each row's `1 - E_avg` and roughness.
-    pub fn upload_rows(device: &wgpu::Device, queue: &wgpu::Queue, rows: &RowSet) -> GpuTables {
+    pub(crate) fn upload_rows(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        rows: &RowSet,
+    ) -> GpuTables {
         let mut e_avg_rows: Vec<f32> = rows.rows.iter().map(|r| r.loss_avg).collect();
         e_avg_rows.extend(rows.rows.iter().map(|r| r.key.roughness()));
         Self::from_parts(

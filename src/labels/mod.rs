@@ -26,15 +26,15 @@ use crate::scene::{Ball, Model, Scene};
 
 /// The preferred font size per pixel of image height: 16 px at 720 (a line is the font's
 /// ascent minus its descent, [`Label::size_px`]).
-pub const FONT_PX_PER_HEIGHT: f32 = 1.0 / 45.0;
+pub(crate) const FONT_PX_PER_HEIGHT: f32 = 1.0 / 45.0;
 /// The smallest font drawn: a label that fits its room only smaller is left out.
 pub const MIN_FONT_PX: f32 = 8.0;
 /// The dark outline's width around the glyphs, per pixel of font size.
-pub const OUTLINE_PER_FONT_PX: f32 = 0.07;
+pub(crate) const OUTLINE_PER_FONT_PX: f32 = 0.07;
 /// Free pixels kept around a label's outline (for the glyphs' anti-aliased edges).
 pub const EDGE_PX: f32 = 1.0;
 /// The gap between a ball's bounds and its label, per pixel of font size.
-pub const GAP_PER_FONT_PX: f32 = 0.4;
+pub(crate) const GAP_PER_FONT_PX: f32 = 0.4;
 
 /// How a text sits in its room along one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -47,7 +47,7 @@
 //! With height-correlated Smith G, `G = 1 / (1 + L(mu_o) + L(mu_i))` changes with mu_i
 //! on the scale of mu_o: at grazing that is a feature near the peak far narrower than it,
 //! and the peak segment towards the normal is split at `d = GRAZING_SPLIT mu_o` (measured
-//! in tests/suite/lut_chebyshev.rs: at mu = 4.5e-4, roughness 1, 24 nodes a segment go
+//! in the unit tests of lut/chebyshev.rs: at mu = 4.5e-4, roughness 1, 24 nodes a segment go
 //! from 1.8e-4 to 8.5e-6 error).
 //!
 //! Each segment is smooth in its variable, so a few Gauss-Legendre nodes integrate it to
@@ -148,7 +148,7 @@ impl EIntegrand {
     }
 
     /// `G Phi sin(theta_i) / (4 mu_o)`, the integrand of E over `theta_i` in `[0, pi/2]`.
-    pub fn at_theta(&self, theta_i: f64) -> f64 {
+    pub(crate) fn at_theta(&self, theta_i: f64) -> f64 {
         let (s_i, mu_i) = theta_i.sin_cos();
         if mu_i <= 0.0 {
             return 0.0;
@@ -204,7 +204,7 @@ impl EIntegrand {
     }
 
     /// `theta_i` at a segment's variable `x`, and `d theta_i / dx`.
-    pub fn theta_at_segment(&self, seg: &Segment, x: f64) -> (f64, f64) {
+    pub(crate) fn theta_at_segment(&self, seg: &Segment, x: f64) -> (f64, f64) {
         let (d, jacobian) = match seg.mapping {
             Mapping::Tan => {
                 let w = self.width();

@@ -60,7 +60,7 @@ pub fn tables_csv(tables: &Tables) -> String {
 }
 
 /// [`tables_csv`] into any writer.
-pub fn write_csv(tables: &Tables, w: &mut impl Write) -> std::io::Result<()> {
+pub(crate) fn write_csv(tables: &Tables, w: &mut impl Write) -> std::io::Result<()> {
     let l = tables.layout();
     w.write_all(b"table,roughness,mu,value\n")?;
     for j in 0..l.r_size {

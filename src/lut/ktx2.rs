@@ -47,9 +47,9 @@ pub const VK_FORMAT_R32G32_SFLOAT: u32 = 103;
 /// The key/value key holding the layout text.
 pub const LAYOUT_KEY: &str = "shadeballs.layout";
 /// The standard key naming the program that wrote the file.
-pub const WRITER_KEY: &str = "KTXwriter";
+pub(crate) const WRITER_KEY: &str = "KTXwriter";
 /// What the two channels hold (the layout text's `channels`).
-pub const CHANNELS: &str = "r=1-E g=1-E_avg";
+pub(crate) const CHANNELS: &str = "r=1-E g=1-E_avg";
 
 /// Header (identifier and 17 fields), then the index of the one level.
 const HEADER_LEN: usize = 80;
@@ -68,7 +68,7 @@ const KHR_DF_SAMPLE_DATATYPE_SIGNED: u8 = 0x40;
 const KHR_DF_SAMPLE_DATATYPE_FLOAT: u8 = 0x80;
 
 /// The vkFormat of a two-channel texture in `storage`.
-pub fn vk_format(storage: Storage) -> u32 {
+pub(crate) fn vk_format(storage: Storage) -> u32 {
     match storage {
         Storage::F32 => VK_FORMAT_R32G32_SFLOAT,
         Storage::F16 => VK_FORMAT_R16G16_SFLOAT,

@@ -75,7 +75,7 @@ impl MuAxis {
     }
 
     /// The coordinate of `mu` in f64 (the bake's exact version of [`MuAxis::coord`]).
-    pub fn coord_f64(self, mu: f64, alpha: f64) -> f64 {
+    pub(crate) fn coord_f64(self, mu: f64, alpha: f64) -> f64 {
         let mu = mu.clamp(0.0, 1.0);
         match self {
             MuAxis::Linear => mu,
@@ -202,7 +202,7 @@ impl Storage {
     }
 
     /// The value the GPU reads back after storing `v`.
-    pub fn quantize(self, v: f64) -> f32 {
+    pub(crate) fn quantize(self, v: f64) -> f32 {
         match self {
             Storage::F32 => v as f32,
             Storage::F16 => half::f16::from_f64(v).to_f32(),
@@ -393,7 +393,7 @@ impl Layout {
     }
 
     /// The table coordinate x of texel `i` on an axis of `n` texels.
-    pub fn texel_coord(&self, i: usize, n: usize) -> f64 {
+    pub(crate) fn texel_coord(&self, i: usize, n: usize) -> f64 {
         let (scale, bias) = self.scale_bias(n);
         if scale == 0.0 {
             return 0.0;
@@ -414,7 +414,7 @@ impl Layout {
     }
 
     /// Roughness of row `j` as the shader's E_avg read uses it: clamped, in f32.
-    pub fn row_roughness(&self, j: usize) -> f32 {
+    pub(crate) fn row_roughness(&self, j: usize) -> f32 {
         roughness_coord(self.roughness_of_texel(j) as f32)
     }
 

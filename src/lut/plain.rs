@@ -18,7 +18,7 @@ use super::Tables;
 
 /// The texture coordinate `(u, v)` of a plain read at `(mu, roughness)` of a table of
 /// `n x m` texels, in f32 as a shader computes it.
-pub fn plain_uv(mu: f32, roughness: f32, n: usize, m: usize) -> (f32, f32) {
+pub(crate) fn plain_uv(mu: f32, roughness: f32, n: usize, m: usize) -> (f32, f32) {
     let axis = |x: f32, n: usize| {
         let n = n as f32;
         x * ((n - 1.0) / n) + 0.5 / n

@@ -11,7 +11,7 @@
 //! restores exactly the energy the read E misses (`row_loss_avg_at` in `mod.rs`). Each
 //! row costs the quadrature at [`CHEBYSHEV_MU_NODES`] points (Chebyshev bake) or one
 //! estimate a texel (the other methods), so a few rows cost less than the 2-D table's 425
-//! quadratures; past a count measured by `shadeballs bench` the 2-D table is cheaper
+//! quadratures; past a count measured by `shadeballs-lab bench` the 2-D table is cheaper
 //! (`gpu::plan::MAX_PLANNED_ROWS`).
 //!
 //! Rows are keyed by everything that changes their values ([`RowKey`]), so a cache can hand

@@ -58,7 +58,7 @@ impl TableSet {
     }
 
     /// The 2-D table, if that is what the set holds.
-    pub fn as_full(&self) -> Option<&Arc<Tables>> {
+    pub(crate) fn as_full(&self) -> Option<&Arc<Tables>> {
         match self {
             TableSet::Full(t) => Some(t),
             _ => None,

@@ -136,7 +136,7 @@ pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
 /// Roughness per column of the reference scene (column 0 at x = 180).
 pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
 /// The reference scene's ball radius.
-pub const REFERENCE_RADIUS: f64 = 35.0;
+pub(crate) const REFERENCE_RADIUS: f64 = 35.0;
 
 impl Scene {
     /// The homework's scene (docs/design/reference-scene.md, "The balls, the light and the
@@ -191,7 +191,7 @@ impl Scene {
     }
 
     /// Whether pixels that miss every ball show the environment map.
-    pub fn background_shows_map(&self) -> bool {
+    pub(crate) fn background_shows_map(&self) -> bool {
         self.environment_map.is_some() && self.background == Background::Environment
     }
 
@@ -252,7 +252,7 @@ impl Scene {
     }
 
     /// Whether any ball is the random-walk truth.
-    pub fn has_truth(&self) -> bool {
+    pub(crate) fn has_truth(&self) -> bool {
         self.balls.iter().any(|b| b.model == Model::Truth)
     }
 

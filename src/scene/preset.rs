@@ -9,7 +9,7 @@ use crate::display::{ToneMap, Transfer};
 pub enum Preset {
     /// One consistent Fresnel: Schlick with `F0`, `F_avg = f_avg_schlick(F0)` per channel,
     /// `f_add_accurate` (with the square); G from `--geometry` (default smith-correlated:
-    /// each part chosen by `shadeballs truth`, docs/truth.md "How close to the truth").
+    /// each part chosen by `shadeballs-lab truth`, docs/truth.md "How close to the truth").
     #[default]
     Accurate,
     /// The GAMES202 homework: schlick G, `F_avg = f_avg_games202(F0, GAMES202_EDGE_TINT)`

@@ -39,7 +39,7 @@ fn finite3(v: &[f64]) -> Result<DVec3, String> {
 /// Any finite 3-vector (a position).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "Vec<f64>")]
-pub struct Finite3(pub DVec3);
+pub(crate) struct Finite3(pub DVec3);
 
 impl TryFrom<Vec<f64>> for Finite3 {
     type Error = String;
@@ -111,7 +111,7 @@ impl TryFrom<Vec<f64>> for Radiance {
 /// A finite number in `(0, MAX_MAGNITUDE]` (radius, exposure).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Positive(pub f64);
+pub(crate) struct Positive(pub f64);
 
 impl TryFrom<f64> for Positive {
     type Error = String;
@@ -178,7 +178,7 @@ impl TryFrom<f64> for Ior {
 /// A vertical field of view in degrees, in `(0, 180)`.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Fov(pub f64);
+pub(crate) struct Fov(pub f64);
 
 impl TryFrom<f64> for Fov {
     type Error = String;
@@ -205,7 +205,7 @@ impl<'de, T: FromStr<Err = crate::Error>> Deserialize<'de> for Named<T> {
 /// Any finite number within `MAX_MAGNITUDE` (an angle in degrees).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Finite(pub f64);
+pub(crate) struct Finite(pub f64);
 
 impl TryFrom<f64> for Finite {
     type Error = String;
@@ -223,7 +223,7 @@ impl TryFrom<f64> for Finite {
 /// A finite number in `[0, MAX_MAGNITUDE]` (an intensity).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct NonNegative(pub f64);
+pub(crate) struct NonNegative(pub f64);
 
 impl TryFrom<f64> for NonNegative {
     type Error = String;
@@ -240,7 +240,7 @@ impl TryFrom<f64> for NonNegative {
 
 /// `background = "black" | "environment" | [r, g, b]` (a radiance).
 #[derive(Clone, Copy, Debug)]
-pub struct BackgroundValue(pub crate::environment::Background);
+pub(crate) struct BackgroundValue(pub crate::environment::Background);
 
 impl<'de> Deserialize<'de> for BackgroundValue {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {

@@ -41,7 +41,7 @@ impl Microsurface {
     /// Probability that a ray leaving height `c = C1(h)` along upward `dir` escapes
     /// (Heitz et al. 2016, height-correlated masking): `G1 = c^Lambda`; 0 for a
     /// direction at or below the horizon.
-    pub fn g1(&self, dir_z: f64, c: f64) -> f64 {
+    pub(crate) fn g1(&self, dir_z: f64, c: f64) -> f64 {
         if dir_z <= 0.0 {
             return 0.0;
         }
@@ -53,7 +53,7 @@ impl Microsurface {
     /// probability `(c / c')^Lambda` (Heitz et al. 2016, the walk's height sampling): upward rays
     /// hit with probability `1 - G1`, so `u` is scaled into `[0, 1 - G1)`; downward rays
     /// always hit.
-    pub fn next_height(&self, dir_z: f64, c: f64, u: f64) -> f64 {
+    pub(crate) fn next_height(&self, dir_z: f64, c: f64, u: f64) -> f64 {
         let lambda = self.lambda(dir_z);
         if dir_z > 0.0 {
             let escape = c.powf(lambda);
@@ -68,7 +68,7 @@ impl Microsurface {
     /// Projected area of the microsurface seen along `w` (either side of the horizon):
     /// `(1 + Lambda(w)) w.z = (w.z + sqrt(w.z^2 + alpha^2 (1 - w.z^2))) / 2` (Heitz 2014,
     /// "Understanding the Masking-Shadowing Function": projected area under Smith).
-    pub fn projected_area(&self, z: f64) -> f64 {
+    pub(crate) fn projected_area(&self, z: f64) -> f64 {
         let z = z.clamp(-1.0, 1.0);
         0.5 * (z + (z * z + self.alpha * self.alpha * (1.0 - z * z)).sqrt())
     }
@@ -97,7 +97,7 @@ impl Microsurface {
     /// to `alpha = 1`, draw a uniform point on the disk, warp it onto the projected visible
     /// hemisphere (`s = (1 + z) / 2`), lift it and unstretch. Valid for `wi` on either side
     /// of the horizon (the visible region is then the disk minus a half ellipse).
-    pub fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
+    pub(crate) fn sample_visible_normal(&self, wi: DVec3, u1: f64, u2: f64) -> DVec3 {
         let r = u1.sqrt();
         let (s, c) = (std::f64::consts::TAU * u2).sin_cos();
         crate::brdf::visible_normal(self.alpha, wi, r * c, r * s)

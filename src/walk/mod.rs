@@ -5,7 +5,7 @@
 //! ([`microsurface`]), one path at a time ([`trace`]), its seeded generator ([`rng`]) and
 //! the exact single scattering by quadrature ([`single`]), and the walk through a rough
 //! dielectric coating over a Lambertian base ([`coating`], the truth for plastics); the truth renderer
-//! (`cpu::render_truth`) and the study (`shadeballs truth`, feature `lab`) build on it.
+//! (`cpu::render_truth`) and the study (`shadeballs-lab truth`, feature `lab`) build on it.
 //!
 //! Variance reduction (unbiased, so the expectation is the paper's walk): an upward ray
 //! does not draw "escape or hit"; it deposits its escape probability `G1` times the path

@@ -19,9 +19,9 @@ use crate::brdf::{alpha_from_roughness, d_ggx, Geometry};
 use crate::lut::{gauss_legendre_unit, EIntegrand, Mapping, PEAK_WIDTH_PER_ALPHA};
 
 /// Gauss-Legendre nodes per `theta_i` segment.
-pub const THETA_NODES: usize = 48;
+pub(crate) const THETA_NODES: usize = 48;
 /// Gauss-Legendre nodes per segment of the azimuth.
-pub const PHI_NODES: usize = 48;
+pub(crate) const PHI_NODES: usize = 48;
 
 /// The azimuth's peak segment reaches `PHI_PEAK_SPAN` half widths; the rest is mapped by
 /// `exp` (as the baker splits `theta_i`).

@@ -325,7 +325,7 @@ fn cpu_antialiases_like_the_gpu() {
     let (w, h) = (1280, 720);
     let mut r = vulkan();
     let scene = Scene::reference();
-    let (gpu, cpu) = crate::render::both(&mut r, &scene, w, h);
+    let (gpu, cpu) = crate::pixels::both(&mut r, &scene, w, h);
     let d = compare(&gpu, &cpu, w);
     assert_close(&d, "Vulkan vs CPU, antialiased, default scene");
     let kinds = classify(&scene, w, h);

@@ -3,8 +3,8 @@
 //! bounds, for random cameras and spheres, in front of, around and behind the eye.
 use glam::DVec3;
 use shadeballs::cpu::intersect_sphere;
-use shadeballs::lab::truth::rng::Rng;
 use shadeballs::scene::{Camera, Scene};
+use shadeballs::walk::rng::Rng;
 
 #[test]
 fn every_hit_pixel_is_inside_the_bounds() {

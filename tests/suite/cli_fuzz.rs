@@ -101,7 +101,7 @@ fn argv() -> impl Strategy<Value = Vec<String>> {
         1 => any::<String>(),
     ];
     (
-        select(vec!["bake", "bench", "render", "probe", "view", ""]),
+        select(vec!["bake", "render", "probe", "view", ""]),
         prop::collection::vec(token, 0..8),
     )
         .prop_map(|(sub, rest)| {
@@ -117,12 +117,12 @@ fn argv() -> impl Strategy<Value = Vec<String>> {
 #[test]
 fn fuzzed_command_lines_parse_or_fail_with_one_line_never_panic() {
     use clap::{Args, FromArgMatches};
-    use shadeballs::cli::{one_line_error, BakeArgs, BenchArgs, ProbeArgs, RenderArgs};
-    // The binary's top level: these four subcommands around the library's flags.
+    use shadeballs::cli::{one_line_error, BakeArgs, ProbeArgs, RenderArgs};
+    // The binary's top level: these three subcommands around the library's flags (the
+    // lab's `bench` is fuzzed in lab/tests/lab/cli.rs).
     let cmd = clap::Command::new("shadeballs")
         .subcommand_required(true)
         .subcommand(BakeArgs::augment_args(clap::Command::new("bake")))
-        .subcommand(BenchArgs::augment_args(clap::Command::new("bench")))
         .subcommand(RenderArgs::augment_args(clap::Command::new("render")))
         .subcommand(ProbeArgs::augment_args(clap::Command::new("probe")));
     let counts = Mutex::new([0usize; 4]); // parsed, errors, help/version, panics
@@ -131,7 +131,6 @@ fn fuzzed_command_lines_parse_or_fail_with_one_line_never_panic() {
             let m = cmd.clone().try_get_matches_from(&argv)?;
             match m.subcommand() {
                 Some(("bake", m)) => BakeArgs::from_arg_matches(m).map(|_| ()),
-                Some(("bench", m)) => BenchArgs::from_arg_matches(m).map(|_| ()),
                 Some(("render", m)) => RenderArgs::from_arg_matches(m).map(|_| ()),
                 Some(("probe", m)) => ProbeArgs::from_arg_matches(m).map(|_| ()),
                 _ => unreachable!("subcommand_required"),

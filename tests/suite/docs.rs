@@ -1,6 +1,6 @@
 //! The docs against the code: the module list of docs/design/layers.md ("The modules")
-//! names exactly the folders and `.rs` files directly under `src/` and the `shaders/*.wgsl`
-//! files, and every relative link in `docs/**/*.md` and `README.md` points at a file that
+//! names exactly the folders and `.rs` files directly under `src/` and the lab's
+//! `lab/src/`, and the `shaders/*.wgsl` files, and every relative link in `docs/**/*.md` and `README.md` points at a file that
 //! exists and, with a `#anchor`, at a heading of that file.
 
 use std::collections::BTreeSet;
@@ -34,16 +34,19 @@ fn listed_paths(layers_md: &str) -> Result<Vec<String>, String> {
 }
 
 /// What the code has: `src/NAME/` for each folder and `src/NAME.rs` for each Rust file
-/// directly under `src/`, and `shaders/NAME.wgsl` for each shader.
+/// directly under `src/` (the library and the binary) and `lab/src/` (the lab's crate),
+/// and `shaders/NAME.wgsl` for each shader.
 fn code_paths(root: &Path) -> BTreeSet<String> {
     let mut out = BTreeSet::new();
-    for entry in std::fs::read_dir(root.join("src")).expect("read src/") {
-        let path = entry.expect("read an entry of src/").path();
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        if path.is_dir() {
-            out.insert(format!("src/{name}/"));
-        } else if name.ends_with(".rs") {
-            out.insert(format!("src/{name}"));
+    for src in ["src", "lab/src"] {
+        for entry in std::fs::read_dir(root.join(src)).unwrap_or_else(|e| panic!("{src}/: {e}")) {
+            let path = entry.expect("read an entry of a source folder").path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            if path.is_dir() {
+                out.insert(format!("{src}/{name}/"));
+            } else if name.ends_with(".rs") {
+                out.insert(format!("{src}/{name}"));
+            }
         }
     }
     for entry in std::fs::read_dir(root.join("shaders")).expect("read shaders/") {
@@ -57,7 +60,8 @@ fn code_paths(root: &Path) -> BTreeSet<String> {
 }
 
 /// One line per disagreement between the list and the code, naming the entry. Listed
-/// paths outside `src/` and `shaders/` (examples, tests, benches) only have to exist.
+/// paths outside `src/`, `lab/src/` and `shaders/` (examples, tests, benches) only have to
+/// exist.
 fn list_mismatches(
     listed: &[String],
     code: &BTreeSet<String>,
@@ -68,7 +72,10 @@ fn list_mismatches(
     for path in listed {
         if !seen.insert(path.as_str()) {
             out.push(format!("{path}: listed twice in docs/design/layers.md"));
-        } else if path.starts_with("src/") || path.starts_with("shaders/") {
+        } else if ["src/", "lab/src/", "shaders/"]
+            .iter()
+            .any(|p| path.starts_with(p))
+        {
             if !code.contains(path) {
                 out.push(format!(
                     "{path}: listed in docs/design/layers.md but not in the code"
@@ -96,7 +103,9 @@ fn layer_list_matches_the_modules() {
     let code = code_paths(root());
     // A floor, not a count: the list and the tree both hold at least these.
     assert!(
-        code.contains("src/lib.rs") && code.contains("shaders/brdf.wgsl"),
+        code.contains("src/lib.rs")
+            && code.contains("lab/src/lib.rs")
+            && code.contains("shaders/brdf.wgsl"),
         "read the wrong tree: {code:?}"
     );
     let found = list_mismatches(&listed, &code, |p| root().join(p).exists());

@@ -591,28 +591,6 @@ fn silent_cases_get_a_warning() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Finding 11: A folder's path that is a file is named as such.
-#[test]
-fn folder_outputs_that_are_files_are_named() {
-    let dir = temp_dir("hostile-folder");
-    let file = dir.join("taken");
-    std::fs::write(&file, b"x").unwrap();
-    for cmd in [
-        vec!["compare", "--quick", "--backend", "cpu"],
-        vec!["truth", "--quick"],
-    ] {
-        let start = Instant::now();
-        fails_with_one_line(
-            &[&cmd[..], &["--out", s(&file)]].concat(),
-            &[],
-            "is not a folder",
-        );
-        assert!(start.elapsed() < Duration::from_secs(10));
-    }
-    assert_eq!(std::fs::read(&file).unwrap(), b"x");
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
 /// Finding 9: The KTX2 reader accepted what the writer never writes. Byte offsets: the descriptor
 /// starts at 104 (its basic block at 108: primaries at 117, samples at 132, 16 bytes each,
 /// sampleLower at +8 and sampleUpper at +12).

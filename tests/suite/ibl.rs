@@ -106,8 +106,8 @@ use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Sourc
 use shadeballs::lut::TableSet;
 use shadeballs::scene::{Material, Model, Scene};
 
+use crate::pixels::both;
 use crate::pixels::{assert_close, compare, vulkan};
-use crate::render::both;
 
 /// `scene` lit by `map` alone (no lights, no uniform environment), with `term`.
 fn under(scene: Scene, environment: Environment, term: IblTerm) -> Scene {

@@ -211,7 +211,7 @@ fn white_furnace_every_metallic_ior_and_roughness() {
                 // The goal: within 1/255 of the background.
                 assert!(worst <= 1, "{what}: GPU ball {k} is {worst}/255 off");
                 if layering == Layering::Physical && term == IblTerm::KullaConty {
-                    let cpu = crate::render::both(&mut gpu, &scene, w, h).1;
+                    let cpu = crate::pixels::both(&mut gpu, &scene, w, h).1;
                     let (worst, k) = furnace_worst(&scene, &cpu, w, h);
                     assert!(worst <= 1, "{what}: CPU ball {k} is {worst}/255 off");
                     let mut map = scene.clone();
@@ -385,7 +385,7 @@ fn materials_match_cpu(backends: wgpu::Backends, what: &str) {
                 layering,
                 ..asset_scene("plastic.toml")
             };
-            let (gpu, cpu) = crate::render::both(&mut r, &scene, w, h);
+            let (gpu, cpu) = crate::pixels::both(&mut r, &scene, w, h);
             assert_close(
                 &compare(&gpu, &cpu, w),
                 &format!("{what} vs CPU, plastic.toml, {preset}, {layering}"),
@@ -394,7 +394,7 @@ fn materials_match_cpu(backends: wgpu::Backends, what: &str) {
     }
     for term in IblTerm::ALL {
         let scene = asset_scene("metallic_roughness.toml").with_term(term);
-        let (gpu, cpu) = crate::render::both(&mut r, &scene, w, h);
+        let (gpu, cpu) = crate::pixels::both(&mut r, &scene, w, h);
         assert_close(
             &compare(&gpu, &cpu, w),
             &format!("{what} vs CPU, metallic_roughness.toml, {term}"),

@@ -1,8 +1,12 @@
 //! Shared helpers of the GPU tests: opening a renderer (failing, never skipping, when there
-//! is none) and comparing RGBA8 images.
+//! is none), rendering on the GPU and the CPU alike, and comparing RGBA8 images. (The lab's
+//! test binary includes this file too: lab/tests/lab/main.rs.)
 use std::path::PathBuf;
 
+use shadeballs::cpu;
 use shadeballs::gpu::{Gpu, Renderer};
+use shadeballs::lut::TableSet;
+use shadeballs::scene::Scene;
 
 /// A renderer on `backends`, or a test failure naming the package that provides one.
 pub fn renderer(backends: wgpu::Backends) -> Renderer {
@@ -105,4 +109,22 @@ pub fn output_dir() -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// Renders `scene` on the GPU and on the CPU from the same tables (the rows or the 2-D
+/// table its plan bound); returns both RGBA8. (`planned.rs` compares planned renders with
+/// the 2-D table's.)
+pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
+    let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
+    let radiance = match r.bound_tables() {
+        rows @ TableSet::Rows(_) => cpu::render_radiance(scene, &rows, w, h),
+        _ => {
+            let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
+            cpu::render_radiance(scene, &tables, w, h)
+        }
+    };
+    (
+        gpu,
+        cpu::to_display_rgba8(&radiance, scene.exposure, scene.display()),
+    )
 }

@@ -3,11 +3,19 @@
 use glam::DVec3;
 use shadeballs::display::DisplayTransform;
 use shadeballs::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
-use shadeballs::lab::bench::no_term;
 use shadeballs::lut::{
     self, accuracy::random_points, BakeConfig, RowKey, RowSet, TableKey, TableSet,
 };
 use shadeballs::scene::Scene;
+
+/// The default scene with every ball's term off (the lab's `no_term` too).
+pub fn no_term() -> Scene {
+    let mut s = Scene::reference();
+    for b in &mut s.balls {
+        b.model = shadeballs::scene::Model::None;
+    }
+    s
+}
 
 pub fn plan(scene: &Scene) -> Plan {
     Plan::new(scene, BakeConfig::default(), DrawOptions::default())
@@ -116,42 +124,16 @@ fn past_the_threshold_the_2d_table() {
     assert_eq!(at.rows().len(), MAX_PLANNED_ROWS);
     let past = plan(&scene_with_roughness(MAX_PLANNED_ROWS + 1));
     assert_eq!(past.tables, TableSet::Full(past.bake));
-    // Policies override the threshold both ways.
-    let rows = DrawOptions {
-        tables: TablePolicy::Rows,
+    // The 2-D table whatever the rows (what `Renderer::set_tables` pins).
+    let full = DrawOptions {
+        tables: TablePolicy::Full,
         ..DrawOptions::default()
     };
-    let p = Plan::new(&scene_with_roughness(40), BakeConfig::default(), rows);
-    assert_eq!(p.rows().len(), 40);
-    let full = Plan::new(
-        &Scene::reference(),
-        BakeConfig::default(),
-        DrawOptions::unplanned(),
-    );
+    let full = Plan::new(&Scene::reference(), BakeConfig::default(), full);
     assert_eq!(full.tables, TableSet::Full(full.bake));
     assert_eq!(
         full.variants(),
-        vec![Variant {
-            term: TermMode::Branch,
-            environment: true,
-            lights: true,
-            ibl: 0,
-            aa: true,
-            display: DisplayTransform::HOMEWORK,
-        }]
-    );
-}
-
-#[test]
-fn one_pipeline_with_a_branch_when_variants_are_off() {
-    let o = DrawOptions {
-        variants: false,
-        ..DrawOptions::default()
-    };
-    let p = Plan::new(&Scene::reference(), BakeConfig::default(), o);
-    assert_eq!(
-        p.draws,
-        vec![(variant(TermMode::Branch), (0..10).collect())]
+        vec![variant(TermMode::In), variant(TermMode::Out)]
     );
 }
 

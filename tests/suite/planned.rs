@@ -1,19 +1,18 @@
 //! The planned renderer on the GPU: what it bakes and binds per case, its row cache, and
-//! its images against the full-table renders (GPU-vs-CPU bound) and the earlier design
-//! (exactly equal where the tables are the same).
+//! its images against the full-table renders (GPU-vs-CPU bound) and the term compiled out
+//! (exactly equal where no ball has the term).
 use std::time::Duration;
 
 use glam::DVec3;
 use shadeballs::cpu;
 use shadeballs::gpu::Renderer;
-use shadeballs::gpu::{DrawOptions, TablePolicy, MAX_PLANNED_ROWS};
+use shadeballs::gpu::{DrawOptions, MAX_PLANNED_ROWS};
 use shadeballs::lut::BakeConfig;
 use shadeballs::lut::TableSet;
 use shadeballs::scene::{Model, Scene};
 
 use crate::pixels::{assert_close, compare, vulkan};
-use crate::plan::scene_with_roughness;
-use shadeballs::lab::bench::no_term;
+use crate::plan::{no_term, scene_with_roughness};
 
 const W: u32 = 640;
 const H: u32 = 360;
@@ -75,29 +74,6 @@ fn planned_renders_match_the_full_table_render() {
     }
 }
 
-/// With the same tables, quads per ball and per-variant pipelines change no pixel: the
-/// earlier design (one full-screen triangle, one pipeline with a branch) gives the same
-/// image, background included.
-#[test]
-fn quads_and_variants_equal_the_full_screen_branch() {
-    let mut r = vulkan();
-    for scene in [Scene::reference(), environment_scene(), Scene::furnace()] {
-        r.set_draw_options(DrawOptions::unplanned());
-        let before = r.render_ldr(&scene, W, H).unwrap().rgba;
-        for variants in [true, false] {
-            r.set_draw_options(DrawOptions {
-                tables: TablePolicy::Full,
-                variants,
-                ..DrawOptions::default()
-            });
-            let after = r.render_ldr(&scene, W, H).unwrap().rgba;
-            let d = compare(&after, &before, W);
-            println!("{}", d.report(&format!("quads, variants {variants}")));
-            assert_eq!(d.pixels, d.equal, "{}", d.report("quads vs full screen"));
-        }
-    }
-}
-
 /// What is baked: nothing without the term; the default scene's five rows once; a change
 /// of one roughness bakes one row; an unchanged scene bakes nothing.
 #[test]
@@ -152,7 +128,8 @@ fn bakes_only_new_rows() {
     assert_eq!(r.cached_rows(), 11);
 }
 
-/// Without the term, the planned image equals the term compiled out of the earlier design.
+/// Without the term, the planned image equals the one with the term compiled out of every
+/// pipeline.
 #[test]
 fn no_term_scene_equals_the_plain_shader() {
     let mut r = vulkan();
@@ -160,7 +137,7 @@ fn no_term_scene_equals_the_plain_shader() {
     let planned = r.render_ldr(&scene, W, H).unwrap().rgba;
     r.set_draw_options(DrawOptions {
         term: false,
-        ..DrawOptions::unplanned()
+        ..DrawOptions::default()
     });
     let plain = r.render_ldr(&scene, W, H).unwrap().rgba;
     let d = compare(&planned, &plain, W);

@@ -5,28 +5,10 @@ use shadeballs::gpu::Renderer;
 use shadeballs::lut::TableSet;
 use shadeballs::scene::{Preset, Scene};
 
-use crate::pixels::{assert_close, compare, renderer, vulkan};
+use crate::pixels::{assert_close, both, compare, renderer, vulkan};
 
 const W: u32 = 1280;
 const H: u32 = 720;
-
-/// Renders `scene` on the GPU and on the CPU from the same tables (the rows or the 2-D
-/// table its plan bound); returns both RGBA8. (`planned.rs` compares planned renders with
-/// the 2-D table's.)
-pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
-    let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
-    let radiance = match r.bound_tables() {
-        rows @ TableSet::Rows(_) => cpu::render_radiance(scene, &rows, w, h),
-        _ => {
-            let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-            cpu::render_radiance(scene, &tables, w, h)
-        }
-    };
-    (
-        gpu,
-        cpu::to_display_rgba8(&radiance, scene.exposure, scene.display()),
-    )
-}
 
 fn gpu_matches_cpu(r: &mut Renderer, backend: &str) {
     for preset in Preset::ALL {
@@ -111,40 +93,31 @@ fn hdr_output_is_linear_radiance() {
 }
 
 /// GL renders to no 32-bit float format: `render_hdr` draws the f32 bits into `Rgba32Uint`
-/// (`fs_ball_bits`, and `fs_main_bits` for the full-screen draw) and gets Vulkan's f32
-/// values (`cli_render.rs` holds the `.exr` of both against the CPU's), the clear's bits
-/// included: the furnace's background is the environment (here with 1e5 in green, above
-/// f16's range). Measured, 160x90, relative to max(|Vulkan's|, 1e-3), planned and
-/// full-screen alike: the default scene at most 3.2e-4 (GLSL and SPIR-V compile the WGSL
-/// apart), the furnace 8.6e-6; with f16 storage the furnace differed by 0.35.
+/// (`fs_ball_bits`) and gets Vulkan's f32 values (`cli_render.rs` holds the `.exr` of both
+/// against the CPU's), the clear's bits included: the furnace's background is the
+/// environment (here with 1e5 in green, above f16's range). Measured, 160x90, relative to
+/// max(|Vulkan's|, 1e-3): the default scene at most 3.2e-4 (GLSL and SPIR-V compile the
+/// WGSL apart), the furnace 8.6e-6; with f16 storage the furnace differed by 0.35.
 #[test]
-fn gl_hdr_is_f32_planned_and_full_screen() {
-    use shadeballs::gpu::DrawOptions;
+fn gl_hdr_is_f32() {
     let (w, h) = (160, 90);
     let mut gl = renderer(wgpu::Backends::GL);
     let mut vk = vulkan();
     let mut environment = Scene::furnace();
     environment.environment = DVec3::new(0.3, 1e5, 7.0);
     for scene in [Scene::reference(), environment] {
-        for (options, what) in [
-            (DrawOptions::default(), "planned"),
-            (DrawOptions::unplanned(), "full-screen"),
-        ] {
-            gl.set_draw_options(options);
-            vk.set_draw_options(options);
-            let a = gl.render_hdr(&scene, w, h).unwrap().rgba;
-            let b = vk.render_hdr(&scene, w, h).unwrap().rgba;
-            let max = a
-                .iter()
-                .zip(&b)
-                .map(|(x, y)| (x - y).abs() / y.abs().max(1e-3))
-                .fold(0.0, f32::max);
-            println!("GL vs Vulkan HDR, {what}: at most {max:.2e} relative");
-            assert!(max <= 1e-3, "{what}: {max:e}");
-            // The corner pixel is background (the clear, or fs_main_bits): exact.
-            assert_eq!(a[..4], b[..4], "{what}");
-            assert_eq!(a[1], scene.environment.y as f32, "{what}");
-        }
+        let a = gl.render_hdr(&scene, w, h).unwrap().rgba;
+        let b = vk.render_hdr(&scene, w, h).unwrap().rgba;
+        let max = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs() / y.abs().max(1e-3))
+            .fold(0.0, f32::max);
+        println!("GL vs Vulkan HDR: at most {max:.2e} relative");
+        assert!(max <= 1e-3, "{max:e}");
+        // The corner pixel is background (the clear): exact.
+        assert_eq!(a[..4], b[..4]);
+        assert_eq!(a[1], scene.environment.y as f32);
     }
 }
 

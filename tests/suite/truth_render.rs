@@ -6,7 +6,6 @@
 use glam::DVec3;
 use shadeballs::brdf::Geometry;
 use shadeballs::cpu::{self, render_montecarlo, render_truth, TruthSettings};
-use shadeballs::lab::compare::image_error::ball_index_map;
 use shadeballs::lut::TableSet;
 use shadeballs::lut::{self, BakeConfig, Tables};
 use shadeballs::scene::{Model, Scene};
@@ -48,7 +47,7 @@ fn settings(spp: u32, max_order: u32) -> TruthSettings {
 /// Per ball: the mean of the pixels whose nearest hit is the ball, and the standard error
 /// of that mean, from any Monte Carlo image (per channel).
 fn ball_means(scene: &Scene, image: &cpu::MonteCarloImage) -> Vec<(DVec3, DVec3)> {
-    let index = ball_index_map(scene, image.width, image.height);
+    let index = cpu::ball_index_map(scene, image.width, image.height);
     let mut sums = vec![(0.0, DVec3::ZERO, DVec3::ZERO); scene.balls.len()];
     for (k, ball) in index.iter().enumerate() {
         if let Some(i) = *ball {

@@ -53,12 +53,14 @@ fn fs_control() -> @location(0) vec4<f32> {
 #[test]
 fn the_patterns_before_the_fix_are_flagged() {
     let source = shaders::balls_source(false);
-    // The ball loop to the uniform count, and the table read's if on the uniform axis size.
-    let loop_back = source.replace("k < n_balls;", "k < min(globals.counts.x, MAX_BALLS);");
-    assert_ne!(loop_back, source, "the ball loop moved: update this test");
+    // The light loop to the uniform count, and the table read's if on the uniform axis
+    // size. (The ball loop to the uniform count, the first pattern fixed, went with the
+    // full-screen path's nearest_hit.)
+    let loop_back = source.replace("k < n_lights;", "k < min(globals.counts.y, MAX_LIGHTS);");
+    assert_ne!(loop_back, source, "the light loop moved: update this test");
     let found = inlinable_decisions(&loop_back);
     assert!(
-        found.iter().any(|d| d.starts_with("nearest_hit:")),
+        found.iter().any(|d| d.starts_with("shade:")),
         "not flagged: {found:?}"
     );
     let if_back = source.replace(

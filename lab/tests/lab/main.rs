@@ -1,0 +1,14 @@
+//! The lab's one test binary (each extra binary links wgpu again): the benchmark harness,
+//! the picture comparison, the truth study, the scale and harmonics sweeps, and the
+//! `shadeballs-lab` command line.
+
+mod bench;
+mod cli;
+mod compare;
+mod harmonics;
+// The GPU tests' shared helpers, the library suite's own file.
+#[allow(dead_code)]
+#[path = "../../../tests/suite/pixels.rs"]
+mod pixels;
+mod scale;
+mod truth;
