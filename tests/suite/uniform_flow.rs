@@ -59,10 +59,14 @@ fn the_patterns_before_the_fix_are_flagged() {
     let loop_back = source.replace("k < n_lights;", "k < min(globals.counts.y, MAX_LIGHTS);");
     assert_ne!(loop_back, source, "the light loop moved: update this test");
     let found = inlinable_decisions(&loop_back);
-    assert!(
-        found.iter().any(|d| d.starts_with("shade:")),
-        "not flagged: {found:?}"
-    );
+    // The loop is the metal's and the coating's (lighting.wgsl shade_metal, coating.wgsl
+    // shade_coating): both must be flagged.
+    for function in ["shade_metal:", "shade_coating:"] {
+        assert!(
+            found.iter().any(|d| d.starts_with(function)),
+            "{function} not flagged: {found:?}"
+        );
+    }
     let if_back = source.replace(
         "    let single = n <= 1u;",
         "    if n <= 1u {\n        return LutSpan(0u, 0u, 0.0);\n    }\n    let single = false;",
