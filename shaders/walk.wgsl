@@ -1,25 +1,28 @@
 // walk.wgsl: the truth on the GPU. Balls with model = "truth" are path traced with the
 // random walk on their microsurface (Heitz, Hanika, d'Eon and Dachsbacher 2016,
 // "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
-// src/walk (microsurface.rs, mod.rs trace), one estimate per pixel and frame, summed in
-// an Rgba32Float accumulation target (src/gpu/truth.rs; docs/design/gpu-truth.md).
-// Imports screen.wgsl for the rays, the quads and the output.
+// src/walk (microsurface.rs, mod.rs trace, coating.rs), one estimate per pixel and frame,
+// summed in an Rgba32Float accumulation target (src/gpu/truth.rs;
+// docs/design/gpu-truth.md). Imports screen.wgsl for the rays, the quads and the output.
 //
-// A pixel's estimate: the lights' single scattering exactly (f_micro with Schlick F, GGX
-// D, height-correlated Smith G, plus the dielectric's Lambertian base), the base's
-// albedo under the uniform environment exactly, and one walk entering along the view
+// A pixel's estimate mixes a ball's metal and dielectric parts by metallic, as
+// src/cpu/truth.rs does. The metal: the lights' single scattering exactly (f_micro with
+// Schlick F, GGX D, height-correlated Smith G) and one walk entering along the view
 // direction (reciprocity) that gives
 // - every escape, from the first event on, times the radiance arriving from its direction
 //   (uniform environment plus map): the environment's single scattering is carried by
 //   the walk's order-1 escape (unbiased; the CPU tabulates it by quadrature instead);
 // - next-event estimates towards every light from the second event on.
-// With a map, the base's share under it is one cosine-distributed draw.
-// Differences from the CPU walk: f32; a path ends after WALK_MAX_EVENTS events (the CPU's
-// guard is 10 000); the generator is a PCG hash, not SplitMix64.
+// The dielectric: one walk through the rough coating over its Lambertian base
+// (coating_walk, every order), next-event estimates at the interface before the first
+// arrival at the base, the base's gathering after, its exit times the arriving radiance.
+// Differences from the CPU walk: f32; a metal path ends after WALK_MAX_EVENTS events (the
+// CPU's guard is 10 000; a coating path's guard is the CPU's); the generator is a PCG
+// hash, not SplitMix64.
 
 #define_import_path shadeballs::walk
 #import shadeballs::constants::{PI, DIV_EPSILON, GEOMETRY_SMITH_CORRELATED}
-#import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick}
+#import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, fresnel_dielectric}
 #import shadeballs::brdf::f_micro
 #import shadeballs::environment::{direction_to_uv, env_to_map}
 #import shadeballs::types::{Ball, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
@@ -228,11 +231,280 @@ fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n
     return x;
 }
 
+// The coating walk (src/walk/coating.rs, name for name): the truth for a ball's dielectric
+// part, a rough dielectric interface of relative index eta over a Lambertian base of
+// albedo rho, each microfacet event reflecting with probability F (the exact dielectric
+// Fresnel) and refracting otherwise (Heitz et al. 2016, section 5, the dielectric
+// microsurface), internal and total internal reflection included. Each side has its own
+// frame, +z pointing away from the other medium (outside: the macro normal; inside: down,
+// towards the base); crossing the interface negates the direction and turns the height c
+// into 1 - c. Only Russian roulette ends a path early; COATING_MAX_ORDER is a guard.
+
+// Events after which a coating path is cut (src/walk MAX_ORDER, the CPU walk's guard
+// against a path stuck at the bottom of the surface; never reached in practice).
+const COATING_MAX_ORDER: u32 = 10000u;
+
+// A path through the coating: its direction in the frame of its side, its height C1(h) in
+// that frame, its side, and its interface events so far.
+struct CoatingPath {
+    dir: vec3<f32>,
+    c: f32,
+    inside: bool,
+    order: u32,
+}
+
+// A path entering the coating along wi (outside frame, wi.z > 0, pointing back along the
+// arriving ray).
+fn coating_path(wi: vec3<f32>) -> CoatingPath {
+    return CoatingPath(-wi, 1.0, false, 0u);
+}
+
+// Whether an upward ray of the path escapes its side's surface (one draw, G1); a ray at
+// or below the horizon hits without a draw.
+fn coating_escapes(path: ptr<function, CoatingPath>, alpha: f32, rng: ptr<function, u32>) -> bool {
+    if (*path).dir.z <= 0.0 {
+        return false;
+    }
+    return rng_uniform(rng) < walk_g1((*path).dir.z, (*path).c, alpha);
+}
+
+// The next event's height, given that the ray hits (src/walk/coating.rs Coating::walk).
+fn coating_hit(path: ptr<function, CoatingPath>, alpha: f32, rng: ptr<function, u32>) {
+    (*path).c = walk_next_height((*path).dir.z, (*path).c, rng_uniform(rng), alpha);
+    (*path).order += 1u;
+}
+
+// The relative index across the interface from the path's side (Event::eta).
+fn event_eta(inside: bool, eta: f32) -> f32 {
+    return select(eta, 1.0 / max(eta, DIV_EPSILON), inside);
+}
+
+// Snell's refraction of the ray direction dir (dir.m < 0) through the microfacet of unit
+// normal m into the side of relative index eta = n_t / n_i: t = dir / eta + (cos_i / eta
+// - cos_t) m (src/walk/coating.rs refract; WGSL's builtin takes that name). w: 1 where it
+// refracts, 0 past the critical angle.
+fn coating_refract(dir: vec3<f32>, m: vec3<f32>, eta: f32) -> vec4<f32> {
+    let cos_i = clamp(-dot(dir, m), 0.0, 1.0);
+    let r = 1.0 / max(eta, DIV_EPSILON);
+    let sin2_t = r * r * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return vec4<f32>(0.0);
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    return vec4<f32>(normalize(r * dir + (r * cos_i - cos_t) * m), 1.0);
+}
+
+// The event's scattering: a microfacet normal visible from the arriving direction, then
+// reflection with probability F(wi.m), refraction otherwise (which flips the frame).
+fn coating_scatter(path: ptr<function, CoatingPath>, alpha: f32, eta: f32, rng: ptr<function, u32>) {
+    let dir = (*path).dir;
+    let wi_k = -dir;
+    let u1 = rng_uniform(rng);
+    let u2 = rng_uniform(rng);
+    let m = walk_sample_visible_normal(wi_k, alpha, u1, u2);
+    let eta_side = event_eta((*path).inside, eta);
+    if rng_uniform(rng) >= fresnel_dielectric(dot(wi_k, m), eta_side) {
+        let t = coating_refract(dir, m, eta_side);
+        if t.w > 0.0 {
+            (*path).inside = !(*path).inside;
+            (*path).c = max(1.0 - (*path).c, WALK_TINY);
+            (*path).dir = -t.xyz;
+            return;
+        }
+    }
+    (*path).dir = dir - 2.0 * dot(dir, m) * m;
+}
+
+// The dielectric microsurface's transmission phase function (Walter et al. 2007, eqs. 16
+// and 21): from wi into the other side along wo (wo.z < 0 in the same frame) across eta =
+// n_t / n_i, h = -(wi + eta wo) / |wi + eta wo| turned up, p = (1 - F(wi.h)) D_wi(h) eta^2
+// |wo.h| / (wi.h + eta wo.h)^2; 0 where h does not separate the two.
+fn transmission_phase(wi: vec3<f32>, wo: vec3<f32>, eta: f32, alpha: f32) -> f32 {
+    let sum = wi + eta * wo;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    var h = -sum / len;
+    if h.z < 0.0 {
+        h = -h;
+    }
+    let cos_i = dot(wi, h);
+    let cos_o = dot(wo, h);
+    if cos_i <= 0.0 || cos_o >= 0.0 {
+        return 0.0;
+    }
+    let visible = cos_i * d_ggx(h.z, alpha) / max(walk_projected_area(wi.z, alpha), DIV_EPSILON);
+    let d = cos_i + eta * cos_o;
+    let denominator = max(d * d, DIV_EPSILON);
+    return (1.0 - fresnel_dielectric(cos_i, eta)) * visible * eta * eta * (-cos_o) / denominator;
+}
+
+// The density of leaving an event at height c, arrived along wi_k (its side's frame),
+// towards the outside direction l (l.z > 0) and escaping along it (Event::towards):
+// outside, the reflection's phase function times F times the escape from c; inside, the
+// transmission's towards -l times the escape from the flipped height 1 - c.
+fn event_towards(wi_k: vec3<f32>, c: f32, inside: bool, l: vec3<f32>, alpha: f32, eta: f32) -> f32 {
+    if inside {
+        let p = transmission_phase(wi_k, -l, event_eta(true, eta), alpha);
+        return p * walk_g1(l.z, max(1.0 - c, WALK_TINY), alpha);
+    }
+    let p = walk_phase(wi_k, l, alpha);
+    return p.x * fresnel_dielectric(p.y, eta) * walk_g1(l.z, c, alpha);
+}
+
+// Next-event estimation at the path's latest event towards the first n_lights lights
+// (Gather::event): each light's radiance times the event's density towards it.
+fn gather_event(to_local: mat3x3<f32>, path: CoatingPath, alpha: f32, eta: f32, n_lights: u32) -> vec3<f32> {
+    var x = vec3<f32>(0.0);
+    for (var k = 0u; k < n_lights; k++) {
+        let l = to_local * lights[k].direction.xyz;
+        if l.z <= 0.0 {
+            continue;
+        }
+        let p = event_towards(-path.dir, path.c, path.inside, l, alpha, eta);
+        x += p * lights[k].radiance.xyz;
+    }
+    return x;
+}
+
+// Whether light arriving from the outside direction l reaches the base (one draw): the
+// walk from l stopped at its first arrival at the base, false where it leaves first. Its
+// mean is the coating's transmittance tau(l), the interface's multiple scattering
+// included.
+fn reaches_base(l: vec3<f32>, alpha: f32, eta: f32, rng: ptr<function, u32>) -> bool {
+    var path = coating_path(l);
+    var reached = false;
+    loop {
+        if coating_escapes(&path, alpha, rng) {
+            reached = path.inside;
+            break;
+        }
+        if path.order >= COATING_MAX_ORDER {
+            break;
+        }
+        coating_hit(&path, alpha, rng);
+        coating_scatter(&path, alpha, eta, rng);
+    }
+    return reached;
+}
+
+// Each light's reaches_base draw, made at the path's first arrival at the base: bit k for
+// light k (MAX_LIGHTS = 16 fits a u32).
+fn reaches_base_bits(to_local: mat3x3<f32>, alpha: f32, eta: f32, n_lights: u32, rng: ptr<function, u32>) -> u32 {
+    var bits = 0u;
+    for (var k = 0u; k < n_lights; k++) {
+        let l = to_local * lights[k].direction.xyz;
+        if l.z <= 0.0 {
+            continue;
+        }
+        if reaches_base(l, alpha, eta, rng) {
+            bits |= 1u << k;
+        }
+    }
+    return bits;
+}
+
+// The light the Lambertian base sends back towards the lights per unit of the arriving
+// path's weight before its albedo (Gather::base): tau(l) mu_l / (pi eta^2) times each
+// light's radiance, tau drawn (bit k of `reached`).
+fn gather_base(to_local: mat3x3<f32>, reached: u32, eta: f32, n_lights: u32) -> vec3<f32> {
+    var x = vec3<f32>(0.0);
+    let eta2 = max(eta * eta, DIV_EPSILON);
+    for (var k = 0u; k < n_lights; k++) {
+        if (reached & (1u << k)) == 0u {
+            continue;
+        }
+        let l = to_local * lights[k].direction.xyz;
+        x += (l.z / (PI * eta2)) * lights[k].radiance.xyz;
+    }
+    return x;
+}
+
+// Russian roulette on a path's weights (src/walk/coating.rs russian_roulette): below
+// WALK_RR_BELOW (their largest) the path survives with probability max / WALK_RR_BELOW and
+// its weights are divided by it; whether it survives (a path of zero weights does not).
+fn russian_roulette(w: ptr<function, vec3<f32>>, rng: ptr<function, u32>) -> bool {
+    let m = max((*w).x, max((*w).y, (*w).z));
+    if m >= WALK_RR_BELOW {
+        return true;
+    }
+    if m <= 0.0 {
+        return false;
+    }
+    if rng_uniform(rng) * WALK_RR_BELOW >= m {
+        return false;
+    }
+    *w *= WALK_RR_BELOW / max(m, DIV_EPSILON);
+    return true;
+}
+
+// A direction leaving the Lambertian base towards the interface, inside frame (z < 0),
+// cosine-distributed: r = sqrt(u1), phi = 2 pi u2.
+fn lambertian_towards_interface(u1: f32, u2: f32) -> vec3<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return vec3<f32>(r * cos(phi), r * sin(phi), -sqrt(max(1.0 - u1, 0.0)));
+}
+
+// One walk through the coating from the view (local wi, wi.z > 0) over a base of albedo
+// rho (src/walk/coating.rs Coating::estimate, with the exits of src/cpu/truth.rs
+// estimate_coating): every order, the coating's single scattering included. Before the
+// first arrival at the base, next-event estimates at each interface event; from it on,
+// each arrival's weight times rho tau(l) mu_l / (pi eta^2) towards each light, tau drawn by
+// reaches_base once a light and walk; the exit times the radiance arriving from its
+// direction.
+fn coating_walk(frame: mat3x3<f32>, wi: vec3<f32>, rho: vec3<f32>, alpha: f32, eta: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+    let to_local = transpose(frame);
+    var x = vec3<f32>(0.0);
+    var w = vec3<f32>(1.0);
+    var path = coating_path(wi);
+    var at_base = false;
+    var reached = 0u;
+    loop {
+        if coating_escapes(&path, alpha, rng) {
+            if !path.inside {
+                if HAS_ENVIRONMENT == 1u || IBL != 0u {
+                    x += w * walk_arriving(frame * path.dir);
+                }
+                break;
+            }
+            // Down through the medium to the base, and back up to the interface.
+            if HAS_LIGHTS == 1u {
+                if !at_base {
+                    reached = reaches_base_bits(to_local, alpha, eta, n_lights, rng);
+                }
+                x += w * rho * gather_base(to_local, reached, eta, n_lights);
+            }
+            at_base = true;
+            w *= rho;
+            if !russian_roulette(&w, rng) {
+                break;
+            }
+            let u1 = rng_uniform(rng);
+            let u2 = rng_uniform(rng);
+            path.dir = lambertian_towards_interface(u1, u2);
+            path.c = 1.0;
+            continue;
+        }
+        if path.order >= COATING_MAX_ORDER {
+            break;
+        }
+        coating_hit(&path, alpha, rng);
+        if HAS_LIGHTS == 1u && !at_base {
+            x += w * gather_event(to_local, path, alpha, eta, n_lights);
+        }
+        coating_scatter(&path, alpha, eta, rng);
+    }
+    return x;
+}
+
 // One estimate of the radiance leaving truth ball b at unit normal n towards v, lit by
 // the first `n_lights` lights (what src/cpu/truth.rs single_fixed + estimate give, with
-// the environment's single scattering drawn instead of tabulated). Conductors only: a
-// truth ball with a dielectric part is refused before it is drawn (src/gpu/renderer.rs
-// check_truth_supported).
+// the metal's environment single scattering drawn instead of tabulated): the metal's part
+// (the lights' single scattering exactly, then walk_estimate) and the dielectric's
+// (coating_walk, every order) mixed by metallic (Ball.coating.x). A pure metal draws no
+// coating walk and shades as before it had one.
 fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let mu_o = dot(n, v);
     if mu_o <= 0.0 {
@@ -240,6 +512,28 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
     }
     let roughness = b.f0_roughness.w;
     let alpha = alpha_from_roughness(roughness);
+    let metallic = b.coating.x;
+    var coated = vec3<f32>(0.0);
+    if metallic < 1.0 {
+        let frame = walk_frame(n);
+        let wi = transpose(frame) * v;
+        coated = coating_walk(frame, wi, b.diffuse, alpha, b.coating.y, n_lights, rng);
+        if metallic <= 0.0 {
+            return coated;
+        }
+    }
+    let metal = shade_truth_metal(b, n, v, mu_o, alpha, n_lights, rng);
+    if metallic >= 1.0 {
+        return metal;
+    }
+    return metallic * metal + (1.0 - metallic) * coated;
+}
+
+// The metal's part of shade_truth (src/cpu/truth.rs single_fixed and estimate_metal): the
+// lights' single scattering exactly (f_micro with Schlick F, GGX D, height-correlated
+// Smith G) and one walk_estimate.
+fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, mu_o: f32, alpha: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+    let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     var lo = vec3<f32>(0.0);
     if HAS_LIGHTS == 1u {

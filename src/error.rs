@@ -98,17 +98,6 @@ pub enum Error {
         device: String,
     },
 
-    /// A truth ball with a dielectric part drawn by the GPU, whose walk (`walk.wgsl`)
-    /// traces conductors only; the CPU truth renderer walks coatings.
-    #[error(
-        "ball {ball} is a truth ball with a dielectric coating, which the GPU's random walk \
-         does not trace (it walks conductors; the CPU truth renderer walks coatings)"
-    )]
-    TruthCoatingOnGpu {
-        /// The ball's index in the scene.
-        ball: usize,
-    },
-
     /// The GPU device reported an error (validation, out of memory, lost device).
     #[error("GPU error: {message}")]
     Gpu {

@@ -132,7 +132,6 @@ pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
     match e.chain().find_map(|c| c.downcast_ref::<Error>())? {
         Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),
         Error::TruthUnsupported { .. } => Some("use --backend vulkan"),
-        Error::TruthCoatingOnGpu { .. } => Some("use --backend truth"),
         Error::Display { .. } => {
             Some("without a display, `shadeballs render` draws the same scene to a PNG")
         }

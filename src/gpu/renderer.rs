@@ -467,19 +467,12 @@ impl Renderer {
     }
 
     /// [`Error::TruthUnsupported`] if `scene` has truth balls and this device cannot
-    /// accumulate them; [`Error::TruthCoatingOnGpu`] if a truth ball has a dielectric part.
+    /// accumulate them.
     pub(crate) fn check_truth_supported(&self, scene: &Scene) -> Result<()> {
         if scene.has_truth() && !self.truth_supported() {
             return Err(Error::TruthUnsupported {
                 device: self.gpu.describe(),
             });
-        }
-        let coated = scene
-            .balls
-            .iter()
-            .position(|b| b.model == crate::scene::Model::Truth && b.material.has_dielectric());
-        if let Some(ball) = coated {
-            return Err(Error::TruthCoatingOnGpu { ball });
         }
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! The truth on the GPU (docs/design/gpu-truth.md): balls with `model = "truth"` path
-//! traced by the random walk of `walk.wgsl` (Heitz et al. 2016), one estimate per pixel a
-//! frame, summed in an `Rgba32Float` target.
+//! traced by the random walks of `walk.wgsl` (Heitz et al. 2016: the conductor's, and the
+//! rough dielectric coating's over its Lambertian base, mixed by `metallic`), one estimate
+//! per pixel a frame, summed in an `Rgba32Float` target.
 //!
 //! Each frame, an accumulation pass draws every ball's quad into the next of two sum
 //! textures with a depth test: a truth ball adds one estimate to the previous texture's
