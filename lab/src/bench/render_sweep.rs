@@ -287,7 +287,7 @@ fn materials_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
         let metal_ms = super::median(&mut times[1]);
         t.push(vec![
             "plastic".into(),
-            "default, every ball plastic".into(),
+            "default with every ball plastic".into(),
             "accurate".into(),
             format!("planned; {layering} layering (against the metal balls)"),
             "on".into(),
@@ -334,7 +334,7 @@ fn materials_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
         "plastic tables".into(),
         "plastic.toml".into(),
         "accurate".into(),
-        "5 E rows + 15 coating rows, baked".into(),
+        "5 E rows and 15 coating rows baked".into(),
         "-".into(),
         format!("{:.2}", e + coating),
         "-".into(),
