@@ -10,8 +10,8 @@ mod bake;
 mod environment;
 pub mod interrupt;
 mod probe;
-pub mod progress;
 pub mod process;
+pub mod progress;
 mod render;
 mod view;
 

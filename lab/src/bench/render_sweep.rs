@@ -310,7 +310,9 @@ fn materials_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
     }
     // The tables plastic.toml reads: its five E rows and its fifteen coating rows, each
     // bake from nothing (no cache), median of `repeats`.
-    let scene = shadeballs::scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/plastic.toml"))?;
+    let scene = shadeballs::scene::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/plastic.toml"),
+    )?;
     let config = BakeConfig {
         geometry: scene.effective_geometry(),
         ..BakeConfig::default()
