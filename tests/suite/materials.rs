@@ -210,7 +210,8 @@ fn white_furnace_every_metallic_ior_and_roughness() {
                 println!("{what}: GPU {worst}/255 (ball {k})");
                 // The goal: within 1/255 of the background.
                 assert!(worst <= 1, "{what}: GPU ball {k} is {worst}/255 off");
-                if layering == Layering::Physical && term == IblTerm::KullaConty {
+                // The CPU twin and the map path for the default form, every term.
+                if layering == Layering::Physical {
                     let cpu = crate::pixels::both(&mut gpu, &scene, w, h).1;
                     let (worst, k) = furnace_worst(&scene, &cpu, w, h);
                     assert!(worst <= 1, "{what}: CPU ball {k} is {worst}/255 off");
@@ -410,4 +411,91 @@ fn materials_vulkan_matches_cpu() {
 #[test]
 fn materials_gl_matches_cpu() {
     materials_match_cpu(wgpu::Backends::GL, "GL");
+}
+
+/// The material keys of a scene file: `base_color` (sRGB curve), `metallic`, `ior`; the
+/// shorthands as before; every bad combination or value a one-line error naming the line.
+#[test]
+fn material_keys_parse_and_refuse_in_one_line() {
+    let ball = |material: &str| {
+        format!("[[ball]]\ngrid = [0, 0]\nradius = 35\nroughness = 0.5\nmaterial = {material}\n")
+    };
+    let parse = |text: &str| shadeballs::scene::parse(text, std::path::Path::new("m.toml"));
+    let m = parse(&ball(
+        "{ base_color = [0.5, 0.5, 0.5], metallic = 0.25, ior = 1.33 }",
+    ))
+    .unwrap()
+    .balls[0]
+        .material;
+    // sRGB 0.5 is linear 0.21404 (IEC 61966-2-1).
+    assert!((m.diffuse.x - 0.214_041).abs() < 1e-5, "{m:?}");
+    assert_eq!((m.metallic, m.ior, m.f0), (0.25, 1.33, m.diffuse));
+    let m = parse(&ball("{ base_color = [1, 1, 1] }")).unwrap().balls[0].material;
+    assert_eq!(
+        (m.metallic, m.ior),
+        (0.0, 1.5),
+        "the defaults: a dielectric of IOR 1.5"
+    );
+    let m = parse(&ball(
+        "{ kind = \"dielectric\", albedo = [0.5, 0.5, 0.5], f0 = [0.04, 0.04, 0.04] }",
+    ))
+    .unwrap()
+    .balls[0]
+        .material;
+    assert!((m.ior - 1.5).abs() < 1e-12 && m.metallic == 0.0, "{m:?}");
+    let m = parse(&ball("{ kind = \"metal\", albedo = [0.7216, 0.451, 0.2] }"))
+        .unwrap()
+        .balls[0]
+        .material;
+    assert_eq!(m, Material::metal_srgb([0.7216, 0.451, 0.2]));
+    for (material, says) in [
+        (
+            "{ base_color = [0.5, 0.5, 0.5], metallic = 1.5 }",
+            "metallic 1.5 is outside [0, 1]",
+        ),
+        (
+            "{ base_color = [0.5, 0.5, 0.5], ior = 0.5 }",
+            "ior 0.5 is outside [1, 4]",
+        ),
+        ("{ base_color = [2, 0.5, 0.5] }", "outside [0, 1]"),
+        (
+            "{ kind = \"metal\", base_color = [0.5, 0.5, 0.5] }",
+            "`kind` or `base_color`, not both",
+        ),
+        (
+            "{ kind = \"metal\", f0 = [1, 1, 1], metallic = 0.5 }",
+            "`metallic` goes with `base_color`",
+        ),
+        (
+            "{ kind = \"metal\", f0 = [1, 1, 1], ior = 1.5 }",
+            "a metal takes no `ior`",
+        ),
+        (
+            "{ kind = \"dielectric\", f0 = [0.04, 0.05, 0.04] }",
+            "must be grey",
+        ),
+        (
+            "{ kind = \"dielectric\", f0 = [0.04, 0.04, 0.04], ior = 1.5 }",
+            "`ior` or `f0`, not both",
+        ),
+        ("{ albedo = [0.5, 0.5, 0.5] }", "needs `base_color`"),
+    ] {
+        let err = parse(&ball(material)).expect_err(material).to_string();
+        assert!(
+            err.contains(says) && err.contains("line 5") && !err.contains('\n'),
+            "{material}: {err}"
+        );
+    }
+    let layering = parse(&format!(
+        "layering = \"view-only\"\n{}",
+        ball("{ base_color = [1, 1, 1] }")
+    ));
+    assert_eq!(layering.unwrap().layering, Layering::ViewOnly);
+    let err = parse(&format!(
+        "layering = \"flat\"\n{}",
+        ball("{ base_color = [1, 1, 1] }")
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("physical") && err.contains("line 1"), "{err}");
 }
