@@ -27,7 +27,7 @@ use shadeballs::gpu::Renderer;
 use shadeballs::labels::{self, Align, Label, Labels, Rect};
 use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs::output::{write_atomic, write_png};
-use shadeballs::scene::{Ball, Camera, Model, Preset, Scene};
+use shadeballs::scene::{Ball, Camera, Layering, Model, Preset, Scene};
 
 /// Most columns (distinct roughness values) a comparison draws.
 pub const MAX_COLUMNS: usize = 16;
@@ -57,7 +57,7 @@ pub struct CompareOptions {
     pub timing_size: (u32, u32),
 }
 
-/// One row of the chart: a model under a preset.
+/// One row of the chart: a model under a preset and a layering form.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     /// Its name in the CSV and on the picture.
@@ -66,6 +66,9 @@ pub struct Row {
     pub model: Model,
     /// The preset (and so G and the F_avg form) it is evaluated with.
     pub preset: Preset,
+    /// How a dielectric's base sits under its coating (the scene's, except in the rows
+    /// of the other forms).
+    pub layering: Layering,
 }
 
 /// One row's measurements.
@@ -112,14 +115,18 @@ impl Comparison {
     }
 }
 
-/// The model rows compared with the truth.
-pub fn rows() -> Vec<Row> {
+/// The model rows compared with the truth for `scene`: every model under the scene's
+/// layering form, and where its first ball (the rows' material) has a dielectric part,
+/// Kulla-Conty under each other form.
+pub fn rows(scene: &Scene) -> Vec<Row> {
+    let layering = scene.layering;
     let row = |name: &str, model, preset| Row {
         name: name.to_string(),
         model,
         preset,
+        layering,
     };
-    vec![
+    let mut rows = vec![
         row("none", Model::None, Preset::Accurate),
         row(
             "kulla-conty (accurate)",
@@ -133,7 +140,22 @@ pub fn rows() -> Vec<Row> {
         ),
         row("turquin", Model::Turquin, Preset::Accurate),
         row("fdez-aguera", Model::FdezAguera, Preset::Accurate),
-    ]
+    ];
+    if scene
+        .balls
+        .first()
+        .is_some_and(|b| b.material.has_dielectric())
+    {
+        for form in Layering::ALL.into_iter().filter(|&f| f != layering) {
+            rows.push(Row {
+                name: format!("kulla-conty, {form} layering"),
+                model: Model::KullaConty,
+                preset: Preset::Accurate,
+                layering: form,
+            });
+        }
+    }
+    rows
 }
 
 /// The distinct roughness values of `scene`'s balls, ascending.
@@ -227,8 +249,11 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
     let mut results = Vec::new();
     let mut pictures = Vec::new();
     let mut heatmaps = Vec::new();
-    for row in rows() {
-        let scene = row_scene(&options.scene, &roughness, row.model, row.preset);
+    for row in rows(&options.scene) {
+        let scene = Scene {
+            layering: row.layering,
+            ..row_scene(&options.scene, &roughness, row.model, row.preset)
+        };
         let radiance = radiance(&scene, renderer.as_deref_mut(), w, h)?;
         let ldr = cpu::to_rgba8(&radiance, exposure);
         let flip = flip_map(&truth_ldr, &ldr, w, h);
@@ -413,6 +438,7 @@ fn frame_ms(
 ) -> Result<f64> {
     let mut scene = scene.clone();
     scene.preset = row.preset;
+    scene.layering = row.layering;
     for b in &mut scene.balls {
         b.model = row.model;
     }

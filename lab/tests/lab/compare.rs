@@ -79,8 +79,21 @@ fn a_row_is_the_scene_s_roughness_values_with_one_model() {
         let bounds = basis.sphere_bounds(b.center, b.radius, 500, 100, 0.0);
         assert!(bounds.is_some(), "{b:?}");
     }
-    let names: Vec<String> = rows().into_iter().map(|r| r.name).collect();
+    let names: Vec<String> = rows(&scene).into_iter().map(|r| r.name).collect();
     assert_eq!(names.len(), 5, "{names:?}");
+    // A dielectric's chart adds Kulla-Conty under every other layering form.
+    let mut plastic = scene.clone();
+    for b in &mut plastic.balls {
+        b.material = shadeballs::scene::Material::dielectric(glam::DVec3::splat(0.5), 1.5);
+    }
+    let rows = rows(&plastic);
+    assert_eq!(rows.len(), 9, "{rows:?}");
+    assert!(rows[..5].iter().all(|r| r.layering == plastic.layering));
+    let forms: Vec<_> = rows[5..].iter().map(|r| r.layering).collect();
+    assert!(
+        !forms.contains(&plastic.layering) && forms.len() == 4,
+        "{forms:?}"
+    );
 }
 
 #[test]
