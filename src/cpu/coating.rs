@@ -14,8 +14,46 @@ use crate::brdf::{
     f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
 };
 use crate::environment::IblTerm;
-use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::lut::{coating_albedo, CoatingRows, TableSet, COATING_ROW_LEN};
 use crate::scene::{coating_spec_albedo, Ball, CoatingConstants, Layering, Scene};
+
+/// A ball's coating as the CPU's shading reads it, formed once per ball (as the GPU's
+/// uniforms are, `gpu::uniforms::balls`): its row and its constants, in f32 as the GPU
+/// holds them.
+#[derive(Clone, Copy, Debug)]
+pub struct Coat {
+    row: [f32; COATING_ROW_LEN],
+    constants: CoatingConstants,
+}
+
+impl Coat {
+    /// Ball `b`'s coat, from its row of `rows` and E read from `e`; `None` for an all-metal
+    /// ball.
+    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+        let c = CoatingConstants::of_ball(scene, b, e, rows)?;
+        let key = scene.coating_key(b)?;
+        let f32_of = |x: f64| x as f32 as f64;
+        Some(Coat {
+            row: *rows.row(&key)?,
+            constants: CoatingConstants {
+                eta: f32_of(c.eta),
+                f_add: f32_of(c.f_add),
+                f_avg: f32_of(c.f_avg),
+                e_spec_avg: f32_of(c.e_spec_avg),
+            },
+        })
+    }
+
+    /// Every ball's coat, index for index with `scene.balls` (up to `MAX_BALLS`).
+    pub fn of_scene(scene: &Scene, e: &TableSet, rows: &CoatingRows) -> Vec<Option<Self>> {
+        scene
+            .balls
+            .iter()
+            .take(crate::scene::MAX_BALLS)
+            .map(|b| Coat::of_ball(scene, b, e, rows))
+            .collect()
+    }
+}
 
 /// A point of a ball's coating: what `shade_coating` forms once per pixel (the GPU's
 /// per-ball members and its per-pixel reads at the view), for its light loop and the
@@ -58,38 +96,14 @@ pub struct CoatingBrdf {
 }
 
 impl CoatingPoint {
-    /// Ball `b`'s coating seen at unit normal `n` from `v`, with its rows in `coating`, E
-    /// from `e` and the term weight `ms`.
-    pub fn new(
-        scene: &Scene,
-        b: &Ball,
-        (n, v): (DVec3, DVec3),
-        e: &TableSet,
-        coating: &crate::lut::CoatingRows,
-        ms: f64,
-    ) -> Self {
-        let key = scene.coating_key(b).expect("a ball with a coating");
-        let row = *coating.row(&key).expect("every coating's row is baked");
+    /// Ball `b`'s coating `coat` seen at unit normal `n` from `v`, with E from `e`.
+    pub fn new(scene: &Scene, b: &Ball, coat: &Coat, (n, v): (DVec3, DVec3), e: &TableSet) -> Self {
+        let Coat { row, constants } = *coat;
         let roughness = b.roughness;
+        let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
         let loss_avg = super::shade::loss_avg(e, roughness);
         let read = |mu: f64| loss(e, mu, roughness);
-        let c = CoatingConstants::new(
-            b.material.ior,
-            &row,
-            scene.preset,
-            (ms, term),
-            1.0 - loss_avg,
-            read,
-        );
-        // As the GPU's uniforms hold them: f32.
-        let f32_of = |x: f64| x as f32 as f64;
-        let constants = CoatingConstants {
-            eta: f32_of(c.eta),
-            f_add: f32_of(c.f_add),
-            f_avg: f32_of(c.f_avg),
-            e_spec_avg: f32_of(c.e_spec_avg),
-        };
         let eta = constants.eta;
         let f0 = f0_from_ior(eta);
         let fresnel_form = scene.preset.dielectric_fresnel();
@@ -200,22 +214,19 @@ impl CoatingPoint {
 }
 
 /// `shade_coating` of `coating.wgsl`, the map's part (`shade_coating_map`) included where
-/// `map` is given: radiance leaving ball `b`'s coating at unit normal `n` towards `v`; `ms`
-/// the weight of its term.
-#[allow(clippy::too_many_arguments)]
+/// the scene has one (`forms.map`): radiance leaving ball `b`'s coating `coat` at unit
+/// normal `n` towards `v`.
 pub(super) fn shade_coating(
     scene: &Scene,
-    b: &Ball,
+    (b, coat): (&Ball, &Coat),
     n: DVec3,
     v: DVec3,
     e: &TableSet,
     forms: &Forms<'_>,
-    ms: f64,
-    map: Option<&CpuEnvironment>,
 ) -> DVec3 {
-    let point = CoatingPoint::new(scene, b, (n, v), e, forms.coating, ms);
+    let point = CoatingPoint::new(scene, b, coat, (n, v), e);
     let mut lo = scene.environment * point.albedo();
-    if let Some(map) = map {
+    if let Some(map) = forms.map {
         lo += shade_coating_map(scene, b, n, v, &point, map);
     }
     for light in &scene.lights {

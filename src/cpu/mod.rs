@@ -52,7 +52,8 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         (environment, CpuEnvironment::new(environment, &tables))
     });
     let ibl = &ibl;
-    let coating = &scene.coating_rows(&mut Default::default());
+    // Each ball's coating formed once, as the GPU's uniforms are.
+    let coats = &coating::Coat::of_scene(scene, e, &scene.coating_rows(&mut Default::default()));
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
     // What a ray in unit direction d that hits no ball sees (`background_radiance`).
@@ -67,10 +68,9 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         let forms = Forms {
             form,
             geometry,
-            split: ibl.as_ref().map(|(_, map)| &map.split),
-            coating,
+            map: ibl.as_ref().map(|(_, map)| map),
         };
-        shade_point(scene, b, n, -d, e, &forms, ibl.as_ref().map(|(_, map)| map))
+        shade_point(scene, (b, coats[k].as_ref()), n, -d, e, &forms)
     };
     let o = basis.origin;
     let size = (width, height);

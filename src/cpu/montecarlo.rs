@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::coating::CoatingPoint;
+use super::coating::{Coat, CoatingPoint};
 use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
 use super::{surface_normal, Bins};
 use crate::brdf::{
@@ -146,7 +146,8 @@ pub fn render_montecarlo_part(
         && scene.balls.iter().any(|b| b.model == Model::FdezAguera))
     .then(|| SplitSum::shipped(scene.effective_geometry()));
     let split = &split;
-    let coating = &scene.coating_rows(&mut Default::default());
+    // Each ball's coating formed once, as the GPU's uniforms are.
+    let coats = &Coat::of_scene(scene, e, &scene.coating_rows(&mut Default::default()));
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -158,7 +159,8 @@ pub fn render_montecarlo_part(
                     Some((t, k)) => {
                         let b = &balls[k];
                         let n = surface_normal(o + t * d - b.center, d);
-                        let mut point = ShadingPoint::with_rows(scene, b, (n, -d), e, coating);
+                        let mut point =
+                            ShadingPoint::with_coat(scene, (b, coats[k].as_ref()), (n, -d), e);
                         point.part = part;
                         if let Some(split) = split {
                             point = point.with_split_sum(split);
@@ -226,20 +228,20 @@ pub struct ShadingPoint {
 
 impl ShadingPoint {
     /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
-    /// and geometry and the ball's model, with E and E_avg from `e` (its coating's row
-    /// baked for the call: [`ShadingPoint::with_rows`] takes the scene's).
+    /// and geometry and the ball's model, with E and E_avg from `e` (its coating formed
+    /// for the call: [`ShadingPoint::with_coat`] takes one formed once per ball).
     pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
         let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
-        Self::with_rows(scene, b, (n, v), e, &rows)
+        let coat = Coat::of_ball(scene, b, e, &rows);
+        Self::with_coat(scene, (b, coat.as_ref()), (n, v), e)
     }
 
-    /// [`ShadingPoint::new`] with the coating rows `rows`.
-    pub fn with_rows(
+    /// [`ShadingPoint::new`] with the ball's coating `coat` (`None` for an all-metal ball).
+    pub fn with_coat(
         scene: &Scene,
-        b: &Ball,
+        (b, coat): (&Ball, Option<&Coat>),
         (n, v): (DVec3, DVec3),
         e: &TableSet,
-        rows: &CoatingRows,
     ) -> Self {
         let roughness = b.roughness;
         let f0 = b.material.f0;
@@ -258,10 +260,7 @@ impl ShadingPoint {
             norm: f_ms_norm(loss_avg),
             f_add: f_add_rgb(form, f0, e_avg),
             metallic: b.material.metallic,
-            coating: b.material.has_dielectric().then(|| {
-                let ms = if b.model.has_term() { 1.0 } else { 0.0 };
-                CoatingPoint::new(scene, b, (n, v), e, rows, ms)
-            }),
+            coating: coat.map(|coat| CoatingPoint::new(scene, b, coat, (n, v), e)),
             term: b.model.term().unwrap_or(IblTerm::KullaConty),
             geometry: scene.effective_geometry(),
             fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),

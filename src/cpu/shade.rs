@@ -74,51 +74,49 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
-    let coating = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+    let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+    let coat = super::coating::Coat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
-        split: None,
-        coating: &coating,
+        map: None,
     };
-    shade_point(scene, b, n, v, e, &forms, None)
+    shade_point(scene, (b, coat.as_ref()), n, v, e, &forms)
 }
 
-/// The scene-wide choices a point's shading takes: the preset's forms, G, the split
-/// sum's table where the scene has a map (it gives `FssEss`), and the scene's coating rows.
+/// The scene-wide choices a point's shading takes: the preset's forms, G, and the map
+/// prepared for shading where the scene has one (its split sum's table gives `FssEss`).
 pub(super) struct Forms<'a> {
     pub form: FAvgForm,
     pub geometry: Geometry,
-    pub split: Option<&'a SplitSum>,
-    pub coating: &'a CoatingRows,
+    pub map: Option<&'a CpuEnvironment>,
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
-/// lit by the scene's lights, its uniform environment and, with `map`, its map: the
+/// lit by the scene's lights, its uniform environment and its map (`forms.map`): the
 /// metal's and the coating's parts, each with its own term, mixed by `metallic` (an
-/// all-metal or all-dielectric ball shades one).
+/// all-metal or all-dielectric ball shades one). `coat` is the ball's coating, formed once
+/// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
-    b: &Ball,
+    (b, coat): (&Ball, Option<&super::coating::Coat>),
     n: DVec3,
     v: DVec3,
     e: &TableSet,
     forms: &Forms<'_>,
-    map: Option<&CpuEnvironment>,
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
     let metal = || {
         let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
-        match map {
+        match forms.map {
             Some(map) => lo + shade_environment_map(scene, b, n, v, &terms, map),
             None => lo,
         }
     };
-    if metallic >= 1.0 {
+    let Some(coat) = coat.filter(|_| metallic < 1.0) else {
         return metal();
-    }
-    let ms = if b.model.has_term() { 1.0 } else { 0.0 };
-    let coating = super::coating::shade_coating(scene, b, n, v, e, forms, ms, map);
+    };
+    let coating = super::coating::shade_coating(scene, (b, coat), n, v, e, forms);
     if metallic <= 0.0 {
         return coating;
     }
@@ -156,12 +154,8 @@ pub(super) fn shade_with_terms(
     e: &TableSet,
     forms: &Forms<'_>,
 ) -> (DVec3, PointTerms) {
-    let Forms {
-        form,
-        geometry,
-        split,
-        ..
-    } = *forms;
+    let Forms { form, geometry, .. } = *forms;
+    let split = forms.map.map(|m| &m.split);
     let roughness = b.roughness;
     let f0 = b.material.f0;
     let ms = if b.model.has_term() { 1.0 } else { 0.0 };

@@ -130,17 +130,11 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 [0.0; 4]
             };
             let ms = if b.model.has_term() { 1.0 } else { 0.0 };
-            let (coating_constants, coating_row) = match scene.coating_key(b) {
-                Some(key) => {
-                    let row = coating.row(&key).expect("every coating's row is baked");
-                    let term = (ms, b.model.term().unwrap_or(IblTerm::KullaConty));
-                    let loss = |mu: f64| f64::from(tables.lut_loss(mu as f32, b.roughness as f32));
-                    let c =
-                        CoatingConstants::new(b.material.ior, row, scene.preset, term, e_avg, loss);
-                    (c, coating.index_of(&key) as u32)
-                }
-                None => (CoatingConstants::default(), 0),
-            };
+            let coating_constants =
+                CoatingConstants::of_ball(scene, b, tables, coating).unwrap_or_default();
+            let coating_row = scene
+                .coating_key(b)
+                .map_or(0, |key| coating.index_of(&key) as u32);
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),

@@ -197,11 +197,7 @@ fn coating_rows_sharing(rule: &CoatingRule, keys: &[CoatingKey]) -> Vec<[f32; CO
 
 /// The row of `key`: [`coating_albedo`] at `sqrt(mu) = k / (COATING_ROW_LEN - 1)`, as f32.
 pub fn coating_row(rule: &CoatingRule, key: &CoatingKey) -> [f32; COATING_ROW_LEN] {
-    let mut row = [0.0; COATING_ROW_LEN];
-    for (k, v) in row.iter_mut().enumerate() {
-        *v = coating_albedo_quadrature(rule, row_mu(k), key) as f32;
-    }
-    row
+    coating_rows_sharing(rule, std::slice::from_ref(key))[0]
 }
 
 /// `coating_albedo` of `shaders/coating.wgsl`: the row read at `mu` in f32, linear in `sqrt(mu)`
@@ -238,6 +234,8 @@ pub struct CoatingRows {
     pub keys: Vec<CoatingKey>,
     /// The rows.
     pub rows: Vec<[f32; COATING_ROW_LEN]>,
+    /// Each key's index (a scene of `MAX_BALLS` balls looks its rows up every frame).
+    index: HashMap<CoatingKey, usize>,
 }
 
 impl CoatingRows {
@@ -248,10 +246,12 @@ impl CoatingRows {
         cache: &mut HashMap<CoatingKey, [f32; COATING_ROW_LEN]>,
     ) -> Self {
         let mut unique: Vec<CoatingKey> = Vec::new();
+        let mut index = HashMap::new();
         for k in keys {
-            if !unique.contains(&k) {
+            index.entry(k).or_insert_with(|| {
                 unique.push(k);
-            }
+                unique.len() - 1
+            });
         }
         let missing: Vec<CoatingKey> = unique
             .iter()
@@ -277,20 +277,21 @@ impl CoatingRows {
             cache.extend(baked);
         }
         let rows = unique.iter().map(|k| cache[k]).collect();
-        CoatingRows { keys: unique, rows }
+        CoatingRows {
+            keys: unique,
+            rows,
+            index,
+        }
     }
 
     /// The index of `key`'s row (0 when absent: a ball without a coating reads none).
     pub fn index_of(&self, key: &CoatingKey) -> usize {
-        self.keys.iter().position(|k| k == key).unwrap_or(0)
+        self.index.get(key).copied().unwrap_or(0)
     }
 
     /// The row of `key`, if baked.
     pub fn row(&self, key: &CoatingKey) -> Option<&[f32; COATING_ROW_LEN]> {
-        self.keys
-            .iter()
-            .position(|k| k == key)
-            .map(|i| &self.rows[i])
+        self.index.get(key).map(|&i| &self.rows[i])
     }
 
     /// Every row's values one after the other (the storage buffer's contents; one row of

@@ -163,6 +163,32 @@ pub struct CoatingConstants {
 const SPEC_AVG_NODES: usize = 48;
 
 impl CoatingConstants {
+    /// Ball `b`'s constants as both renderers form them, once per ball: from its row of
+    /// `rows`, with E and E_avg read from `e` as the shader reads them, and its term;
+    /// `None` for an all-metal ball.
+    pub fn of_ball(
+        scene: &super::Scene,
+        b: &super::Ball,
+        e: &crate::lut::TableSet,
+        rows: &crate::lut::CoatingRows,
+    ) -> Option<Self> {
+        let key = scene.coating_key(b)?;
+        let row = rows.row(&key).expect("every coating's row is baked");
+        let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+        let term = b.model.term().unwrap_or(IblTerm::KullaConty);
+        let r = b.roughness as f32;
+        let e_avg = 1.0 - f64::from(e.lut_loss_avg(r));
+        let loss = |mu: f64| f64::from(e.lut_loss(mu as f32, r));
+        Some(Self::new(
+            b.material.ior,
+            row,
+            scene.preset,
+            (ms, term),
+            e_avg,
+            loss,
+        ))
+    }
+
     /// The constants of a coating of index `eta` read from `row`, for a ball whose term
     /// weight is `ms` and term `term`, with the preset `preset`; `e_avg` is `E_avg` at the
     /// ball's roughness as the shader reads it and `loss(mu)` its `1 - E(mu)` read.
