@@ -191,8 +191,9 @@ pub struct SceneArgs {
     #[arg(long, overrides_with = "labels")]
     pub no_labels: bool,
     /// Antialiased silhouettes: a pixel a ball's edge crosses mixes ball and background by
-    /// the fraction it covers, in linear radiance (default: the scene's, else on; off: one
-    /// ray through each pixel's centre).
+    /// the fraction it covers, in linear radiance, on the GPU, the CPU and montecarlo
+    /// (default: the scene's, else on; off: one ray through each pixel's centre, as the
+    /// truth always traces).
     #[arg(long, value_name = "on|off")]
     pub aa: Option<OnOff>,
     /// Tone mapper of .png pictures and the window (default: the scene's `tone_map`, else
