@@ -402,6 +402,23 @@ fn quick_ibl_bench_writes_its_tables_and_goals() {
     assert!(read("ibl_frame").starts_with("method,with_term_ms,without_term_ms,ratio\n"));
     assert!(read("harmonics").starts_with("environment,roughness,method,size,"));
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    // The summary names the commit its figures were made at.
+    let head = std::process::Command::new("git")
+        .args([
+            "-C",
+            env!("CARGO_MANIFEST_DIR"),
+            "rev-parse",
+            "--short",
+            "HEAD",
+        ])
+        .output()
+        .expect("git");
+    let head = String::from_utf8(head.stdout).unwrap();
+    assert!(
+        summary.contains(&format!("Made at commit {}", head.trim())),
+        "summary names no commit {head}: {}",
+        &summary[..summary.len().min(400)]
+    );
     for goal in [
         "furnace through the map path",
         "preparing a 1024x512 map",
