@@ -21,7 +21,9 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
-pub use file::{load, load_bytes_per_texel, save, MapStats, MAX_MAP_TEXELS};
+#[cfg(feature = "image-files")]
+pub use file::load_bytes_per_texel;
+pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
 pub use prefilter::{ChainOn, MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
