@@ -17,7 +17,7 @@ pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
 
-use shade::{shade_point, Forms};
+use shade::{shade_point, Forms, LobeSamples};
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;
@@ -33,6 +33,20 @@ use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALL
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
 pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> Vec<DVec3> {
+    render_radiance_at_lobe_frame(scene, e, width, height, 0)
+}
+
+/// [`render_radiance`] at frame `lobe_frame` of the lobe's samples (`ibl_method = "lobe"`:
+/// the sample indices `lobe_frame N .. (lobe_frame + 1) N` of each pixel's sequence, as
+/// `gpu::Renderer::set_lobe_frame`); the same image as [`render_radiance`] under the split
+/// sum.
+pub fn render_radiance_at_lobe_frame(
+    scene: &Scene,
+    e: &TableSet,
+    width: u32,
+    height: u32,
+    lobe_frame: u32,
+) -> Vec<DVec3> {
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
@@ -62,13 +76,14 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         _ => background,
     };
     // Radiance leaving ball k, hit at distance t along the ray (o, d), towards the eye.
-    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize| {
+    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize, pixel: (u32, u32)| {
         let b = &balls[k];
         let n = surface_normal(o + t * d - b.center, d);
         let forms = Forms {
             form,
             geometry,
             map: ibl.as_ref().map(|(_, map)| map),
+            lobe: LobeSamples::of(scene, pixel, lobe_frame),
         };
         shade_point(scene, (b, coats[k].as_ref()), n, -d, e, &forms)
     };
@@ -81,7 +96,7 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
                 match bins.view(&basis, balls, size, scene.antialias, (px, py)) {
                     PixelView::Miss(d) => background_along(d),
                     PixelView::Ball(view) => {
-                        let lo = shade_hit(o, view.hit, view.footprint.t, view.k);
+                        let lo = shade_hit(o, view.hit, view.footprint.t, view.k, (px, py));
                         view.mix(lo, || background_along(view.miss))
                     }
                 }

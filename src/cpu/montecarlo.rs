@@ -535,7 +535,7 @@ fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
 /// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
 /// sample the projected disk, warp to the visible half, unstretch. May lie below the
 /// horizon (the caller's `mu_i <= 0` gives it no weight).
-fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
+pub(super) fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
     let vh = vh / vh.length().max(DIV_EPSILON);
     let lensq = vh.x * vh.x + vh.y * vh.y;

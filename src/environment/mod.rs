@@ -13,6 +13,7 @@
 pub mod builtin;
 mod file;
 pub mod harmonics;
+pub mod lobe;
 pub mod prefilter;
 
 use std::f64::consts::PI;
@@ -24,6 +25,7 @@ pub use builtin::Builtin;
 #[cfg(feature = "image-files")]
 pub use file::load_bytes_per_texel;
 pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+pub use lobe::{IblMethod, DEFAULT_IBL_SAMPLES, MAX_IBL_SAMPLES};
 pub use prefilter::{ChainOn, MipChain, Prefiltered};
 
 use crate::error::{Error, Result};
