@@ -96,6 +96,67 @@ pub fn render_montecarlo(
     render_montecarlo_part(scene, e, width, height, spp, seed, Part::Whole)
 }
 
+/// The environment strategy's tables of `env` in f32 for the GPU estimator
+/// (`shaders/montecarlo.wgsl`): the same weights [`render_montecarlo`] samples from,
+/// normalised. `None` where the CPU estimator draws no direction from the map (a constant
+/// or black map), so the GPU combines the same strategies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LuminanceCdf {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Per row, the running sum of the rows' weights up to and including it, over the
+    /// total (the last is 1).
+    pub marginal: Vec<f32>,
+    /// Per texel (row-major), the running sum of its row's weights up to and including it,
+    /// over the row's sum (the last of a lit row is 1; a black row's are 0).
+    pub row_cdf: Vec<f32>,
+    /// Per texel, the probability of drawing it, its weight over the total.
+    pub texel: Vec<f32>,
+}
+
+impl LuminanceCdf {
+    /// The tables of `env`'s luminance sampler (`None`: no sampler, see the type).
+    pub fn of(env: &Environment) -> Option<Self> {
+        let s = EnvSampler::new(env)?;
+        let (w, h) = (s.width, s.height);
+        let marginal = s.marginal.iter().map(|&c| (c / s.total) as f32).collect();
+        let mut row_cdf = vec![0.0f32; w * h];
+        for j in 0..h {
+            let row = &s.row_cdf[j * w..(j + 1) * w];
+            let sum = row[w - 1];
+            if sum > 0.0 {
+                for (out, &c) in row_cdf[j * w..(j + 1) * w].iter_mut().zip(row) {
+                    *out = (c / sum) as f32;
+                }
+            }
+        }
+        let texel = s.weight.iter().map(|&x| (x / s.total) as f32).collect();
+        Some(LuminanceCdf {
+            width: w as u32,
+            height: h as u32,
+            marginal,
+            row_cdf,
+            texel,
+        })
+    }
+}
+
+/// Fills the pixels of `image` no ball covers with `scene`'s background along each pixel's
+/// ray, as [`render_montecarlo`] does (the GPU estimator's image leaves them to this).
+pub fn fill_background(scene: &Scene, image: &mut MonteCarloImage) {
+    let (width, height) = (image.width, image.height);
+    let basis = scene.camera.basis(width, height);
+    let lighting = Lighting::new(scene);
+    for (k, (m, &c)) in image.mean.iter_mut().zip(&image.covered).enumerate() {
+        if !c {
+            let (px, py) = ((k as u32) % width, (k as u32) / width);
+            *m = lighting.background(basis.ray(px, py, width, height));
+        }
+    }
+}
+
 /// Which part of the model a Monte Carlo render integrates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
@@ -116,23 +177,7 @@ pub fn render_montecarlo_part(
     seed: u64,
     part: Part,
 ) -> Result<MonteCarloImage> {
-    if !(1..=MAX_SPP).contains(&spp) {
-        return Err(Error::Invalid {
-            what: "samples per pixel",
-            message: format!("{spp}: must be in 1..={MAX_SPP}"),
-        });
-    }
-    if let Some(env) = &scene.environment_map {
-        if !env.rotation_deg.is_finite() || !env.intensity.is_finite() || env.intensity < 0.0 {
-            return Err(Error::Invalid {
-                what: "environment",
-                message: format!(
-                    "rotation {} and intensity {} must be finite, the intensity >= 0",
-                    env.rotation_deg, env.intensity
-                ),
-            });
-        }
-    }
+    check_inputs(scene, spp)?;
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
@@ -187,6 +232,30 @@ pub fn render_montecarlo_part(
         image.covered.push(c);
     }
     Ok(image)
+}
+
+/// What [`render_montecarlo`] refuses (and the GPU's estimator with it): `spp` outside
+/// `1..=MAX_SPP`, a map whose rotation or intensity is not finite (or whose intensity is
+/// negative).
+pub fn check_inputs(scene: &Scene, spp: u32) -> Result<()> {
+    if !(1..=MAX_SPP).contains(&spp) {
+        return Err(Error::Invalid {
+            what: "samples per pixel",
+            message: format!("{spp}: must be in 1..={MAX_SPP}"),
+        });
+    }
+    if let Some(env) = &scene.environment_map {
+        if !env.rotation_deg.is_finite() || !env.intensity.is_finite() || env.intensity < 0.0 {
+            return Err(Error::Invalid {
+                what: "environment",
+                message: format!(
+                    "rotation {} and intensity {} must be finite, the intensity >= 0",
+                    env.rotation_deg, env.intensity
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// One visible surface point: the ball's model and what does not depend on the incident
