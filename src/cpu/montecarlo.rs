@@ -14,7 +14,7 @@
 
 use std::f64::consts::PI;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::coating::{Coat, CoatingPoint};
@@ -24,60 +24,17 @@ use crate::brdf::{
     alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
     DIV_EPSILON,
 };
-use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
-use crate::error::{Error, Result};
+use crate::environment::sampler::EnvSampler;
+use crate::environment::IblTerm;
+use crate::error::Result;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
 use crate::scene::{Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
-/// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
-pub const MAX_SPP: u32 = 65536;
+pub use crate::stats::MAX_SPP;
 
-/// Rec. 709 luminance weights: what the environment strategy samples in proportion to, and
-/// how [`MonteCarloImage::mean_relative_std_error`] reduces a colour to one number.
-pub const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
-
-/// A Monte Carlo image: per pixel (row-major, row 0 at the top) the mean linear radiance of
-/// `spp` independent estimates and the standard error of that mean.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MonteCarloImage {
-    /// Pixels across.
-    pub width: u32,
-    /// Pixels down.
-    pub height: u32,
-    /// Estimates per covered pixel.
-    pub spp: u32,
-    /// Mean radiance per pixel (the background where no ball covers it).
-    pub mean: Vec<DVec3>,
-    /// Standard error of the mean per pixel and channel, `s / sqrt(spp)` with `s` the
-    /// sample standard deviation of the `spp` estimates; 0 where there is no noise (the
-    /// background, a pixel only lights reach) and where `spp < 2` leaves it unknown.
-    pub std_error: Vec<DVec3>,
-    /// Whether a ball covers the pixel.
-    pub covered: Vec<bool>,
-}
-
-impl MonteCarloImage {
-    /// The mean over the covered pixels of `Y(std_error) / Y(mean)` (`Y`: [`LUMINANCE`];
-    /// `Y(std_error)` bounds the standard error of the luminance from above), skipping
-    /// pixels whose mean luminance is below [`DIV_EPSILON`]. `None` when `spp < 2` (no
-    /// variance estimate) or no covered pixel counts.
-    pub fn mean_relative_std_error(&self) -> Option<f64> {
-        if self.spp < 2 {
-            return None;
-        }
-        let (sum, count) = self
-            .mean
-            .iter()
-            .zip(&self.std_error)
-            .zip(&self.covered)
-            .filter(|&(_, &c)| c)
-            .map(|((m, s), _)| (m.dot(LUMINANCE), s.dot(LUMINANCE)))
-            .filter(|&(m, _)| m > DIV_EPSILON)
-            .fold((0.0, 0usize), |(sum, n), (m, s)| (sum + s / m, n + 1));
-        (count > 0).then(|| sum / count as f64)
-    }
-}
+pub use crate::environment::sampler::LUMINANCE;
+pub use crate::stats::MonteCarloImage;
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -94,67 +51,6 @@ pub fn render_montecarlo(
     seed: u64,
 ) -> Result<MonteCarloImage> {
     render_montecarlo_part(scene, e, width, height, spp, seed, Part::Whole)
-}
-
-/// The environment strategy's tables of `env` in f32 for the GPU estimator
-/// (`shaders/montecarlo.wgsl`): the same weights [`render_montecarlo`] samples from,
-/// normalised. `None` where the CPU estimator draws no direction from the map (a constant
-/// or black map), so the GPU combines the same strategies.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LuminanceCdf {
-    /// Texels across.
-    pub width: u32,
-    /// Texels down.
-    pub height: u32,
-    /// Per row, the running sum of the rows' weights up to and including it, over the
-    /// total (the last is 1).
-    pub marginal: Vec<f32>,
-    /// Per texel (row-major), the running sum of its row's weights up to and including it,
-    /// over the row's sum (the last of a lit row is 1; a black row's are 0).
-    pub row_cdf: Vec<f32>,
-    /// Per texel, the probability of drawing it, its weight over the total.
-    pub texel: Vec<f32>,
-}
-
-impl LuminanceCdf {
-    /// The tables of `env`'s luminance sampler (`None`: no sampler, see the type).
-    pub fn of(env: &Environment) -> Option<Self> {
-        let s = EnvSampler::new(env)?;
-        let (w, h) = (s.width, s.height);
-        let marginal = s.marginal.iter().map(|&c| (c / s.total) as f32).collect();
-        let mut row_cdf = vec![0.0f32; w * h];
-        for j in 0..h {
-            let row = &s.row_cdf[j * w..(j + 1) * w];
-            let sum = row[w - 1];
-            if sum > 0.0 {
-                for (out, &c) in row_cdf[j * w..(j + 1) * w].iter_mut().zip(row) {
-                    *out = (c / sum) as f32;
-                }
-            }
-        }
-        let texel = s.weight.iter().map(|&x| (x / s.total) as f32).collect();
-        Some(LuminanceCdf {
-            width: w as u32,
-            height: h as u32,
-            marginal,
-            row_cdf,
-            texel,
-        })
-    }
-}
-
-/// Fills the pixels of `image` no ball covers with `scene`'s background along each pixel's
-/// ray, as [`render_montecarlo`] does (the GPU estimator's image leaves them to this).
-pub fn fill_background(scene: &Scene, image: &mut MonteCarloImage) {
-    let (width, height) = (image.width, image.height);
-    let basis = scene.camera.basis(width, height);
-    let lighting = Lighting::new(scene);
-    for (k, (m, &c)) in image.mean.iter_mut().zip(&image.covered).enumerate() {
-        if !c {
-            let (px, py) = ((k as u32) % width, (k as u32) / width);
-            *m = lighting.background(basis.ray(px, py, width, height));
-        }
-    }
 }
 
 /// Which part of the model a Monte Carlo render integrates.
@@ -177,7 +73,7 @@ pub fn render_montecarlo_part(
     seed: u64,
     part: Part,
 ) -> Result<MonteCarloImage> {
-    check_inputs(scene, spp)?;
+    crate::stats::check_montecarlo_inputs(scene, spp)?;
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
@@ -232,30 +128,6 @@ pub fn render_montecarlo_part(
         image.covered.push(c);
     }
     Ok(image)
-}
-
-/// What [`render_montecarlo`] refuses (and the GPU's estimator with it): `spp` outside
-/// `1..=MAX_SPP`, a map whose rotation or intensity is not finite (or whose intensity is
-/// negative).
-pub fn check_inputs(scene: &Scene, spp: u32) -> Result<()> {
-    if !(1..=MAX_SPP).contains(&spp) {
-        return Err(Error::Invalid {
-            what: "samples per pixel",
-            message: format!("{spp}: must be in 1..={MAX_SPP}"),
-        });
-    }
-    if let Some(env) = &scene.environment_map {
-        if !env.rotation_deg.is_finite() || !env.intensity.is_finite() || env.intensity < 0.0 {
-            return Err(Error::Invalid {
-                what: "environment",
-                message: format!(
-                    "rotation {} and intensity {} must be finite, the intensity >= 0",
-                    env.rotation_deg, env.intensity
-                ),
-            });
-        }
-    }
-    Ok(())
 }
 
 /// One visible surface point: the ball's model and what does not depend on the incident
@@ -459,11 +331,7 @@ impl<'a> Lighting<'a> {
     }
 
     pub(super) fn background(&self, d: DVec3) -> DVec3 {
-        match self.scene.background {
-            Background::Environment => self.incident(d),
-            Background::Black => DVec3::ZERO,
-            Background::Colour(c) => c,
-        }
+        self.scene.background_along(d)
     }
 
     /// The lights' exact contribution plus `spp` estimates of the environment's; returns
@@ -622,118 +490,5 @@ impl Frame {
     }
     pub(super) fn to_world(&self, l: DVec3) -> DVec3 {
         l.x * self.t + l.y * self.b + l.z * self.n
-    }
-}
-
-/// Draws directions from an environment map in proportion to its radiance: a texel with
-/// probability `w_ij / sum w`, `w_ij = Y_max(i, j) * texel_solid_angle(j)`, then uniformly in
-/// its `(u, v)` rectangle. `Y_max` is the largest luminance of the texel and its eight
-/// neighbours (wrapping in `u`, clamped in `v`): the bilinear read is non-zero wherever a
-/// neighbour is, so every texel rectangle the map lights has a positive density. The
-/// density per solid angle is `p_ij W H / (2 pi^2 sin theta)` (the equirectangular
-/// Jacobian), exactly.
-struct EnvSampler<'a> {
-    env: &'a Environment,
-    width: usize,
-    height: usize,
-    /// Per texel, its weight.
-    weight: Vec<f64>,
-    /// Per texel, the running sum of its row's weights up to and including it.
-    row_cdf: Vec<f64>,
-    /// Per row, the running sum of the rows' weights up to and including it.
-    marginal: Vec<f64>,
-    total: f64,
-}
-
-impl<'a> EnvSampler<'a> {
-    /// `None` for a map that needs no sampler: constant (cosine and VNDF sampling suit a
-    /// uniform environment) or black.
-    fn new(env: &'a Environment) -> Option<Self> {
-        let map = &env.map;
-        let first = map.texels()[0];
-        if env.intensity <= 0.0 || map.texels().iter().all(|t| t == &first) {
-            return None;
-        }
-        let (w, h) = (map.width() as usize, map.height() as usize);
-        let lum: Vec<f64> = map
-            .texels()
-            .iter()
-            .map(|t| LUMINANCE.dot(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)))
-            .collect();
-        // The largest luminance across each row's neighbours (u wraps), then down the rows.
-        let mut across = vec![0.0; w * h];
-        for j in 0..h {
-            let row = &lum[j * w..(j + 1) * w];
-            for i in 0..w {
-                let left = row[(i + w - 1) % w];
-                let right = row[(i + 1) % w];
-                across[j * w + i] = row[i].max(left).max(right);
-            }
-        }
-        let mut weight = vec![0.0; w * h];
-        let mut row_cdf = vec![0.0; w * h];
-        let mut marginal = vec![0.0; h];
-        let mut total = 0.0;
-        for j in 0..h {
-            let up = j.saturating_sub(1);
-            let down = (j + 1).min(h - 1);
-            let omega = map.texel_solid_angle(j as u32);
-            let mut sum = 0.0;
-            for i in 0..w {
-                let y = across[j * w + i]
-                    .max(across[up * w + i])
-                    .max(across[down * w + i]);
-                let wt = y * omega;
-                weight[j * w + i] = wt;
-                sum += wt;
-                row_cdf[j * w + i] = sum;
-            }
-            total += sum;
-            marginal[j] = total;
-        }
-        (total > DIV_EPSILON).then_some(EnvSampler {
-            env,
-            width: w,
-            height: h,
-            weight,
-            row_cdf,
-            marginal,
-            total,
-        })
-    }
-
-    /// A world direction from four uniform numbers in `[0, 1)`; `None` in the rare case
-    /// rounding lands on a texel of zero weight.
-    fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
-        let target = u[0] * self.total;
-        let j = self
-            .marginal
-            .partition_point(|&c| c <= target)
-            .min(self.height - 1);
-        let row = &self.row_cdf[j * self.width..(j + 1) * self.width];
-        let row_target = u[1] * row[self.width - 1];
-        let i = row
-            .partition_point(|&c| c <= row_target)
-            .min(self.width - 1);
-        if self.weight[j * self.width + i] <= 0.0 {
-            return None;
-        }
-        let uv = DVec2::new(
-            (i as f64 + u[2]) / self.width as f64,
-            (j as f64 + u[3]) / self.height as f64,
-        );
-        Some(self.env.from_map(uv_to_direction(uv)))
-    }
-
-    /// The density per solid angle of [`EnvSampler::sample`] at world direction `l`.
-    fn pdf(&self, l: DVec3) -> f64 {
-        let d = self.env.to_map(l);
-        let uv = direction_to_uv(d);
-        let (w, h) = (self.width as f64, self.height as f64);
-        let i = ((uv.x * w).floor() as i64).rem_euclid(self.width as i64) as usize;
-        let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height - 1);
-        let p_texel = self.weight[j * self.width + i] / self.total;
-        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
-        p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
     }
 }

@@ -14,6 +14,7 @@ pub mod builtin;
 mod file;
 pub mod harmonics;
 pub mod prefilter;
+pub mod sampler;
 
 use std::f64::consts::PI;
 use std::sync::Arc;

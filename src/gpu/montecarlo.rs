@@ -25,10 +25,11 @@ use super::truth::SUM_FORMAT;
 use super::uniforms::GpuBall;
 use super::Gpu;
 use crate::brdf::Geometry;
-use crate::cpu::montecarlo::{fill_background, LuminanceCdf, MonteCarloImage};
+use crate::environment::sampler::LuminanceCdf;
 use crate::error::{Error, Result};
 use crate::lut::MuAxis;
 use crate::scene::{Scene, MAX_BALLS};
+use crate::stats::MonteCarloImage;
 
 /// Estimates a pixel each pass draws (the last pass draws the rest): 16 keeps a pass of a
 /// 1280x720 frame of metal balls under a second on lavapipe (docs/design/environment.md,
@@ -45,16 +46,16 @@ const STRATEGY_MAP: u32 = 4;
 /// uniform value, where lavapipe crashed running the same steps without the branches).
 const SHAPE_ALL: u32 = 7;
 
-/// The shader's `McParams` (group 2, binding 2).
+/// The shader's `McParams` (group 2, binding 2; member for member: `gpu::boundary`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct McParams {
-    seed: [u32; 2],
-    pass_index: u32,
-    lit: u32,
-    map_size: [u32; 2],
-    strategies: u32,
-    shape: u32,
+pub(crate) struct McParams {
+    pub(crate) seed: [u32; 2],
+    pub(crate) pass_index: u32,
+    pub(crate) lit: u32,
+    pub(crate) map_size: [u32; 2],
+    pub(crate) strategies: u32,
+    pub(crate) shape: u32,
 }
 
 /// What a Monte Carlo pass draws with: the frame's bind groups 0 and 1, its balls (and
@@ -118,8 +119,7 @@ impl MonteCarloPass {
 
     /// Renders `spp` estimates a covered pixel of `scene` with `seed`, in passes of
     /// [`PASS_SAMPLES`]; after each pass `keep_going(samples so far)` may stop it (the
-    /// image then holds the passes done). The background comes from the CPU's
-    /// [`fill_background`].
+    /// image then holds the passes done). The background comes from [`fill_background`].
     pub fn render(
         &mut self,
         gpu: &Gpu,
@@ -431,6 +431,19 @@ fn clear(encoder: &mut wgpu::CommandEncoder, views: &[wgpu::TextureView; 2]) {
         color_attachments: &[attachment(&views[0]), attachment(&views[1])],
         ..Default::default()
     });
+}
+
+/// Fills the pixels of `image` no ball covers with `scene`'s background along each
+/// pixel's ray ([`Scene::background_along`], as the CPU estimator).
+fn fill_background(scene: &Scene, image: &mut MonteCarloImage) {
+    let (width, height) = (image.width, image.height);
+    let basis = scene.camera.basis(width, height);
+    for (k, (m, &c)) in image.mean.iter_mut().zip(&image.covered).enumerate() {
+        if !c {
+            let (px, py) = ((k as u32) % width, (k as u32) / width);
+            *m = scene.background_along(basis.ray(px, py, width, height));
+        }
+    }
 }
 
 /// Reads pair `latest` back into an image of `spp` estimates a covered pixel: the mean,

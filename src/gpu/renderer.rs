@@ -589,7 +589,7 @@ impl Renderer {
 
     /// The Monte Carlo of the model on the GPU: `spp` estimates a covered pixel of `scene`
     /// at `width x height` from `seed`, with the CPU estimator's strategies and weights
-    /// ([`crate::cpu::render_montecarlo`]) in f32, and each pixel's standard error.
+    /// (`crate::cpu::render_montecarlo`) in f32, and each pixel's standard error.
     /// Errors as the CPU's on a bad `spp` or map, and where the device cannot render to
     /// `Rgba32Float` (GL).
     pub fn render_montecarlo(
@@ -598,7 +598,7 @@ impl Renderer {
         (width, height): (u32, u32),
         spp: u32,
         seed: u64,
-    ) -> Result<crate::cpu::MonteCarloImage> {
+    ) -> Result<crate::stats::MonteCarloImage> {
         self.render_montecarlo_progressive(scene, (width, height), (spp, seed), |_| true)
     }
 
@@ -611,8 +611,8 @@ impl Renderer {
         (width, height): (u32, u32),
         (spp, seed): (u32, u64),
         keep_going: impl FnMut(u32) -> bool,
-    ) -> Result<crate::cpu::MonteCarloImage> {
-        crate::cpu::montecarlo::check_inputs(scene, spp)?;
+    ) -> Result<crate::stats::MonteCarloImage> {
+        crate::stats::check_montecarlo_inputs(scene, spp)?;
         self.gpu.check_size(width, height)?;
         self.gpu.check()?;
         if !self.truth_supported() {
@@ -637,7 +637,7 @@ impl Renderer {
         size: (u32, u32),
         (spp, seed): (u32, u64),
         keep_going: impl FnMut(u32) -> bool,
-    ) -> Result<crate::cpu::MonteCarloImage> {
+    ) -> Result<crate::stats::MonteCarloImage> {
         let frame = self.prepare_frame(scene, size.0, size.1)?;
         let device = &self.gpu.device;
         let (group0, group1) = (&self.bindings.layout, &self.environment.layout);
