@@ -127,7 +127,7 @@ impl<'a> EnvSampler<'a> {
 }
 
 /// The environment strategy's tables of `env` in f32 for the GPU estimator
-/// (`shaders/montecarlo.wgsl`): the same weights [`render_montecarlo`] samples from,
+/// (`shaders/montecarlo.wgsl`): the same weights `cpu::render_montecarlo` samples from,
 /// normalised. `None` where the CPU estimator draws no direction from the map (a constant
 /// or black map), so the GPU combines the same strategies.
 #[derive(Clone, Debug, PartialEq)]

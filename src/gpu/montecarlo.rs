@@ -258,7 +258,7 @@ fn inputs(gpu: &Gpu, scene: &Scene, seed: u64) -> Result<((wgpu::Buffer, Vec<u8>
         None => vec![0.0],
     };
     let bytes = std::mem::size_of_val(tables.as_slice()) as u64;
-    let max = u64::from(gpu.device.limits().max_storage_buffer_binding_size);
+    let max = gpu.device.limits().max_storage_buffer_binding_size;
     if bytes > max {
         return Err(Error::Invalid {
             what: "environment",
