@@ -305,14 +305,16 @@ pub struct RenderArgs {
     #[arg(long, default_value = "shading_balls.png")]
     pub out: PathBuf,
     /// Where to render: a GPU backend (auto: any adapter, else the CPU), the CPU
-    /// reference renderer, the CPU Monte Carlo reference (montecarlo: the model
-    /// integrated against the lights and the environment by importance sampling), or the
+    /// reference renderer, the Monte Carlo reference (montecarlo: the model integrated
+    /// against the lights and the environment by importance sampling, on the GPU where
+    /// auto finds an adapter that renders to Rgba32Float, else on the CPU with a notice;
+    /// Ctrl-C stops the GPU's after a pass; montecarlo-cpu: on the CPU always), or the
     /// truth (every ball shaded with the random walk of Heitz et al. 2016, on the CPU: a bar
     /// with the time left on a terminal; Ctrl-C stops it after a pass and writes what it
     /// has, exit status 130).
     #[arg(long, default_value_t = Backend::Auto)]
     pub backend: Backend,
-    /// Samples per pixel of --backend montecarlo and truth, 1..=65536; on a GPU backend,
+    /// Samples per pixel of --backend montecarlo, montecarlo-cpu and truth, 1..=65536; on a GPU backend,
     /// the frames accumulated for balls with model = "truth", 1..=1024 (otherwise
     /// ignored). Default 64; for truth with --stderr, the cap (default 65536).
     #[arg(long, allow_negative_numbers = true,
@@ -483,7 +485,7 @@ pub fn parse_stderr(s: &str) -> Result<f64, String> {
 /// `probe --backend`: a GPU backend (the probe runs the shader's own reads on the GPU).
 pub fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
     match s.parse::<Backend>() {
-        Ok(Backend::Cpu | Backend::Montecarlo | Backend::Truth) => {
+        Ok(Backend::Cpu | Backend::Montecarlo | Backend::MontecarloCpu | Backend::Truth) => {
             Err("the probe runs on the GPU: use auto, vulkan or gl".to_string())
         }
         Ok(b) => Ok(b),

@@ -56,7 +56,8 @@ const WGPU_BACKEND_NAMES: [&str; 11] = [
 /// Checks `WGPU_BACKEND` where `--backend auto` honours it: a name wgpu does not know
 /// would leave no backend, and the error would then advise installing a driver.
 pub fn check_wgpu_backend_env(backend: crate::gpu::Backend) -> crate::Result<()> {
-    if backend != crate::gpu::Backend::Auto {
+    use crate::gpu::Backend;
+    if !matches!(backend, Backend::Auto | Backend::Montecarlo) {
         return Ok(());
     }
     let Some(value) = std::env::var_os("WGPU_BACKEND") else {

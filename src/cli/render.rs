@@ -18,18 +18,37 @@ use crate::scene::Scene;
 
 /// The GPU renderer of `backend`, or `None` for the CPU: a CPU backend, or `auto` with no
 /// adapter (with a warning). The lab's `compare` opens its models' renderer the same way.
+/// `montecarlo` tries `auto`'s adapters, and falls back to the CPU estimator with a notice
+/// where there is none or it cannot render to `Rgba32Float`.
 pub fn open(backend: Backend) -> Result<Option<Renderer>> {
-    let Some(backends) = backend.wgpu_backends() else {
+    let tried = if backend == Backend::Montecarlo {
+        Backend::Auto
+    } else {
+        backend
+    };
+    let Some(backends) = tried.wgpu_backends() else {
         return Ok(None);
     };
-    match Gpu::new(backends) {
-        Ok(gpu) => Ok(Some(Renderer::new(gpu))),
+    let renderer = match Gpu::new(backends) {
+        Ok(gpu) => Renderer::new(gpu),
         Err(e @ Error::NoAdapter { .. }) if backend == Backend::Auto => {
             eprintln!("warning: {e}; falling back to the CPU reference renderer");
-            Ok(None)
+            return Ok(None);
         }
-        Err(e) => Err(e),
+        Err(e @ Error::NoAdapter { .. }) if backend == Backend::Montecarlo => {
+            eprintln!("notice: {e}; the Monte Carlo backend runs on the CPU");
+            return Ok(None);
+        }
+        Err(e) => return Err(e),
+    };
+    if backend == Backend::Montecarlo && !renderer.truth_supported() {
+        eprintln!(
+            "notice: {} cannot render to Rgba32Float; the Monte Carlo backend runs on the CPU",
+            renderer.gpu().describe()
+        );
+        return Ok(None);
     }
+    Ok(Some(renderer))
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
@@ -51,6 +70,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let renderer = open(args.backend)?;
     phases.mark("device");
     let (device, truth_spp) = match renderer {
+        Some(mut renderer) if args.backend == Backend::Montecarlo => {
+            render_montecarlo_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?
+        }
         Some(mut renderer) => (
             render_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?,
             None,
@@ -65,8 +87,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         phases.1.trim_end_matches(", "),
         args.out.display()
     );
-    // A truth render Ctrl-C stopped has written what it had: the command still fails, with
-    // the signal's status.
+    // A truth or GPU Monte Carlo render Ctrl-C stopped has written what it had: the command
+    // still fails, with the signal's status.
     if let (Some(signal), Some(spp)) = (interrupt::stop_requested(), truth_spp) {
         return Err(interrupt::Interrupted {
             signal,
@@ -189,6 +211,73 @@ fn render_on_gpu(
     Ok(renderer.gpu().describe())
 }
 
+/// `--backend montecarlo` on the GPU: the estimator's passes (Ctrl-C stops after one, the
+/// image then holds the passes done), its summary line, labels and the file; the device's
+/// description, and the samples a pixel where a signal stopped it.
+fn render_montecarlo_on_gpu(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    args: &RenderArgs,
+    kind: ImageKind,
+    phases: &mut Phases,
+) -> Result<(String, Option<u32>)> {
+    let (w, h) = (args.width, args.height);
+    renderer.gpu().check_size(w, h)?;
+    // Four Rgba32Float textures and two read-backs on the device; mean, error and coverage
+    // on the host.
+    memory::check(
+        &format!("a {w}x{h} {} by the GPU's Monte Carlo", kind_name(kind)),
+        u64::from(w) * u64::from(h) * (6 * 16 + MONTECARLO_BYTES_PER_PIXEL + 24),
+    )?;
+    if scene.environment_map.is_some() {
+        renderer.prepare_environment(scene)?;
+        phases.mark("prefilter");
+    }
+    if scene.antialias {
+        eprintln!(
+            "notice: montecarlo on the GPU traces one ray through each pixel's centre (no \
+             antialiasing); --backend montecarlo-cpu antialiases silhouettes as the real-time \
+             renderers do"
+        );
+    }
+    let spp = args.spp.unwrap_or(DEFAULT_SPP);
+    let started = Instant::now();
+    let stoppable = interrupt::Stoppable::start();
+    let image = renderer.render_montecarlo_progressive(scene, (w, h), (spp, args.seed), |_| {
+        interrupt::stop_requested().is_none()
+    })?;
+    drop(stoppable);
+    phases.mark("render");
+    montecarlo_summary(&image, args.seed, started);
+    match kind {
+        ImageKind::Png => {
+            let mut rgba = cpu::to_display_rgba8(&image.mean, scene.exposure, scene.display());
+            drop(image.mean);
+            draw_labels(scene, args, &mut rgba, phases)?;
+            write_png(&args.out, w, h, rgba)?
+        }
+        ImageKind::Exr => write_exr(&args.out, w, h, cpu::to_rgba_f32(&image.mean))?,
+    }
+    let stopped = interrupt::stop_requested().map(|_| image.spp);
+    Ok((
+        format!("GPU Monte Carlo, {}", renderer.gpu().describe()),
+        stopped,
+    ))
+}
+
+/// The Monte Carlo backends' line on stderr: samples, seed, time, noise.
+fn montecarlo_summary(image: &cpu::MonteCarloImage, seed: u64, started: Instant) {
+    let noise = image
+        .mean_relative_std_error()
+        .map_or("n/a".to_string(), |r| format!("{:.3} %", 100.0 * r));
+    eprintln!(
+        "montecarlo: {} spp, seed {seed}, {:.1} ms, mean relative standard error over \
+         ball pixels {noise}",
+        image.spp,
+        started.elapsed().as_secs_f64() * 1e3
+    );
+}
+
 /// The render on the CPU: the reference renderer, the Monte Carlo backend or the truth (its
 /// `sidecar` of standard errors written with the image, both or neither); the renderer's
 /// name, and the truth's samples a pixel.
@@ -203,7 +292,7 @@ fn render_on_cpu(
     let pixels = u64::from(w) * u64::from(h);
     let geometry = scene.effective_geometry();
     check_cpu_size(w, h)?;
-    let montecarlo = args.backend == Backend::Montecarlo;
+    let montecarlo = matches!(args.backend, Backend::Montecarlo | Backend::MontecarloCpu);
     let truth = args.backend == Backend::Truth;
     // The Monte Carlo image also keeps a standard error and a coverage flag per pixel
     // (the truth also its running sums per covered pixel: counted as twice that).
@@ -305,7 +394,7 @@ fn cpu_radiance(
     phases: &mut Phases,
 ) -> Result<CpuRadiance> {
     let (w, h) = (args.width, args.height);
-    let montecarlo = args.backend == Backend::Montecarlo;
+    let montecarlo = matches!(args.backend, Backend::Montecarlo | Backend::MontecarloCpu);
     let truth = args.backend == Backend::Truth;
     if truth {
         let image = render_truth(scene, tables, args)?;
@@ -318,16 +407,7 @@ fn cpu_radiance(
         let spp = args.spp.unwrap_or(DEFAULT_SPP);
         let image = cpu::render_montecarlo(scene, tables, w, h, spp, args.seed)?;
         phases.mark("render");
-        let noise = image
-            .mean_relative_std_error()
-            .map_or("n/a".to_string(), |r| format!("{:.3} %", 100.0 * r));
-        eprintln!(
-            "montecarlo: {} spp, seed {}, {:.1} ms, mean relative standard error over \
-             ball pixels {noise}",
-            spp,
-            args.seed,
-            started.elapsed().as_secs_f64() * 1e3
-        );
+        montecarlo_summary(&image, args.seed, started);
         image.mean
     } else if scene.has_truth() {
         // Truth balls by the walk, the others by the reference renderer.

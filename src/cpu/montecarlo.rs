@@ -14,7 +14,7 @@
 
 use std::f64::consts::PI;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::coating::{Coat, CoatingPoint};
@@ -24,91 +24,17 @@ use crate::brdf::{
     alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
     DIV_EPSILON,
 };
-use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
-use crate::error::{Error, Result};
+use crate::environment::sampler::EnvSampler;
+use crate::environment::IblTerm;
+use crate::error::Result;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
 use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
-/// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
-pub const MAX_SPP: u32 = 65536;
+pub use crate::stats::MAX_SPP;
 
-/// Rec. 709 luminance weights: what the environment strategy samples in proportion to, and
-/// how [`MonteCarloImage::mean_relative_std_error`] reduces a colour to one number.
-pub const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
-
-/// A Monte Carlo image: per pixel (row-major, row 0 at the top) the mean linear radiance of
-/// `spp` independent estimates and the standard error of that mean.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MonteCarloImage {
-    /// Pixels across.
-    pub width: u32,
-    /// Pixels down.
-    pub height: u32,
-    /// Estimates per covered pixel.
-    pub spp: u32,
-    /// Mean radiance per pixel (the background where no ball covers it).
-    pub mean: Vec<DVec3>,
-    /// Standard error of the mean per pixel and channel, `s / sqrt(spp)` with `s` the
-    /// sample standard deviation of the `spp` estimates; 0 where there is no noise (the
-    /// background, a pixel only lights reach) and where `spp < 2` leaves it unknown.
-    pub std_error: Vec<DVec3>,
-    /// Whether a ball covers the pixel (some of it, with `antialias`).
-    pub covered: Vec<bool>,
-    /// The pixel filter: `true` where a pixel a ball's silhouette crosses mixes the ball's
-    /// estimate and the background by the fraction it covers, as the real-time renderers
-    /// antialias ([`crate::scene::Scene::antialias`]); `false`: one ray through each
-    /// pixel's centre. An image compares with another only under the same filter.
-    pub antialias: bool,
-}
-
-impl MonteCarloImage {
-    /// Errors unless an image rendered with `antialias` (its pixel filter,
-    /// [`crate::scene::Scene::antialias`]) compares like with like with this one: the same
-    /// filter on both sides. A silhouette pixel mixes ball and background where one side
-    /// antialiases, and is one ball's or the background's where the other does not: an
-    /// error measured across the two is the filters', not the lighting's.
-    pub fn compares_with(&self, antialias: bool) -> Result<()> {
-        if antialias == self.antialias {
-            return Ok(());
-        }
-        let filter = |aa: bool| {
-            if aa {
-                "antialiased"
-            } else {
-                "one ray through each pixel's centre"
-            }
-        };
-        Err(Error::Invalid {
-            what: "comparison",
-            message: format!(
-                "unlike pixel filters: the image is {}, its reference {} (render both with the same antialiasing)",
-                filter(antialias),
-                filter(self.antialias)
-            ),
-        })
-    }
-
-    /// The mean over the covered pixels of `Y(std_error) / Y(mean)` (`Y`: [`LUMINANCE`];
-    /// `Y(std_error)` bounds the standard error of the luminance from above), skipping
-    /// pixels whose mean luminance is below [`DIV_EPSILON`]. `None` when `spp < 2` (no
-    /// variance estimate) or no covered pixel counts.
-    pub fn mean_relative_std_error(&self) -> Option<f64> {
-        if self.spp < 2 {
-            return None;
-        }
-        let (sum, count) = self
-            .mean
-            .iter()
-            .zip(&self.std_error)
-            .zip(&self.covered)
-            .filter(|&(_, &c)| c)
-            .map(|((m, s), _)| (m.dot(LUMINANCE), s.dot(LUMINANCE)))
-            .filter(|&(m, _)| m > DIV_EPSILON)
-            .fold((0.0, 0usize), |(sum, n), (m, s)| (sum + s / m, n + 1));
-        (count > 0).then(|| sum / count as f64)
-    }
-}
+pub use crate::environment::sampler::LUMINANCE;
+pub use crate::stats::MonteCarloImage;
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -147,23 +73,7 @@ pub fn render_montecarlo_part(
     seed: u64,
     part: Part,
 ) -> Result<MonteCarloImage> {
-    if !(1..=MAX_SPP).contains(&spp) {
-        return Err(Error::Invalid {
-            what: "samples per pixel",
-            message: format!("{spp}: must be in 1..={MAX_SPP}"),
-        });
-    }
-    if let Some(env) = &scene.environment_map {
-        if !env.rotation_deg.is_finite() || !env.intensity.is_finite() || env.intensity < 0.0 {
-            return Err(Error::Invalid {
-                what: "environment",
-                message: format!(
-                    "rotation {} and intensity {} must be finite, the intensity >= 0",
-                    env.rotation_deg, env.intensity
-                ),
-            });
-        }
-    }
+    crate::stats::check_montecarlo_inputs(scene, spp)?;
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     // The pixels see what the real-time renderers' pixels see: with antialiasing, a
@@ -425,11 +335,7 @@ impl<'a> Lighting<'a> {
     }
 
     pub(super) fn background(&self, d: DVec3) -> DVec3 {
-        match self.scene.background {
-            Background::Environment => self.incident(d),
-            Background::Black => DVec3::ZERO,
-            Background::Colour(c) => c,
-        }
+        self.scene.background_along(d)
     }
 
     /// The lights' exact contribution plus `spp` estimates of the environment's; returns
@@ -588,118 +494,5 @@ impl Frame {
     }
     pub(super) fn to_world(&self, l: DVec3) -> DVec3 {
         l.x * self.t + l.y * self.b + l.z * self.n
-    }
-}
-
-/// Draws directions from an environment map in proportion to its radiance: a texel with
-/// probability `w_ij / sum w`, `w_ij = Y_max(i, j) * texel_solid_angle(j)`, then uniformly in
-/// its `(u, v)` rectangle. `Y_max` is the largest luminance of the texel and its eight
-/// neighbours (wrapping in `u`, clamped in `v`): the bilinear read is non-zero wherever a
-/// neighbour is, so every texel rectangle the map lights has a positive density. The
-/// density per solid angle is `p_ij W H / (2 pi^2 sin theta)` (the equirectangular
-/// Jacobian), exactly.
-struct EnvSampler<'a> {
-    env: &'a Environment,
-    width: usize,
-    height: usize,
-    /// Per texel, its weight.
-    weight: Vec<f64>,
-    /// Per texel, the running sum of its row's weights up to and including it.
-    row_cdf: Vec<f64>,
-    /// Per row, the running sum of the rows' weights up to and including it.
-    marginal: Vec<f64>,
-    total: f64,
-}
-
-impl<'a> EnvSampler<'a> {
-    /// `None` for a map that needs no sampler: constant (cosine and VNDF sampling suit a
-    /// uniform environment) or black.
-    fn new(env: &'a Environment) -> Option<Self> {
-        let map = &env.map;
-        let first = map.texels()[0];
-        if env.intensity <= 0.0 || map.texels().iter().all(|t| t == &first) {
-            return None;
-        }
-        let (w, h) = (map.width() as usize, map.height() as usize);
-        let lum: Vec<f64> = map
-            .texels()
-            .iter()
-            .map(|t| LUMINANCE.dot(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)))
-            .collect();
-        // The largest luminance across each row's neighbours (u wraps), then down the rows.
-        let mut across = vec![0.0; w * h];
-        for j in 0..h {
-            let row = &lum[j * w..(j + 1) * w];
-            for i in 0..w {
-                let left = row[(i + w - 1) % w];
-                let right = row[(i + 1) % w];
-                across[j * w + i] = row[i].max(left).max(right);
-            }
-        }
-        let mut weight = vec![0.0; w * h];
-        let mut row_cdf = vec![0.0; w * h];
-        let mut marginal = vec![0.0; h];
-        let mut total = 0.0;
-        for j in 0..h {
-            let up = j.saturating_sub(1);
-            let down = (j + 1).min(h - 1);
-            let omega = map.texel_solid_angle(j as u32);
-            let mut sum = 0.0;
-            for i in 0..w {
-                let y = across[j * w + i]
-                    .max(across[up * w + i])
-                    .max(across[down * w + i]);
-                let wt = y * omega;
-                weight[j * w + i] = wt;
-                sum += wt;
-                row_cdf[j * w + i] = sum;
-            }
-            total += sum;
-            marginal[j] = total;
-        }
-        (total > DIV_EPSILON).then_some(EnvSampler {
-            env,
-            width: w,
-            height: h,
-            weight,
-            row_cdf,
-            marginal,
-            total,
-        })
-    }
-
-    /// A world direction from four uniform numbers in `[0, 1)`; `None` in the rare case
-    /// rounding lands on a texel of zero weight.
-    fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
-        let target = u[0] * self.total;
-        let j = self
-            .marginal
-            .partition_point(|&c| c <= target)
-            .min(self.height - 1);
-        let row = &self.row_cdf[j * self.width..(j + 1) * self.width];
-        let row_target = u[1] * row[self.width - 1];
-        let i = row
-            .partition_point(|&c| c <= row_target)
-            .min(self.width - 1);
-        if self.weight[j * self.width + i] <= 0.0 {
-            return None;
-        }
-        let uv = DVec2::new(
-            (i as f64 + u[2]) / self.width as f64,
-            (j as f64 + u[3]) / self.height as f64,
-        );
-        Some(self.env.from_map(uv_to_direction(uv)))
-    }
-
-    /// The density per solid angle of [`EnvSampler::sample`] at world direction `l`.
-    fn pdf(&self, l: DVec3) -> f64 {
-        let d = self.env.to_map(l);
-        let uv = direction_to_uv(d);
-        let (w, h) = (self.width as f64, self.height as f64);
-        let i = ((uv.x * w).floor() as i64).rem_euclid(self.width as i64) as usize;
-        let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height - 1);
-        let p_texel = self.weight[j * self.width + i] / self.total;
-        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
-        p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
     }
 }

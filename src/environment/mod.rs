@@ -15,6 +15,7 @@ mod file;
 pub mod harmonics;
 pub mod lobe;
 pub mod prefilter;
+pub mod sampler;
 
 use std::f64::consts::PI;
 use std::sync::Arc;

@@ -6,6 +6,7 @@
 use std::mem::{offset_of, size_of};
 
 use super::environment::{EnvUniform, PrefilterParams};
+use super::montecarlo::McParams;
 use super::uniforms::{Globals, GpuBall, GpuLight};
 use crate::lut::LutParams;
 
@@ -42,6 +43,7 @@ wgsl_type! {
     [f32; 2] => "vec2<f32>",
     [f32; 3] => "vec3<f32>",
     [f32; 4] => "vec4<f32>",
+    [u32; 2] => "vec2<u32>",
     [u32; 4] => "vec4<u32>",
     LutParams => "LutParams",
 }
@@ -68,7 +70,7 @@ macro_rules! layout {
 }
 
 /// Every struct of the boundary.
-pub const STRUCTS: [StructLayout; 6] = [
+pub const STRUCTS: [StructLayout; 7] = [
     layout!(
         "Globals",
         Globals {
@@ -140,6 +142,17 @@ pub const STRUCTS: [StructLayout; 6] = [
             source,
             layer,
             limits,
+        }
+    ),
+    layout!(
+        "McParams",
+        McParams {
+            seed,
+            pass_index,
+            lit,
+            map_size,
+            strategies,
+            shape,
         }
     ),
 ];

@@ -23,21 +23,25 @@ pub enum Backend {
     Gl,
     /// The CPU reference renderer.
     Cpu,
-    /// The CPU Monte Carlo reference (`crate::cpu::montecarlo`): the model integrated
-    /// against the lights and the environment by importance sampling.
+    /// The Monte Carlo reference: the model integrated against the lights and the
+    /// environment by importance sampling, on any GPU adapter wgpu finds
+    /// ([`crate::Renderer::render_montecarlo`]), else on the CPU (`crate::cpu::montecarlo`).
     Montecarlo,
+    /// The CPU Monte Carlo reference (`crate::cpu::montecarlo`) whatever the adapters.
+    MontecarloCpu,
     /// The CPU truth (`crate::cpu::truth`): every ball shaded with the random walk.
     Truth,
 }
 
 impl Backend {
     /// Every backend, in a fixed order.
-    pub const ALL: [Backend; 6] = [
+    pub const ALL: [Backend; 7] = [
         Backend::Auto,
         Backend::Vulkan,
         Backend::Gl,
         Backend::Cpu,
         Backend::Montecarlo,
+        Backend::MontecarloCpu,
         Backend::Truth,
     ];
 
@@ -49,11 +53,13 @@ impl Backend {
             Backend::Gl => "gl",
             Backend::Cpu => "cpu",
             Backend::Montecarlo => "montecarlo",
+            Backend::MontecarloCpu => "montecarlo-cpu",
             Backend::Truth => "truth",
         }
     }
 
-    /// The wgpu backends this choice allows (`None` for the CPU renderers).
+    /// The wgpu backends this choice allows (`None` for the CPU renderers and the Monte
+    /// Carlo backends: `render --backend montecarlo` tries `auto`'s adapters itself).
     pub fn wgpu_backends(self) -> Option<wgpu::Backends> {
         match self {
             Backend::Auto => Some(
@@ -61,7 +67,7 @@ impl Backend {
             ),
             Backend::Vulkan => Some(wgpu::Backends::VULKAN),
             Backend::Gl => Some(wgpu::Backends::GL),
-            Backend::Cpu | Backend::Montecarlo | Backend::Truth => None,
+            Backend::Cpu | Backend::Montecarlo | Backend::MontecarloCpu | Backend::Truth => None,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The GPU renderer (docs/design/layers.md, "Imports run one way"): the device ([`Gpu`],
 //! its own or a host's), the plan of a scene, the tables as textures ([`GpuTables`], usable
-//! by any wgpu program), the ball pipelines, headless rendering and the table probe. Knows
+//! by any wgpu program), the ball pipelines, headless rendering, the Monte Carlo of the model and the table probe. Knows
 //! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod bindings;
@@ -10,6 +10,7 @@ mod depth;
 pub mod environment;
 mod headless;
 mod map_cache;
+mod montecarlo;
 mod pipelines;
 pub mod plan;
 mod probe;
@@ -25,6 +26,7 @@ pub use bindings::texture_load_layout;
 pub use context::{Backend, Gpu};
 pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
 pub use map_cache::MAX_PREFILTERED_MAPS;
+pub use montecarlo::PASS_SAMPLES as MC_PASS_SAMPLES;
 pub use pipelines::{is_bits, is_linear};
 pub use plan::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
 pub use probe::{ProbeSample, MAX_PROBE_GRID};

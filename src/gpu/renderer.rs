@@ -15,6 +15,7 @@ use super::depth::DepthTarget;
 use super::environment::EnvUniform;
 use super::headless::{self, HdrImage, LdrImage};
 use super::map_cache::PrefilteredMaps;
+use super::montecarlo::{McFrame, MonteCarloPass};
 use super::pipelines::{is_bits, is_linear, pipeline_key, Pipelines};
 use super::plan::{DrawOptions, Plan, TablePolicy};
 use super::probe::{self, ProbeSample};
@@ -70,6 +71,8 @@ pub struct Renderer {
     environment: PrefilteredMaps,
     /// The truth balls' accumulation (`walk.wgsl`, `truth.rs`).
     truth: TruthPass,
+    /// The Monte Carlo of the model (`montecarlo.wgsl`, `montecarlo.rs`), made on first use.
+    montecarlo: Option<MonteCarloPass>,
     /// Every coating row baked so far, by key (`lut::coating`), and the latest scene's.
     coating_cache: HashMap<CoatingKey, [f32; COATING_ROW_LEN]>,
     coating: CoatingRows,
@@ -101,6 +104,7 @@ impl Renderer {
             environment,
             truth,
             lobe_frame: 0,
+            montecarlo: None,
         }
     }
 
@@ -610,6 +614,76 @@ impl Renderer {
     ) -> Result<HdrImage> {
         headless::accumulate_frames(self, scene, width, height, spp)?;
         self.render_hdr(scene, width, height)
+    }
+
+    /// The Monte Carlo of the model on the GPU: `spp` estimates a covered pixel of `scene`
+    /// at `width x height` from `seed`, with the CPU estimator's strategies and weights
+    /// (`crate::cpu::render_montecarlo`) in f32, and each pixel's standard error.
+    /// Errors as the CPU's on a bad `spp` or map, and where the device cannot render to
+    /// `Rgba32Float` (GL).
+    pub fn render_montecarlo(
+        &mut self,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        spp: u32,
+        seed: u64,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        self.render_montecarlo_progressive(scene, (width, height), (spp, seed), |_| true)
+    }
+
+    /// [`Renderer::render_montecarlo`] in passes of [`super::MC_PASS_SAMPLES`] estimates:
+    /// after each pass but the last, `keep_going(estimates so far)` may stop the render
+    /// (the image then holds the passes done; its `spp` says how many).
+    pub fn render_montecarlo_progressive(
+        &mut self,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        (spp, seed): (u32, u64),
+        keep_going: impl FnMut(u32) -> bool,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        crate::stats::check_montecarlo_inputs(scene, spp)?;
+        self.gpu.check_size(width, height)?;
+        self.gpu.check()?;
+        if !self.truth_supported() {
+            return Err(Error::Gpu {
+                message: format!(
+                    "{} cannot render to Rgba32Float: no Monte Carlo on this device",
+                    self.gpu.describe()
+                ),
+            });
+        }
+        let scopes = super::Scopes::push(&self.gpu.device);
+        let image = self.montecarlo_passes(scene, (width, height), (spp, seed), keep_going);
+        scopes.pop()?;
+        self.gpu.check()?;
+        image
+    }
+
+    /// The passes of [`Renderer::render_montecarlo_progressive`], within its error scopes.
+    fn montecarlo_passes(
+        &mut self,
+        scene: &Scene,
+        size: (u32, u32),
+        (spp, seed): (u32, u64),
+        keep_going: impl FnMut(u32) -> bool,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        let frame = self.prepare_frame(scene, size.0, size.1)?;
+        let device = &self.gpu.device;
+        let (group0, group1) = (&self.bindings.layout, &self.environment.layout);
+        let pass = self
+            .montecarlo
+            .get_or_insert_with(|| MonteCarloPass::new(device, group0, group1));
+        let mc = McFrame {
+            group0: &frame.group0,
+            group1: &frame.group1,
+            balls: &frame.balls,
+            hidden: &frame.hidden,
+            geometry: frame.plan.geometry,
+            mu_axis: frame.plan.bake.layout.mu_axis,
+            variant: frame.plan.truth_variant,
+            size,
+        };
+        pass.render(&self.gpu, scene, &mc, (spp, seed), keep_going)
     }
 
     /// Evaluates the tables for `geometry` (baked if needed) on the GPU with the shader's

@@ -27,6 +27,8 @@ pub(crate) const FS_TRUTH: &str = "fs_truth";
 pub(crate) const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
 /// Fragment entry point of the truth's resolve (the mean of each truth pixel's estimates).
 pub(crate) const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
+/// Fragment entry point of a ball's quad in a Monte Carlo pass (`montecarlo.wgsl`).
+pub(crate) const FS_MONTECARLO: &str = "fs_montecarlo";
 /// Entry point of the table probe module.
 pub(crate) const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
@@ -48,6 +50,7 @@ pub fn entry_points(program: &Program) -> &'static [&'static str] {
             FS_TRUTH_OCCLUDER,
             FS_TRUTH_RESOLVE,
         ],
+        "shadeballs::montecarlo" => &[VS_BALL, FS_MONTECARLO],
         "shadeballs::probe" => &[PROBE_MAIN, PROBE_ROWS],
         "shadeballs::prefilter" => &[SPECULAR_MAIN, CONVOLVED_MAIN],
         _ => &[],
@@ -68,6 +71,7 @@ pub fn source(program: &Program) -> Option<&'static str> {
         "balls_bits" => composed!("balls_bits"),
         "truth" => composed!("truth"),
         "truth_bits" => composed!("truth_bits"),
+        "montecarlo" => composed!("montecarlo"),
         "probe" => composed!("probe"),
         "prefilter" => composed!("prefilter"),
         _ => return None,
@@ -92,6 +96,12 @@ pub fn truth_source(bits: bool) -> &'static str {
     } else {
         composed!("truth")
     }
+}
+
+/// The Monte Carlo of the model (`montecarlo.wgsl` and its imports: the ball renderer's
+/// vertex stage, the BRDFs, the coating's functions).
+pub(crate) fn montecarlo_source() -> &'static str {
+    composed!("montecarlo")
 }
 
 /// The environment prefilter (compute): `prefilter.wgsl` and its imports (no renderer

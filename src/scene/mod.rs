@@ -198,6 +198,22 @@ impl Scene {
         }
     }
 
+    /// What a pixel that misses every ball shows along unit direction `d`: the uniform
+    /// environment plus the map (the background's), black, or the background's colour.
+    pub fn background_along(&self, d: DVec3) -> DVec3 {
+        match self.background {
+            Background::Environment => {
+                let map = self
+                    .environment_map
+                    .as_ref()
+                    .map_or(DVec3::ZERO, |m| m.radiance(d));
+                self.environment + map
+            }
+            Background::Black => DVec3::ZERO,
+            Background::Colour(c) => c,
+        }
+    }
+
     /// Whether pixels that miss every ball show the environment map.
     pub(crate) fn background_shows_map(&self) -> bool {
         self.environment_map.is_some() && self.background == Background::Environment

@@ -19,8 +19,8 @@ macro_rules! module {
 /// `constants`, `brdf`, `lut`, `environment`. The renderer's: `types` (override constants,
 /// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
-/// `walk` (the truth), `probe`, `prefilter`.
-pub const MODULES: [Module; 13] = [
+/// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `probe`, `prefilter`.
+pub const MODULES: [Module; 14] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -32,6 +32,7 @@ pub const MODULES: [Module; 13] = [
     module!("screen"),
     module!("balls"),
     module!("walk"),
+    module!("montecarlo"),
     module!("probe"),
     module!("prefilter"),
 ];
@@ -76,6 +77,12 @@ pub const TRUTH_BITS: Program = Program {
     root: "shadeballs::walk",
     defs: &[OUTPUT_BITS],
 };
+/// The Monte Carlo of the model (`--backend montecarlo` on the GPU).
+pub const MONTECARLO: Program = Program {
+    name: "montecarlo",
+    root: "shadeballs::montecarlo",
+    defs: &[],
+};
 /// The table probe.
 pub const PROBE: Program = Program {
     name: "probe",
@@ -90,7 +97,9 @@ pub const PREFILTER: Program = Program {
 };
 
 /// Every program the build composes.
-pub const PROGRAMS: [Program; 6] = [BALLS, BALLS_BITS, TRUTH, TRUTH_BITS, PROBE, PREFILTER];
+pub const PROGRAMS: [Program; 7] = [
+    BALLS, BALLS_BITS, TRUTH, TRUTH_BITS, MONTECARLO, PROBE, PREFILTER,
+];
 
 /// The root of [`crate::wgsl::KULLA_CONTY`]: the library's functions and the table reads.
 pub const KULLA_CONTY_ROOT: &str = "#import shadeballs::constants

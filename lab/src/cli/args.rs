@@ -76,7 +76,7 @@ pub struct CompareArgs {
 /// runs on the CPU).
 pub fn parse_compare_backend(s: &str) -> Result<Backend, String> {
     match s.parse::<Backend>() {
-        Ok(Backend::Montecarlo | Backend::Truth) => Err(
+        Ok(Backend::Montecarlo | Backend::MontecarloCpu | Backend::Truth) => Err(
             "the models render on auto, vulkan, gl or cpu (the truth row is always the CPU's)"
                 .to_string(),
         ),

@@ -1,0 +1,429 @@
+// montecarlo.wgsl: the Monte Carlo of the model on the GPU (`render --backend montecarlo`;
+// src/gpu/montecarlo.rs; docs/design/environment.md, "The Monte Carlo backend"), the f32
+// mirror of src/cpu/montecarlo.rs, name for name: the lights evaluated directly, the
+// environment by three strategies (GGX visible normals, cosine hemisphere, the map's
+// luminance) combined by the multi-sample balance heuristic (Veach & Guibas 1995,
+// "Optimally Combining Sampling Techniques for Monte Carlo Rendering").
+//
+// Each pass draws every ball's quad with a depth test; a fragment of the nearest ball draws
+// MC_SAMPLES estimates and merges their mean and sum of squared deviations with those of
+// the passes before (read from the previous pair of Rgba32Float textures; Chan, Golub and
+// LeVeque 1979, "Updating Formulae and a Pairwise Algorithm for Computing Sample
+// Variances"). Differences from the CPU estimator: f32; the map's radiance is the f16
+// texture's bilinear read; the generator is a PCG hash seeded per pixel and pass.
+
+#define_import_path shadeballs::montecarlo
+#import shadeballs::constants::{PI, DIV_EPSILON}
+#import shadeballs::brdf::{alpha_from_roughness, d_ggx, f_schlick, f_avg_schlick, f_micro, f_ms}
+#import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
+#import shadeballs::lut::lut_loss_row
+#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
+#import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_radiance, env_sampler, env_split_sum}
+#import shadeballs::screen::{BallOut, ball_of, primary_ray, intersect_sphere, surface_normal, DEPTH_SCALE}
+
+// Estimates a fragment draws a pass (src/gpu/montecarlo.rs PASS_SAMPLES, or the last
+// pass's rest): a pipeline-time constant, so no loop exit reads a uniform.
+override MC_SAMPLES: u32 = 16u;
+
+// Mirrors src/gpu/montecarlo.rs McParams.
+struct McParams {
+    // The render's seed, low and high 32 bits.
+    seed: vec2<u32>,
+    // The pass's index (0 for the first).
+    pass_index: u32,
+    // 1 where any environment radiance can be non-zero (else only the lights shade).
+    lit: u32,
+    // The map's texels across and down (luminance tables in mc_cdf).
+    map_size: vec2<u32>,
+    // The strategies drawn (STRATEGY_*): the map's where it has a sampler
+    // (src/cpu/montecarlo.rs LuminanceCdf).
+    strategies: u32,
+    // Always 7: see estimate.
+    shape: u32,
+}
+
+// Bits of McParams.strategies.
+const STRATEGY_VNDF: u32 = 1u;
+const STRATEGY_COSINE: u32 = 2u;
+const STRATEGY_MAP: u32 = 4u;
+
+// Group 2 (src/gpu/montecarlo.rs layout): the previous pass's means (rgb; a: estimates so
+// far) and sums of squared deviations (rgb), the parameters, and the luminance tables:
+// the marginal (H values), then each row's CDF (W H), then each texel's probability (W H).
+@group(2) @binding(0) var mc_mean: texture_2d<f32>;
+@group(2) @binding(1) var mc_m2: texture_2d<f32>;
+@group(2) @binding(2) var<uniform> mc: McParams;
+@group(2) @binding(3) var<storage, read> mc_cdf: array<f32>;
+
+// The generator (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering", JCGT
+// 9(3)): PCG's state step and its RXS-M-XS output permutation, 32 bits.
+fn mc_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// A pixel's stream for a pass: the seed, the pass and the pixel hashed in turn (the CPU's
+// Rng::new(&[seed, px, py]): each pixel its own generator).
+fn mc_seed(px: u32, py: u32) -> u32 {
+    let s = mc_hash(mc.seed.y ^ mc_hash(mc.seed.x ^ 0x4d43u));
+    return mc_hash(px ^ mc_hash(py ^ mc_hash(mc.pass_index ^ s)));
+}
+
+// Uniform in [0, 1) with 24 random bits; advances the stream.
+fn mc_uniform(state: ptr<function, u32>) -> f32 {
+    *state = *state * 747796405u + 2891336453u;
+    let s = *state;
+    let word = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return f32(((word >> 22u) ^ word) >> 8u) * (1.0 / 16777216.0);
+}
+
+// One visible surface point (src/cpu/montecarlo.rs ShadingPoint): what does not depend on
+// the incident direction, formed once per fragment.
+struct ShadingPoint {
+    n: vec3<f32>,
+    v: vec3<f32>,
+    mu_o: f32,
+    roughness: f32,
+    f0: vec3<f32>,
+    // The term's weight: 1 with it, 0 without.
+    ms: f32,
+    // 1 - E(mu_o).
+    loss_o: f32,
+    // Fdez-Aguera's FssEss of the metal (the split sum's with a map).
+    fss_ess: vec3<f32>,
+    // The coating's E_spec(mu_o) and Fdez-Aguera energy.
+    e_spec_o: f32,
+    coat_fms_ems: f32,
+}
+
+fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
+    var p: ShadingPoint;
+    p.n = n;
+    p.v = v;
+    p.mu_o = max(dot(n, v), 0.0);
+    p.roughness = b.f0_roughness.w;
+    p.f0 = b.f0_roughness.xyz;
+    p.ms = b.ms;
+    p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
+    let e_o = 1.0 - p.loss_o;
+    p.fss_ess = f_avg_schlick(p.f0) * e_o;
+    if IBL != 0u {
+        p.fss_ess = split_sum_scale(p.f0, e_o, split_sum_bias(env_split_sum, p.mu_o, p.roughness));
+    }
+    if b.coating.x < 1.0 {
+        let f0 = f0_from_ior(b.coating.y);
+        let loss = p.loss_o * p.ms;
+        let e_f_o = coating_albedo(b.coating_row, p.mu_o);
+        p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coating.z, p.ms, b.term);
+        if p.ms > 0.0 && b.term == TERM_FDEZ_AGUERA {
+            p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
+        }
+    }
+    return p;
+}
+
+// The BRDF f_r(v, l) of the ball's model per channel, 0 below either horizon
+// (src/cpu/montecarlo.rs model_brdf; the light loops of shade_metal in lighting.wgsl and
+// shade_coating in coating.wgsl): the metal's and the coating's mixed by metallic.
+fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
+    let mu_i = dot(p.n, l);
+    if mu_i <= 0.0 || p.mu_o <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let sum = p.v + l;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return vec3<f32>(0.0);
+    }
+    let h = sum / len;
+    var loss_i = 0.0;
+    if p.ms > 0.0 {
+        loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
+    }
+    let metallic = b.coating.x;
+    var f = vec3<f32>(0.0);
+    if metallic > 0.0 {
+        f = metallic * metal_brdf(b, p, mu_i, h, loss_i);
+    }
+    if metallic < 1.0 {
+        f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i);
+    }
+    return f;
+}
+
+// The metal's part of model_brdf: f_micro with Schlick F per channel and the ball's term.
+fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+    let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
+    if p.ms <= 0.0 {
+        return spec;
+    }
+    if b.term == TERM_TURQUIN {
+        return spec + p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o);
+    }
+    if b.term == TERM_FDEZ_AGUERA {
+        return spec + p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI;
+    }
+    let f_add = b.f_add_ms_norm.xyz;
+    return spec + p.ms * f_add * f_ms(p.loss_o, loss_i, b.f_add_ms_norm.w);
+}
+
+// The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
+fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+    let eta = b.coating.y;
+    let f_add = b.coating.z;
+    let f0 = f0_from_ior(eta);
+    let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
+    let spec = f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY).x;
+    let loss_o = p.loss_o * p.ms;
+    var lobe = 0.0;
+    if p.ms > 0.0 {
+        if b.term == TERM_TURQUIN {
+            lobe = term_turquin(vec3<f32>(spec), vec3<f32>(f0), 1.0 - loss_o).x;
+        } else if b.term == TERM_FDEZ_AGUERA {
+            lobe = p.coat_fms_ems / PI;
+        } else {
+            lobe = f_add * f_ms(loss_o, loss_i, b.f_add_ms_norm.w);
+        }
+    }
+    var e_spec_i = 0.0;
+    if two_sided(b) {
+        e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
+    }
+    return vec3<f32>(spec + p.ms * lobe) + coating_base(b, p.e_spec_o, e_spec_i, fresnel);
+}
+
+// Radiance arriving from world direction w: the uniform environment plus the map.
+fn incident(w: vec3<f32>) -> vec3<f32> {
+    var c = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        c = globals.environment.xyz;
+    }
+    if IBL != 0u {
+        let uv = direction_to_uv(env_to_map(w, env.rotation));
+        c += env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
+    }
+    return c;
+}
+
+// An orthonormal frame about unit n (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited", JCGT 6(1)); columns t, b, n (src/cpu/montecarlo.rs Frame).
+fn frame_of(n: vec3<f32>) -> mat3x3<f32> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let bt = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
+    return mat3x3<f32>(t, bt, n);
+}
+
+// A reflected direction (local frame) whose half vector follows GGX's distribution of
+// normals visible from v (Heitz 2018, "Sampling the GGX Distribution of Visible Normals",
+// JCGT 7(4), listing 1); may lie below the horizon.
+fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    var vh = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
+    vh = vh / max(length(vh), DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if lensq > DIV_EPSILON {
+        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
+    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
+    let h = ne / max(length(ne), DIV_EPSILON);
+    return 2.0 * dot(v, h) * h - v;
+}
+
+// Density (solid angle) of sample_vndf at l: G1(v) D(h) / (4 mu_o), G1 / mu_o written
+// finite at grazing v (src/cpu/montecarlo.rs pdf_vndf says how).
+fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
+    let sum = p.v + l;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    let h = sum / len;
+    let c = clamp(p.mu_o, 0.0, 1.0);
+    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
+    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
+    return d_ggx(dot(p.n, h), alpha) * g1_over_mu / 4.0;
+}
+
+// A cosine-distributed direction about +z (Malley's method), density mu_i / pi.
+fn sample_cosine(u1: f32, u2: f32) -> vec3<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+}
+
+// The first index in [first, first + count) whose value exceeds x (count if none): the
+// CPU's partition_point(|c| c <= x).
+fn partition_point(first: u32, count: u32, x: f32) -> u32 {
+    var lo = 0u;
+    var hi = count;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if mc_cdf[first + mid] <= x {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// A world direction drawn from the map's luminance tables (src/cpu/montecarlo.rs
+// EnvSampler::sample); w = 0 where rounding lands on a texel of zero weight.
+fn env_sample(u: vec4<f32>) -> vec4<f32> {
+    let w = mc.map_size.x;
+    let h = mc.map_size.y;
+    let j = min(partition_point(0u, h, u.x), h - 1u);
+    let i = min(partition_point(h + j * w, w, u.y), w - 1u);
+    if mc_cdf[h + w * h + j * w + i] <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let uv = vec2<f32>((f32(i) + u.z) / f32(w), (f32(j) + u.w) / f32(h));
+    // The map's frame to the world's: the rotation's inverse (Environment::from_map).
+    let d = env_to_map(uv_to_direction(uv), vec2<f32>(env.rotation.x, -env.rotation.y));
+    return vec4<f32>(d, 1.0);
+}
+
+// The density per solid angle of env_sample at world direction l (EnvSampler::pdf).
+fn env_pdf(l: vec3<f32>) -> f32 {
+    let w = mc.map_size.x;
+    let h = mc.map_size.y;
+    let d = env_to_map(l, env.rotation);
+    let uv = direction_to_uv(d);
+    let fi = floor(uv.x * f32(w));
+    let i = u32(fi - f32(w) * floor(fi / f32(w))) % w;
+    let j = min(u32(max(floor(uv.y * f32(h)), 0.0)), h - 1u);
+    let p_texel = mc_cdf[h + w * h + j * w + i];
+    let sin_theta = sqrt(max(1.0 - d.y * d.y, 0.0));
+    return p_texel * f32(w) * f32(h) / (2.0 * PI * PI * max(sin_theta, DIV_EPSILON));
+}
+
+// One sample's share of the multi-sample balance-heuristic estimator:
+// f_r L mu_i / sum_k pdf_k(l) (src/cpu/montecarlo.rs Lighting::contribution).
+fn contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, alpha: f32) -> vec3<f32> {
+    let mu_i = dot(p.n, l);
+    if mu_i <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    var pdf = pdf_vndf(p, l, alpha) + mu_i / PI;
+    if (mc.strategies & STRATEGY_MAP) != 0u {
+        pdf += env_pdf(l);
+    }
+    if pdf <= DIV_EPSILON {
+        return vec3<f32>(0.0);
+    }
+    return model_brdf(b, p, l) * incident(l) * (mu_i / pdf);
+}
+
+// The lights' exact contribution (f_r L mu_i) of the first n_lights lights.
+fn direct(b: Ball, p: ShadingPoint, n_lights: u32) -> vec3<f32> {
+    var lo = vec3<f32>(0.0);
+    if HAS_LIGHTS == 1u {
+        for (var k = 0u; k < n_lights; k++) {
+            let l = lights[k].direction.xyz;
+            lo += model_brdf(b, p, l) * lights[k].radiance.xyz * dot(p.n, l);
+        }
+    }
+    return lo;
+}
+
+// A pass's estimates at one point: (the mean of MC_SAMPLES estimates of the environment's
+// part, its sum of squared deviations), by Welford's running update per channel.
+struct Estimates {
+    mean: vec3<f32>,
+    m2: vec3<f32>,
+}
+
+fn estimate(b: Ball, p: ShadingPoint, rng: ptr<function, u32>) -> Estimates {
+    var out = Estimates(vec3<f32>(0.0), vec3<f32>(0.0));
+    // The steps below under branches on the bits of mc.shape (uniform, all set by the
+    // host): written without those branches, lavapipe (Mesa 22.3, LLVM 15) crashed the
+    // process in its rasterizer threads running this shader (with every scene tried).
+    if (mc.shape & 1u) != 0u && (mc.lit == 0u || p.mu_o <= 0.0) {
+        return out;
+    }
+    var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
+    if (mc.shape & 2u) != 0u {
+        frame = frame_of(p.n);
+    }
+    let v_local = transpose(frame) * p.v;
+    var alpha = 0.5;
+    if (mc.shape & 4u) != 0u {
+        alpha = alpha_from_roughness(p.roughness);
+    }
+    // Each strategy under a branch on its bit of mc.strategies (uniform: all set but the
+    // map's without a sampler).
+    for (var k = 0u; k < MC_SAMPLES; k++) {
+        var x = vec3<f32>(0.0);
+        if (mc.strategies & STRATEGY_VNDF) != 0u {
+            let u1 = mc_uniform(rng);
+            let u2 = mc_uniform(rng);
+            x += contribution(b, p, frame * sample_vndf(v_local, alpha, u1, u2), alpha);
+        }
+        if (mc.strategies & STRATEGY_COSINE) != 0u {
+            let u3 = mc_uniform(rng);
+            let u4 = mc_uniform(rng);
+            x += contribution(b, p, frame * sample_cosine(u3, u4), alpha);
+        }
+        if (mc.strategies & STRATEGY_MAP) != 0u {
+            let u = vec4<f32>(mc_uniform(rng), mc_uniform(rng), mc_uniform(rng), mc_uniform(rng));
+            let s = env_sample(u);
+            if s.w > 0.0 {
+                x += contribution(b, p, s.xyz, alpha);
+            }
+        }
+        // A non-finite estimate (a guard) counts as 0 rather than poisoning the sums.
+        x = select(vec3<f32>(0.0), x, all(abs(x) < vec3<f32>(3.0e38)));
+        let delta = x - out.mean;
+        out.mean += delta / f32(k + 1u);
+        out.m2 += delta * (x - out.mean);
+    }
+    return out;
+}
+
+struct McFragment {
+    @location(0) mean: vec4<f32>,
+    @location(1) m2: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// One pass at a ball's pixel: MC_SAMPLES estimates merged with the previous passes'
+// (Chan et al.: the means by their counts, the squared deviations plus delta^2 n_a n_b / n).
+@fragment
+fn fs_montecarlo(in: BallOut) -> McFragment {
+    let ray = primary_ray(in.position.xy);
+    let t = intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+    if !(t > 0.0) {
+        discard;
+    }
+    let px = vec2<i32>(in.position.xy);
+    let before = textureLoad(mc_mean, px, 0i);
+    let m2_before = textureLoad(mc_m2, px, 0i).rgb;
+    var rng = mc_seed(u32(px.x), u32(px.y));
+    let b = ball_of(in);
+    let n = surface_normal(ray[0] + t * ray[1] - b.center_radius.xyz, ray[1]);
+    let p = shading_point(b, n, -ray[1]);
+    let drawn = estimate(b, p, &rng);
+    let mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    let n_a = before.w;
+    let n_b = f32(MC_SAMPLES);
+    let count = n_a + n_b;
+    let delta = mean_b - before.rgb;
+    var out: McFragment;
+    out.mean = vec4<f32>(before.rgb + delta * (n_b / count), count);
+    out.m2 = vec4<f32>(m2_before + drawn.m2 + delta * delta * (n_a * n_b / count), 0.0);
+    out.depth = t * DEPTH_SCALE;
+    return out;
+}

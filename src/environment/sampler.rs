@@ -1,0 +1,174 @@
+//! Drawing directions from an environment map by its luminance: the map strategy of the
+//! Monte Carlo backends (`crate::cpu::montecarlo` in f64, and its tables in f32 for
+//! `shaders/montecarlo.wgsl`; docs/design/environment.md, "The Monte Carlo backend").
+
+use std::f64::consts::PI;
+
+use glam::{DVec2, DVec3};
+
+use super::{direction_to_uv, uv_to_direction, Environment};
+use crate::brdf::DIV_EPSILON;
+
+/// Rec. 709 luminance weights: what the environment strategy samples in proportion to, and
+/// how `MonteCarloImage::mean_relative_std_error` reduces a colour to one number.
+pub const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
+
+/// Draws directions from an environment map in proportion to its radiance: a texel with
+/// probability `w_ij / sum w`, `w_ij = Y_max(i, j) * texel_solid_angle(j)`, then uniformly in
+/// its `(u, v)` rectangle. `Y_max` is the largest luminance of the texel and its eight
+/// neighbours (wrapping in `u`, clamped in `v`): the bilinear read is non-zero wherever a
+/// neighbour is, so every texel rectangle the map lights has a positive density. The
+/// density per solid angle is `p_ij W H / (2 pi^2 sin theta)` (the equirectangular
+/// Jacobian), exactly.
+pub struct EnvSampler<'a> {
+    env: &'a Environment,
+    width: usize,
+    height: usize,
+    /// Per texel, its weight.
+    weight: Vec<f64>,
+    /// Per texel, the running sum of its row's weights up to and including it.
+    row_cdf: Vec<f64>,
+    /// Per row, the running sum of the rows' weights up to and including it.
+    marginal: Vec<f64>,
+    total: f64,
+}
+
+impl<'a> EnvSampler<'a> {
+    /// `None` for a map that needs no sampler: constant (cosine and VNDF sampling suit a
+    /// uniform environment) or black.
+    pub fn new(env: &'a Environment) -> Option<Self> {
+        let map = &env.map;
+        let first = map.texels()[0];
+        if env.intensity <= 0.0 || map.texels().iter().all(|t| t == &first) {
+            return None;
+        }
+        let (w, h) = (map.width() as usize, map.height() as usize);
+        let lum: Vec<f64> = map
+            .texels()
+            .iter()
+            .map(|t| LUMINANCE.dot(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)))
+            .collect();
+        // The largest luminance across each row's neighbours (u wraps), then down the rows.
+        let mut across = vec![0.0; w * h];
+        for j in 0..h {
+            let row = &lum[j * w..(j + 1) * w];
+            for i in 0..w {
+                let left = row[(i + w - 1) % w];
+                let right = row[(i + 1) % w];
+                across[j * w + i] = row[i].max(left).max(right);
+            }
+        }
+        let mut weight = vec![0.0; w * h];
+        let mut row_cdf = vec![0.0; w * h];
+        let mut marginal = vec![0.0; h];
+        let mut total = 0.0;
+        for j in 0..h {
+            let up = j.saturating_sub(1);
+            let down = (j + 1).min(h - 1);
+            let omega = map.texel_solid_angle(j as u32);
+            let mut sum = 0.0;
+            for i in 0..w {
+                let y = across[j * w + i]
+                    .max(across[up * w + i])
+                    .max(across[down * w + i]);
+                let wt = y * omega;
+                weight[j * w + i] = wt;
+                sum += wt;
+                row_cdf[j * w + i] = sum;
+            }
+            total += sum;
+            marginal[j] = total;
+        }
+        (total > DIV_EPSILON).then_some(EnvSampler {
+            env,
+            width: w,
+            height: h,
+            weight,
+            row_cdf,
+            marginal,
+            total,
+        })
+    }
+
+    /// A world direction from four uniform numbers in `[0, 1)`; `None` in the rare case
+    /// rounding lands on a texel of zero weight.
+    pub fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
+        let target = u[0] * self.total;
+        let j = self
+            .marginal
+            .partition_point(|&c| c <= target)
+            .min(self.height - 1);
+        let row = &self.row_cdf[j * self.width..(j + 1) * self.width];
+        let row_target = u[1] * row[self.width - 1];
+        let i = row
+            .partition_point(|&c| c <= row_target)
+            .min(self.width - 1);
+        if self.weight[j * self.width + i] <= 0.0 {
+            return None;
+        }
+        let uv = DVec2::new(
+            (i as f64 + u[2]) / self.width as f64,
+            (j as f64 + u[3]) / self.height as f64,
+        );
+        Some(self.env.from_map(uv_to_direction(uv)))
+    }
+
+    /// The density per solid angle of [`EnvSampler::sample`] at world direction `l`.
+    pub fn pdf(&self, l: DVec3) -> f64 {
+        let d = self.env.to_map(l);
+        let uv = direction_to_uv(d);
+        let (w, h) = (self.width as f64, self.height as f64);
+        let i = ((uv.x * w).floor() as i64).rem_euclid(self.width as i64) as usize;
+        let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height - 1);
+        let p_texel = self.weight[j * self.width + i] / self.total;
+        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
+        p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
+    }
+}
+
+/// The environment strategy's tables of `env` in f32 for the GPU estimator
+/// (`shaders/montecarlo.wgsl`): the same weights `cpu::render_montecarlo` samples from,
+/// normalised. `None` where the CPU estimator draws no direction from the map (a constant
+/// or black map), so the GPU combines the same strategies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LuminanceCdf {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Per row, the running sum of the rows' weights up to and including it, over the
+    /// total (the last is 1).
+    pub marginal: Vec<f32>,
+    /// Per texel (row-major), the running sum of its row's weights up to and including it,
+    /// over the row's sum (the last of a lit row is 1; a black row's are 0).
+    pub row_cdf: Vec<f32>,
+    /// Per texel, the probability of drawing it, its weight over the total.
+    pub texel: Vec<f32>,
+}
+
+impl LuminanceCdf {
+    /// The tables of `env`'s luminance sampler (`None`: no sampler, see the type).
+    pub fn of(env: &Environment) -> Option<Self> {
+        let s = EnvSampler::new(env)?;
+        let (w, h) = (s.width, s.height);
+        let marginal = s.marginal.iter().map(|&c| (c / s.total) as f32).collect();
+        let mut row_cdf = vec![0.0f32; w * h];
+        for j in 0..h {
+            let row = &s.row_cdf[j * w..(j + 1) * w];
+            let sum = row[w - 1];
+            if sum > 0.0 {
+                for (out, &c) in row_cdf[j * w..(j + 1) * w].iter_mut().zip(row) {
+                    *out = (c / sum) as f32;
+                }
+            }
+        }
+        let texel = s.weight.iter().map(|&x| (x / s.total) as f32).collect();
+        Some(LuminanceCdf {
+            width: w as u32,
+            height: h as u32,
+            marginal,
+            row_cdf,
+            texel,
+        })
+    }
+}
