@@ -205,20 +205,33 @@ fn step(x: f64, k: i64) -> f64 {
 }
 
 /// A direction that normalises (as the parser does) to `d` exactly: `d` itself where it
-/// is its own normalisation, else the nearest doubles around it, one component at a time.
+/// is its own normalisation, else `d` scaled (by 1 to 17 in steps of 1/16) with each
+/// component moved up to [`DIRECTION_ULPS`] doubles, the first that does (each such try
+/// rounds anew, so a few hundred find one).
 fn direction_input(d: DVec3) -> Option<DVec3> {
-    let candidates = (0..=SEARCH_ULPS as i64).flat_map(|k| {
-        (0..3).flat_map(move |axis| {
-            [k, -k].map(move |k| {
-                let mut v = d.to_array();
-                v[axis] = f64::from_bits(v[axis].to_bits().wrapping_add_signed(k));
-                DVec3::from_array(v)
-            })
+    let n = DIRECTION_ULPS as i64;
+    let nudges =
+        (-n..=n).flat_map(move |i| (-n..=n).flat_map(move |j| (-n..=n).map(move |k| [i, j, k])));
+    (0..=256)
+        .map(|s| 1.0 + s as f64 / 16.0)
+        .flat_map(|s| nudges.clone().map(move |n| (s, n)))
+        .map(|(s, n)| {
+            let v = (d * s).to_array();
+            DVec3::from_array([0, 1, 2].map(|c| step_signed(v[c], n[c])))
         })
-    });
-    candidates
         .filter(|v| v.is_finite() && v.length_squared() > 0.0)
         .find(|v| v.normalize() == d)
+}
+
+/// How many doubles either way [`direction_input`] moves each component.
+const DIRECTION_ULPS: u64 = 2;
+
+/// The double `k` steps from `x` away from zero (towards it for negative `k`); zero stays.
+fn step_signed(x: f64, k: i64) -> f64 {
+    if x == 0.0 {
+        return x;
+    }
+    f64::from_bits(x.to_bits().wrapping_add_signed(k))
 }
 
 /// A number in Rust's shortest round-trip form, which TOML reads as the same double
