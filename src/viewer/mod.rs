@@ -16,7 +16,7 @@ mod compose;
 pub mod difference;
 pub mod edit;
 mod events;
-mod labels;
+pub mod labels;
 pub mod orbit;
 mod overlay;
 mod panel;

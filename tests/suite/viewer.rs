@@ -15,6 +15,7 @@ use shadeballs::scene::{Camera, Scene};
 use shadeballs::viewer::edit::{
     self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice,
 };
+use shadeballs::viewer::labels::readable_px;
 use shadeballs::viewer::orbit;
 
 use crate::cli::temp_dir;
@@ -165,12 +166,12 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
         }
         println!("{what}: pixels the labels changed, per label: {changed:?}");
         // Every label that fits its room (at the PNG font's width: egui's Ubuntu Light is
-        // the same font) is drawn; one that does not is left out.
+        // the same font) at a readable size is drawn; one that does not is left out.
         let fits: Vec<bool> = layout
             .iter()
             .map(|l| {
                 l.place(labels::text_width(&l.text, l.size_px).unwrap())
-                    .is_some()
+                    .is_some_and(|p| p.size_px >= readable_px(l.size_px))
             })
             .collect();
         assert!(fits.iter().any(|&f| f), "{what}: no label fits");
@@ -180,6 +181,7 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
                 "{what}: {:?} missing: {changed:?}",
                 l.text
             );
+            assert!(fit || *n == 0, "{what}: {:?} drawn too small", l.text);
         }
     }
     assert_close(&compare(&window, &headless, area.0), what);
@@ -1294,4 +1296,59 @@ fn escape_closes_an_open_menu_first() {
         alive_after_escape = Some(!matches!(state(), None | Some('Z')));
     });
     assert_eq!(alive_after_escape, Some(true), "Esc with a menu open quit");
+}
+
+/// After an orbit that squeezes the columns together, every label the viewer draws is still
+/// set at a readable size: the light text's height in each label's room (measured in the
+/// screenshot, the rooms from the layout of the scene the viewer saved) is at least the
+/// readable fraction of the layout's size times the text's ink height at its size.
+#[test]
+fn labels_keep_a_readable_size_after_an_orbit() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-label-size");
+    let (shot, toml) = (dir.join("orbit.png"), dir.join("orbit.toml"));
+    let args = [
+        "--scene",
+        HOMEWORK,
+        "--frames",
+        "50",
+        "--orbit",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args)
+        .arg(&shot)
+        .arg("--save-scene")
+        .arg(&toml)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (window, (w, h)) = scene_pixels(&shot, &stderr);
+    let scene = shadeballs::scene::load(&toml).unwrap();
+    let layout = labels::layout(&scene, w, h);
+    let mut heights = Vec::new();
+    for l in layout.iter() {
+        let r = &l.room;
+        // The text is grey 245 over a dark outline: its pixels are the near-white ones.
+        let rows: Vec<u32> = (r.y0.max(0.0) as u32..(r.y1.ceil() as u32).min(h))
+            .filter(|&y| {
+                (r.x0.max(0.0) as u32..(r.x1.ceil() as u32).min(w))
+                    .any(|x| pixel(&window, w, (x, y))[..3].iter().all(|&c| c >= 200))
+            })
+            .collect();
+        if let (Some(top), Some(bottom)) = (rows.first(), rows.last()) {
+            heights.push((l.text.clone(), bottom - top + 1, l.size_px));
+        }
+    }
+    println!("after the orbit, label ink heights (text, px, layout size): {heights:?}");
+    assert!(!heights.is_empty(), "no label drawn after the orbit");
+    for (text, ink, size) in &heights {
+        // Ubuntu Light's digits and capitals stand about 0.7 of the font size (0.69 at 16
+        // px measured here before the orbit); a label at the readable floor stands
+        // 0.7 * 0.75 of the layout's size, one at 8 px in a 720 px window 0.35 of it.
+        assert!(
+            *ink as f32 >= 0.7 * readable_px(*size) - 1.0,
+            "{text:?} is {ink} px tall (layout size {size} px)"
+        );
+    }
 }
