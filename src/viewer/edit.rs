@@ -490,6 +490,35 @@ pub fn set_environment(
     });
 }
 
+/// The panel's map file field and a file dropped on the window: loads the `.hdr` or
+/// `.exr` at `path` and lights `scene` with it, as the picker's "file (as loaded)" (which
+/// it becomes from then on), with the latest map's rotation and intensity. An error (a
+/// missing or bad file, or the furnace on: it has no map) leaves everything as it was.
+pub fn load_map_file(
+    scene: &mut Scene,
+    path: &std::path::Path,
+    control: &mut EnvironmentControl,
+) -> crate::Result<()> {
+    if is_furnace(scene) {
+        return Err(crate::Error::Invalid {
+            what: "environment",
+            message: "the furnace is on: turn it off to light the balls with a map".into(),
+        });
+    }
+    let loaded = Environment::from_file(path)?;
+    if EnvironmentChoice::of(scene) == EnvironmentChoice::File {
+        if let Some(e) = &mut scene.environment_map {
+            e.source = loaded.source.clone();
+            e.map = loaded.map.clone();
+        }
+        control.file = Some(loaded);
+        return Ok(());
+    }
+    control.file = Some(loaded);
+    set_environment(scene, EnvironmentChoice::File, control);
+    Ok(())
+}
+
 /// Turns the scene's environment map (if any) to `degrees` about `+y`; the map itself is
 /// kept (the same `Arc`: nothing is prefiltered again).
 pub fn set_map_rotation(scene: &mut Scene, degrees: f64) {

@@ -181,6 +181,11 @@ impl ApplicationHandler for App {
                     self.key(event_loop, code);
                 }
             }
+            // A map file dropped on the window lights the balls (as the panel's field).
+            WindowEvent::DroppedFile(path) => {
+                super::panel::load_map(&mut self.scene, &mut self.controls, &path);
+                self.request_redraw();
+            }
             // Not egui's `consumed`: that reflects where the pointer was at the last frame;
             // `pointer` itself keeps to the scene area.
             ref pointer => self.pointer(pointer),

@@ -38,6 +38,10 @@ pub struct Controls {
     /// The scene file's background colour, if it gave one (offered beside environment
     /// and black).
     pub background_colour: Option<DVec3>,
+    /// The map file field's text.
+    pub map_path: String,
+    /// What the latest map file load said (loaded, or its error).
+    pub map_status: Option<String>,
     /// What the panel's buttons asked for this frame (the viewer takes them).
     pub requests: Requests,
     /// The comparison shown (`None`: the scene alone).
@@ -49,6 +53,8 @@ pub struct Controls {
 impl Controls {
     pub fn new(scene: &Scene, layout: &Layout, compare: Option<Compare>) -> Self {
         Controls {
+            map_path: String::new(),
+            map_status: None,
             requests: Requests::default(),
             compare,
             last_compare: compare.unwrap_or(Compare::new(Side::On, Side::Off)),
@@ -386,7 +392,36 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
                 Background::Colour(_) => "colour (as in the scene)",
             },
         );
+        ui.horizontal(|ui| {
+            ui.label("map file");
+            let field = egui::TextEdit::singleline(&mut controls.map_path)
+                .hint_text(".hdr/.exr, or drop one")
+                .desired_width(150.0);
+            let entered =
+                ui.add(field).lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui.button("load").clicked() || entered {
+                let path = std::path::PathBuf::from(controls.map_path.trim());
+                load_map(scene, controls, &path);
+            }
+        });
+        if let Some(status) = &controls.map_status {
+            ui.label(status);
+        }
     });
+}
+
+/// Loads the map file at `path` ([`edit::load_map_file`]) and says how it went, in the
+/// panel and on stderr.
+pub fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Path) {
+    let status = match edit::load_map_file(scene, path, &mut controls.environment) {
+        Ok(()) => format!("map: {}", path.display()),
+        Err(e) => {
+            eprintln!("error: {e}");
+            format!("error: {e}")
+        }
+    };
+    controls.map_path = path.display().to_string();
+    controls.map_status = Some(status);
 }
 
 /// The Compare section (collapsed unless a comparison was asked for at start): on/off,

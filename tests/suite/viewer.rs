@@ -1352,3 +1352,96 @@ fn labels_keep_a_readable_size_after_an_orbit() {
         );
     }
 }
+
+/// The panel's map file field (and a file dropped on the window) loads a map as the
+/// picker's file choice, keeping the latest map's rotation and intensity; a second file
+/// replaces it; a missing file, or the furnace on, is an error that changes nothing.
+#[test]
+fn a_map_file_loads_from_the_panel() {
+    let dir = temp_dir("view-map-file");
+    let (sky, studio) = (dir.join("sky.hdr"), dir.join("studio.exr"));
+    shadeballs::environment::save(&Builtin::Sky.generate(32), &sky).unwrap();
+    shadeballs::environment::save(&Builtin::Studio.generate(32), &studio).unwrap();
+    let mut scene = Scene::reference();
+    let mut control = EnvironmentControl::of(&scene);
+    edit::set_environment(
+        &mut scene,
+        EnvironmentChoice::Builtin(Builtin::White),
+        &mut control,
+    );
+    edit::set_map_rotation(&mut scene, 40.0);
+    edit::load_map_file(&mut scene, &sky, &mut control).unwrap();
+    let e = scene.environment_map.clone().unwrap();
+    assert_eq!(e.source, Source::File(sky.clone()));
+    assert_eq!((e.rotation_deg, e.intensity), (40.0, 1.0));
+    assert_eq!(EnvironmentChoice::of(&scene), EnvironmentChoice::File);
+    assert_eq!(control.choices().last(), Some(&EnvironmentChoice::File));
+    assert_eq!(
+        *e.map,
+        Environment::from_file(&sky).unwrap().map.as_ref().clone()
+    );
+    edit::load_map_file(&mut scene, &studio, &mut control).unwrap();
+    let e2 = scene.environment_map.clone().unwrap();
+    assert_eq!(e2.source, Source::File(studio.clone()));
+    assert_eq!(e2.rotation_deg, 40.0);
+    assert!(!Arc::ptr_eq(&e.map, &e2.map));
+    let before = scene.clone();
+    let err = edit::load_map_file(&mut scene, &dir.join("missing.hdr"), &mut control);
+    assert!(err.unwrap_err().to_string().contains("missing.hdr"));
+    assert_eq!(scene, before);
+    let mut furnace = Scene::furnace();
+    let mut control = EnvironmentControl::of(&furnace);
+    let err = edit::load_map_file(&mut furnace, &sky, &mut control);
+    assert!(err.unwrap_err().to_string().contains("furnace"));
+    assert!(furnace.environment_map.is_none());
+}
+
+/// In a window: a map file typed into the panel's field and entered lights the balls; the
+/// screenshot's scene area is the headless render of the scene with that map.
+#[test]
+fn a_map_file_typed_into_the_panel_lights_the_window() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-map-typed");
+    let map = dir.join("sky.hdr");
+    shadeballs::environment::save(&Builtin::Sky.generate(64), &map).unwrap();
+    let child = viewer(&x, &["--scene", HOMEWORK])
+        .current_dir(&dir)
+        .spawn()
+        .unwrap();
+    let stderr = drive(&x, child, |id| {
+        std::thread::sleep(Duration::from_millis(500));
+        // The map file field (the homework scene's panel, 1280x720 at DPI 1: below the
+        // background's combo box).
+        x.xdotool(&[
+            "windowfocus",
+            "--sync",
+            id,
+            "mousemove",
+            "--window",
+            id,
+            "1118",
+            "672",
+            "click",
+            "1",
+        ]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["type", "--delay", "5", map.to_str().unwrap()]);
+        x.xdotool(&["key", "Return"]);
+        std::thread::sleep(Duration::from_millis(1500));
+        // A click lower in the panel (the Compare header: it only opens) takes the
+        // keyboard from the field, if it kept it.
+        x.xdotool(&["mousemove", "--window", id, "1200", "712", "click", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
+        let start = Instant::now();
+        while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    });
+    let shots = pngs(&dir);
+    assert_eq!(shots.len(), 1, "{shots:?}: {stderr}");
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment::from_file(&map).unwrap());
+    scene.environment = DVec3::ZERO;
+    assert_scene_matches(&shots[0], &stderr, &scene, "map typed into the panel");
+}
