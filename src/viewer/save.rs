@@ -145,7 +145,7 @@ fn material(m: &Material) -> Result<String, String> {
     }
     let decode = |c: f64| srgb_decode([c; 3]).x;
     if m.f0 == m.diffuse {
-        if let Some(base) = invert3(m.f0, decode, |d| srgb_encode_guess(d)) {
+        if let Some(base) = invert3(m.f0, decode, srgb_encode_guess) {
             return Ok(format!(
                 "{{ base_color = {}, metallic = {}, ior = {} }}",
                 vec3(base),
