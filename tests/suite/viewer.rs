@@ -1043,6 +1043,7 @@ fn saved_scene_text_loads_back_as_the_same_scene() {
     );
     edited.balls[0].material = MaterialChoice::Custom([0.9, 0.5, 0.1]).material().unwrap();
     edited.balls[1].material = MaterialChoice::Plastic.material().unwrap();
+    edited.balls[2].material = MaterialChoice::Rubber.material().unwrap();
     scenes.push(edited);
     for (i, scene) in scenes.iter().enumerate() {
         let text = scene_toml(scene, (640, 360)).unwrap_or_else(|e| panic!("scene {i}: {e}"));
@@ -1444,4 +1445,54 @@ fn a_map_file_typed_into_the_panel_lights_the_window() {
     scene.environment_map = Some(Environment::from_file(&map).unwrap());
     scene.environment = DVec3::ZERO;
     assert_scene_matches(&shots[0], &stderr, &scene, "map typed into the panel");
+}
+
+/// A comparison keeps the idle behaviour (nothing drawn while nothing happens: both sides
+/// shaded once), and a drag that starts on the split line moves the split to where it ends
+/// instead of orbiting.
+#[test]
+fn a_comparison_idles_and_its_split_follows_a_drag() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-compare-drag");
+    let args = ["--scene", HOMEWORK, "--no-labels", "--compare", "on,off"];
+    let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
+    let stderr = drive(&x, child, |id| {
+        // Idle for 1.5 s: at 5-60 frames a second, continuous redrawing would show.
+        std::thread::sleep(Duration::from_millis(1500));
+        // The split starts at 0.5 of the 980 px scene area: column 490.
+        x.xdotool(&["mousemove", "--window", id, "491", "100", "mousedown", "1"]);
+        x.xdotool(&["mousemove", "--window", id, "400", "100"]);
+        x.xdotool(&["mousemove", "--window", id, "300", "100", "mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(500));
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
+        let start = Instant::now();
+        while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    });
+    let frames = reported(&stderr, "viewed ");
+    let shaded = reported(&stderr, "frames (");
+    println!("compare: idle, drag and S: {frames} frames, the balls shaded {shaded} times");
+    // As `idle_draws_nothing_and_only_the_scene_area_orbits`: the first frame, the drag's
+    // two or three and egui's follow-ups, well under 1.5 s of continuous drawing.
+    assert!(frames <= 30, "{frames} frames: {stderr}");
+    assert!((2..=4).contains(&shaded), "shaded {shaded} times: {stderr}");
+    let shots = pngs(&dir);
+    assert_eq!(shots.len(), 1, "{stderr}");
+    let (window, (w, _)) = scene_pixels(&shots[0], &stderr);
+    let line = [230, 230, 230, 255];
+    assert_eq!(pixel(&window, w, (300, 0)), line, "the split moved to 300");
+    assert_ne!(pixel(&window, w, (490, 0)), line, "the split left 490");
+    // The camera did not orbit: left of the split is the `on` render's top-left pixel.
+    let mut scene = Scene::reference();
+    scene.labels = false;
+    let on = vulkan()
+        .render_ldr(&shadeballs::viewer::compare::Side::On.apply(&scene), w, 720)
+        .unwrap()
+        .rgba;
+    assert_eq!(
+        &window[..4 * 250],
+        &on[..4 * 250],
+        "the first row's left part"
+    );
 }
