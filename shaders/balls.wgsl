@@ -144,9 +144,9 @@ fn ball_footprint(frag: vec2<f32>, c: vec3<f32>, r: f32) -> Footprint {
 
 // The linear radiance of footprint f on ball b (f.t > 0): the ball shaded along the ray
 // through f.hit, mixed with the background along the ray through f.miss by the coverage.
-fn footprint_radiance(f: Footprint, b: Ball, n_lights: u32) -> vec3<f32> {
+fn footprint_radiance(f: Footprint, b: Ball, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let ray = primary_ray(f.hit);
-    var lo = shade_hit(ray[0], ray[1], f.t, b, n_lights);
+    var lo = shade_hit(ray[0], ray[1], f.t, b, n_lights, pixel);
     // A loop of 0 or 1 iterations, as in ball_footprint: the map's read only where needed.
     for (var once = f.coverage < 1.0; once; once = false) {
         lo = mix(background_radiance(primary_ray(f.miss)[1]), lo, f.coverage);
@@ -155,10 +155,10 @@ fn footprint_radiance(f: Footprint, b: Ball, n_lights: u32) -> vec3<f32> {
 }
 
 // Radiance leaving ball b, hit at distance t along the ray, towards the eye, lit by the
-// first `n_lights` lights.
-fn shade_hit(o: vec3<f32>, d: vec3<f32>, t: f32, b: Ball, n_lights: u32) -> vec3<f32> {
+// first `n_lights` lights; `pixel` (column, row) picks the lobe's samples (shade).
+fn shade_hit(o: vec3<f32>, d: vec3<f32>, t: f32, b: Ball, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let n = surface_normal(o + t * d - b.center_radius.xyz, d);
-    return shade(b, n, -d, n_lights);
+    return shade(b, n, -d, n_lights, pixel);
 }
 
 // What a pixel whose ray (unit direction d) hits no ball shows: the background's fixed
@@ -193,7 +193,8 @@ fn fs_ball(in: BallOut) -> BallFragment {
         discard;
     }
     var out: BallFragment;
-    out.colour = output_value(footprint_radiance(f, ball_of(in), in.counts.y));
+    let pixel = vec2<u32>(in.position.xy);
+    out.colour = output_value(footprint_radiance(f, ball_of(in), in.counts.y, pixel));
     out.depth = f.t * DEPTH_SCALE;
     return out;
 }

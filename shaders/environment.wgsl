@@ -4,14 +4,20 @@
 // Each has a CPU twin of the same name in src/environment or src/lut.
 
 #define_import_path shadeballs::environment
-#import shadeballs::constants::{PI, ROUGHNESS_MIN}
+#import shadeballs::constants::{PI, ROUGHNESS_MIN, DIV_EPSILON}
+#import shadeballs::brdf::d_ggx
 
 // SPECULAR_LEVELS and CONVOLVED_LEVELS: layers of the prefiltered textures;
-// SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis.
+// SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis; R2_STEP_*,
+// LOBE_LOD_BIAS, LOBE_SIN_MIN: the lobe's sequence and mip levels (lobe_point, lobe_lod).
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
 const SPECULAR_LEVELS: u32 = 7u; // environment::prefilter::SPECULAR_LEVELS
 const CONVOLVED_LEVELS: u32 = 9u; // environment::prefilter::CONVOLVED_LEVELS
 const SPLIT_SUM_SIZE: u32 = 32u; // lut::SPLIT_SUM_SIZE
+const R2_STEP_X: u32 = 3242174889u; // environment::lobe::R2_STEPS[0]
+const R2_STEP_Y: u32 = 2447445414u; // environment::lobe::R2_STEPS[1]
+const LOBE_LOD_BIAS: f32 = 0.0; // environment::lobe::LOBE_LOD_BIAS
+const LOBE_SIN_MIN: f32 = 0.0001; // environment::prefilter::POLE_SIN_MIN
 // end of the generated constants
 
 // (u, v) of unit direction d: u = atan2(x, -z) / 2 pi + 1/2, v = acos(y) / pi (+y up; the
@@ -110,4 +116,87 @@ fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {
 // `e_o` from the E table, so F0 = 1 gives E exactly.
 fn split_sum_scale(f0: vec3<f32>, e_o: f32, bias: f32) -> vec3<f32> {
     return f0 * e_o + (1.0 - f0) * bias;
+}
+
+// Lighting that follows the lobe (IBL = 2; docs/design/environment.md, "Lighting that
+// follows the lobe"): the sequence of a pixel's samples, the visible normals they pick and
+// the mip level each reads. CPU twins of the same names in src/environment/lobe.rs (the
+// sequence, the density, the level) and src/cpu/montecarlo.rs (sample_vndf, Frame).
+
+// PCG's hash of one 32-bit value (Jarzynski & Olano 2020, "Hash Functions for GPU
+// Rendering", JCGT 9(3)).
+fn lobe_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// The per-pixel rotation of the sequence (Cranley & Patterson 1976), 32-bit fixed point.
+fn pixel_scramble(pixel: vec2<u32>) -> vec2<u32> {
+    let a = lobe_hash(pixel.x ^ lobe_hash(pixel.y));
+    return vec2<u32>(a, lobe_hash(a ^ 0x9e3779b9u));
+}
+
+// Point i of the R2 sequence (Roberts 2018) rotated by `scramble`, in [0, 1)^2: integer
+// arithmetic, then the 24 high bits of each coordinate (exact in f32).
+fn lobe_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
+    let x = i * R2_STEP_X + scramble.x;
+    let y = i * R2_STEP_Y + scramble.y;
+    return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
+}
+
+// An orthonormal frame about unit n, as columns (tangent, bitangent, n) (Duff et al. 2017,
+// "Building an Orthonormal Basis, Revisited"; Frame::new in src/cpu/montecarlo.rs).
+fn lobe_frame(n: vec3<f32>) -> mat3x3<f32> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return mat3x3<f32>(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+        n,
+    );
+}
+
+// A reflected direction (local frame, normal +z) whose half vector follows GGX's
+// distribution of normals visible from v (Heitz 2018, "Sampling the GGX Distribution of
+// Visible Normals", JCGT 7(4), listing 1). May lie below the horizon.
+fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let stretched = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
+    let vh = stretched / max(length(stretched), DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if lensq > DIV_EPSILON {
+        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
+    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
+    let h = ne / max(length(ne), DIV_EPSILON);
+    return 2.0 * dot(v, h) * h - v;
+}
+
+// The density per solid angle of sample_vndf's direction with half vector at n.h:
+// G1(v) D(h) / (4 mu_o), G1 / mu_o written to stay finite at grazing v.
+fn vndf_density(mu_o: f32, n_dot_h: f32, alpha: f32) -> f32 {
+    let c = clamp(mu_o, 0.0, 1.0);
+    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
+    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
+    return d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0;
+}
+
+// The mip level a lobe sample of density `pdf` reads among `count` samples (filtered
+// importance sampling, Colbert & Krivanek 2007): 0.5 log2(Omega_s / Omega_p) + the bias,
+// Omega_s = 1 / (count pdf), Omega_p the base level's texel about map-frame d
+// (2 pi^2 sin(theta) / (w h), size = (w, h)), clamped to [0, max_level].
+fn lobe_lod(pdf: f32, count: f32, d: vec3<f32>, size: vec2<f32>, max_level: f32) -> f32 {
+    let sin_theta = max(sqrt(max(1.0 - d.y * d.y, 0.0)), LOBE_SIN_MIN);
+    let omega_p = 2.0 * PI * PI * sin_theta / (size.x * size.y);
+    let omega_s = 1.0 / max(count * pdf, DIV_EPSILON);
+    return clamp(0.5 * log2(omega_s / omega_p) + LOBE_LOD_BIAS, 0.0, max_level);
 }

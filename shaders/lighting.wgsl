@@ -3,31 +3,34 @@
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
 
 #define_import_path shadeballs::lighting
-#import shadeballs::constants::PI
+#import shadeballs::constants::{PI, DIV_EPSILON}
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
+#import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
-#import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
+#import shadeballs::environment::{pixel_scramble, lobe_point, lobe_frame, sample_vndf, vndf_density, lobe_lod}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
 #import shadeballs::coating::shade_coating
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
-#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum}
+#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
 // buffer: screen.wgsl loop_counts says why): the metal's and the coating's, each with its
 // own term, mixed by the ball's metallic (an all-metal or all-dielectric ball shades one).
-fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
+// `pixel` (column, row) picks the pixel's sequence of lobe samples (IBL = 2).
+fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let metallic = b.coating.x;
     if metallic >= 1.0 {
-        return shade_metal(b, n, v, n_lights);
+        return shade_metal(b, n, v, n_lights, pixel);
     }
     let coating = shade_coating(b, n, v, n_lights, term_weight(b));
     if metallic <= 0.0 {
         return coating;
     }
-    return metallic * shade_metal(b, n, v, n_lights) + (1.0 - metallic) * coating;
+    return metallic * shade_metal(b, n, v, n_lights, pixel) + (1.0 - metallic) * coating;
 }
 
 // The metal's part of `shade`.
@@ -44,7 +47,7 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
 // when F is constant (F0 = 1, the furnace, where it gives E(mu_o) and Lo = L_env exactly
 // with the term on) and otherwise an approximation of the split-sum kind; with a map bound
 // FssEss is the split sum's F0 A + B (Karis 2013's second table).
-fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
+fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let ms = term_weight(b);
@@ -88,7 +91,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         lo = globals.environment.xyz * (single + ms * added);
     }
     if IBL != 0u {
-        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
+        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add, pixel);
     }
     if HAS_LIGHTS == 0u {
         return lo;
@@ -127,8 +130,9 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
 // specular_direction, times F0 A + B) and the ball's multiple-scattering term, weighted by
 // `ms`. `loss_o` is 1 - E(mu_o) as read from
 // the E table; `fss_ess` the split sum's F0 A + B; `fms_ems` Fdez-Aguera's energy (zero for
-// the other terms); f_add the ball's (zero with the term compiled out). Mirrored by
-// src/cpu/shade.rs shade_environment_map.
+// the other terms); f_add the ball's (zero with the term compiled out). With IBL = 2 the
+// single scattering is the lobe's samples instead (shade_environment_lobe; the terms as
+// under the split sum). Mirrored by src/cpu/shade.rs shade_environment_map.
 fn shade_environment_map(
     b: Ball,
     n: vec3<f32>,
@@ -138,18 +142,24 @@ fn shade_environment_map(
     fms_ems: vec3<f32>,
     ms: f32,
     f_add: vec3<f32>,
+    pixel: vec2<u32>,
 ) -> vec3<f32> {
     let roughness = b.f0_roughness.w;
     let f0 = b.f0_roughness.xyz;
     let rotation = env.rotation;
     let intensity = env.intensity;
-    let r = 2.0 * dot(n, v) * n - v;
     let n_map = env_to_map(n, rotation);
-    let dominant = specular_direction(n, r, roughness);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
-    let single = prefiltered * fss_ess;
+    var single = vec3<f32>(0.0);
+    if IBL == 2u {
+        single = shade_environment_lobe(n, v, f0, roughness, pixel);
+    } else {
+        let r = 2.0 * dot(n, v) * n - v;
+        let dominant = specular_direction(n, r, roughness);
+        let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+        single = prefiltered * fss_ess;
+    }
     var lo = single;
     if ms > 0.0 {
         let term = b.term;
@@ -163,6 +173,45 @@ fn shade_environment_map(
         }
     }
     return lo;
+}
+
+// The metal's single scattering at normal n towards v lit by the map, estimated from
+// IBL_SAMPLES directions of its own lobe (docs/design/environment.md, "Lighting that
+// follows the lobe"): the pixel's samples env.lobe.x .. + IBL_SAMPLES of its sequence
+// (lobe_point), each a GGX visible normal reflected (sample_vndf), dropped below the
+// horizon, weighted by f_micro mu_i / pdf (F G2 / G1(v), the estimator of Heitz 2018) and
+// reading the map's mip chain at its footprint (lobe_lod, among all the samples so far).
+// Mirrored by src/cpu/shade.rs shade_environment_lobe.
+fn shade_environment_lobe(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: f32, pixel: vec2<u32>) -> vec3<f32> {
+    let mu_o = max(dot(n, v), 0.0);
+    let alpha = alpha_from_roughness(roughness);
+    let frame = lobe_frame(n);
+    let v_local = v * frame;
+    let scramble = pixel_scramble(pixel);
+    let first = u32(env.lobe.x);
+    let count = env.lobe.x + f32(IBL_SAMPLES);
+    let max_level = f32(textureNumLevels(env_radiance) - 1u);
+    var sum = vec3<f32>(0.0);
+    for (var j = 0u; j < IBL_SAMPLES; j++) {
+        let u = lobe_point(first + j, scramble);
+        let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
+        let mu_i = dot(n, l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = normalize(v + l);
+        let n_dot_h = dot(n, h);
+        let pdf = vndf_density(mu_o, n_dot_h, alpha);
+        if pdf <= DIV_EPSILON {
+            continue;
+        }
+        let f = f_micro(f_schlick(f0, dot(v, h)), mu_o, mu_i, n_dot_h, roughness, GEOMETRY);
+        let l_map = env_to_map(l, env.rotation);
+        let lod = lobe_lod(pdf, count, l_map, env.lobe.zw, max_level);
+        let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), lod).rgb;
+        sum += f * (mu_i / pdf) * radiance;
+    }
+    return env.intensity * sum / f32(IBL_SAMPLES);
 }
 
 // The weight of ball b's multiple-scattering term under MS_TERM: 1 compiled in, the ball's

@@ -57,8 +57,11 @@ override MS_TERM: u32 = 1u;
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
-// 1: the map.
+// 1: the map under the split sum; 2: the map by the lobe's samples.
 override IBL: u32 = 0u;
+// With IBL = 2: the lobe's samples a pixel a frame (lighting.wgsl shade_environment_lobe): a pipeline-time count, never a loop bound read from a uniform
+// (screen.wgsl loop_counts says why).
+override IBL_SAMPLES: u32 = 1u;
 // 1 (default): antialiased silhouettes (balls.wgsl ball_footprint: a pixel the silhouette
 // crosses mixes the ball and the background by the fraction it covers); 0: one ray through
 // each pixel's centre, the image of before (src/scene Scene::antialias).
@@ -125,6 +128,9 @@ struct EnvUniform {
     shows_map: f32,
     // rgb: the background's fixed radiance.
     background: vec4<f32>,
+    // The lobe's samples: x: this frame's first sample index; y: unused; zw: the map's
+    // base level size (texels).
+    lobe: vec4<f32>,
 }
 
 struct Light {

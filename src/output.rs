@@ -287,6 +287,7 @@ pub fn extension(path: &Path) -> String {
         .unwrap_or_default()
 }
 
+#[cfg(feature = "image-files")]
 /// A writer that keeps the first I/O error its inner writer gave: an encoder that fails on
 /// one reports it as its own format error (the EXR encoder says "Format error decoding
 /// OpenExr" for a full disk), and the write's error names the real cause instead.
@@ -295,6 +296,7 @@ struct Recording<'a, W> {
     error: Option<std::io::Error>,
 }
 
+#[cfg(feature = "image-files")]
 impl<W> Recording<'_, W> {
     fn keep<T>(&mut self, r: std::io::Result<T>) -> std::io::Result<T> {
         if let Err(e) = &r {
@@ -306,6 +308,7 @@ impl<W> Recording<'_, W> {
     }
 }
 
+#[cfg(feature = "image-files")]
 impl<W: Write> Write for Recording<'_, W> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         let r = self.inner.write(buf);
@@ -318,6 +321,7 @@ impl<W: Write> Write for Recording<'_, W> {
     }
 }
 
+#[cfg(feature = "image-files")]
 impl<W: std::io::Seek> std::io::Seek for Recording<'_, W> {
     fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
         let r = self.inner.seek(pos);
@@ -325,6 +329,7 @@ impl<W: std::io::Seek> std::io::Seek for Recording<'_, W> {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// Encodes `image` in `format` straight into the temporary file ([`stage_with`]): no
 /// encoded copy is held in memory.
 pub fn stage_image(
@@ -350,6 +355,7 @@ pub fn stage_image(
     })
 }
 
+#[cfg(feature = "image-files")]
 /// Encodes `image` in `format` and renames it over `path` ([`stage_image`]).
 pub fn write_image(
     path: &Path,
@@ -394,6 +400,7 @@ pub(crate) fn format_hint(path: &Path, expected: &'static str) -> &'static str {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// Writes RGBA8 display values as PNG.
 pub fn write_png(path: &Path, width: u32, height: u32, rgba: Vec<u8>) -> Result<()> {
     let image = image::RgbaImage::from_raw(width, height, rgba).ok_or_else(|| Error::Encode {
@@ -407,6 +414,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: Vec<u8>) -> Result<
     )
 }
 
+#[cfg(feature = "image-files")]
 /// [`write_png`] with a `Comment` text chunk holding `note` (what the picture is, as the
 /// samples a pixel of a truth render; `png`'s encoder, since `image`'s writes no text).
 pub fn write_png_noted(
@@ -442,6 +450,7 @@ pub fn write_png_noted(
     })
 }
 
+#[cfg(feature = "image-files")]
 /// [`stage_exr`] with a `comment` text attribute holding `note` (`exr`'s encoder, since
 /// `image`'s writes no attributes), losslessly compressed.
 pub fn stage_exr_noted(
@@ -493,11 +502,13 @@ pub fn stage_exr_noted(
     })
 }
 
+#[cfg(feature = "image-files")]
 /// Writes RGBA f32 linear radiance as OpenEXR.
 pub fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<()> {
     stage_exr(path, width, height, rgba)?.commit()
 }
 
+#[cfg(feature = "image-files")]
 /// Encodes RGBA f32 linear radiance as OpenEXR into `path`'s temporary file
 /// ([`stage_image`]), for [`commit_all`] with the files that go with it.
 pub fn stage_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<Staged> {

@@ -36,6 +36,8 @@ cargo clippy --release --workspace --all-targets -- -D warnings
 # The library as another program links it: no winit, egui, clap or plotting crate, and
 # not the lab (this builds the root package alone).
 cargo build --release --no-default-features --lib
+# Its unit tests in that build (a map or picture file there is one error naming the feature).
+cargo test --release --no-default-features --lib -p shadeballs
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features -p shadeballs
 # Both crates: the library's unit tests (the maths, beside its code) and its integration

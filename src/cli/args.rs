@@ -12,7 +12,7 @@ use clap::error::ErrorKind;
 
 use crate::brdf::Geometry;
 use crate::display::ToneMap;
-use crate::environment::{Background, Builtin, Environment, IblTerm};
+use crate::environment::{Background, Builtin, Environment, IblMethod, IblTerm};
 use crate::gpu::Backend;
 use crate::lut::{self, LayoutKind, Method, PointSet, Storage};
 use crate::scene::{Layering, Preset};
@@ -44,6 +44,7 @@ value_enum!(
     Preset,
     Backend,
     IblTerm,
+    IblMethod,
     Builtin,
     BackgroundArg,
     OnOff,
@@ -179,6 +180,16 @@ pub struct SceneArgs {
     /// scene's, else kulla-conty).
     #[arg(long)]
     pub ibl_term: Option<IblTerm>,
+    /// How the environment map lights the balls: split-sum (one prefiltered read a pixel)
+    /// or lobe (--ibl-samples samples of each metal's own lobe a pixel a frame, each read
+    /// at its footprint's mip level). Default: the scene's `ibl_method`, else split-sum.
+    #[arg(long)]
+    pub ibl_method: Option<IblMethod>,
+    /// Lobe samples a pixel a frame under --ibl-method lobe, 1..=256 (default: the
+    /// scene's `ibl_samples`, else 16).
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::environment::MAX_IBL_SAMPLES)))]
+    pub ibl_samples: Option<u32>,
     /// What the pixels no ball covers show (default: the scene's, else environment).
     #[arg(long)]
     pub background: Option<BackgroundArg>,
@@ -191,8 +202,9 @@ pub struct SceneArgs {
     #[arg(long, overrides_with = "labels")]
     pub no_labels: bool,
     /// Antialiased silhouettes: a pixel a ball's edge crosses mixes ball and background by
-    /// the fraction it covers, in linear radiance (default: the scene's, else on; off: one
-    /// ray through each pixel's centre).
+    /// the fraction it covers, in linear radiance, on the GPU, the CPU and montecarlo
+    /// (default: the scene's, else on; off: one ray through each pixel's centre, as the
+    /// truth always traces).
     #[arg(long, value_name = "on|off")]
     pub aa: Option<OnOff>,
     /// Tone mapper of .png pictures and the window (default: the scene's `tone_map`, else
@@ -229,6 +241,8 @@ impl SceneArgs {
         if let Some(term) = self.ibl_term {
             scene.set_term(term);
         }
+        scene.ibl_method = self.ibl_method.unwrap_or(scene.ibl_method);
+        scene.ibl_samples = self.ibl_samples.unwrap_or(scene.ibl_samples);
         if let Some(b) = self.background {
             scene.background = b.background();
         }
@@ -312,6 +326,12 @@ pub struct RenderArgs {
     /// seed gives the same image on any number of threads.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Frames of --ibl-method lobe accumulated into the image on a GPU backend, 1..=4096
+    /// (default 1): frame k takes the lobe samples k N .. (k + 1) N of each pixel's
+    /// sequence, N = --ibl-samples, and the image is their mean.
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::environment::lobe::MAX_IBL_FRAMES)))]
+    pub ibl_frames: Option<u32>,
     /// Print the plan (tables baked, pipelines, what each draws) on stderr before rendering.
     #[arg(long)]
     pub verbose: bool,

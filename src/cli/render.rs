@@ -140,6 +140,35 @@ fn render_on_gpu(
         accumulate_gpu_truth(renderer, scene, w, h, spp)?;
         phases.mark("truth");
     }
+    let lobe_frames = args.ibl_frames.unwrap_or(1);
+    if lobe_frames > 1 && scene.ibl_method == crate::environment::IblMethod::Lobe {
+        // The mean of the frames in linear radiance, then the display transform (a PNG).
+        let t = Instant::now();
+        let image = renderer.render_lobe_hdr(scene, w, h, lobe_frames)?;
+        eprintln!(
+            "lobe: {lobe_frames} frames of {} samples at {w}x{h} in {:.1} ms",
+            scene.ibl_samples,
+            t.elapsed().as_secs_f64() * 1e3
+        );
+        phases.mark("render");
+        match kind {
+            ImageKind::Png => {
+                let display = scene.display();
+                let mut rgba: Vec<u8> = image
+                    .rgba
+                    .chunks_exact(4)
+                    .flat_map(|p| {
+                        let radiance = glam::Vec3::new(p[0], p[1], p[2]).as_dvec3();
+                        crate::display::to_rgba8_pixel(radiance, scene.exposure, display)
+                    })
+                    .collect();
+                draw_labels(scene, args, &mut rgba, phases)?;
+                write_png(&args.out, w, h, rgba)?
+            }
+            ImageKind::Exr => write_exr(&args.out, w, h, image.rgba)?,
+        }
+        return Ok(renderer.gpu().describe());
+    }
     match kind {
         ImageKind::Png => {
             renderer.prepare(scene, wgpu::TextureFormat::Rgba8Unorm);

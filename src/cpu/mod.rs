@@ -17,7 +17,7 @@ pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
 
-use shade::{shade_point, Forms};
+use shade::{shade_point, Forms, LobeSamples};
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;
@@ -33,6 +33,20 @@ use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALL
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
 pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> Vec<DVec3> {
+    render_radiance_at_lobe_frame(scene, e, width, height, 0)
+}
+
+/// [`render_radiance`] at frame `lobe_frame` of the lobe's samples (`ibl_method = "lobe"`:
+/// the sample indices `lobe_frame N .. (lobe_frame + 1) N` of each pixel's sequence, as
+/// `gpu::Renderer::set_lobe_frame`); the same image as [`render_radiance`] under the split
+/// sum.
+pub fn render_radiance_at_lobe_frame(
+    scene: &Scene,
+    e: &TableSet,
+    width: u32,
+    height: u32,
+    lobe_frame: u32,
+) -> Vec<DVec3> {
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
@@ -62,13 +76,14 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         _ => background,
     };
     // Radiance leaving ball k, hit at distance t along the ray (o, d), towards the eye.
-    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize| {
+    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize, pixel: (u32, u32)| {
         let b = &balls[k];
         let n = surface_normal(o + t * d - b.center, d);
         let forms = Forms {
             form,
             geometry,
             map: ibl.as_ref().map(|(_, map)| map),
+            lobe: LobeSamples::of(scene, pixel, lobe_frame),
         };
         shade_point(scene, (b, coats[k].as_ref()), n, -d, e, &forms)
     };
@@ -78,35 +93,46 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
         .into_par_iter()
         .flat_map_iter(|py| {
             (0..width).map(move |px| {
-                if !scene.antialias {
-                    let d = basis.ray(px, py, width, height);
-                    return match bins.nearest(balls, px, py, o, d) {
-                        None => background_along(d),
-                        Some((t, k)) => shade_hit(o, d, t, k),
-                    };
-                }
-                // As the per-ball draw's depth test keeps: the footprint of the nearest
-                // shading distance, the lowest index on a tie (`radiance_at`).
-                let frag = (px as f64 + 0.5, py as f64 + 0.5);
-                let mut best: Option<(Footprint, usize)> = None;
-                for k in bins.candidates(px, py) {
-                    let b = &balls[k];
-                    let f = ball_footprint(&basis, size, true, frag, b.center, b.radius);
-                    if f.t > 0.0 && best.as_ref().is_none_or(|(bf, _)| f.t < bf.t) {
-                        best = Some((f, k));
-                    }
-                }
-                match best {
-                    None => background_along(basis.ray(px, py, width, height)),
-                    Some((f, k)) => {
-                        let ray = |(x, y): (f64, f64)| basis.ray_at(x, y, width, height);
-                        let lo = shade_hit(o, ray(f.hit), f.t, k);
-                        footprint_radiance(&f, lo, || background_along(ray(f.miss)))
+                match bins.view(&basis, balls, size, scene.antialias, (px, py)) {
+                    PixelView::Miss(d) => background_along(d),
+                    PixelView::Ball(view) => {
+                        let lo = shade_hit(o, view.hit, view.footprint.t, view.k, (px, py));
+                        view.mix(lo, || background_along(view.miss))
                     }
                 }
             })
         })
         .collect()
+}
+
+/// What one pixel sees, as the GPU's per-ball draws and their depth test keep it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum PixelView {
+    /// No ball: the background along the unit direction of the pixel's centre ray.
+    Miss(DVec3),
+    /// A ball covers some of the pixel.
+    Ball(BallView),
+}
+
+/// The ball a pixel sees: its [`Footprint`] with the rays' unit directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BallView {
+    /// Index of the ball.
+    pub k: usize,
+    /// What the pixel sees of it (`footprint.t` along `hit`).
+    pub footprint: Footprint,
+    /// Unit direction of the ray the ball is shaded along.
+    pub hit: DVec3,
+    /// Unit direction of the ray the background is seen along (the rest of the pixel).
+    pub miss: DVec3,
+}
+
+impl BallView {
+    /// The pixel's radiance from the ball's `lo` and the background's
+    /// ([`footprint_radiance`]).
+    pub fn mix(&self, lo: DVec3, background: impl FnOnce() -> DVec3) -> DVec3 {
+        footprint_radiance(&self.footprint, lo, background)
+    }
 }
 
 /// What a pixel sees of one ball (`Footprint` in `balls.wgsl`): the distance of the hit it
@@ -336,6 +362,61 @@ impl Bins {
             }
         }
         best
+    }
+
+    /// What pixel `(px, py)` of a `size` image sees. Without antialiasing, the nearest
+    /// ball along the centre ray ([`Bins::nearest`]). With it, as the per-ball draw's depth
+    /// test keeps: the footprint ([`ball_footprint`]) of the nearest shading distance, the
+    /// lowest index on a tie (`radiance_at`).
+    fn view(
+        &self,
+        basis: &CameraBasis,
+        balls: &[Ball],
+        size: (u32, u32),
+        antialias: bool,
+        (px, py): (u32, u32),
+    ) -> PixelView {
+        let (width, height) = size;
+        let o = basis.origin;
+        if !antialias {
+            let d = basis.ray(px, py, width, height);
+            return match self.nearest(balls, px, py, o, d) {
+                None => PixelView::Miss(d),
+                Some((t, k)) => {
+                    let frag = (px as f64 + 0.5, py as f64 + 0.5);
+                    PixelView::Ball(BallView {
+                        k,
+                        footprint: Footprint {
+                            t,
+                            hit: frag,
+                            miss: frag,
+                            coverage: 1.0,
+                        },
+                        hit: d,
+                        miss: d,
+                    })
+                }
+            };
+        }
+        let frag = (px as f64 + 0.5, py as f64 + 0.5);
+        let mut best: Option<(Footprint, usize)> = None;
+        for k in self.candidates(px, py) {
+            let b = &balls[k];
+            let f = ball_footprint(basis, size, true, frag, b.center, b.radius);
+            if f.t > 0.0 && best.as_ref().is_none_or(|(bf, _)| f.t < bf.t) {
+                best = Some((f, k));
+            }
+        }
+        let ray = |(x, y): (f64, f64)| basis.ray_at(x, y, width, height);
+        match best {
+            None => PixelView::Miss(basis.ray(px, py, width, height)),
+            Some((f, k)) => PixelView::Ball(BallView {
+                k,
+                footprint: f,
+                hit: ray(f.hit),
+                miss: ray(f.miss),
+            }),
+        }
     }
 
     /// The balls whose bounds cover pixel `(px, py)`, in index order.

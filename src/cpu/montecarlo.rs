@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::coating::{Coat, CoatingPoint};
 use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
-use super::{surface_normal, Bins};
+use super::{surface_normal, Bins, PixelView};
 use crate::brdf::{
     alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
     DIV_EPSILON,
@@ -27,7 +27,7 @@ use crate::brdf::{
 use crate::environment::{direction_to_uv, uv_to_direction, Background, Environment, IblTerm};
 use crate::error::{Error, Result};
 use crate::lut::{CoatingRows, SplitSum, TableSet};
-use crate::scene::{Ball, Model, Scene, MAX_BALLS};
+use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
 /// Most samples per pixel [`render_montecarlo`] accepts (`--spp`).
@@ -53,11 +53,42 @@ pub struct MonteCarloImage {
     /// sample standard deviation of the `spp` estimates; 0 where there is no noise (the
     /// background, a pixel only lights reach) and where `spp < 2` leaves it unknown.
     pub std_error: Vec<DVec3>,
-    /// Whether a ball covers the pixel.
+    /// Whether a ball covers the pixel (some of it, with `antialias`).
     pub covered: Vec<bool>,
+    /// The pixel filter: `true` where a pixel a ball's silhouette crosses mixes the ball's
+    /// estimate and the background by the fraction it covers, as the real-time renderers
+    /// antialias ([`crate::scene::Scene::antialias`]); `false`: one ray through each
+    /// pixel's centre. An image compares with another only under the same filter.
+    pub antialias: bool,
 }
 
 impl MonteCarloImage {
+    /// Errors unless an image rendered with `antialias` (its pixel filter,
+    /// [`crate::scene::Scene::antialias`]) compares like with like with this one: the same
+    /// filter on both sides. A silhouette pixel mixes ball and background where one side
+    /// antialiases, and is one ball's or the background's where the other does not: an
+    /// error measured across the two is the filters', not the lighting's.
+    pub fn compares_with(&self, antialias: bool) -> Result<()> {
+        if antialias == self.antialias {
+            return Ok(());
+        }
+        let filter = |aa: bool| {
+            if aa {
+                "antialiased"
+            } else {
+                "one ray through each pixel's centre"
+            }
+        };
+        Err(Error::Invalid {
+            what: "comparison",
+            message: format!(
+                "unlike pixel filters: the image is {}, its reference {} (render both with the same antialiasing)",
+                filter(antialias),
+                filter(self.antialias)
+            ),
+        })
+    }
+
     /// The mean over the covered pixels of `Y(std_error) / Y(mean)` (`Y`: [`LUMINANCE`];
     /// `Y(std_error)` bounds the standard error of the luminance from above), skipping
     /// pixels whose mean luminance is below [`DIV_EPSILON`]. `None` when `spp < 2` (no
@@ -135,9 +166,11 @@ pub fn render_montecarlo_part(
     }
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    // One ray through each pixel's centre, whatever `scene.antialias` says (the Monte Carlo
-    // backend does not antialias silhouettes: docs/design/antialiasing.md, "Monte Carlo").
-    let bins = Bins::new(&basis, balls, width, height, crate::scene::BOUNDS_PAD_PX);
+    // The pixels see what the real-time renderers' pixels see: with antialiasing, a
+    // silhouette pixel's estimate along its covered part's ray, mixed with the background
+    // by the coverage (docs/design/antialiasing.md, "Monte Carlo").
+    let size = (width, height);
+    let bins = Bins::new(&basis, balls, width, height, bounds_pad_px(scene.antialias));
     let lighting = Lighting::new(scene);
     let (bins, lighting) = (&bins, &lighting);
     // Fdez-Aguera's FssEss is F0 A + B where the scene has a map: the split sum's table, as
@@ -152,24 +185,25 @@ pub fn render_montecarlo_part(
         .into_par_iter()
         .flat_map_iter(|py| {
             (0..width).map(move |px| {
-                let d = basis.ray(px, py, width, height);
                 let o = basis.origin;
-                match bins.nearest(balls, px, py, o, d) {
-                    None => (lighting.background(d), DVec3::ZERO, false),
-                    Some((t, k)) => {
-                        let b = &balls[k];
-                        let n = surface_normal(o + t * d - b.center, d);
-                        let mut point =
-                            ShadingPoint::with_coat(scene, (b, coats[k].as_ref()), (n, -d), e);
-                        point.part = part;
-                        if let Some(split) = split {
-                            point = point.with_split_sum(split);
-                        }
-                        let mut rng = Rng::new(&[seed, u64::from(px), u64::from(py)]);
-                        let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
-                        (mean, err, true)
-                    }
+                let view = match bins.view(&basis, balls, size, scene.antialias, (px, py)) {
+                    PixelView::Miss(d) => return (lighting.background(d), DVec3::ZERO, false),
+                    PixelView::Ball(view) => view,
+                };
+                let (d, t) = (view.hit, view.footprint.t);
+                let b = &balls[view.k];
+                let n = surface_normal(o + t * d - b.center, d);
+                let mut point =
+                    ShadingPoint::with_coat(scene, (b, coats[view.k].as_ref()), (n, -d), e);
+                point.part = part;
+                if let Some(split) = split {
+                    point = point.with_split_sum(split);
                 }
+                let mut rng = Rng::new(&[seed, u64::from(px), u64::from(py)]);
+                let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
+                // The background is exact: only the ball's share is noisy.
+                let mean = view.mix(mean, || lighting.background(view.miss));
+                (mean, err * view.footprint.coverage, true)
             })
         })
         .collect();
@@ -180,6 +214,7 @@ pub fn render_montecarlo_part(
         mean: Vec::with_capacity(pixels.len()),
         std_error: Vec::with_capacity(pixels.len()),
         covered: Vec::with_capacity(pixels.len()),
+        antialias: scene.antialias,
     };
     for (m, s, c) in pixels {
         image.mean.push(m);
@@ -500,7 +535,7 @@ fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
 /// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
 /// sample the projected disk, warp to the visible half, unstretch. May lie below the
 /// horizon (the caller's `mu_i <= 0` gives it no weight).
-fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
+pub(super) fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
     let vh = vh / vh.length().max(DIV_EPSILON);
     let lensq = vh.x * vh.x + vh.y * vh.y;

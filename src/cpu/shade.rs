@@ -4,11 +4,12 @@
 
 use glam::DVec3;
 
+use crate::brdf::{alpha_from_roughness, DIV_EPSILON};
 use crate::brdf::{
     f_add_preset, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
     term_turquin, FAvgForm, Geometry, GAMES202_EDGE_TINT,
 };
-use crate::environment::{Environment, IblTerm, MipChain, Prefiltered};
+use crate::environment::{lobe, Environment, IblMethod, IblTerm, MipChain, Prefiltered};
 use crate::lut::{CoatingRows, SplitSum, TableSet, Tables};
 use crate::scene::{Ball, Scene};
 
@@ -80,6 +81,7 @@ pub fn shade(
         form,
         geometry,
         map: None,
+        lobe: LobeSamples::of(scene, (0, 0), 0),
     };
     shade_point(scene, (b, coat.as_ref()), n, v, e, &forms)
 }
@@ -90,6 +92,36 @@ pub(super) struct Forms<'a> {
     pub form: FAvgForm,
     pub geometry: Geometry,
     pub map: Option<&'a CpuEnvironment>,
+    /// The pixel's lobe samples where the scene's `ibl_method` is the lobe's, else `None`.
+    pub lobe: Option<LobeSamples>,
+}
+
+/// Which of a pixel's lobe samples a draw takes (`shade_environment_lobe`): the pixel's
+/// sequence rotation, the index of the first sample and the count (the GPU's `env.lobe.x`
+/// and `IBL_SAMPLES`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LobeSamples {
+    pub scramble: [u32; 2],
+    pub first: u32,
+    pub count: u32,
+}
+
+impl LobeSamples {
+    /// The samples of pixel `(px, py)` at frame `frame` under `scene`'s method (`None`
+    /// under the split sum).
+    pub fn of(scene: &Scene, (px, py): (u32, u32), frame: u32) -> Option<Self> {
+        (scene.ibl_method == IblMethod::Lobe).then(|| {
+            let count = scene
+                .ibl_samples
+                .clamp(1, crate::environment::MAX_IBL_SAMPLES);
+            LobeSamples {
+                scramble: lobe::pixel_scramble(px, py),
+                // As the GPU's uniform holds it: an f32.
+                first: (u64::from(frame) * u64::from(count)) as f32 as u32,
+                count,
+            }
+        })
+    }
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
@@ -109,7 +141,13 @@ pub(super) fn shade_point(
     let metal = || {
         let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
         match forms.map {
-            Some(map) => lo + shade_environment_map(scene, b, n, v, &terms, map),
+            Some(map) => match forms.lobe {
+                Some(lobe) => {
+                    let lobe = (lobe, forms.geometry);
+                    lo + shade_environment_lobe_map(scene, b, (n, v), &terms, map, lobe)
+                }
+                None => lo + shade_environment_map(scene, b, n, v, &terms, map),
+            },
             None => lo,
         }
     };
@@ -318,6 +356,96 @@ pub fn shade_environment_map(
             };
     }
     lo
+}
+
+/// `shade_environment_map` of `lighting.wgsl` with `IBL = 2`: the single scattering by
+/// the lobe's samples ([`shade_environment_lobe`]), the term as under the split sum.
+pub(super) fn shade_environment_lobe_map(
+    scene: &Scene,
+    b: &Ball,
+    (n, v): (DVec3, DVec3),
+    terms: &PointTerms,
+    ibl: &CpuEnvironment,
+    lobe: (LobeSamples, Geometry),
+) -> DVec3 {
+    let Some(environment) = &scene.environment_map else {
+        return DVec3::ZERO;
+    };
+    let PointTerms {
+        loss_o,
+        ms,
+        term,
+        fms_ems,
+        f_add,
+        ..
+    } = *terms;
+    let intensity = ibl.intensity(environment);
+    let n_map = environment.to_map(n);
+    let single = shade_environment_lobe(environment, ibl, b, (n, v), lobe);
+    if ms <= 0.0 {
+        return single;
+    }
+    single
+        + ms * match term {
+            IblTerm::Turquin => turquin_rgb(single, b.material.f0, 1.0 - loss_o),
+            IblTerm::FdezAguera => fms_ems * intensity * ibl.prefiltered.irradiance(n_map),
+            IblTerm::KullaConty => {
+                f_add * loss_o * intensity * ibl.prefiltered.multiple(n_map, b.roughness)
+            }
+        }
+}
+
+/// `shade_environment_lobe` of `lighting.wgsl`: the metal's single scattering at normal `n`
+/// towards `v` lit by the map, the mean of `lobe.count` samples of its GGX visible normals
+/// (each weighted by `f_micro mu_i / pdf` with the scene's G, read at its footprint's mip
+/// level).
+pub(super) fn shade_environment_lobe(
+    environment: &Environment,
+    ibl: &CpuEnvironment,
+    b: &Ball,
+    (n, v): (DVec3, DVec3),
+    (lobe, geometry): (LobeSamples, Geometry),
+) -> DVec3 {
+    let roughness = b.roughness;
+    let f0 = b.material.f0;
+    let mu_o = n.dot(v).max(0.0);
+    let alpha = alpha_from_roughness(roughness);
+    let frame = super::montecarlo::Frame::new(n);
+    let v_local = frame.to_local(v);
+    let level0 = &ibl.chain.levels[0];
+    let size = (f64::from(level0.width), f64::from(level0.height));
+    let max_level = (ibl.chain.levels.len() - 1) as f64;
+    let count = f64::from(lobe.first) + f64::from(lobe.count);
+    let mut sum = DVec3::ZERO;
+    for j in 0..lobe.count {
+        let (u1, u2) = lobe::lobe_point(lobe.first.wrapping_add(j), lobe.scramble);
+        let l = frame.to_world(super::montecarlo::sample_vndf(v_local, alpha, u1, u2));
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = (v + l).normalize();
+        let n_dot_h = n.dot(h);
+        let pdf = lobe::vndf_density(mu_o, n_dot_h, alpha);
+        if pdf <= DIV_EPSILON {
+            continue;
+        }
+        let v_dot_h = v.dot(h);
+        let f = per_channel(f0, |f| {
+            f_micro(
+                f_schlick(f, v_dot_h),
+                mu_o,
+                mu_i,
+                n_dot_h,
+                roughness,
+                geometry,
+            )
+        });
+        let l_map = environment.to_map(l);
+        let lod = lobe::lobe_lod(pdf, count, l_map, size, max_level);
+        sum += f * (mu_i / pdf) * ibl.chain.sample(l_map, lod);
+    }
+    ibl.intensity(environment) * sum / f64::from(lobe.count)
 }
 
 /// [`term_turquin`] per channel.

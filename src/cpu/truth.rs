@@ -164,7 +164,8 @@ pub fn render_truth(
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
-    // One ray through each pixel's centre (not antialiased, as the Monte Carlo backend).
+    // One ray through each pixel's centre, whatever `scene.antialias` says (the image says
+    // so: `MonteCarloImage::antialias`).
     let bins = Bins::new(&basis, balls, width, height, bounds_pad_px(false));
     // The map's single scattering: the Monte Carlo estimator of the single-scattering
     // model under the map alone.
@@ -265,6 +266,8 @@ fn walked_image(
         mean,
         std_error,
         covered,
+        // One ray through each pixel's centre (`render_truth`).
+        antialias: false,
     }
 }
 

@@ -6,12 +6,15 @@
 //! with another extension, is one error naming the path; NaN, infinite and negative
 //! channels are clamped, counted in [`MapStats`] and reported in one warning.
 
+#[cfg(feature = "image-files")]
 use std::fs::File;
+#[cfg(feature = "image-files")]
 use std::io::BufReader;
 use std::path::Path;
 
 use super::EnvMap;
 use crate::error::{Error, Result};
+#[cfg(feature = "image-files")]
 use crate::output;
 
 /// Most texels a map may have: 8192 x 4096 (384 MiB as f32 RGB on the CPU).
@@ -42,6 +45,7 @@ fn error(path: &Path, message: impl Into<String>) -> Error {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// The image format `path` names by its extension: `.hdr` or `.exr`.
 fn format_of(path: &Path) -> Option<image::ImageFormat> {
     match output::extension(path).as_str() {
@@ -51,6 +55,7 @@ fn format_of(path: &Path) -> Option<image::ImageFormat> {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// One line for an error of the image crate while reading `path`.
 fn decode_error(e: image::ImageError) -> String {
     match e {
@@ -69,6 +74,7 @@ fn decode_error(e: image::ImageError) -> String {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// Why a `width x height` map is refused, if it is: no texels, more than
 /// [`MAX_MAP_TEXELS`], or not equirectangular (2:1).
 pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
@@ -89,6 +95,7 @@ pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// Peak bytes a texel costs while a map is read: the decoder's image and the map's own
 /// texels, both alive at once: an `.hdr` decodes to RGB f32 (12 + 12), an `.exr` may
 /// decode to RGBA f32 and be converted to RGB f32 (16 + 12 + 12).
@@ -100,6 +107,7 @@ pub fn load_bytes_per_texel(format: image::ImageFormat) -> u64 {
     }
 }
 
+#[cfg(feature = "image-files")]
 /// Opens `path` once, for reading, refusing anything but a regular file before it is
 /// opened: a FIFO would block the open until a writer comes, and a device or socket is
 /// no map (issue 28, 8). The file's own type is checked again once open.
@@ -123,6 +131,7 @@ fn open_regular(path: &Path) -> Result<File> {
     Ok(file)
 }
 
+#[cfg(feature = "image-files")]
 /// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
 /// [`MAX_MAP_TEXELS`], and within the memory available ([`crate::memory::check`] of
 /// [`super::load_bytes_per_texel`]), all checked from the header, before decoding; the
@@ -184,6 +193,7 @@ pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     Ok((map, stats))
 }
 
+#[cfg(feature = "image-files")]
 /// Makes every channel finite and non-negative: NaN, -inf and negative values to 0, +inf to
 /// the largest finite channel (0 if there is none); returns what it changed.
 pub(crate) fn clamp_texels(texels: &mut [[f32; 3]]) -> MapStats {
@@ -208,6 +218,7 @@ pub(crate) fn clamp_texels(texels: &mut [[f32; 3]]) -> MapStats {
     stats
 }
 
+#[cfg(feature = "image-files")]
 /// Writes `map` to `path` (`.hdr` or `.exr`, f32 RGB), atomically
 /// ([`output::write_atomic_with`]: a failed write leaves no partial file).
 pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
@@ -223,4 +234,47 @@ pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
         }
     })?;
     output::write_image(path, &image::DynamicImage::ImageRgb32F(image), format)
+}
+
+/// Without the crate feature `image-files` this build decodes no map file: every path is
+/// one error saying so (built-in maps and maps made in code still work).
+#[cfg(not(feature = "image-files"))]
+pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
+    Err(error(path, WITHOUT_IMAGE_FILES))
+}
+
+/// Without the crate feature `image-files` this build encodes no map file.
+#[cfg(not(feature = "image-files"))]
+pub fn save(_map: &EnvMap, path: &Path) -> Result<()> {
+    Err(error(path, WITHOUT_IMAGE_FILES))
+}
+
+/// Why a build without the crate feature `image-files` refuses a map file.
+#[cfg(not(feature = "image-files"))]
+const WITHOUT_IMAGE_FILES: &str =
+    "this build reads and writes no .hdr or .exr files (the crate feature `image-files` is off)";
+
+#[cfg(all(test, not(feature = "image-files")))]
+mod without_image_files {
+    use super::*;
+
+    /// A build without image files refuses a map file by name, in one line, and writes
+    /// nothing (`tests/run.sh` runs the library's tests without default features).
+    #[test]
+    fn a_map_file_is_one_error_naming_the_feature() {
+        let path = std::env::temp_dir().join("shadeballs-no-image-files.hdr");
+        let err = load(&path).unwrap_err().to_string();
+        assert!(err.contains("image-files") && !err.contains('\n'), "{err}");
+        let map = crate::environment::Builtin::Sky.generate(16);
+        let err = save(&map, &path).unwrap_err().to_string();
+        assert!(err.contains("image-files"), "{err}");
+        assert!(!path.exists());
+        let tables = crate::lut::bake(&crate::lut::BakeConfig::default());
+        let png = std::env::temp_dir().join("shadeballs-no-image-files.png");
+        let err = crate::lut::io::write_tables(&tables, &png)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("image-files"), "{err}");
+        assert!(!png.exists());
+    }
 }

@@ -13,6 +13,7 @@
 pub mod builtin;
 mod file;
 pub mod harmonics;
+pub mod lobe;
 pub mod prefilter;
 
 use std::f64::consts::PI;
@@ -21,7 +22,10 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
-pub use file::{load, load_bytes_per_texel, save, MapStats, MAX_MAP_TEXELS};
+#[cfg(feature = "image-files")]
+pub use file::load_bytes_per_texel;
+pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
+pub use lobe::{IblMethod, DEFAULT_IBL_SAMPLES, MAX_IBL_SAMPLES};
 pub use prefilter::{ChainOn, MipChain, Prefiltered};
 
 use crate::error::{Error, Result};

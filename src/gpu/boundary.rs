@@ -113,6 +113,7 @@ pub const STRUCTS: [StructLayout; 6] = [
             intensity,
             shows_map,
             background,
+            lobe,
         }
     ),
     layout!(

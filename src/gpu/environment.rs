@@ -31,6 +31,10 @@ pub struct EnvUniform {
     pub shows_map: f32,
     /// rgb: the background's fixed radiance (added to the map where it shows).
     pub background: [f32; 4],
+    /// The lobe's samples (`ibl_method = "lobe"`): x: the index of this frame's first
+    /// sample in each pixel's sequence (frame k of N samples: k N); y: unused; z, w: the
+    /// map's base level, texels across and down.
+    pub lobe: [f32; 4],
 }
 
 impl EnvUniform {
@@ -44,12 +48,24 @@ impl EnvUniform {
         let (s, c) = (-rotation.to_radians()).sin_cos();
         let shows_map = scene.background_shows_map();
         let colour = scene.background_radiance();
+        let (w, h) = scene
+            .environment_map
+            .as_ref()
+            .map_or((1, 1), |e| (e.map.width(), e.map.height()));
         EnvUniform {
             rotation: [c as f32, s as f32],
             intensity: intensity as f32,
             shows_map: shows_map as u32 as f32,
             background: [colour.x as f32, colour.y as f32, colour.z as f32, 0.0],
+            lobe: [0.0, 0.0, w as f32, h as f32],
         }
+    }
+
+    /// The uniform with frame `frame` of the lobe's samples (`scene.ibl_samples` a frame):
+    /// its first sample index `frame * ibl_samples`.
+    pub fn at_lobe_frame(mut self, scene: &Scene, frame: u32) -> Self {
+        self.lobe[0] = (u64::from(frame) * u64::from(scene.ibl_samples)) as f32;
+        self
     }
 }
 

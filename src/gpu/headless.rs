@@ -151,3 +151,48 @@ fn render_readback(
     r.gpu().check()?;
     data
 }
+
+/// The mean of frames `0..frames` of the lobe's samples ([`Renderer::render_lobe_hdr`]):
+/// each frame drawn at its own lobe frame ([`Renderer::set_lobe_frame`]) and read back,
+/// summed in f64. The renderer's lobe frame is 0 again afterwards.
+pub(super) fn render_lobe_hdr(
+    r: &mut Renderer,
+    scene: &Scene,
+    (width, height): (u32, u32),
+    frames: u32,
+) -> Result<HdrImage> {
+    if !(1..=crate::environment::lobe::MAX_IBL_FRAMES).contains(&frames) {
+        return Err(Error::Invalid {
+            what: "lobe frames",
+            message: format!(
+                "{frames}: must be in 1..={}",
+                crate::environment::lobe::MAX_IBL_FRAMES
+            ),
+        });
+    }
+    let mut sum: Vec<f64> = Vec::new();
+    for k in 0..frames {
+        r.set_lobe_frame(k);
+        let image = render_hdr(r, scene, width, height);
+        let image = match image {
+            Ok(image) => image,
+            Err(e) => {
+                r.set_lobe_frame(0);
+                return Err(e);
+            }
+        };
+        if sum.is_empty() {
+            sum = vec![0.0; image.rgba.len()];
+        }
+        for (s, v) in sum.iter_mut().zip(&image.rgba) {
+            *s += f64::from(*v);
+        }
+    }
+    r.set_lobe_frame(0);
+    let scale = 1.0 / f64::from(frames);
+    Ok(HdrImage {
+        width,
+        height,
+        rgba: sum.iter().map(|s| (s * scale) as f32).collect(),
+    })
+}

@@ -22,6 +22,7 @@ use std::fmt;
 
 use crate::brdf::Geometry;
 use crate::display::DisplayTransform;
+use crate::environment::{IblMethod, MAX_IBL_SAMPLES};
 use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
 use crate::scene::{Model, Scene, MAX_BALLS};
 
@@ -82,8 +83,12 @@ pub struct Variant {
     /// The directional lights' loop compiled in.
     pub lights: bool,
     /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, 1 with one
-    /// (each ball's term is its own, `Ball.term`).
+    /// under the split sum, 2 under the lobe's samples ([`Scene::ibl_method`]; each
+    /// ball's term is its own, `Ball.term`).
     pub ibl: u8,
+    /// Lobe samples a pixel a frame with `ibl = 2` (`IBL_SAMPLES`; [`Scene::ibl_samples`]),
+    /// else 0.
+    pub ibl_samples: u16,
     /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
     pub aa: bool,
     /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
@@ -120,7 +125,16 @@ impl Plan {
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
         let lights = !scene.lights.is_empty();
-        let ibl = u8::from(scene.environment_map.is_some());
+        let ibl = match (&scene.environment_map, scene.ibl_method) {
+            (None, _) => 0,
+            (Some(_), IblMethod::SplitSum) => 1,
+            (Some(_), IblMethod::Lobe) => 2,
+        };
+        let ibl_samples = if ibl == 2 {
+            scene.ibl_samples.clamp(1, MAX_IBL_SAMPLES) as u16
+        } else {
+            0
+        };
         let display = scene.display();
         let uses_term = |b: &crate::scene::Ball| options.term && b.model.has_term();
         let is_truth = |b: &crate::scene::Ball| b.model == Model::Truth;
@@ -145,6 +159,7 @@ impl Plan {
             environment,
             lights,
             ibl,
+            ibl_samples,
             aa: scene.antialias,
             display,
         };
@@ -172,11 +187,13 @@ impl Plan {
             truth,
             // The walk traces one ray through each pixel's centre: truth balls are not
             // antialiased.
+            // The walk reads the map along its own paths: the lobe's samples are not its.
             truth_variant: Variant {
                 term: TermMode::Out,
                 environment,
                 lights,
-                ibl,
+                ibl: ibl.min(1),
+                ibl_samples: 0,
                 aa: false,
                 display,
             },
@@ -209,7 +226,12 @@ impl fmt::Display for Variant {
         )?;
         match self.ibl {
             0 => Ok(()),
-            _ => write!(f, ", environment map"),
+            1 => write!(f, ", environment map"),
+            _ => write!(
+                f,
+                ", environment map (lobe, {} samples a frame)",
+                self.ibl_samples
+            ),
         }?;
         if !self.aa {
             write!(f, ", no antialiasing")?;

@@ -73,6 +73,8 @@ pub struct Renderer {
     /// Every coating row baked so far, by key (`lut::coating`), and the latest scene's.
     coating_cache: HashMap<CoatingKey, [f32; COATING_ROW_LEN]>,
     coating: CoatingRows,
+    /// The frame of the lobe's samples the next draw takes ([`Renderer::set_lobe_frame`]).
+    lobe_frame: u32,
 }
 
 impl Renderer {
@@ -98,7 +100,21 @@ impl Renderer {
             coating: CoatingRows::default(),
             environment,
             truth,
+            lobe_frame: 0,
         }
+    }
+
+    /// Which frame of the lobe's samples the next draws take under `ibl_method = "lobe"`:
+    /// frame k reads the sample indices `k N .. (k + 1) N` of each pixel's sequence (`N`
+    /// the scene's `ibl_samples`), so the mean of frames `0..K` is the estimate of `K N`
+    /// samples (what `render --ibl-frames` and a progressive viewer accumulate). 0 until set.
+    pub fn set_lobe_frame(&mut self, frame: u32) {
+        self.lobe_frame = frame;
+    }
+
+    /// The frame of the lobe's samples the next draw takes.
+    pub fn lobe_frame(&self) -> u32 {
+        self.lobe_frame
     }
 
     /// A renderer on a host program's device and queue: no device of its own, no error
@@ -438,7 +454,7 @@ impl Renderer {
         let balls = uniforms::balls(scene, &tables, &self.coating);
         let rows = self.coating.flat();
         queue.write_buffer(&self.bindings.coating_rows, 0, bytemuck::cast_slice(&rows));
-        let env_uniform = EnvUniform::of(scene);
+        let env_uniform = EnvUniform::of(scene).at_lobe_frame(scene, self.lobe_frame);
         queue.write_buffer(
             &self.environment.uniform,
             0,
@@ -555,6 +571,19 @@ impl Renderer {
     /// same f32 values on every backend, none clipped to a 16-bit float's range.
     pub fn render_hdr(&mut self, scene: &Scene, width: u32, height: u32) -> Result<HdrImage> {
         headless::render_hdr(self, scene, width, height)
+    }
+
+    /// [`Renderer::render_hdr`] averaged over frames `0..frames` of the lobe's samples
+    /// (`ibl_method = "lobe"`: the estimate of `frames * ibl_samples` samples a pixel;
+    /// `render --ibl-frames`). Errors when `frames` is outside `1..=MAX_IBL_FRAMES`.
+    pub fn render_lobe_hdr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        frames: u32,
+    ) -> Result<HdrImage> {
+        headless::render_lobe_hdr(self, scene, (width, height), frames)
     }
 
     /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a

@@ -10,11 +10,14 @@
 use std::io::Write;
 use std::path::Path;
 
+#[cfg(feature = "image-files")]
 use image::{DynamicImage, ImageBuffer, ImageFormat, Rgb};
 
 use super::Tables;
 use crate::error::{Error, Result};
-use crate::output::{extension, write_atomic, write_atomic_with, write_image};
+#[cfg(feature = "image-files")]
+use crate::output::write_image;
+use crate::output::{extension, write_atomic, write_atomic_with};
 
 /// Writes `tables` to `path`, the format chosen by its extension.
 pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
@@ -26,8 +29,15 @@ pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
                 reason,
             })
         }),
+        #[cfg(feature = "image-files")]
         "exr" => write_image(path, &tables_image_f32(tables), ImageFormat::OpenExr),
+        #[cfg(feature = "image-files")]
         "png" => write_image(path, &tables_image_u16(tables), ImageFormat::Png),
+        #[cfg(not(feature = "image-files"))]
+        "exr" | "png" => Err(Error::Format {
+            path: path.to_path_buf(),
+            expected: "this build writes .csv and .ktx2 (.exr and .png need the crate feature `image-files`)",
+        }),
         "ktx2" => write_atomic(path, &super::ktx2::encode_tables(tables)?),
         _ => Err(Error::Format {
             path: path.to_path_buf(),
@@ -85,6 +95,7 @@ pub(crate) fn write_csv(tables: &Tables, w: &mut impl Write) -> std::io::Result<
     Ok(())
 }
 
+#[cfg(feature = "image-files")]
 fn tables_image_f32(tables: &Tables) -> DynamicImage {
     let l = tables.layout();
     let img = ImageBuffer::from_fn(l.mu_size as u32, l.r_size as u32, |i, j| {
@@ -98,6 +109,7 @@ fn tables_image_f32(tables: &Tables) -> DynamicImage {
     DynamicImage::ImageRgb32F(img)
 }
 
+#[cfg(feature = "image-files")]
 fn tables_image_u16(tables: &Tables) -> DynamicImage {
     let l = tables.layout();
     let q = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;

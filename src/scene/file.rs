@@ -9,6 +9,9 @@
 //! background = "environment"   # optional: environment (default) | black | [r, g, b]
 //! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
 //!                              #   the model of balls that name none
+//! ibl_method = "split-sum"     # optional: split-sum (default) | lobe: how the map lights
+//!                              #   the balls (lobe: samples of each ball's own lobe; metals)
+//! ibl_samples = 16             # optional, 1..=256: lobe samples a pixel a frame (default 16)
 //! labels = true                # optional, default false: roughness, row model and a
 //!                              #   caption drawn into PNG pictures and the viewer
 //! antialias = true             # optional: antialiased silhouettes (default true)
@@ -57,8 +60,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{
-    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, Ior, Metallic, Named,
-    NonNegative, Positive, Radiance, Roughness,
+    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, IblSamples, Ior, Metallic,
+    Named, NonNegative, Positive, Radiance, Roughness,
 };
 use super::{
     grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
@@ -66,7 +69,7 @@ use super::{
 };
 use crate::brdf::Geometry;
 use crate::display::{ToneMap, Transfer};
-use crate::environment::{self, Builtin, Environment, IblTerm, Source};
+use crate::environment::{self, Builtin, Environment, IblMethod, IblTerm, Source};
 use crate::error::{Error, Result};
 
 #[derive(Deserialize)]
@@ -79,6 +82,8 @@ struct SceneFile {
     antialias: Option<bool>,
     background: Option<BackgroundValue>,
     ibl_term: Option<Named<IblTerm>>,
+    ibl_method: Option<Named<IblMethod>>,
+    ibl_samples: Option<IblSamples>,
     tone_map: Option<Named<ToneMap>>,
     transfer: Option<Named<Transfer>>,
     #[serde(default)]
@@ -354,6 +359,8 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         antialias: file.antialias.unwrap_or(reference.antialias),
         tone_map,
         transfer,
+        ibl_method: file.ibl_method.map_or(reference.ibl_method, |m| m.0),
+        ibl_samples: file.ibl_samples.map_or(reference.ibl_samples, |n| n.0),
     })
 }
 

@@ -34,7 +34,7 @@ pub use showcase::{
 
 use crate::brdf::Geometry;
 use crate::display::{DisplayTransform, ToneMap, Transfer};
-use crate::environment::{Background, Environment, IblTerm};
+use crate::environment::{Background, Environment, IblMethod, IblTerm, DEFAULT_IBL_SAMPLES};
 
 /// Most balls a scene may hold: a 64 x 64 chart. The GPU keeps them in a storage buffer
 /// X; a frame's
@@ -128,6 +128,12 @@ pub struct Scene {
     /// The transfer curve (`transfer` in a scene file); `None`: the preset's
     /// ([`Preset::transfer`]).
     pub transfer: Option<Transfer>,
+    /// How the balls are lit by the environment map (`ibl_method`, `--ibl-method`):
+    /// the split sum (default) or samples of each ball's lobe.
+    pub ibl_method: IblMethod,
+    /// Lobe samples a pixel a frame under [`IblMethod::Lobe`] (`ibl_samples`,
+    /// `--ibl-samples`), in `1..=MAX_IBL_SAMPLES`.
+    pub ibl_samples: u32,
 }
 
 /// The reference scene's metal albedo (sRGB, docs/design/reference-scene.md, "The balls,
@@ -163,6 +169,8 @@ impl Scene {
             // The homework's display: Reinhard and gamma 1/2.2, whichever the preset.
             tone_map: Some(DisplayTransform::HOMEWORK.tone_map),
             transfer: Some(DisplayTransform::HOMEWORK.transfer),
+            ibl_method: IblMethod::SplitSum,
+            ibl_samples: DEFAULT_IBL_SAMPLES,
         }
     }
 

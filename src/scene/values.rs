@@ -191,6 +191,26 @@ impl TryFrom<f64> for Fov {
     }
 }
 
+/// A lobe sample count, `1..=MAX_IBL_SAMPLES` (`ibl_samples`).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "i64")]
+pub(crate) struct IblSamples(pub u32);
+
+impl TryFrom<i64> for IblSamples {
+    type Error = String;
+    fn try_from(v: i64) -> Result<Self, String> {
+        let n = u32::try_from(v).unwrap_or(0);
+        crate::environment::lobe::check_ibl_samples(n)
+            .map(IblSamples)
+            .map_err(|_| {
+                format!(
+                    "ibl_samples {v} is outside 1..={}",
+                    crate::environment::MAX_IBL_SAMPLES
+                )
+            })
+    }
+}
+
 /// A name parsed with the type's `FromStr` (the `named_enum!` names).
 #[derive(Clone, Copy, Debug)]
 pub struct Named<T>(pub T);

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use shadeballs::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
 use shadeballs::display::{self, ToneMap, Transfer};
-use shadeballs::environment::prefilter;
+use shadeballs::environment::{lobe, prefilter};
 use shadeballs::gpu::boundary::{StructLayout, STRUCTS};
 use shadeballs::gpu::shaders;
 use shadeballs::gpu::uniforms::{LAYERING_CODES, TERM_CODES};
@@ -198,6 +198,26 @@ fn environment_constants() -> Vec<Constant> {
             "SPLIT_SUM_SIZE".into(),
             lut::SPLIT_SUM_SIZE as u64,
             "lut::SPLIT_SUM_SIZE".into(),
+        ),
+        uint(
+            "R2_STEP_X".into(),
+            lobe::R2_STEPS[0] as u64,
+            "environment::lobe::R2_STEPS[0]".into(),
+        ),
+        uint(
+            "R2_STEP_Y".into(),
+            lobe::R2_STEPS[1] as u64,
+            "environment::lobe::R2_STEPS[1]".into(),
+        ),
+        float(
+            "LOBE_LOD_BIAS",
+            lobe::LOBE_LOD_BIAS,
+            "environment::lobe::LOBE_LOD_BIAS",
+        ),
+        float(
+            "LOBE_SIN_MIN",
+            prefilter::POLE_SIN_MIN,
+            "environment::prefilter::POLE_SIN_MIN",
         ),
     ]
 }

@@ -328,3 +328,53 @@ fn docs_checkers_name_what_is_wrong() {
         Path::new("docs/x.md")
     );
 }
+
+/// The library as a bake-only host links it (`default-features = false`): no crate for
+/// files, scene files, windows, panels or command lines in its dependency tree (README,
+/// "Features"; docs/crates.md says which feature brings each).
+#[test]
+fn the_library_alone_pulls_no_file_or_window_crate() {
+    let out = std::process::Command::new(env!("CARGO"))
+        .current_dir(root())
+        .args([
+            "tree",
+            "--offline",
+            "--no-default-features",
+            "-e",
+            "normal",
+            "-p",
+            "shadeballs",
+            "--prefix",
+            "none",
+        ])
+        .output()
+        .expect("cargo tree");
+    let tree = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let crates: BTreeSet<&str> = tree.lines().filter_map(|l| l.split(' ').next()).collect();
+    // The tree is the library's: wgpu and glam are in it (an empty tree would pass below).
+    assert!(crates.contains("wgpu") && crates.contains("glam"), "{tree}");
+    for absent in [
+        "image",
+        "png",
+        "exr",
+        "toml",
+        "serde",
+        "winit",
+        "egui",
+        "clap",
+        "anyhow",
+        "ab_glyph",
+        "env_logger",
+        "plotters",
+    ] {
+        assert!(
+            !crates.contains(absent),
+            "{absent} is in the default-off tree:\n{tree}"
+        );
+    }
+}

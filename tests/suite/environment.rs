@@ -670,3 +670,65 @@ fn render_and_view_flags_override_the_scenes_environment() {
     assert!(parse(&["render", "--background", "white"]).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `ibl_method` and `ibl_samples`: each method by name, the samples in 1..=256, and a bad
+/// value of either one line naming the key (with its line and column: scene_error).
+#[test]
+fn scene_ibl_method_and_samples() {
+    use shadeballs::environment::{IblMethod, DEFAULT_IBL_SAMPLES, MAX_IBL_SAMPLES};
+    let s = parse(BALL, Path::new("s.toml")).unwrap();
+    assert_eq!(
+        (s.ibl_method, s.ibl_samples),
+        (IblMethod::SplitSum, DEFAULT_IBL_SAMPLES)
+    );
+    for m in IblMethod::ALL {
+        let s = parse(
+            &format!("ibl_method = \"{m}\"\n{BALL}"),
+            Path::new("s.toml"),
+        )
+        .unwrap();
+        assert_eq!(s.ibl_method, m);
+    }
+    for n in [1, 64, MAX_IBL_SAMPLES] {
+        let s = parse(&format!("ibl_samples = {n}\n{BALL}"), Path::new("s.toml")).unwrap();
+        assert_eq!(s.ibl_samples, n);
+    }
+    let msg = scene_error(&format!("ibl_method = \"lobes\"\n{BALL}"));
+    assert!(
+        msg.contains("split-sum, lobe") && !msg.contains('\n'),
+        "{msg}"
+    );
+    for bad in ["0", "257", "-3", "1.5", "\"16\""] {
+        let msg = scene_error(&format!("ibl_samples = {bad}\n{BALL}"));
+        assert!(!msg.contains('\n'), "{bad}: {msg}");
+        if !bad.contains('.') && !bad.contains('"') {
+            assert!(
+                msg.contains("ibl_samples") && msg.contains("1..=256"),
+                "{bad}: {msg}"
+            );
+        }
+    }
+}
+
+/// `--ibl-method`, `--ibl-samples` and `--ibl-frames`: a bad value is one clear line from
+/// the command line before any work.
+#[test]
+fn render_refuses_bad_ibl_flags_in_one_line() {
+    let out = temp_dir("ibl-flags").join("x.png");
+    let out = out.to_str().unwrap();
+    for (flag, value, says) in [
+        ("--ibl-method", "lobes", "split-sum"),
+        ("--ibl-samples", "0", "1..=256"),
+        ("--ibl-samples", "257", "1..=256"),
+        ("--ibl-samples", "-1", "1..=256"),
+        ("--ibl-frames", "0", "1..=4096"),
+        ("--ibl-frames", "4097", "1..=4096"),
+    ] {
+        let (ok, stderr) = shadeballs(&["render", flag, value, "--out", out]);
+        println!("{flag} {value}: {stderr}");
+        assert!(!ok, "{flag} {value}");
+        let first = stderr.lines().next().unwrap_or("");
+        assert!(first.contains(flag) && first.contains(value), "{stderr}");
+        assert!(stderr.contains(says), "{flag} {value}: {stderr}");
+    }
+}

@@ -43,6 +43,7 @@ fn variant(term: TermMode) -> Variant {
         environment: false,
         lights: true,
         ibl: 0,
+        ibl_samples: 0,
         aa: true,
         // The reference scene's display (the homework's).
         display: DisplayTransform::HOMEWORK,
@@ -100,6 +101,7 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             environment: true,
             lights: false,
             ibl: 0,
+            ibl_samples: 0,
             aa: true,
             display: DisplayTransform::HOMEWORK,
         }]

@@ -49,6 +49,9 @@ pub fn ibl_scene(environment: Environment, term: IblTerm) -> Scene {
         lights: Vec::new(),
         environment: DVec3::ZERO,
         environment_map: Some(environment),
+        // One ray through each pixel's centre on both sides (the GPU's image and the
+        // Monte Carlo reference's): the errors are the lighting's, not the silhouettes'.
+        antialias: false,
         ..scene
     }
 }
@@ -56,15 +59,18 @@ pub fn ibl_scene(environment: Environment, term: IblTerm) -> Scene {
 /// Per-pixel relative errors of `image` against `reference` (luminance), grouped by the
 /// roughness of the ball each pixel sees: (roughness, mean, p99) per entry of
 /// REFERENCE_ROUGHNESS with the reference's mean relative standard error over the same
-/// pixels; only pixels whose `mu_o = n.v` lies in `mu_band`.
-fn errors_by_roughness(
+/// pixels; only pixels whose `mu_o = n.v` lies in `mu_band`. `image` is `scene` rendered
+/// under its pixel filter: errors unless `reference` has the same
+/// ([`cpu::MonteCarloImage::compares_with`]).
+pub fn errors_by_roughness(
     scene: &Scene,
     w: u32,
     h: u32,
     image: &[DVec3],
     reference: &cpu::MonteCarloImage,
     mu_band: (f64, f64),
-) -> Vec<(f64, f64, f64, f64)> {
+) -> Result<Vec<(f64, f64, f64, f64)>> {
+    reference.compares_with(scene.antialias)?;
     let basis = scene.camera.basis(w, h);
     let mut out = Vec::new();
     for &r in &REFERENCE_ROUGHNESS {
@@ -112,7 +118,7 @@ fn errors_by_roughness(
             .unwrap_or(f64::NAN);
         out.push((r, mean, p99, mean_noise));
     }
-    out
+    Ok(out)
 }
 
 fn linear(rgba: &[f32]) -> Vec<DVec3> {
@@ -195,7 +201,7 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             ] {
                 let all = (f64::NEG_INFINITY, f64::INFINITY);
                 for (r, mean, p99, noise) in
-                    errors_by_roughness(&scene, w, h, image, reference, all)
+                    errors_by_roughness(&scene, w, h, image, reference, all)?
                 {
                     accuracy.push(vec![
                         builtin.to_string(),
@@ -220,7 +226,8 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             ms_series.push(sm);
             // Where the whole image's error lies: by n.v.
             for band in MU_BANDS {
-                for (r, mean, _, noise) in errors_by_roughness(&scene, w, h, &with, &mc_whole, band)
+                for (r, mean, _, noise) in
+                    errors_by_roughness(&scene, w, h, &with, &mc_whole, band)?
                 {
                     whereabouts.push(vec![
                         builtin.to_string(),

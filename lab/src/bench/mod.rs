@@ -212,9 +212,11 @@ pub fn run(options: &BenchOptions) -> Result<String> {
     }
     let mut summary = String::from("# shadeballs-lab bench\n\n");
     summary.push_str(&format!(
-        "Mode: {}. Times are medians of repeated runs in one process; errors are against the \
-         precise reference (adaptive Gauss-Kronrod, tolerance 1e-11).\n\n",
-        if quick { "quick" } else { "full" }
+        "Mode: {}. Made at commit {} of the source tree. Times are medians of repeated runs in \
+         one process; errors are against the precise reference (adaptive Gauss-Kronrod, \
+         tolerance 1e-11).\n\n",
+        if quick { "quick" } else { "full" },
+        source_commit()
     ));
     summary.push_str("## Goals\n\n| goal | measured | met |\n|---|---|---|\n");
     for g in sweeps.iter().flat_map(|s| &s.goals) {
@@ -250,6 +252,26 @@ pub fn run(options: &BenchOptions) -> Result<String> {
     ));
     write_atomic(&options.out.join("summary.md"), summary.as_bytes())?;
     Ok(summary)
+}
+
+/// The commit of the source tree this lab was built from, its abbreviated hash as `git
+/// describe` names it (`-dirty`: with uncommitted changes to tracked files), or why not.
+pub fn source_commit() -> String {
+    let out = std::process::Command::new("git")
+        .args([
+            "-C",
+            env!("CARGO_MANIFEST_DIR"),
+            "describe",
+            "--always",
+            "--dirty",
+            "--exclude=*",
+        ])
+        .output();
+    match out {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        Ok(o) => format!("unknown ({})", String::from_utf8_lossy(&o.stderr).trim()),
+        Err(e) => format!("unknown (git: {e})"),
+    }
 }
 
 /// Median wall time of `f` in milliseconds over `repeats` runs (after one warm-up run).

@@ -254,6 +254,7 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
             layering: row.layering,
             ..row_scene(&options.scene, &roughness, row.model, row.preset)
         };
+        truth.image.compares_with(scene.antialias)?;
         let radiance = radiance(&scene, renderer.as_deref_mut(), w, h)?;
         let ldr = cpu::to_rgba8(&radiance, exposure);
         let flip = flip_map(&truth_ldr, &ldr, w, h);

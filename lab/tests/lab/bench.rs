@@ -402,6 +402,23 @@ fn quick_ibl_bench_writes_its_tables_and_goals() {
     assert!(read("ibl_frame").starts_with("method,with_term_ms,without_term_ms,ratio\n"));
     assert!(read("harmonics").starts_with("environment,roughness,method,size,"));
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    // The summary names the commit its figures were made at.
+    let head = std::process::Command::new("git")
+        .args([
+            "-C",
+            env!("CARGO_MANIFEST_DIR"),
+            "rev-parse",
+            "--short",
+            "HEAD",
+        ])
+        .output()
+        .expect("git");
+    let head = String::from_utf8(head.stdout).unwrap();
+    assert!(
+        summary.contains(&format!("Made at commit {}", head.trim())),
+        "summary names no commit {head}: {}",
+        &summary[..summary.len().min(400)]
+    );
     for goal in [
         "furnace through the map path",
         "preparing a 1024x512 map",
@@ -410,4 +427,45 @@ fn quick_ibl_bench_writes_its_tables_and_goals() {
     ] {
         assert!(summary.contains(goal), "summary lacks '{goal}'");
     }
+}
+
+/// Like with like (issue 26): the ibl bench's GPU image and its Monte Carlo reference are
+/// made under one pixel filter, and its error function refuses two images made under
+/// different filters (an antialiased image against centre rays measured 6.6 % where the
+/// lighting's error was 1.6 %).
+#[test]
+fn ibl_errors_compare_like_with_like() {
+    use shadeballs::cpu::{render_montecarlo, Part};
+    use shadeballs::environment::{Builtin, Environment, IblTerm};
+    use shadeballs::lut::TableSet;
+    use shadeballs_lab::bench::ibl::{errors_by_roughness, ibl_scene};
+
+    let scene = ibl_scene(Environment::builtin(Builtin::Sky), IblTerm::KullaConty);
+    let e = TableSet::full(lut::bake(&BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..BakeConfig::default()
+    }));
+    let (w, h) = (48, 27);
+    let reference = render_montecarlo(&scene, &e, w, h, 2, 1).unwrap();
+    assert_eq!(
+        reference.antialias, scene.antialias,
+        "the bench's two sides"
+    );
+    let all = (f64::NEG_INFINITY, f64::INFINITY);
+    // The reference against itself: no error, under the same filter.
+    let same = errors_by_roughness(&scene, w, h, &reference.mean, &reference, all).unwrap();
+    assert!(same.iter().all(|&(_, mean, _, _)| mean == 0.0), "{same:?}");
+    // An antialiased image of the same scene against the centre rays: refused.
+    let antialiased = Scene {
+        antialias: !scene.antialias,
+        ..scene.clone()
+    };
+    let err = errors_by_roughness(&antialiased, w, h, &reference.mean, &reference, all)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("unlike pixel filters"), "{err}");
+    // And the other way round: an antialiased reference against centre rays.
+    let aa_reference =
+        shadeballs::cpu::render_montecarlo_part(&antialiased, &e, w, h, 2, 1, Part::Whole).unwrap();
+    assert!(errors_by_roughness(&scene, w, h, &reference.mean, &aa_reference, all).is_err());
 }

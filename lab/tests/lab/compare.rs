@@ -24,6 +24,7 @@ fn truth() -> (Vec<Option<usize>>, MonteCarloImage) {
         std_error: mean.iter().map(|m| *m * 0.01).collect(),
         covered: vec![true, true, true, false],
         mean,
+        antialias: false,
     };
     (vec![Some(0), Some(0), Some(1), None], image)
 }

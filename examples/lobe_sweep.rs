@@ -1,0 +1,204 @@
+//! Lighting that follows the lobe against the split sum (docs/design/environment.md,
+//! "Lighting that follows the lobe"): each method's whole image against the CPU Monte Carlo
+//! of the same model (`cpu::render_montecarlo`), both without antialiasing, and its frame
+//! time at 1280x720 on the first Vulkan adapter (lavapipe here).
+//!
+//! The balls are the lab's IBL balls (`bench --only ibl`: the reference scene's copper row
+//! over a white metal row, F0 0.95, every ball with the Kulla-Conty term, lit by the map
+//! alone) under `studio` and `sky`. Per method: the worst over the balls of roughness >=
+//! 0.3 of the mean relative error of luminance over a ball's pixels, the Monte Carlo's own
+//! mean relative standard error beside it; the median frame time of `--repeats` frames.
+//! Then the progressive image: frames of `--progressive-samples` samples accumulated until
+//! the worst error is within 1 %, and what those frames cost at 1280x720.
+//!
+//! ```text
+//! cargo run --release --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
+//! ```
+
+use std::time::Instant;
+
+use glam::DVec3;
+use shadeballs::cpu::{self, MonteCarloImage};
+use shadeballs::environment::{Builtin, Environment, IblMethod, IblTerm};
+use shadeballs::gpu::{Gpu, Renderer, Target};
+use shadeballs::lut::{self, BakeConfig, TableSet};
+use shadeballs::scene::{Material, Model, Scene};
+
+/// Rec. 709 luminance.
+const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
+/// Reference pixels darker than this are left out of relative errors (the lab's floor).
+const LUMINANCE_FLOOR: f64 = 1e-4;
+
+fn arg(name: &str, default: u32) -> u32 {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .map_or(default, |v| v.parse().expect("a whole number"))
+}
+
+/// The lab's IBL balls under `environment`, no antialiasing.
+fn scene(environment: Environment) -> Scene {
+    let mut scene = Scene::reference();
+    for b in scene.balls.iter_mut() {
+        if !b.model.has_term() {
+            b.material = Material::metal(DVec3::splat(0.95));
+        }
+        b.model = Model::from_term(IblTerm::KullaConty);
+    }
+    Scene {
+        lights: Vec::new(),
+        environment: DVec3::ZERO,
+        environment_map: Some(environment),
+        antialias: false,
+        ..scene
+    }
+}
+
+/// The worst over the balls of roughness >= 0.3 of the mean relative luminance error of
+/// `image` against `mc` over the ball's pixels, and the Monte Carlo's mean relative
+/// standard error over the same pixels.
+fn worst_error(
+    scene: &Scene,
+    size: (u32, u32),
+    image: &[DVec3],
+    mc: &MonteCarloImage,
+) -> (f64, f64) {
+    let (w, h) = size;
+    let basis = scene.camera.basis(w, h);
+    let mut per_ball = vec![(0.0, 0.0, 0usize); scene.balls.len()];
+    for py in 0..h {
+        for px in 0..w {
+            let d = basis.ray(px, py, w, h);
+            let hit = scene
+                .balls
+                .iter()
+                .enumerate()
+                .map(|(k, b)| {
+                    (
+                        cpu::intersect_sphere(basis.origin, d, b.center, b.radius),
+                        k,
+                    )
+                })
+                .filter(|(t, _)| *t > 0.0)
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let Some((_, k)) = hit else { continue };
+            let i = (py * w + px) as usize;
+            let y_ref = mc.mean[i].dot(LUMINANCE);
+            if y_ref < LUMINANCE_FLOOR {
+                continue;
+            }
+            let e = &mut per_ball[k];
+            e.0 += (image[i].dot(LUMINANCE) - y_ref).abs() / y_ref;
+            e.1 += mc.std_error[i].dot(LUMINANCE) / y_ref;
+            e.2 += 1;
+        }
+    }
+    let mut worst = (0.0f64, 0.0f64);
+    for (b, (err, noise, n)) in scene.balls.iter().zip(per_ball) {
+        if b.roughness >= 0.3 && n > 0 && err / n as f64 > worst.0 {
+            worst = (err / n as f64, noise / n as f64);
+        }
+    }
+    worst
+}
+
+fn linear(rgba: &[f32]) -> Vec<DVec3> {
+    rgba.chunks_exact(4)
+        .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+        .collect()
+}
+
+/// The median wall time (ms) of `repeats` frames of `scene` at 1280x720, each waited for.
+fn frame_ms(renderer: &mut Renderer, scene: &Scene, repeats: u32) -> f64 {
+    let (w, h) = (1280, 720);
+    let device = renderer.gpu().device.clone();
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("frame"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let target = Target {
+        view: &view,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        width: w,
+        height: h,
+    };
+    let mut times = Vec::new();
+    // The first frame compiles the pipeline and prepares the map: not timed.
+    for k in 0..=repeats {
+        let start = Instant::now();
+        renderer.render(scene, target).expect("a frame");
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        if k > 0 {
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn main() -> shadeballs::Result<()> {
+    let (w, h) = (arg("--width", 160), arg("--height", 90));
+    let spp = arg("--spp", 8192);
+    let repeats = arg("--repeats", 11);
+    let progressive = arg("--progressive-samples", 16);
+    let mut renderer = Renderer::new(Gpu::new(wgpu::Backends::VULKAN)?);
+    println!(
+        "{}; errors at {w}x{h} against Monte Carlo of {spp} spp",
+        renderer.gpu().describe()
+    );
+    println!("environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let mut s = scene(Environment::builtin(builtin));
+        let tables = lut::bake(&BakeConfig {
+            geometry: s.effective_geometry(),
+            ..BakeConfig::default()
+        });
+        let e = TableSet::full(tables);
+        let mc = cpu::render_montecarlo(&s, &e, w, h, spp, 7)?;
+        let row =
+            |s: &Scene, label: &str, samples: String, r: &mut Renderer| -> shadeballs::Result<()> {
+                let image = linear(&r.render_hdr(s, w, h)?.rgba);
+                let (err, noise) = worst_error(s, (w, h), &image, &mc);
+                let ms = frame_ms(r, s, repeats);
+                println!(
+                    "{builtin} | {label} | {samples} | {:.2} % | {:.2} % | {ms:.1}",
+                    err * 100.0,
+                    noise * 100.0
+                );
+                Ok(())
+            };
+        s.ibl_method = IblMethod::SplitSum;
+        row(&s, "split-sum", "-".into(), &mut renderer)?;
+        s.ibl_method = IblMethod::Lobe;
+        for n in [1, 2, 4, 8, 16, 32, 64] {
+            s.ibl_samples = n;
+            row(&s, "lobe", n.to_string(), &mut renderer)?;
+        }
+        // Progressive: frames of `progressive` samples until within 1 %.
+        s.ibl_samples = progressive;
+        let per_frame = frame_ms(&mut renderer, &s, repeats);
+        let mut frames = 1;
+        loop {
+            let image = linear(&renderer.render_lobe_hdr(&s, w, h, frames)?.rgba);
+            let (err, _) = worst_error(&s, (w, h), &image, &mc);
+            println!("{builtin} | lobe progressive | {frames} x {progressive} | {:.2} % | | {:.0} ms for {frames} frames", err * 100.0, per_frame * frames as f64);
+            if err <= 0.01 || frames >= 256 {
+                break;
+            }
+            frames *= 2;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,154 @@
+//! Lighting that follows the lobe (`ibl_method = "lobe"`, docs/design/environment.md,
+//! "Lighting that follows the lobe"): per pixel, `N` directions drawn from the model's own
+//! lobe (GGX visible normals, Heitz 2018), each reading the map's mip chain at the level
+//! its solid angle covers (filtered importance sampling, Colbert & Krivanek 2007, "GPU-Based
+//! Importance Sampling", GPU Gems 3, ch. 20). Frame `k` of a progressive image takes the
+//! sample indices `k N .. (k + 1) N` of one low-discrepancy sequence per pixel.
+//!
+//! The sequence's functions here are the CPU twins of `shaders/environment.wgsl`'s (same
+//! names, the same integer arithmetic, so the CPU and the GPU draw the same points); the
+//! shading that uses them is `cpu::shade`'s `shade_environment_lobe`.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use super::prefilter::POLE_SIN_MIN;
+use crate::brdf::{d_ggx, DIV_EPSILON};
+
+/// How a ball is lit by the environment map (`ibl_method` in a scene file,
+/// `--ibl-method`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum IblMethod {
+    /// The split sum (Karis 2013): the prefiltered layers along the bent mirror direction
+    /// times `F0 A + B`. One read a pixel; the default.
+    #[default]
+    SplitSum,
+    /// `N` samples of the lobe a pixel a frame, each read at its footprint's mip level.
+    Lobe,
+}
+
+impl IblMethod {
+    /// Every method, in the order the help lists them.
+    pub const ALL: [IblMethod; 2] = [IblMethod::SplitSum, IblMethod::Lobe];
+
+    /// The name the command line and the scene file use.
+    pub fn name(self) -> &'static str {
+        match self {
+            IblMethod::SplitSum => "split-sum",
+            IblMethod::Lobe => "lobe",
+        }
+    }
+}
+
+crate::named_enum!(IblMethod, "ibl method");
+
+/// Most lobe samples a pixel a frame (`ibl_samples`, `--ibl-samples`): the count is a
+/// pipeline-time constant, one pipeline per value used.
+pub const MAX_IBL_SAMPLES: u32 = 256;
+
+/// Lobe samples a pixel a frame when a scene names none.
+pub const DEFAULT_IBL_SAMPLES: u32 = 16;
+
+/// Most frames `render --ibl-frames` accumulates.
+pub const MAX_IBL_FRAMES: u32 = 4096;
+
+/// Added to a lobe sample's mip level (Colbert & Krivanek suggest 1 for a smoother image
+/// at the price of a wider lobe; 0 keeps the estimate closest to the lobe's integral).
+pub const LOBE_LOD_BIAS: f64 = 0.0;
+
+/// The R2 sequence's steps in 32-bit fixed point (Roberts 2018, "The Unreasonable
+/// Effectiveness of Quasirandom Sequences": point `i` is `frac(i / g, i / g^2)`, `g` the
+/// plastic number 1.3247...): `round(2^32 / g)` and `round(2^32 / g^2)`.
+pub const R2_STEPS: [u32; 2] = [3_242_174_889, 2_447_445_414];
+
+/// Checks a lobe sample count: `1..=MAX_IBL_SAMPLES`, else a one-line reason.
+pub fn check_ibl_samples(n: u32) -> Result<u32, String> {
+    if (1..=MAX_IBL_SAMPLES).contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("{n}: must be in 1..={MAX_IBL_SAMPLES}"))
+    }
+}
+
+/// PCG's hash of one 32-bit value (Jarzynski & Olano 2020, "Hash Functions for GPU
+/// Rendering", JCGT 9(3): one LCG step and PCG's output permutation).
+pub fn lobe_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+/// The per-pixel rotation of the sequence (Cranley & Patterson 1976), in 32-bit fixed
+/// point: a hash of the pixel's column and row.
+pub fn pixel_scramble(px: u32, py: u32) -> [u32; 2] {
+    let a = lobe_hash(px ^ lobe_hash(py));
+    [a, lobe_hash(a ^ 0x9e37_79b9)]
+}
+
+/// Point `i` of the R2 sequence rotated by `scramble`, in `[0, 1)^2`: the 24 high bits of
+/// each fixed-point coordinate (exact in f32, so both sides draw the same point).
+pub fn lobe_point(i: u32, scramble: [u32; 2]) -> (f64, f64) {
+    let x = i.wrapping_mul(R2_STEPS[0]).wrapping_add(scramble[0]);
+    let y = i.wrapping_mul(R2_STEPS[1]).wrapping_add(scramble[1]);
+    let unit = 1.0 / 16_777_216.0;
+    (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
+}
+
+/// The density per solid angle of a direction reflected about a visible normal `h` (Heitz
+/// 2018, eq. 17 with the reflection's Jacobian): `G1(v) D(h) / (4 mu_o)`, with
+/// `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact Smith G1 for
+/// GGX; the distribution the sampler draws from).
+pub fn vndf_density(mu_o: f64, n_dot_h: f64, alpha: f64) -> f64 {
+    let c = mu_o.clamp(0.0, 1.0);
+    let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
+    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
+    d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0
+}
+
+/// The mip level a lobe sample of density `pdf` reads (filtered importance sampling):
+/// `0.5 log2(Omega_s / Omega_p) + LOBE_LOD_BIAS`, `Omega_s = 1 / (count pdf)` the solid
+/// angle the sample stands for among `count` samples, `Omega_p` a base-level texel's about
+/// map-frame direction `d` (`2 pi^2 sin(theta) / (w h)` of a `w x h` equirectangular map,
+/// `sin(theta)` at least [`POLE_SIN_MIN`]); clamped to `[0, max_level]`.
+pub fn lobe_lod(pdf: f64, count: f64, d: DVec3, size: (f64, f64), max_level: f64) -> f64 {
+    let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt().max(POLE_SIN_MIN);
+    let omega_p = 2.0 * PI * PI * sin_theta / (size.0 * size.1);
+    let omega_s = 1.0 / (count * pdf).max(DIV_EPSILON);
+    (0.5 * (omega_s / omega_p).log2() + LOBE_LOD_BIAS).clamp(0.0, max_level)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_r2_steps_are_the_plastic_numbers_powers_in_fixed_point() {
+        let g = 1.324_717_957_244_746_f64;
+        assert_eq!(R2_STEPS[0], (2f64.powi(32) / g).round() as u32);
+        assert_eq!(R2_STEPS[1], (2f64.powi(32) / (g * g)).round() as u32);
+    }
+
+    #[test]
+    fn the_points_cover_the_square_evenly() {
+        // 256 points of one pixel's sequence: each of the 16 x 16 cells of the square
+        // holds at most 3 of them (measured for this pixel; independent uniform points
+        // would put 4 or more in about 2 % of the cells, Poisson(1), some 5 cells of 256).
+        let s = pixel_scramble(17, 5);
+        let mut cells = [0u32; 256];
+        for i in 0..256 {
+            let (x, y) = lobe_point(i, s);
+            assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+            cells[(y * 16.0) as usize * 16 + (x * 16.0) as usize] += 1;
+        }
+        assert!(cells.iter().all(|&c| c <= 3), "{cells:?}");
+    }
+
+    #[test]
+    fn the_sample_counts_outside_the_range_are_refused() {
+        assert!(check_ibl_samples(0).is_err());
+        assert!(check_ibl_samples(MAX_IBL_SAMPLES + 1).is_err());
+        assert_eq!(check_ibl_samples(1), Ok(1));
+        assert_eq!(check_ibl_samples(MAX_IBL_SAMPLES), Ok(MAX_IBL_SAMPLES));
+    }
+}
