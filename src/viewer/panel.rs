@@ -112,6 +112,11 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
     egui::Panel::right("settings")
         .exact_size(PANEL_WIDTH)
         .show(ui, |ui| {
+            // A solid scroll bar (shown where the panel is taller than the window): egui's
+            // floating one fades in and out as the pointer enters and leaves the panel, an
+            // animation of several frames for every hover (the idle test's 22 frames grew
+            // to 33-41 once the panel outgrew the window).
+            ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
             egui::ScrollArea::vertical().show(ui, |ui| {
                 report(ui, stats);
                 ui.separator();

@@ -61,6 +61,8 @@ fn top_level(out: &mut String, scene: &Scene) {
         Background::Colour(c) => vec3(c),
     };
     let _ = writeln!(out, "background = {background}");
+    let _ = writeln!(out, "ibl_method = {}", string(scene.ibl_method.name()));
+    let _ = writeln!(out, "ibl_samples = {}", scene.ibl_samples);
     let _ = writeln!(out, "labels = {}", scene.labels);
     let _ = writeln!(out, "antialias = {}", scene.antialias);
     if let Some(t) = scene.tone_map {

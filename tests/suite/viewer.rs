@@ -1030,6 +1030,8 @@ fn saved_scene_text_loads_back_as_the_same_scene() {
     }
     .lights();
     edited.exposure = 0.37;
+    edited.ibl_method = shadeballs::environment::IblMethod::Lobe;
+    edited.ibl_samples = 7;
     edited.background = Background::Colour(DVec3::new(0.1, 0.2, 0.3));
     edit::set_material(
         &mut edited,
