@@ -413,16 +413,60 @@ pub struct ViewArgs {
     /// Draw this many frames back to back, print their median times and exit.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000), allow_negative_numbers = true)]
     pub frames: Option<u32>,
-    /// With --frames: save the window's last frame to this PNG.
+    /// With --frames: save the window's last frame to this .png, or the scene area's
+    /// linear radiance (before exposure and tone mapping, as render's) to this .exr.
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
+    /// With --frames: after the last frame, save the scene as a scene file (.toml) that
+    /// `shadeballs render` draws as the viewer's scene area (the size is in its first line).
+    #[arg(long, requires = "frames")]
+    pub save_scene: Option<PathBuf>,
     /// With --frames: turn the camera a little every frame (to measure frame times while
     /// orbiting).
     #[arg(long, requires = "frames")]
     pub orbit: bool,
+    /// Compare two renderings of the scene, A left of a split and B right of it: each
+    /// scene (as it is), on (every ball's term on), off (every term off), a model
+    /// (kulla-conty, turquin, fdez-aguera) or truth; e.g. --compare on,off.
+    #[arg(long, value_name = "A,B", value_parser = crate::viewer::compare::parse_sides)]
+    pub compare: Option<(crate::viewer::compare::Side, crate::viewer::compare::Side)>,
+    /// With --compare: the split's place across the scene area, 0..=1 (default 0.5).
+    #[arg(long, requires = "compare", value_parser = parse_split)]
+    pub split: Option<f64>,
+    /// With --compare: show |A - B| of the displayed values times this scale (1, 2, 4, 8,
+    /// 16, 32 or 64) in a colour ramp with a colour bar, instead of the wipe.
+    #[arg(long, requires = "compare", value_parser = parse_difference_scale)]
+    pub difference: Option<u32>,
     /// GPU backend (the viewer needs a GPU).
-    #[arg(long, default_value_t = Backend::Auto)]
+    #[arg(long, default_value_t = Backend::Auto, value_parser = view_backend_parser())]
     pub backend: Backend,
+}
+
+/// `view --backend`: the GPU backends alone (auto, vulkan, gl), so that `view --help`
+/// lists what the viewer takes, not render's CPU renderers.
+pub fn view_backend_parser() -> impl clap::builder::TypedValueParser<Value = Backend> {
+    let names = [Backend::Auto, Backend::Vulkan, Backend::Gl].map(Backend::name);
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<Backend>())
+}
+
+/// `view --split`: a number in `[0, 1]`.
+pub fn parse_split(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a split in 0..=1")),
+    }
+}
+
+/// `view --difference`: one of [`crate::viewer::compare::DIFFERENCE_SCALES`].
+pub fn parse_difference_scale(s: &str) -> Result<u32, String> {
+    let scales = crate::viewer::compare::DIFFERENCE_SCALES;
+    match s.trim().parse::<u32>() {
+        Ok(v) if scales.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "'{s}' is not a difference scale: use one of {scales:?}"
+        )),
+    }
 }
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).

@@ -1,15 +1,28 @@
 //! `shadeballs view`: the interactive viewer (the [`crate::viewer`] front end).
 
 use super::args::ViewArgs;
-use crate::output::{self, image_kind, ImageKind};
+use crate::output::{self, image_kind};
+use crate::viewer::compare::{Compare, View};
 
 pub fn run(args: ViewArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.screenshot {
         output::check_output_path(path)?;
-        if image_kind(path)? != ImageKind::Png {
-            anyhow::bail!("--screenshot '{}' must be a .png", path.display());
+        image_kind(path)?;
+    }
+    if let Some(path) = &args.save_scene {
+        output::check_output_path(path)?;
+        if output::extension(path) != "toml" {
+            anyhow::bail!("--save-scene '{}' must be a .toml", path.display());
         }
     }
+    let compare = args.compare.map(|(a, b)| {
+        let mut c = Compare::new(a, b);
+        c.split = args.split.unwrap_or(c.split);
+        if let Some(scale) = args.difference {
+            c.view = View::Difference { scale };
+        }
+        c
+    });
     super::check_wgpu_backend_env(args.backend)?;
     let scene = args.scene.load()?;
     let report = crate::viewer::run(crate::viewer::ViewOptions {
@@ -18,7 +31,9 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         size: (args.width, args.height),
         frames: args.frames,
         screenshot: args.screenshot,
+        save_scene: args.save_scene,
         orbit: args.orbit,
+        compare,
     })?;
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
     let fps = report

@@ -7,6 +7,11 @@
 //!   drawn again only when egui's output changes or reaches over the scene area (a popup);
 //!   otherwise a new scene image is copied into its scene area alone.
 //!
+//! With a comparison ([`Compare`]) the scene image is composed of two more images, the
+//! comparison's two scenes drawn by two renderers (each keeps its own plan and truth
+//! sums): the left one's columns left of the split and the right one's right of it (the
+//! wipe), or their difference (`difference.rs`).
+//!
 //! The frame image is copied (or, where the surface forbids copies, drawn) into the window,
 //! and screenshots are read from it.
 
@@ -16,6 +21,9 @@ use crate::environment::EnvMap;
 use crate::gpu::{Renderer, Target};
 use crate::lut::BakeConfig;
 use crate::scene::Scene;
+
+use super::compare::{Compare, View};
+use super::difference::Difference;
 
 /// Whether `t` is an image of `size` in `format`.
 fn fits(t: &Option<wgpu::Texture>, size: (u32, u32), format: wgpu::TextureFormat) -> bool {
@@ -44,12 +52,18 @@ struct SceneKey {
     /// The scene without its environment map (in `map`).
     scene: Scene,
     map: Option<MapKey>,
+    compare: Option<Compare>,
     bake: BakeConfig,
     size: (u32, u32, u32),
 }
 
 impl SceneKey {
-    fn new(scene: &Scene, bake: BakeConfig, size: (u32, u32, u32)) -> Self {
+    fn new(
+        scene: &Scene,
+        compare: Option<Compare>,
+        bake: BakeConfig,
+        size: (u32, u32, u32),
+    ) -> Self {
         let mut scene = scene.clone();
         let map = scene.environment_map.take().map(|e| MapKey {
             map: e.map,
@@ -59,6 +73,7 @@ impl SceneKey {
         SceneKey {
             scene,
             map,
+            compare,
             bake,
             size,
         }
@@ -87,6 +102,10 @@ pub struct Layers {
     scene_image: Option<wgpu::Texture>,
     scene_key: Option<SceneKey>,
     frame_image: Option<wgpu::Texture>,
+    /// A comparison's two scenes, drawn whole (window-sized, made at its first frame).
+    sides: Option<(wgpu::Texture, wgpu::Texture)>,
+    /// The difference view's pass (made at its first frame).
+    difference: Option<Difference>,
     /// Whether the frame image's panel is egui's latest output.
     panel_current: bool,
     /// How many times the balls were shaded, and the panel drawn.
@@ -108,50 +127,73 @@ impl Layers {
         changed || !panel_only || !(self.panel_current && fits(&self.frame_image, size, format))
     }
 
-    /// Records on `encoder` what brings the frame image up to date with `scene`, drawn in
-    /// its `scene_width` left columns, and `overlay`; returns the frame image.
+    /// Records on `encoder` what brings the frame image up to date with `scene` (or the
+    /// comparison of it, drawn with `renderers.1` for its right side), drawn in its
+    /// `scene_width` left columns, and `overlay`; returns the frame image.
     #[allow(clippy::too_many_arguments)]
     pub fn update(
         &mut self,
-        renderer: &mut Renderer,
+        renderers: (&mut Renderer, Option<&mut Renderer>),
         (egui, egui_labels): (&mut egui_wgpu::Renderer, &mut egui_wgpu::Renderer),
         format: wgpu::TextureFormat,
         (width, height): (u32, u32),
-        scene: &Scene,
+        (scene, compare): (&Scene, Option<&Compare>),
         scene_width: u32,
         overlay: &Overlay,
         encoder: &mut wgpu::CommandEncoder,
     ) -> crate::Result<&wgpu::Texture> {
+        let (renderer, second) = renderers;
         let size = (width, height);
         let redraw_panel = self.panel_due(overlay.changed, overlay.panel_only, size, format);
         if !fits(&self.scene_image, size, format) || !fits(&self.frame_image, size, format) {
             let device = &renderer.gpu().device;
             self.scene_image = Some(image(device, "scene image", format, width, height));
             self.frame_image = Some(image(device, "frame image", format, width, height));
+            self.sides = None;
             self.scene_key = None;
             self.panel_current = false;
         }
-        let key = SceneKey::new(scene, renderer.bake_config(), (scene_width, width, height));
+        let compare = compare.zip(second);
+        let key = SceneKey::new(
+            scene,
+            compare.as_ref().map(|(c, _)| **c),
+            renderer.bake_config(),
+            (scene_width, width, height),
+        );
         // Truth balls accumulate: an unchanged scene is drawn again, each draw adding an
         // estimate a pixel, up to the cap.
-        let accumulating = scene.has_truth()
-            && renderer
-                .truth_samples()
-                .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP);
-        let scene_changed = self.scene_key.as_ref() != Some(&key) || accumulating;
-        let (scene_image, frame_image) = (
-            self.scene_image.as_ref().expect("created above"),
-            self.frame_image.as_ref().expect("created above"),
-        );
-        if scene_changed {
-            let view = scene_image.create_view(&Default::default());
-            let target = Target {
-                view: &view,
-                format,
-                width: scene_width,
-                height,
+        let accumulating = |r: &Renderer, s: &Scene| {
+            s.has_truth()
+                && r.truth_samples()
+                    .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP)
+        };
+        let scene_changed = self.scene_key.as_ref() != Some(&key)
+            || match &compare {
+                None => accumulating(renderer, scene),
+                Some((c, second)) => {
+                    let (a, b) = c.scenes(scene);
+                    accumulating(renderer, &a) || accumulating(second, &b)
+                }
             };
-            renderer.encode(scene, target, encoder)?;
+        if scene_changed {
+            let scene_image = self.scene_image.as_ref().expect("created above");
+            match compare {
+                None => {
+                    let view = scene_image.create_view(&Default::default());
+                    let target = Target {
+                        view: &view,
+                        format,
+                        width: scene_width,
+                        height,
+                    };
+                    renderer.encode(scene, target, encoder)?;
+                }
+                Some((c, second)) => {
+                    let sides = (&mut *renderer, second);
+                    self.shade_compared(sides, scene, c, (scene_width, height), encoder)?;
+                }
+            }
+            let scene_image = self.scene_image.as_ref().expect("created above");
             if !overlay.labels.is_empty() {
                 let labels = (&overlay.labels[..], overlay.pixels_per_point);
                 draw_egui(renderer, egui_labels, labels, scene_image, size, encoder);
@@ -163,6 +205,10 @@ impl Layers {
             });
             self.scene_draws += 1;
         }
+        let (scene_image, frame_image) = (
+            self.scene_image.as_ref().expect("created above"),
+            self.frame_image.as_ref().expect("created above"),
+        );
         if redraw_panel {
             copy(encoder, scene_image, frame_image, (width, height));
             let panel = (&overlay.primitives[..], overlay.pixels_per_point);
@@ -174,6 +220,80 @@ impl Layers {
         }
         Ok(frame_image)
     }
+
+    /// Records the comparison `c` of `scene` into the scene image's `width x height`
+    /// scene area: its left scene drawn by the first renderer, its right one by the second,
+    /// each into an image of its own, then the wipe's columns of each copied, or their
+    /// difference drawn.
+    fn shade_compared(
+        &mut self,
+        (renderer, second): (&mut Renderer, &mut Renderer),
+        scene: &Scene,
+        c: &Compare,
+        (width, height): (u32, u32),
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> crate::Result<()> {
+        let scene_image = self.scene_image.as_ref().expect("made by update");
+        let (format, full) = (
+            scene_image.format(),
+            (scene_image.width(), scene_image.height()),
+        );
+        let device = renderer.gpu().device.clone();
+        let (a, b) = self.sides.get_or_insert_with(|| {
+            let side = |label| image(&device, label, format, full.0, full.1);
+            (side("left side"), side("right side"))
+        });
+        let (left, right) = c.scenes(scene);
+        for (r, s, t) in [(&mut *renderer, &left, &*a), (second, &right, &*b)] {
+            let view = t.create_view(&Default::default());
+            let target = Target {
+                view: &view,
+                format,
+                width,
+                height,
+            };
+            r.encode(s, target, encoder)?;
+        }
+        match c.view {
+            View::Wipe => {
+                let split = c.split_px(width);
+                copy_columns(encoder, a, scene_image, 0..split, height);
+                copy_columns(encoder, b, scene_image, split..width, height);
+            }
+            View::Difference { scale } => {
+                let pass = self
+                    .difference
+                    .get_or_insert_with(|| Difference::new(&device, format));
+                let gpu = renderer.gpu();
+                let queue = (&gpu.device, &gpu.queue);
+                pass.encode(queue, encoder, (a, b), scene_image, (width, height), scale);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Copies the columns `columns` of the top `height` rows of `from` into the same pixels of
+/// `to` (nothing for an empty range).
+fn copy_columns(
+    encoder: &mut wgpu::CommandEncoder,
+    from: &wgpu::Texture,
+    to: &wgpu::Texture,
+    columns: std::ops::Range<u32>,
+    height: u32,
+) {
+    if columns.is_empty() || height == 0 {
+        return;
+    }
+    let at = |t| wgpu::TexelCopyTextureInfo {
+        origin: wgpu::Origin3d {
+            x: columns.start,
+            y: 0,
+            z: 0,
+        },
+        ..wgpu::Texture::as_image_copy(t)
+    };
+    encoder.copy_texture_to_texture(at(from), at(to), extent(columns.len() as u32, height));
 }
 
 /// egui's `primitives` at `pixels_per_point` over `texture`. Each list drawn in one
@@ -233,6 +353,7 @@ fn image(
     width: u32,
     height: u32,
 ) -> wgpu::Texture {
+    let bytes_view = [format.remove_srgb_suffix()];
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: extent(width, height),
@@ -244,7 +365,8 @@ fn image(
             | wgpu::TextureUsages::COPY_SRC
             | wgpu::TextureUsages::COPY_DST
             | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
+        // The difference pass reads and writes the bytes themselves (`difference.rs`).
+        view_formats: if format.is_srgb() { &bytes_view } else { &[] },
     })
 }
 

@@ -34,6 +34,9 @@ pub enum MaterialChoice {
     Custom([f64; 3]),
     /// A red plastic: base colour sRGB (0.8, 0.15, 0.1) under a coating of IOR 1.5.
     Plastic,
+    /// Rubber: a near-black base, sRGB (0.05, 0.05, 0.05), under a coating of IOR 1.52
+    /// (natural rubber's refractive index, Brandrup & Immergut, Polymer Handbook).
+    Rubber,
     /// The engines' material: base colour (sRGB), metallic, IOR.
     MetallicRoughness {
         /// sRGB.
@@ -47,7 +50,7 @@ pub enum MaterialChoice {
 
 impl MaterialChoice {
     /// Every choice the panel lists (custom with the homework copper's F0 to start from).
-    pub fn all() -> [MaterialChoice; 9] {
+    pub fn all() -> [MaterialChoice; 10] {
         [
             MaterialChoice::AsScene,
             MaterialChoice::Copper,
@@ -57,6 +60,7 @@ impl MaterialChoice {
             MaterialChoice::White,
             MaterialChoice::Custom(Material::metal_srgb(REFERENCE_ALBEDO_SRGB).f0.to_array()),
             MaterialChoice::Plastic,
+            MaterialChoice::Rubber,
             MaterialChoice::MetallicRoughness {
                 base_color: [1.0, 0.847, 0.569],
                 metallic: 0.5,
@@ -76,6 +80,7 @@ impl MaterialChoice {
             MaterialChoice::White => "white (F0 = 1)",
             MaterialChoice::Custom(_) => "custom F0",
             MaterialChoice::Plastic => "red plastic (IOR 1.5)",
+            MaterialChoice::Rubber => "rubber (IOR 1.52)",
             MaterialChoice::MetallicRoughness { .. } => "base colour, metallic, IOR",
         }
     }
@@ -96,6 +101,11 @@ impl MaterialChoice {
                 crate::scene::srgb_decode([0.8, 0.15, 0.1]),
                 0.0,
                 crate::scene::DEFAULT_IOR,
+            )),
+            MaterialChoice::Rubber => Some(Material::metallic_roughness(
+                crate::scene::srgb_decode([0.05; 3]),
+                0.0,
+                1.52,
             )),
             MaterialChoice::MetallicRoughness {
                 base_color,
@@ -488,6 +498,35 @@ pub fn set_environment(
         rotation_deg: control.transform.0,
         intensity: control.transform.1,
     });
+}
+
+/// The panel's map file field and a file dropped on the window: loads the `.hdr` or
+/// `.exr` at `path` and lights `scene` with it, as the picker's "file (as loaded)" (which
+/// it becomes from then on), with the latest map's rotation and intensity. An error (a
+/// missing or bad file, or the furnace on: it has no map) leaves everything as it was.
+pub fn load_map_file(
+    scene: &mut Scene,
+    path: &std::path::Path,
+    control: &mut EnvironmentControl,
+) -> crate::Result<()> {
+    if is_furnace(scene) {
+        return Err(crate::Error::Invalid {
+            what: "environment",
+            message: "the furnace is on: turn it off to light the balls with a map".into(),
+        });
+    }
+    let loaded = Environment::from_file(path)?;
+    if EnvironmentChoice::of(scene) == EnvironmentChoice::File {
+        if let Some(e) = &mut scene.environment_map {
+            e.source = loaded.source.clone();
+            e.map = loaded.map.clone();
+        }
+        control.file = Some(loaded);
+        return Ok(());
+    }
+    control.file = Some(loaded);
+    set_environment(scene, EnvironmentChoice::File, control);
+    Ok(())
 }
 
 /// Turns the scene's environment map (if any) to `degrees` about `+y`; the map itself is

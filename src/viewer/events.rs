@@ -8,19 +8,28 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
+use super::compare::{Compare, View};
 use super::{edit, orbit, App};
+
+/// How near the wipe's split line (in pixels, either side) a press grabs it instead of
+/// orbiting.
+pub const SPLIT_GRAB_PX: f64 = 8.0;
 
 impl App {
     /// Keys that act on the scene (egui has not taken the keyboard).
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode) {
         match code {
+            // An open menu (a combo box's list) closes first: egui closes it on this key
+            // at the next frame.
+            KeyCode::Escape if egui::Popup::is_any_open(&self.egui_ctx) => {}
             KeyCode::Escape => event_loop.exit(),
             KeyCode::KeyM => edit::toggle_term(&mut self.scene),
             KeyCode::KeyF => {
                 let on = !edit::is_furnace(&self.scene);
                 edit::set_furnace(&mut self.scene, on, &mut self.controls.saved_lighting);
             }
-            KeyCode::KeyS => self.screenshot = Some(default_screenshot_path()),
+            KeyCode::KeyS => self.screenshot = Some(timestamped("png")),
+            KeyCode::KeyE => self.pending.exr = Some(timestamped("exr")),
             _ => return,
         }
         self.request_redraw();
@@ -30,7 +39,10 @@ impl App {
         match *event {
             WindowEvent::CursorMoved { position, .. } => {
                 let (x, y) = (position.x, position.y);
-                if let Some((px, py)) = self.drag {
+                if let (true, Some(c)) = (self.split_drag, &mut self.controls.compare) {
+                    c.split = Compare::split_at(x, self.scene_width);
+                    self.request_redraw();
+                } else if let Some((px, py)) = self.drag {
                     let (dx, dy) = (x - px, y - py);
                     self.scene.camera = orbit::orbit(
                         &self.scene.camera,
@@ -48,7 +60,14 @@ impl App {
                 ..
             } => {
                 let in_scene = self.cursor.0 < self.scene_width as f64;
-                self.drag = (state == ElementState::Pressed && in_scene).then_some(self.cursor);
+                let pressed = state == ElementState::Pressed && in_scene;
+                let on_split = self.controls.compare.is_some_and(|c| {
+                    c.view == View::Wipe
+                        && (self.cursor.0 - c.split_px(self.scene_width) as f64).abs()
+                            <= SPLIT_GRAB_PX
+                });
+                self.split_drag = pressed && on_split;
+                self.drag = (pressed && !on_split).then_some(self.cursor);
             }
             WindowEvent::MouseWheel { delta, .. } if self.cursor.0 < self.scene_width as f64 => {
                 let lines = match delta {
@@ -162,6 +181,11 @@ impl ApplicationHandler for App {
                     self.key(event_loop, code);
                 }
             }
+            // A map file dropped on the window lights the balls (as the panel's field).
+            WindowEvent::DroppedFile(path) => {
+                super::panel::load_map(&mut self.scene, &mut self.controls, &path);
+                self.request_redraw();
+            }
             // Not egui's `consumed`: that reflects where the pointer was at the last frame;
             // `pointer` itself keeps to the scene area.
             ref pointer => self.pointer(pointer),
@@ -185,10 +209,10 @@ impl ApplicationHandler for App {
     }
 }
 
-/// `shadeballs-<seconds since 1970>.png` in the working folder.
-fn default_screenshot_path() -> PathBuf {
+/// `shadeballs-<seconds since 1970>.<extension>` in the working folder.
+pub fn timestamped(extension: &str) -> PathBuf {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    PathBuf::from(format!("shadeballs-{secs}.png"))
+    PathBuf::from(format!("shadeballs-{secs}.{extension}"))
 }

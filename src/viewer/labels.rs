@@ -5,8 +5,19 @@
 //! (`compose.rs`), so that a frame that does not shade the balls again does not draw them
 //! either, and the panel is not redrawn for them.
 
-use crate::labels::{self, OUTLINE_PER_FONT_PX};
+use crate::labels::{self, MIN_FONT_PX, OUTLINE_PER_FONT_PX};
 use crate::scene::Scene;
+
+/// The smallest font the viewer sets a label in, as a fraction of the layout's size for the
+/// image (its height over 45): a label that would have to shrink further to fit its room
+/// (columns squeezed together by an orbit, balls shrunk by zooming out) is left out rather
+/// than drawn too small to read. A PNG keeps the layout's own rule (down to 8 px).
+pub const READABLE_FRACTION: f32 = 0.75;
+
+/// The smallest font size in pixels the viewer draws a label of layout size `size_px` at.
+pub fn readable_px(size_px: f32) -> f32 {
+    (READABLE_FRACTION * size_px).max(MIN_FONT_PX)
+}
 
 /// `scene`'s labels as egui shapes over the scene area: the window's left `free_width`
 /// points, `window_height` pixels tall (the scene image is `floor(free_width * ppp)` pixels
@@ -38,6 +49,9 @@ pub fn shapes(
         let Some(place) = label.place(galley.size().x * ppp) else {
             continue;
         };
+        if place.size_px < readable_px(label.size_px) * (1.0 - 1e-4) {
+            continue;
+        }
         let centre = egui::pos2(
             0.5 * (place.text.x0 + place.text.x1) / ppp,
             0.5 * (place.text.y0 + place.text.y1) / ppp,

@@ -9,13 +9,18 @@
 //! draws the given number of frames back to back, saves the window and exits.
 
 pub mod blit;
+mod capture;
 mod clock;
+pub mod compare;
 mod compose;
+pub mod difference;
 pub mod edit;
 mod events;
-mod labels;
+pub mod labels;
 pub mod orbit;
+mod overlay;
 mod panel;
+pub mod save;
 mod state;
 pub use state::surface_format;
 
@@ -28,7 +33,7 @@ use winit::window::Window;
 
 use crate::error::{Error, Result};
 use crate::gpu::Backend;
-use crate::output::write_png;
+use crate::output::{write_png, ImageKind};
 use crate::scene::Scene;
 use clock::FrameClock;
 use compose::Overlay;
@@ -50,10 +55,16 @@ pub struct ViewOptions {
     pub size: (u32, u32),
     /// Draw this many frames, save `screenshot` if given, and exit.
     pub frames: Option<u32>,
-    /// With `frames`: the PNG the window's last frame is saved to.
+    /// With `frames`: the PNG the window's last frame is saved to, or the EXR the scene
+    /// area's linear radiance is.
     pub screenshot: Option<PathBuf>,
+    /// With `frames`: the scene file the scene is saved to after the last frame.
+    pub save_scene: Option<PathBuf>,
     /// Turn the camera by [`ORBIT_STEP`] every frame (to measure frame times while orbiting).
     pub orbit: bool,
+    /// The comparison shown first (`--compare`, `--split`, `--difference`); the panel's
+    /// Compare section edits it.
+    pub compare: Option<compare::Compare>,
 }
 
 /// What a `--frames` run measured.
@@ -107,6 +118,8 @@ struct App {
     cursor: (f64, f64),
     /// Where the left button went down in the scene area, while it is held.
     drag: Option<(f64, f64)>,
+    /// Whether the left button went down on the wipe's split line, while it is held.
+    split_drag: bool,
     scene_width: u32,
     frames_drawn: u32,
     clock: FrameClock,
@@ -117,6 +130,9 @@ struct App {
     last_shapes: (Vec<egui::epaint::ClippedShape>, f32),
     /// Where the next frame's pixels go (key S, or the last `--frames` frame).
     screenshot: Option<PathBuf>,
+    /// The EXR and scene file the next frame writes (key E, the panel's buttons, the last
+    /// `--frames` frame).
+    pending: capture::Pending,
     error: Option<Error>,
 }
 
@@ -125,7 +141,11 @@ impl App {
         let scene = options.scene.clone();
         let home_distance = (scene.camera.position - scene.camera.target).length();
         App {
-            controls: Controls::new(&scene, &crate::lut::BakeConfig::default().layout),
+            controls: Controls::new(
+                &scene,
+                &crate::lut::BakeConfig::default().layout,
+                options.compare,
+            ),
             options,
             backends,
             display,
@@ -136,12 +156,14 @@ impl App {
             home_distance,
             cursor: (0.0, 0.0),
             drag: None,
+            split_drag: false,
             scene_width: 1,
             frames_drawn: 0,
             clock: FrameClock::default(),
             stats: None,
             last_shapes: (Vec::new(), 0.0),
             screenshot: None,
+            pending: capture::Pending::default(),
             error: None,
         }
     }
@@ -235,9 +257,16 @@ impl App {
         let output = self.egui_ctx.run_ui(input, |ui| {
             panel::show(ui, scene, controls, stats);
             free_width = ui.available_rect_before_wrap().max.x;
-            label_shapes = labels::shapes(ui, scene, free_width, window_height);
+            let compare = controls.compare.as_ref();
+            label_shapes = overlay::shapes(ui, scene, compare, free_width, window_height);
         });
         egui_winit.handle_platform_output(&state.window, output.platform_output);
+        take_requests(
+            &mut self.controls.requests,
+            &mut self.screenshot,
+            &mut self.pending,
+            self.options.save_scene.as_deref(),
+        );
         let ppp = output.pixels_per_point;
         let (width, height) = state.size();
         self.scene_width = ((free_width * ppp).floor() as u32).clamp(1, width.max(1));
@@ -253,11 +282,19 @@ impl App {
             label_shapes,
         );
         let last = self.options.frames == Some(self.frames_drawn + 1);
-        if last && self.screenshot.is_none() {
-            self.screenshot = self.options.screenshot.clone();
+        if last {
+            self.pending.scene = self.options.save_scene.clone();
+            match self.options.screenshot.clone() {
+                Some(p) if crate::output::image_kind(&p).ok() == Some(ImageKind::Exr) => {
+                    self.pending.exr = Some(p)
+                }
+                Some(p) if self.screenshot.is_none() => self.screenshot = Some(p),
+                _ => {}
+            }
         }
         let capture = self.screenshot.is_some();
-        match state.draw(&self.scene, self.scene_width, &overlay, capture) {
+        let scene = (&self.scene, self.controls.compare.as_ref());
+        match state.draw(scene, self.scene_width, &overlay, capture) {
             Ok(Frame::Shown(pixels)) => {
                 self.clock.shown(start);
                 self.frames_drawn += 1;
@@ -265,6 +302,9 @@ impl App {
                     if let Err(e) = self.write_screenshot(&path, (width, height), rgba) {
                         return self.fail(event_loop, e);
                     }
+                }
+                if let Err(e) = self.write_pending() {
+                    return self.fail(event_loop, e);
                 }
                 if last {
                     event_loop.exit();
@@ -311,12 +351,11 @@ impl App {
     /// (an animation) after `delay`, and truth balls keep accumulating while nothing changes
     /// (each draw of an unchanged scene adds an estimate a pixel), up to the headless cap.
     fn schedule_next(&mut self, event_loop: &ActiveEventLoop, delay: Duration) {
-        let accumulating = self.scene.has_truth()
-            && self.state.as_ref().is_some_and(|s| {
-                s.renderer
-                    .truth_samples()
-                    .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP)
-            });
+        let compare = self.controls.compare.as_ref();
+        let accumulating = self
+            .state
+            .as_ref()
+            .is_some_and(|s| s.truth_accumulating(&self.scene, compare));
         // A deadline is kept until it is reached (`new_events`) or replaced.
         if delay.is_zero() || accumulating {
             self.request_redraw();
@@ -326,6 +365,28 @@ impl App {
                 None => ControlFlow::Wait,
             });
         }
+    }
+}
+
+/// The panel's buttons (screenshot, EXR, save scene) as the keys' requests: into the
+/// screenshot and the files the next frame writes (a scene file to `--save-scene`'s path,
+/// if given, else a time-stamped one).
+fn take_requests(
+    requests: &mut panel::Requests,
+    screenshot: &mut Option<PathBuf>,
+    pending: &mut capture::Pending,
+    save_scene: Option<&std::path::Path>,
+) {
+    let requests = std::mem::take(requests);
+    if requests.png {
+        *screenshot = Some(events::timestamped("png"));
+    }
+    if requests.exr {
+        pending.exr = Some(events::timestamped("exr"));
+    }
+    if requests.save_scene {
+        let path = save_scene.map(std::path::Path::to_path_buf);
+        pending.scene = Some(path.unwrap_or_else(|| events::timestamped("toml")));
     }
 }
 

@@ -10,6 +10,7 @@ use crate::environment::{Background, IblTerm};
 use crate::lut::{Layout, LayoutKind};
 use crate::scene::{Layering, Material, Preset, Scene, MAX_MAGNITUDE};
 
+use super::compare::{Compare, Side, View, DIFFERENCE_SCALES};
 use super::edit::{
     self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice, SavedLighting,
     MAX_BALLS_PER_ROW,
@@ -37,11 +38,26 @@ pub struct Controls {
     /// The scene file's background colour, if it gave one (offered beside environment
     /// and black).
     pub background_colour: Option<DVec3>,
+    /// The map file field's text.
+    pub map_path: String,
+    /// What the latest map file load said (loaded, or its error).
+    pub map_status: Option<String>,
+    /// What the panel's buttons asked for this frame (the viewer takes them).
+    pub requests: Requests,
+    /// The comparison shown (`None`: the scene alone).
+    pub compare: Option<Compare>,
+    /// The comparison last shown, brought back when the box is ticked again.
+    pub last_compare: Compare,
 }
 
 impl Controls {
-    pub fn new(scene: &Scene, layout: &Layout) -> Self {
+    pub fn new(scene: &Scene, layout: &Layout, compare: Option<Compare>) -> Self {
         Controls {
+            map_path: String::new(),
+            map_status: None,
+            requests: Requests::default(),
+            compare,
+            last_compare: compare.unwrap_or(Compare::new(Side::On, Side::Off)),
             material: MaterialChoice::AsScene,
             grid: None,
             light: LightControl::of(scene),
@@ -61,6 +77,17 @@ impl Controls {
     pub fn table_layout(&self) -> Layout {
         Layout::of_kind(self.layout).with_size(self.table_size.0, self.table_size.1)
     }
+}
+
+/// The panel's buttons pressed this frame.
+#[derive(Default)]
+pub struct Requests {
+    /// A PNG screenshot of the window (as key S).
+    pub png: bool,
+    /// The scene area's linear radiance as an EXR (as key E).
+    pub exr: bool,
+    /// The scene as a scene file.
+    pub save_scene: bool,
 }
 
 /// What the panel reports.
@@ -85,6 +112,11 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
     egui::Panel::right("settings")
         .exact_size(PANEL_WIDTH)
         .show(ui, |ui| {
+            // A solid scroll bar (shown where the panel is taller than the window): egui's
+            // floating one fades in and out as the pointer enters and leaves the panel, an
+            // animation of several frames for every hover (the idle test's 22 frames grew
+            // to 33-41 once the panel outgrew the window).
+            ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
             egui::ScrollArea::vertical().show(ui, |ui| {
                 report(ui, stats);
                 ui.separator();
@@ -96,7 +128,14 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
                 ui.separator();
                 environment(ui, scene, controls);
                 ui.separator();
-                ui.label("Drag: orbit · wheel: zoom · M: term on all · F: furnace · S: screenshot · Esc: quit");
+                comparison(ui, controls);
+                ui.separator();
+                ui.horizontal(|ui| {
+                    controls.requests.png |= ui.button("screenshot").clicked();
+                    controls.requests.exr |= ui.button("EXR").clicked();
+                    controls.requests.save_scene |= ui.button("save scene").clicked();
+                });
+                ui.label("Drag: orbit · wheel: zoom · M: term on all · F: furnace · S: screenshot · E: EXR · Esc: close a menu, quit");
             });
         });
 }
@@ -358,7 +397,79 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
                 Background::Colour(_) => "colour (as in the scene)",
             },
         );
+        ui.horizontal(|ui| {
+            ui.label("map file");
+            let field = egui::TextEdit::singleline(&mut controls.map_path)
+                .hint_text(".hdr/.exr, or drop one")
+                .desired_width(150.0);
+            let entered =
+                ui.add(field).lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui.button("load").clicked() || entered {
+                let path = std::path::PathBuf::from(controls.map_path.trim());
+                load_map(scene, controls, &path);
+            }
+        });
+        if let Some(status) = &controls.map_status {
+            ui.label(status);
+        }
     });
+}
+
+/// Loads the map file at `path` ([`edit::load_map_file`]) and says how it went, in the
+/// panel and on stderr.
+pub fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Path) {
+    let status = match edit::load_map_file(scene, path, &mut controls.environment) {
+        Ok(()) => format!("map: {}", path.display()),
+        Err(e) => {
+            eprintln!("error: {e}");
+            format!("error: {e}")
+        }
+    };
+    controls.map_path = path.display().to_string();
+    controls.map_status = Some(status);
+}
+
+/// The Compare section (collapsed unless a comparison was asked for at start): on/off,
+/// the two sides, wipe or difference, the split and the difference's scale.
+fn comparison(ui: &mut egui::Ui, controls: &mut Controls) {
+    egui::CollapsingHeader::new("Compare")
+        .default_open(controls.compare.is_some())
+        .show(ui, |ui| {
+            let mut on = controls.compare.is_some();
+            ui.checkbox(&mut on, "compare two renderings (drag the split line)");
+            let mut c = controls.compare.unwrap_or(controls.last_compare);
+            ui.add_enabled_ui(on, |ui| {
+                combo(ui, "left (a)", &mut c.left, &Side::ALL, Side::name);
+                combo(ui, "right (b)", &mut c.right, &Side::ALL, Side::name);
+                let mut difference = matches!(c.view, View::Difference { .. });
+                ui.horizontal(|ui| {
+                    ui.radio_value(&mut difference, false, "wipe");
+                    ui.radio_value(&mut difference, true, "difference |a - b|");
+                });
+                let mut scale = match c.view {
+                    View::Difference { scale } => scale,
+                    View::Wipe => match controls.last_compare.view {
+                        View::Difference { scale } => scale,
+                        View::Wipe => 4,
+                    },
+                };
+                if difference {
+                    egui::ComboBox::from_label("difference scale")
+                        .selected_text(format!("x{scale}"))
+                        .show_ui(ui, |ui| {
+                            for s in DIFFERENCE_SCALES {
+                                ui.selectable_value(&mut scale, s, format!("x{s}"));
+                            }
+                        });
+                    c.view = View::Difference { scale };
+                } else {
+                    c.view = View::Wipe;
+                    ui.add(egui::Slider::new(&mut c.split, 0.0..=1.0).text("split"));
+                }
+            });
+            controls.last_compare = c;
+            controls.compare = on.then_some(c);
+        });
 }
 
 fn combo<T: PartialEq + Copy>(

@@ -13,6 +13,7 @@ use crate::gpu::{Gpu, Renderer};
 use crate::scene::Scene;
 
 use super::blit::Blit;
+use super::compare::Compare;
 use super::compose::{self, Layers, Overlay};
 
 /// How a frame went.
@@ -31,6 +32,9 @@ pub struct State {
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
     pub renderer: Renderer,
+    /// The renderer of a comparison's right side (made at its first frame), on the same
+    /// device: its own plan and truth sums.
+    second: Option<Renderer>,
     egui: egui_wgpu::Renderer,
     /// egui's renderer of the chart's labels (drawn into the scene image in the same frame
     /// as the panel: each needs its own buffers).
@@ -76,6 +80,7 @@ impl State {
             surface,
             config,
             renderer: Renderer::new(gpu),
+            second: None,
             egui,
             egui_labels,
             layers: Layers::default(),
@@ -116,12 +121,13 @@ impl State {
         Ok(())
     }
 
-    /// Draws `scene` into the `scene_width` left columns of the window, the panel over the
-    /// rest, and presents; `capture` also returns the window's pixels. egui's texture
-    /// changes are applied whether or not the frame is shown: egui sends each only once.
+    /// Draws `scene` (or its comparison) into the `scene_width` left columns of the window,
+    /// the panel over the rest, and presents; `capture` also returns the window's pixels.
+    /// egui's texture changes are applied whether or not the frame is shown: egui sends
+    /// each only once.
     pub fn draw(
         &mut self,
-        scene: &Scene,
+        scene: (&Scene, Option<&Compare>),
         scene_width: u32,
         overlay: &Overlay,
         capture: bool,
@@ -143,7 +149,7 @@ impl State {
 
     fn draw_frame(
         &mut self,
-        scene: &Scene,
+        scene: (&Scene, Option<&Compare>),
         scene_width: u32,
         overlay: &Overlay,
         capture: bool,
@@ -182,8 +188,11 @@ impl State {
         let device = self.renderer.gpu().device.clone();
         let queue = self.renderer.gpu().queue.clone();
         let mut encoder = device.create_command_encoder(&Default::default());
+        if scene.1.is_some() {
+            self.second_renderer();
+        }
         let frame_image = self.layers.update(
-            &mut self.renderer,
+            (&mut self.renderer, self.second.as_mut()),
             (&mut self.egui, &mut self.egui_labels),
             self.config.format,
             (width, height),
@@ -222,6 +231,38 @@ impl State {
     pub fn panel_due(&self, changed: bool, panel_only: bool) -> bool {
         self.layers
             .panel_due(changed, panel_only, self.size(), self.config.format)
+    }
+
+    /// The renderer of a comparison's right side, made if it is not yet.
+    pub fn second_renderer(&mut self) -> &mut Renderer {
+        let gpu = self.renderer.gpu();
+        let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+        let bake = self.renderer.bake_config();
+        let second = self
+            .second
+            .get_or_insert_with(|| Renderer::from_device(&device, &queue));
+        second.set_bake_config(bake);
+        second
+    }
+
+    /// Whether truth balls of `scene` (or of either side of its comparison) are still
+    /// accumulating: each draw of the unchanged scene adds an estimate a pixel, up to the
+    /// headless cap.
+    pub fn truth_accumulating(&self, scene: &Scene, compare: Option<&Compare>) -> bool {
+        let open = |r: Option<&Renderer>, s: &Scene| {
+            s.has_truth()
+                && r.is_none_or(|r| {
+                    r.truth_samples()
+                        .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP)
+                })
+        };
+        match compare {
+            None => open(Some(&self.renderer), scene),
+            Some(c) => {
+                let (a, b) = c.scenes(scene);
+                open(Some(&self.renderer), &a) || open(self.second.as_ref(), &b)
+            }
+        }
     }
 
     /// How many times the balls were shaded, and the panel drawn (frames that change

@@ -15,6 +15,7 @@ use shadeballs::scene::{Camera, Scene};
 use shadeballs::viewer::edit::{
     self, EnvironmentChoice, EnvironmentControl, Grid, LightControl, MaterialChoice,
 };
+use shadeballs::viewer::labels::readable_px;
 use shadeballs::viewer::orbit;
 
 use crate::cli::temp_dir;
@@ -165,12 +166,12 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
         }
         println!("{what}: pixels the labels changed, per label: {changed:?}");
         // Every label that fits its room (at the PNG font's width: egui's Ubuntu Light is
-        // the same font) is drawn; one that does not is left out.
+        // the same font) at a readable size is drawn; one that does not is left out.
         let fits: Vec<bool> = layout
             .iter()
             .map(|l| {
                 l.place(labels::text_width(&l.text, l.size_px).unwrap())
-                    .is_some()
+                    .is_some_and(|p| p.size_px >= readable_px(l.size_px))
             })
             .collect();
         assert!(fits.iter().any(|&f| f), "{what}: no label fits");
@@ -180,6 +181,7 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
                 "{what}: {:?} missing: {changed:?}",
                 l.text
             );
+            assert!(fit || *n == 0, "{what}: {:?} drawn too small", l.text);
         }
     }
     assert_close(&compare(&window, &headless, area.0), what);
@@ -845,4 +847,654 @@ fn truth_balls_accumulate_while_nothing_changes() {
         "balls shaded {shaded} times in 12 frames: {stderr}"
     );
     assert!(shot.exists(), "{stderr}");
+}
+
+/// The screenshot's scene area (RGBA8) and its size.
+fn scene_pixels(shot: &Path, stderr: &str) -> (Vec<u8>, (u32, u32)) {
+    let image = image::open(shot).unwrap().to_rgba8();
+    let area = scene_area(stderr);
+    (crop(image.as_raw(), image.width(), area), area)
+}
+
+/// Pixel `(x, y)` of an RGBA8 image `width` wide.
+fn pixel(rgba: &[u8], width: u32, (x, y): (u32, u32)) -> [u8; 4] {
+    let i = 4 * (y * width + x) as usize;
+    rgba[i..i + 4].try_into().unwrap()
+}
+
+/// The wipe: left of the split the headless render of the left side (every term on),
+/// right of it the right side's (every term off), at the same pixels; the split line
+/// between them. A Vulkan window and the headless render agree exactly
+/// (`window_scene_area_equals_the_headless_render`: 0 pixels differ), so every pixel off
+/// the line must be equal.
+#[test]
+fn wipe_shows_each_side_at_its_own_pixels() {
+    use shadeballs::viewer::compare::{Compare, Side};
+    let x = Xvfb::start();
+    let dir = temp_dir("view-wipe");
+    let shot = dir.join("wipe.png");
+    let args = [
+        "--scene",
+        HOMEWORK,
+        "--no-labels",
+        "--compare",
+        "on,off",
+        "--split",
+        "0.4",
+        "--frames",
+        "3",
+        "--backend",
+        "vulkan",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (window, (w, h)) = scene_pixels(&shot, &stderr);
+    let mut scene = Scene::reference();
+    scene.labels = false;
+    let on = vulkan()
+        .render_ldr(&Side::On.apply(&scene), w, h)
+        .unwrap()
+        .rgba;
+    let off = vulkan()
+        .render_ldr(&Side::Off.apply(&scene), w, h)
+        .unwrap()
+        .rgba;
+    assert!(on != off, "the term changes the picture");
+    let split = Compare {
+        split: 0.4,
+        ..Compare::new(Side::On, Side::Off)
+    }
+    .split_px(w);
+    assert_eq!(split, (0.4 * w as f64).round() as u32);
+    let mut differ = [0usize; 2];
+    for yy in 0..h {
+        for xx in 0..w {
+            // The line (2 px) and its round handle (6 px radius) lie within 8 px of it.
+            if xx.abs_diff(split) <= 8 {
+                continue;
+            }
+            let side = if xx < split { &on } else { &off };
+            let k = (xx >= split) as usize;
+            differ[k] += (pixel(&window, w, (xx, yy)) != pixel(side, w, (xx, yy))) as usize;
+        }
+    }
+    assert_eq!(
+        differ,
+        [0, 0],
+        "pixels off their side's render (left, right)"
+    );
+    // The line itself: light grey over the black background, at the top row.
+    assert_eq!(pixel(&window, w, (split, 0)), [230, 230, 230, 255]);
+}
+
+/// The difference view: of two identical sides, the ramp's zero colour (black) wherever
+/// the colour bar's legend is not, the bar itself the ramp from 1 (top) to 0 (bottom); of
+/// the term on against off, the CPU mirror of the shader's pixel applied to the two
+/// headless renders.
+#[test]
+fn difference_view_is_the_scaled_difference_with_a_colour_bar() {
+    use shadeballs::viewer::compare::Side;
+    use shadeballs::viewer::difference::{colour_bar_rect, colour_bar_row, difference_pixel};
+    let x = Xvfb::start();
+    let dir = temp_dir("view-difference");
+    let base = ["--scene", HOMEWORK, "--no-labels", "--frames", "3"];
+    let run = |compare: &str, scale: &str, name: &str| {
+        let shot = dir.join(name);
+        let out = viewer(&x, &base)
+            .args(["--compare", compare, "--difference", scale, "--screenshot"])
+            .arg(&shot)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        scene_pixels(&shot, &stderr)
+    };
+    let (same, (w, h)) = run("scene,scene", "16", "same.png");
+    let (x0, y0, x1, y1) = colour_bar_rect(w, h);
+    // The legend: the bar, its title above it and its numbers left of it (13 px text).
+    let legend = |xx: u32, yy: u32| xx + 80 >= x0 && xx < x1 + 8 && yy < y1 + 8;
+    let mut not_zero = 0;
+    for yy in 0..h {
+        for xx in 0..w {
+            let p = pixel(&same, w, (xx, yy));
+            not_zero += (!legend(xx, yy) && p != [0, 0, 0, 255]) as usize;
+        }
+    }
+    assert_eq!(not_zero, 0, "pixels off the zero colour in |a - a|");
+    let mid = (x0 + x1) / 2;
+    for row in [0, (y1 - y0) / 2, y1 - y0 - 1] {
+        let got = pixel(&same, w, (mid, y0 + row));
+        let want = colour_bar_row(row, y1 - y0);
+        // egui draws the bar's rectangles in its own colour path: 1/255 of rounding.
+        for c in 0..3 {
+            assert!(
+                got[c].abs_diff(want[c]) <= 1,
+                "colour bar row {row}: {got:?}, want {want:?}"
+            );
+        }
+    }
+
+    let (diff, _) = run("on,off", "4", "on-off.png");
+    let mut scene = Scene::reference();
+    scene.labels = false;
+    let on = vulkan()
+        .render_ldr(&Side::On.apply(&scene), w, h)
+        .unwrap()
+        .rgba;
+    let off = vulkan()
+        .render_ldr(&Side::Off.apply(&scene), w, h)
+        .unwrap()
+        .rgba;
+    let (mut far, mut lit) = (0, 0);
+    for yy in 0..h {
+        for xx in 0..w {
+            if legend(xx, yy) {
+                continue;
+            }
+            let want = difference_pixel(pixel(&on, w, (xx, yy)), pixel(&off, w, (xx, yy)), 4);
+            let got = pixel(&diff, w, (xx, yy));
+            lit += (want != [0, 0, 0, 255]) as usize;
+            // The GPU's f32 of a unorm byte and its rounding to a byte: 1/255.
+            far += (0..3).any(|c| got[c].abs_diff(want[c]) > 1) as usize;
+        }
+    }
+    println!("difference x4 of on and off: {lit} pixels not zero");
+    assert!(lit > 10_000, "the term's difference shows: {lit} pixels");
+    assert_eq!(far, 0, "pixels more than 1/255 off the mirror");
+}
+
+/// The saved scene file loads back as the very scene saved: the built-in and shipped
+/// scenes, and scenes the panel makes (an orbited camera, the light control's direction, the
+/// engines' material, a custom metal, a background colour). A scene file cannot hold a
+/// uniform radiance and a map at once: that is an error, not a file of another scene.
+#[test]
+fn saved_scene_text_loads_back_as_the_same_scene() {
+    use shadeballs::viewer::save::scene_toml;
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut scenes = vec![Scene::reference(), Scene::showcase(), Scene::furnace()];
+    for name in [
+        "plastic.toml",
+        "metallic_roughness.toml",
+        "models_and_truth.toml",
+    ] {
+        scenes.push(shadeballs::scene::load(&assets.join(name)).unwrap());
+    }
+    let mut edited = Scene::showcase();
+    edited.camera = orbit::orbit(&edited.camera, 0.37, 0.11);
+    edited.lights = LightControl {
+        azimuth_deg: 33.3,
+        elevation_deg: 21.7,
+        intensity: 2.5,
+    }
+    .lights();
+    edited.exposure = 0.37;
+    edited.ibl_method = shadeballs::environment::IblMethod::Lobe;
+    edited.ibl_samples = 7;
+    edited.background = Background::Colour(DVec3::new(0.1, 0.2, 0.3));
+    edit::set_material(
+        &mut edited,
+        MaterialChoice::MetallicRoughness {
+            base_color: [0.3, 0.6, 0.9],
+            metallic: 0.4,
+            ior: 1.7,
+        }
+        .material()
+        .unwrap(),
+    );
+    edited.balls[0].material = MaterialChoice::Custom([0.9, 0.5, 0.1]).material().unwrap();
+    edited.balls[1].material = MaterialChoice::Plastic.material().unwrap();
+    edited.balls[2].material = MaterialChoice::Rubber.material().unwrap();
+    scenes.push(edited);
+    for (i, scene) in scenes.iter().enumerate() {
+        let text = scene_toml(scene, (640, 360)).unwrap_or_else(|e| panic!("scene {i}: {e}"));
+        let back = shadeballs::scene::parse(&text, Path::new("saved.toml"))
+            .unwrap_or_else(|e| panic!("scene {i}: {e}\n{text}"));
+        assert!(back == *scene, "scene {i} came back another:\n{text}");
+    }
+    let mut both = Scene::reference();
+    both.environment = DVec3::splat(0.5);
+    both.environment_map = Some(Environment::builtin(Builtin::Sky));
+    let e = scene_toml(&both, (640, 360)).unwrap_err();
+    assert!(e.contains("uniform radiance and a map"), "{e}");
+}
+
+/// The viewer's `--save-scene` after an orbit with a map: `shadeballs render` of the file at
+/// the scene area's size draws the screenshot's scene area byte for byte (no labels: the
+/// viewer sets them with egui, a PNG with ab_glyph; with labels, every pixel outside their
+/// rooms), and its EXR equals the viewer's `--screenshot x.exr` value for value.
+#[test]
+fn saved_scene_renders_the_viewers_picture() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-save");
+    let run = |labels: &str, name: &str, shot: &str| {
+        let (toml, shot) = (dir.join(name), dir.join(shot));
+        let args = [
+            "--scene",
+            HOMEWORK,
+            "--environment",
+            "studio",
+            labels,
+            "--frames",
+            "4",
+            "--orbit",
+            "--backend",
+            "vulkan",
+        ];
+        let out = viewer(&x, &args)
+            .arg("--save-scene")
+            .arg(&toml)
+            .arg("--screenshot")
+            .arg(&shot)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        (toml, shot, stderr)
+    };
+    let render = |toml: &Path, (w, h): (u32, u32), out: &Path| {
+        let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
+            .args(["render", "--backend", "vulkan", "--scene"])
+            .arg(toml)
+            .args([
+                "--width",
+                &w.to_string(),
+                "--height",
+                &h.to_string(),
+                "--out",
+            ])
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let (toml, shot, stderr) = run("--no-labels", "bare.toml", "bare.png");
+    let (window, area) = scene_pixels(&shot, &stderr);
+    let rendered = dir.join("bare-render.png");
+    render(&toml, area, &rendered);
+    let rendered = image::open(&rendered).unwrap().to_rgba8().into_raw();
+    assert!(
+        rendered == window,
+        "render of the saved scene differs: {}",
+        { compare(&window, &rendered, area.0).report("saved scene") }
+    );
+
+    let (_, exr, stderr) = run("--no-labels", "bare2.toml", "bare.exr");
+    assert!(stderr.contains("linear radiance"), "{stderr}");
+    let rendered = dir.join("bare-render.exr");
+    render(&toml, area, &rendered);
+    let a = image::open(&exr).unwrap().to_rgba32f();
+    let b = image::open(&rendered).unwrap().to_rgba32f();
+    assert_eq!(a.dimensions(), area);
+    assert!(
+        a.as_raw() == b.as_raw(),
+        "the viewer's EXR differs from render's"
+    );
+
+    let (toml, shot, stderr) = run("--labels", "labelled.toml", "labelled.png");
+    let (window, area) = scene_pixels(&shot, &stderr);
+    let rendered = dir.join("labelled-render.png");
+    render(&toml, area, &rendered);
+    let rendered = image::open(&rendered).unwrap().to_rgba8().into_raw();
+    let scene = shadeballs::scene::load(&toml).unwrap();
+    assert!(scene.labels);
+    let layout = labels::layout(&scene, area.0, area.1);
+    let (mut outside, mut differ) = (0, 0);
+    for (i, (a, b)) in window
+        .chunks_exact(4)
+        .zip(rendered.chunks_exact(4))
+        .enumerate()
+    {
+        let (px, py) = ((i as u32 % area.0) as f32, (i as u32 / area.0) as f32);
+        let in_room = layout.iter().any(|l| {
+            let r = &l.room;
+            px + 1.0 > r.x0 && px < r.x1 && py + 1.0 > r.y0 && py < r.y1
+        });
+        if !in_room {
+            outside += 1;
+            differ += (a != b) as usize;
+        }
+    }
+    println!("labelled: {differ} of {outside} pixels outside the labels' rooms differ");
+    assert_eq!(differ, 0, "render of the saved labelled scene");
+}
+
+/// `view --help` offers the viewer's backends alone; `render --help` still all of them.
+#[test]
+fn view_help_lists_only_the_viewers_backends() {
+    let help = |sub: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
+            .args([sub, "--help"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let view = help("view");
+    assert!(
+        view.contains("[default: auto] [possible values: auto, vulkan, gl]"),
+        "{view}"
+    );
+    for other in ["cpu", "montecarlo"] {
+        assert!(!view.contains(&format!(", {other}")), "{other} in: {view}");
+    }
+    for flag in ["--compare <A,B>", "--split", "--difference", "--save-scene"] {
+        assert!(view.contains(flag), "{flag} missing: {view}");
+    }
+    assert!(help("render").contains("cpu"));
+    let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
+        .args(["view", "--backend", "cpu"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("vulkan"),
+        "{stderr}"
+    );
+}
+
+/// The comparison's sides edit the models alone, the split's column is rounded and
+/// clamped, and `--compare`'s value is two names.
+#[test]
+fn comparison_sides_and_split() {
+    use shadeballs::scene::Model;
+    use shadeballs::viewer::compare::{parse_sides, Compare, Side};
+    let scene = shadeballs::scene::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/models_and_truth.toml"),
+    )
+    .unwrap();
+    assert!(scene.balls.iter().any(|b| b.model == Model::Truth));
+    assert_eq!(Side::Scene.apply(&scene), scene);
+    for (side, model) in [
+        (Side::Off, Model::None),
+        (Side::Turquin, Model::Turquin),
+        (Side::On, Model::from_term(scene.term())),
+    ] {
+        let s = side.apply(&scene);
+        for (a, b) in s.balls.iter().zip(&scene.balls) {
+            let want = if b.model == Model::Truth {
+                Model::Truth
+            } else {
+                model
+            };
+            assert_eq!(a.model, want, "{side}");
+            assert_eq!((a.center, a.material), (b.center, b.material));
+        }
+        assert_eq!(s.lights, scene.lights);
+    }
+    assert!(Side::Truth
+        .apply(&scene)
+        .balls
+        .iter()
+        .all(|b| b.model == Model::Truth));
+    let mut c = Compare::new(Side::On, Side::Off);
+    assert_eq!(c.split_px(981), 491);
+    c.split = 7.0;
+    assert_eq!(c.split_px(980), 980);
+    c.split = f64::NAN;
+    assert_eq!(c.split_px(980), 490);
+    assert_eq!(Compare::split_at(-5.0, 980), 0.0);
+    assert_eq!(parse_sides(" on , truth"), Ok((Side::On, Side::Truth)));
+    for bad in ["on", "on,", "on,gold", ""] {
+        let e = parse_sides(bad).unwrap_err();
+        assert!(e.contains("scene, on, off"), "{bad}: {e}");
+    }
+}
+
+/// `shaders/difference.wgsl` parses and validates, and its ramp's CPU mirror starts at
+/// black and ends at its last stop.
+#[test]
+fn difference_shader_validates_and_its_ramp_spans_black_to_pale_yellow() {
+    use shadeballs::viewer::difference::{difference_colour, difference_pixel};
+    let source = include_str!("../../shaders/difference.wgsl");
+    let module = naga::front::wgsl::parse_str(source).unwrap();
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap();
+    assert!(source.contains("fn difference_colour("));
+    assert_eq!(difference_colour(-1.0), [0.0; 3]);
+    assert_eq!(difference_colour(0.0), [0.0; 3]);
+    assert_eq!(difference_colour(5.0), [1.0, 1.0, 0.75]);
+    assert_eq!(
+        difference_pixel([9, 9, 9, 255], [9, 9, 9, 255], 64),
+        [0, 0, 0, 255]
+    );
+    assert_eq!(
+        difference_pixel([255, 0, 0, 255], [0, 0, 0, 255], 1),
+        [255, 255, 191, 255]
+    );
+}
+
+/// Esc with a menu open (the preset's list, clicked open) closes the menu, not the viewer;
+/// the next Esc quits.
+#[test]
+fn escape_closes_an_open_menu_first() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-escape");
+    let child = viewer(&x, &["--scene", HOMEWORK])
+        .current_dir(&dir)
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let state = || {
+        let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+        stat.rfind(')').and_then(|i| stat[i + 2..].chars().next())
+    };
+    let mut alive_after_escape = None;
+    drive(&x, child, |id| {
+        std::thread::sleep(Duration::from_millis(500));
+        // The preset's combo box (the homework scene's panel, 1280x720 at DPI 1).
+        x.xdotool(&["mousemove", "--window", id, "1040", "147", "click", "1"]);
+        std::thread::sleep(Duration::from_millis(500));
+        x.xdotool(&["windowfocus", "--sync", id, "key", "Escape"]);
+        std::thread::sleep(Duration::from_millis(700));
+        alive_after_escape = Some(!matches!(state(), None | Some('Z')));
+    });
+    assert_eq!(alive_after_escape, Some(true), "Esc with a menu open quit");
+}
+
+/// After an orbit that squeezes the columns together, every label the viewer draws is still
+/// set at a readable size: the light text's height in each label's room (measured in the
+/// screenshot, the rooms from the layout of the scene the viewer saved) is at least the
+/// readable fraction of the layout's size times the text's ink height at its size.
+#[test]
+fn labels_keep_a_readable_size_after_an_orbit() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-label-size");
+    let (shot, toml) = (dir.join("orbit.png"), dir.join("orbit.toml"));
+    let args = [
+        "--scene",
+        HOMEWORK,
+        "--frames",
+        "50",
+        "--orbit",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args)
+        .arg(&shot)
+        .arg("--save-scene")
+        .arg(&toml)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (window, (w, h)) = scene_pixels(&shot, &stderr);
+    let scene = shadeballs::scene::load(&toml).unwrap();
+    let layout = labels::layout(&scene, w, h);
+    let mut heights = Vec::new();
+    for l in layout.iter() {
+        let r = &l.room;
+        // The text is grey 245 over a dark outline: its pixels are the near-white ones.
+        let rows: Vec<u32> = (r.y0.max(0.0) as u32..(r.y1.ceil() as u32).min(h))
+            .filter(|&y| {
+                (r.x0.max(0.0) as u32..(r.x1.ceil() as u32).min(w))
+                    .any(|x| pixel(&window, w, (x, y))[..3].iter().all(|&c| c >= 200))
+            })
+            .collect();
+        if let (Some(top), Some(bottom)) = (rows.first(), rows.last()) {
+            heights.push((l.text.clone(), bottom - top + 1, l.size_px));
+        }
+    }
+    println!("after the orbit, label ink heights (text, px, layout size): {heights:?}");
+    assert!(!heights.is_empty(), "no label drawn after the orbit");
+    for (text, ink, size) in &heights {
+        // Ubuntu Light's digits and capitals stand about 0.7 of the font size (0.69 at 16
+        // px measured here before the orbit); a label at the readable floor stands
+        // 0.7 * 0.75 of the layout's size, one at 8 px in a 720 px window 0.35 of it.
+        assert!(
+            *ink as f32 >= 0.7 * readable_px(*size) - 1.0,
+            "{text:?} is {ink} px tall (layout size {size} px)"
+        );
+    }
+}
+
+/// The panel's map file field (and a file dropped on the window) loads a map as the
+/// picker's file choice, keeping the latest map's rotation and intensity; a second file
+/// replaces it; a missing file, or the furnace on, is an error that changes nothing.
+#[test]
+fn a_map_file_loads_from_the_panel() {
+    let dir = temp_dir("view-map-file");
+    let (sky, studio) = (dir.join("sky.hdr"), dir.join("studio.exr"));
+    shadeballs::environment::save(&Builtin::Sky.generate(32), &sky).unwrap();
+    shadeballs::environment::save(&Builtin::Studio.generate(32), &studio).unwrap();
+    let mut scene = Scene::reference();
+    let mut control = EnvironmentControl::of(&scene);
+    edit::set_environment(
+        &mut scene,
+        EnvironmentChoice::Builtin(Builtin::White),
+        &mut control,
+    );
+    edit::set_map_rotation(&mut scene, 40.0);
+    edit::load_map_file(&mut scene, &sky, &mut control).unwrap();
+    let e = scene.environment_map.clone().unwrap();
+    assert_eq!(e.source, Source::File(sky.clone()));
+    assert_eq!((e.rotation_deg, e.intensity), (40.0, 1.0));
+    assert_eq!(EnvironmentChoice::of(&scene), EnvironmentChoice::File);
+    assert_eq!(control.choices().last(), Some(&EnvironmentChoice::File));
+    assert_eq!(
+        *e.map,
+        Environment::from_file(&sky).unwrap().map.as_ref().clone()
+    );
+    edit::load_map_file(&mut scene, &studio, &mut control).unwrap();
+    let e2 = scene.environment_map.clone().unwrap();
+    assert_eq!(e2.source, Source::File(studio.clone()));
+    assert_eq!(e2.rotation_deg, 40.0);
+    assert!(!Arc::ptr_eq(&e.map, &e2.map));
+    let before = scene.clone();
+    let err = edit::load_map_file(&mut scene, &dir.join("missing.hdr"), &mut control);
+    assert!(err.unwrap_err().to_string().contains("missing.hdr"));
+    assert_eq!(scene, before);
+    let mut furnace = Scene::furnace();
+    let mut control = EnvironmentControl::of(&furnace);
+    let err = edit::load_map_file(&mut furnace, &sky, &mut control);
+    assert!(err.unwrap_err().to_string().contains("furnace"));
+    assert!(furnace.environment_map.is_none());
+}
+
+/// In a window: a map file typed into the panel's field and entered lights the balls; the
+/// screenshot's scene area is the headless render of the scene with that map.
+#[test]
+fn a_map_file_typed_into_the_panel_lights_the_window() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-map-typed");
+    let map = dir.join("sky.hdr");
+    shadeballs::environment::save(&Builtin::Sky.generate(64), &map).unwrap();
+    let child = viewer(&x, &["--scene", HOMEWORK])
+        .current_dir(&dir)
+        .spawn()
+        .unwrap();
+    let stderr = drive(&x, child, |id| {
+        std::thread::sleep(Duration::from_millis(500));
+        // The map file field (the homework scene's panel, 1280x720 at DPI 1: below the
+        // background's combo box).
+        x.xdotool(&[
+            "windowfocus",
+            "--sync",
+            id,
+            "mousemove",
+            "--window",
+            id,
+            "1118",
+            "672",
+            "click",
+            "1",
+        ]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["type", "--delay", "5", map.to_str().unwrap()]);
+        x.xdotool(&["key", "Return"]);
+        std::thread::sleep(Duration::from_millis(1500));
+        // A click lower in the panel (the Compare header: it only opens) takes the
+        // keyboard from the field, if it kept it.
+        x.xdotool(&["mousemove", "--window", id, "1200", "712", "click", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
+        let start = Instant::now();
+        while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    });
+    let shots = pngs(&dir);
+    assert_eq!(shots.len(), 1, "{shots:?}: {stderr}");
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment::from_file(&map).unwrap());
+    scene.environment = DVec3::ZERO;
+    assert_scene_matches(&shots[0], &stderr, &scene, "map typed into the panel");
+}
+
+/// A comparison keeps the idle behaviour (nothing drawn while nothing happens: both sides
+/// shaded once), and a drag that starts on the split line moves the split to where it ends
+/// instead of orbiting.
+#[test]
+fn a_comparison_idles_and_its_split_follows_a_drag() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-compare-drag");
+    let args = ["--scene", HOMEWORK, "--no-labels", "--compare", "on,off"];
+    let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
+    let stderr = drive(&x, child, |id| {
+        // Idle for 1.5 s: at 5-60 frames a second, continuous redrawing would show.
+        std::thread::sleep(Duration::from_millis(1500));
+        // The split starts at 0.5 of the 980 px scene area: column 490.
+        x.xdotool(&["mousemove", "--window", id, "491", "100", "mousedown", "1"]);
+        x.xdotool(&["mousemove", "--window", id, "400", "100"]);
+        x.xdotool(&["mousemove", "--window", id, "300", "100", "mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(500));
+        x.xdotool(&["windowfocus", "--sync", id, "key", "s"]);
+        let start = Instant::now();
+        while pngs(&dir).is_empty() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    });
+    let frames = reported(&stderr, "viewed ");
+    let shaded = reported(&stderr, "frames (");
+    println!("compare: idle, drag and S: {frames} frames, the balls shaded {shaded} times");
+    // As `idle_draws_nothing_and_only_the_scene_area_orbits`: the first frame, the drag's
+    // two or three and egui's follow-ups, well under 1.5 s of continuous drawing.
+    assert!(frames <= 30, "{frames} frames: {stderr}");
+    assert!((2..=4).contains(&shaded), "shaded {shaded} times: {stderr}");
+    let shots = pngs(&dir);
+    assert_eq!(shots.len(), 1, "{stderr}");
+    let (window, (w, _)) = scene_pixels(&shots[0], &stderr);
+    let line = [230, 230, 230, 255];
+    assert_eq!(pixel(&window, w, (300, 0)), line, "the split moved to 300");
+    assert_ne!(pixel(&window, w, (490, 0)), line, "the split left 490");
+    // The camera did not orbit: left of the split is the `on` render's top-left pixel.
+    let mut scene = Scene::reference();
+    scene.labels = false;
+    let on = vulkan()
+        .render_ldr(&shadeballs::viewer::compare::Side::On.apply(&scene), w, 720)
+        .unwrap()
+        .rgba;
+    assert_eq!(
+        &window[..4 * 250],
+        &on[..4 * 250],
+        "the first row's left part"
+    );
 }
