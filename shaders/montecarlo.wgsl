@@ -17,7 +17,7 @@
 #import shadeballs::brdf::{alpha_from_roughness, d_ggx, f_schlick, f_avg_schlick, f_micro, f_ms}
 #import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::lut::lut_loss_row
-#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale}
+#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale, sample_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, TERM_TURQUIN, TERM_FDEZ_AGUERA}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_radiance, env_sampler, env_split_sum}
@@ -217,29 +217,6 @@ fn frame_of(n: vec3<f32>) -> mat3x3<f32> {
     let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
     let bt = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
     return mat3x3<f32>(t, bt, n);
-}
-
-// A reflected direction (local frame) whose half vector follows GGX's distribution of
-// normals visible from v (Heitz 2018, "Sampling the GGX Distribution of Visible Normals",
-// JCGT 7(4), listing 1); may lie below the horizon.
-fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
-    var vh = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
-    vh = vh / max(length(vh), DIV_EPSILON);
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    var t1 = vec3<f32>(1.0, 0.0, 0.0);
-    if lensq > DIV_EPSILON {
-        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
-    }
-    let t2 = cross(vh, t1);
-    let r = sqrt(u1);
-    let phi = 2.0 * PI * u2;
-    let p1 = r * cos(phi);
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
-    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
-    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
-    let h = ne / max(length(ne), DIV_EPSILON);
-    return 2.0 * dot(v, h) * h - v;
 }
 
 // Density (solid angle) of sample_vndf at l: G1(v) D(h) / (4 mu_o), G1 / mu_o written
