@@ -121,7 +121,8 @@ pub fn errors_by_roughness(
     Ok(out)
 }
 
-fn linear(rgba: &[f32]) -> Vec<DVec3> {
+/// Linear RGB of an `Rgba32Float` image's pixels (alpha dropped).
+pub(super) fn linear(rgba: &[f32]) -> Vec<DVec3> {
     rgba.chunks_exact(4)
         .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
         .collect()

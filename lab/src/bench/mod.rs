@@ -5,7 +5,9 @@
 //!
 //! Sweeps: baking (`bake.rs`), reading on the CPU and the GPU (`read.rs`, `lookup.rs`),
 //! planning (`plan.rs`: a scene's rows against the table), rendering (`render.rs`,
-//! `render_sweep.rs`, against the exact model of `exact.rs`), startup (`startup.rs`).
+//! `render_sweep.rs`, against the exact model of `exact.rs`), startup (`startup.rs`),
+//! scale (`scale.rs`), image-based lighting (`ibl.rs`, `harmonics.rs`) and the cost against
+//! error of each way the map lights the balls (`light.rs`).
 
 mod bake;
 pub mod device;
@@ -13,6 +15,7 @@ pub mod exact;
 pub mod harmonics;
 pub mod ibl;
 mod kernel;
+pub mod light;
 pub mod lookup;
 mod plan;
 mod read;
@@ -67,10 +70,11 @@ pub enum SweepKind {
     Startup,
     Scale,
     Ibl,
+    Light,
 }
 
 impl SweepKind {
-    pub const ALL: [SweepKind; 8] = [
+    pub const ALL: [SweepKind; 9] = [
         SweepKind::Bake,
         SweepKind::Plan,
         SweepKind::Read,
@@ -79,6 +83,7 @@ impl SweepKind {
         SweepKind::Startup,
         SweepKind::Scale,
         SweepKind::Ibl,
+        SweepKind::Light,
     ];
 
     pub fn name(self) -> &'static str {
@@ -91,6 +96,7 @@ impl SweepKind {
             SweepKind::Startup => "startup",
             SweepKind::Scale => "scale",
             SweepKind::Ibl => "ibl",
+            SweepKind::Light => "light",
         }
     }
 
@@ -103,6 +109,7 @@ impl SweepKind {
                 | SweepKind::Startup
                 | SweepKind::Scale
                 | SweepKind::Ibl
+                | SweepKind::Light
         )
     }
 }
@@ -170,7 +177,12 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             if options.wants(SweepKind::Lookup) {
                 sweeps.push(read::lookup_sweep(&gpu, quick)?);
             }
-            let renders = [SweepKind::Render, SweepKind::Scale, SweepKind::Ibl];
+            let renders = [
+                SweepKind::Render,
+                SweepKind::Scale,
+                SweepKind::Ibl,
+                SweepKind::Light,
+            ];
             if renders.iter().any(|&k| options.wants(k)) {
                 let mut renderer = shadeballs::gpu::Renderer::new(gpu);
                 if options.wants(SweepKind::Render) {
@@ -182,6 +194,9 @@ pub fn run(options: &BenchOptions) -> Result<String> {
                 if options.wants(SweepKind::Ibl) {
                     sweeps.push(ibl::ibl_sweep(&mut renderer, quick)?);
                     sweeps.push(harmonics::harmonics_sweep(quick)?);
+                }
+                if options.wants(SweepKind::Light) {
+                    sweeps.push(light::light_sweep(&mut renderer, quick)?);
                 }
             } else {
                 drop(gpu);

@@ -1,0 +1,612 @@
+//! Cost against error for light (issue 26): each way the map lights the balls, its frame
+//! time at 1280x720 against its whole image's error, the curve of `light.png`.
+//!
+//! Methods: the split sum (read along the dominant direction, the renderer's only split
+//! sum: no switch to the plain mirror direction exists, see [`PLAIN_MIRROR`]), the lobe
+//! mode at N = 1, 2, 4, ..., 64 samples a pixel in one frame, and the progressive lobe
+//! mode: frames `0..k` of [`DEFAULT_IBL_SAMPLES`] samples each averaged
+//! ([`Renderer::render_lobe_hdr`]), k = 1, 2, 4, ...
+//!
+//! Error: each method's GPU image (linear, one ray through each pixel's centre) against
+//! the GPU Monte Carlo of the same model ([`Renderer::render_montecarlo`], also centre
+//! rays: like with like, checked by [`errors_by_roughness`]), per roughness the mean
+//! relative error of luminance over the pixels of the two balls of that roughness (the ibl
+//! bench's measure, its function), with the Monte Carlo's own mean relative standard error
+//! beside it. Balls: the ibl bench's metals ([`ibl_scene`], copper over white) and
+//! plastics (the same layout, red IOR 1.5 over blue IOR 1.33 of `assets/scenes/plastic.toml`),
+//! every ball with the Kulla-Conty term, under `studio` and `sky`.
+//!
+//! Cost: the median wall time of a 1280x720 frame, each submitted and waited for, the
+//! methods' frames in turn within each round (the first method of a round rotating), and
+//! the median over rounds of the ratio to the split sum's frame of the same round. The
+//! progressive image after k frames costs k lobe frames of its N (the frame index changes
+//! a uniform, not the work).
+
+use glam::DVec3;
+
+use super::ibl::{errors_by_roughness, ibl_scene, linear};
+use super::table::{sci, Table};
+use super::{device, median, Goal, Sweep};
+use crate::plot::{Plot, Series, Style};
+use shadeballs::environment::{Builtin, Environment, IblMethod, IblTerm, DEFAULT_IBL_SAMPLES};
+use shadeballs::error::Result;
+use shadeballs::gpu::{Renderer, Target};
+use shadeballs::lut::BakeConfig;
+use shadeballs::scene::{srgb_decode, Material, Scene};
+use shadeballs::stats::MonteCarloImage;
+
+/// Lobe samples a pixel of the one-frame lobe rows.
+pub const LOBE_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
+/// The frame size the cost is measured at.
+pub const FRAME_SIZE: (u32, u32) = (1280, 720);
+/// The Monte Carlo reference's seed.
+const MC_SEED: u64 = 7;
+/// Why the split sum along the plain mirror direction has no row.
+pub const PLAIN_MIRROR: &str = "split sum along the plain mirror direction (no switch: \
+    `specular_direction` of shaders/environment.wgsl always bends r towards n, called from \
+    lighting.wgsl and coating.wgsl)";
+/// The Monte Carlo's noise counts as well under an error when at most this fraction of it
+/// (a fifth: the mean absolute error it adds to a noiseless image's is about 0.8 times
+/// its standard error, so a fifth moves a measured error by at most about a sixth).
+pub const NOISE_FRACTION: f64 = 0.2;
+
+/// How a method lights the balls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// One prefiltered read along the dominant direction.
+    SplitSum,
+    /// `samples` of the lobe in one frame.
+    Lobe,
+    /// `frames` frames of `samples` lobe samples, averaged.
+    Progressive,
+}
+
+impl Family {
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::SplitSum => "split-sum",
+            Family::Lobe => "lobe",
+            Family::Progressive => "lobe-progressive",
+        }
+    }
+}
+
+/// The balls' material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightMaterial {
+    /// The ibl bench's copper row over a white metal row.
+    Metal,
+    /// Red plastic (IOR 1.5) over blue plastic (IOR 1.33).
+    Plastic,
+}
+
+impl LightMaterial {
+    pub const ALL: [LightMaterial; 2] = [LightMaterial::Metal, LightMaterial::Plastic];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LightMaterial::Metal => "metal",
+            LightMaterial::Plastic => "plastic",
+        }
+    }
+}
+
+/// One method: its family, lobe samples a frame (0 for the split sum) and frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Method {
+    pub family: Family,
+    pub samples: u32,
+    pub frames: u32,
+}
+
+impl Method {
+    /// `base` lit by this method.
+    pub fn scene(&self, base: &Scene) -> Scene {
+        let mut scene = base.clone();
+        if self.family == Family::SplitSum {
+            scene.ibl_method = IblMethod::SplitSum;
+        } else {
+            scene.ibl_method = IblMethod::Lobe;
+            scene.ibl_samples = self.samples;
+        }
+        scene
+    }
+}
+
+/// The methods measured: the split sum, the lobe at each of [`LOBE_SAMPLES`], the
+/// progressive lobe after each of `frames`.
+pub fn methods(frames: &[u32]) -> Vec<Method> {
+    let mut out = vec![Method {
+        family: Family::SplitSum,
+        samples: 0,
+        frames: 1,
+    }];
+    out.extend(LOBE_SAMPLES.iter().map(|&samples| Method {
+        family: Family::Lobe,
+        samples,
+        frames: 1,
+    }));
+    out.extend(frames.iter().map(|&frames| Method {
+        family: Family::Progressive,
+        samples: DEFAULT_IBL_SAMPLES,
+        frames,
+    }));
+    out
+}
+
+/// The measured balls under `environment`: the ibl bench's metals, or the same layout in
+/// plastics (top row red IOR 1.5, bottom row blue IOR 1.33, `assets/scenes/plastic.toml`'s
+/// colours as its `base_color` keys decode them), every ball with the Kulla-Conty term,
+/// one ray through each pixel's centre.
+pub fn light_scene(environment: Environment, material: LightMaterial) -> Scene {
+    let mut scene = ibl_scene(environment, IblTerm::KullaConty);
+    if material == LightMaterial::Plastic {
+        let red = Material::dielectric(srgb_decode([0.85, 0.15, 0.1]), 1.5);
+        let blue = Material::dielectric(srgb_decode([0.2, 0.45, 0.85]), 1.33);
+        let top = scene
+            .balls
+            .iter()
+            .map(|b| b.center.y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        for b in scene.balls.iter_mut() {
+            b.material = if b.center.y == top { red } else { blue };
+        }
+    }
+    scene
+}
+
+/// `method`'s linear image of `base` at `size` (the progressive one through
+/// [`Renderer::render_lobe_hdr`]).
+pub fn method_image(
+    renderer: &mut Renderer,
+    base: &Scene,
+    method: Method,
+    (w, h): (u32, u32),
+) -> Result<Vec<DVec3>> {
+    let scene = method.scene(base);
+    let image = if method.family == Family::Progressive {
+        renderer.render_lobe_hdr(&scene, w, h, method.frames)?
+    } else {
+        renderer.set_lobe_frame(0);
+        renderer.render_hdr(&scene, w, h)?
+    };
+    Ok(linear(&image.rgba))
+}
+
+/// The Monte Carlo of `scene`'s model on the GPU: `spp` estimates a pixel at `size`.
+pub fn reference(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    size: (u32, u32),
+    spp: u32,
+) -> Result<MonteCarloImage> {
+    renderer.render_montecarlo(scene, size, spp, MC_SEED)
+}
+
+/// Frames of each of `scenes` at [`FRAME_SIZE`], in turn, `repeats` rounds after a warm-up
+/// round (pipelines, the driver's compile, the map's preparation), round `r` starting at
+/// scene `r mod n`: per scene its frame times (ms), and per scene the median over rounds of
+/// its time over scene 0's of the same round.
+pub fn frame_times(
+    renderer: &mut Renderer,
+    scenes: &[Scene],
+    repeats: usize,
+) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
+    let (w, h) = FRAME_SIZE;
+    let (_texture, view) = device::frame_target(renderer.gpu(), w, h);
+    let target = Target {
+        view: &view,
+        format: device::FRAME_FORMAT,
+        width: w,
+        height: h,
+    };
+    renderer.set_lobe_frame(0);
+    let n = scenes.len();
+    let mut times = vec![Vec::new(); n];
+    for round in 0..=repeats.max(1) {
+        for j in 0..n {
+            let k = (round + j) % n;
+            let start = std::time::Instant::now();
+            renderer.render(&scenes[k], target)?;
+            device::wait(renderer.gpu())?;
+            if round > 0 {
+                times[k].push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    let ratios = times
+        .iter()
+        .map(|t| {
+            let mut r: Vec<f64> = t.iter().zip(&times[0]).map(|(a, b)| a / b).collect();
+            median(&mut r)
+        })
+        .collect();
+    Ok((times, ratios))
+}
+
+/// The sizes, samples and repeats of a run.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// The error images' size.
+    pub size: (u32, u32),
+    /// The Monte Carlo reference's estimates a pixel.
+    pub spp: u32,
+    /// Rounds of timed frames.
+    pub repeats: usize,
+    /// The progressive rows' frame counts.
+    pub frames: Vec<u32>,
+}
+
+impl Settings {
+    pub fn new(quick: bool) -> Self {
+        if quick {
+            Settings {
+                size: (96, 54),
+                spp: 1024,
+                repeats: 2,
+                frames: vec![1, 4],
+            }
+        } else {
+            // 16384 estimates keep the reference's mean relative standard error near
+            // 0.5 % under the studio (2.1 % at 1024, `render --backend montecarlo`), under
+            // the errors measured (reported per row).
+            Settings {
+                size: (160, 90),
+                spp: 16384,
+                repeats: 11,
+                frames: vec![1, 2, 4, 8, 16, 32, 64],
+            }
+        }
+    }
+}
+
+/// One measured method of one configuration.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub method: Method,
+    /// (roughness, mean, p99, Monte Carlo noise) per roughness ([`errors_by_roughness`]).
+    pub errors: Vec<(f64, f64, f64, f64)>,
+    /// Median frame time (ms) of one frame of the method's scene.
+    pub frame_ms: f64,
+    /// The image's cost over the split sum's frame (k frames for the progressive rows).
+    pub ratio: f64,
+}
+
+impl Measured {
+    /// The worst mean relative error over the roughness values `>= min_roughness`.
+    pub fn worst(&self, min_roughness: f64) -> f64 {
+        self.errors
+            .iter()
+            .filter(|e| e.0 >= min_roughness)
+            .map(|e| e.1)
+            .fold(0.0, f64::max)
+    }
+
+    /// The Monte Carlo's noise over the same roughness values (their mean).
+    pub fn noise(&self, min_roughness: f64) -> f64 {
+        let n: Vec<f64> = self
+            .errors
+            .iter()
+            .filter(|e| e.0 >= min_roughness)
+            .map(|e| e.3)
+            .collect();
+        n.iter().sum::<f64>() / n.len().max(1) as f64
+    }
+
+    /// The image's cost in ms (k frames for the progressive rows).
+    pub fn image_ms(&self) -> f64 {
+        self.frame_ms * f64::from(self.method.frames)
+    }
+}
+
+/// Every method of `settings` on `base`: errors against one Monte Carlo reference and the
+/// frame times of the same run.
+pub fn measure(
+    renderer: &mut Renderer,
+    base: &Scene,
+    settings: &Settings,
+) -> Result<(Vec<Measured>, MonteCarloImage)> {
+    let reference = reference(renderer, base, settings.size, settings.spp)?;
+    let all = (f64::NEG_INFINITY, f64::INFINITY);
+    let methods = methods(&settings.frames);
+    // One timed scene per distinct frame (the progressive rows time the lobe's frame).
+    let timed: Vec<Method> = methods
+        .iter()
+        .filter(|m| m.family != Family::Progressive)
+        .copied()
+        .collect();
+    let scenes: Vec<Scene> = timed.iter().map(|m| m.scene(base)).collect();
+    let (mut times, ratios) = frame_times(renderer, &scenes, settings.repeats)?;
+    let mut out = Vec::new();
+    for method in methods {
+        let (w, h) = settings.size;
+        let image = method_image(renderer, base, method, (w, h))?;
+        let errors = errors_by_roughness(&method.scene(base), w, h, &image, &reference, all)?;
+        let per_frame = Method {
+            family: Family::Lobe,
+            frames: 1,
+            ..method
+        };
+        let k = timed
+            .iter()
+            .position(|m| *m == method || (method.family == Family::Progressive && *m == per_frame))
+            .expect("every method's frame is timed");
+        out.push(Measured {
+            method,
+            errors,
+            frame_ms: median(&mut times[k]),
+            ratio: ratios[k] * f64::from(method.frames),
+        });
+    }
+    Ok((out, reference))
+}
+
+fn method_cells(m: &Method) -> [String; 3] {
+    let samples = if m.family == Family::SplitSum {
+        "-".to_string()
+    } else {
+        m.samples.to_string()
+    };
+    [m.family.name().to_string(), samples, m.frames.to_string()]
+}
+
+/// The two tables of the sweep: per roughness (`light.csv`) and the curve (`light_cost.csv`).
+fn tables(settings: &Settings) -> (Table, Table) {
+    let (w, h) = settings.size;
+    let (fw, fh) = FRAME_SIZE;
+    let errors = Table::new(
+        "light",
+        &format!(
+            "Light: each method's whole image against the GPU Monte Carlo of the same model ({w}x{h}, {} spp, centre rays on both sides; relative error of luminance over the ball pixels of each roughness)",
+            settings.spp
+        ),
+        &[
+            "environment",
+            "material",
+            "method",
+            "samples",
+            "frames",
+            "roughness",
+            "mean_rel_err",
+            "p99_rel_err",
+            "mc_rel_std_err",
+        ],
+    );
+    let cost = Table::new(
+        "light_cost",
+        &format!(
+            "Light: cost against error ({fw}x{fh} frames in turn, median; ratio: the image's cost over the split sum's frame, median over rounds; errors: worst over the roughness values of the mean relative error)"
+        ),
+        &[
+            "environment",
+            "material",
+            "method",
+            "samples",
+            "frames",
+            "frame_ms",
+            "image_ms",
+            "ratio",
+            "worst_err_r03",
+            "worst_err_all",
+            "mc_rel_std_err",
+        ],
+    );
+    (errors, cost)
+}
+
+/// Adds `measured` of one configuration to the tables.
+fn push_rows(errors: &mut Table, cost: &mut Table, config: [&str; 2], measured: &[Measured]) {
+    for m in measured {
+        let [family, samples, frames] = method_cells(&m.method);
+        for &(r, mean, p99, noise) in &m.errors {
+            errors.push(vec![
+                config[0].into(),
+                config[1].into(),
+                family.clone(),
+                samples.clone(),
+                frames.clone(),
+                format!("{r}"),
+                sci(mean),
+                sci(p99),
+                sci(noise),
+            ]);
+        }
+        cost.push(vec![
+            config[0].into(),
+            config[1].into(),
+            family,
+            samples,
+            frames,
+            format!("{:.2}", m.frame_ms),
+            format!("{:.2}", m.image_ms()),
+            format!("{:.3}", m.ratio),
+            sci(m.worst(0.3)),
+            sci(m.worst(0.0)),
+            sci(m.noise(0.0)),
+        ]);
+    }
+}
+
+/// The curve's series of one configuration: one per family, x the cost ratio, y the worst
+/// error at roughness >= 0.3; metals marked, plastics dashed, a colour per family.
+fn curve_series(material: LightMaterial, measured: &[Measured]) -> Vec<Series> {
+    let split_colour = match material {
+        LightMaterial::Metal => [0, 0, 0],
+        LightMaterial::Plastic => [150, 150, 150],
+    };
+    let families = [
+        (Family::SplitSum, split_colour),
+        (Family::Lobe, [0, 114, 178]),
+        (Family::Progressive, [213, 94, 0]),
+    ];
+    families
+        .iter()
+        .map(|&(family, colour)| Series {
+            label: format!("{}, {}", material.name(), family.name()),
+            points: measured
+                .iter()
+                .filter(|m| m.method.family == family)
+                .map(|m| (m.ratio, m.worst(0.3).max(1e-6)))
+                .collect(),
+            colour: Some(colour),
+            style: match (family, material) {
+                (Family::SplitSum, _) => Style::Points,
+                (_, LightMaterial::Metal) => Style::Marked,
+                (_, LightMaterial::Plastic) => Style::Dashed,
+            },
+        })
+        .collect()
+}
+
+/// The cheapest lobe or progressive row whose worst error at roughness >= 0.3 is within the
+/// split sum's, as a sentence.
+fn break_even(config: &str, measured: &[Measured]) -> String {
+    let Some(split_row) = measured
+        .iter()
+        .find(|m| m.method.family == Family::SplitSum)
+    else {
+        return format!("{config}: no split-sum row");
+    };
+    let split = split_row.worst(0.3);
+    // The same errors to the last digit: the same image.
+    if measured.iter().all(|m| m.errors == split_row.errors) {
+        return format!(
+            "{config}: split sum {:.2} %; every lobe row's image is the split sum's (the same errors): the lobe mode does not shade this material on this commit",
+            100.0 * split
+        );
+    }
+    let best = measured
+        .iter()
+        .filter(|m| m.method.family != Family::SplitSum && m.worst(0.3) <= split)
+        .min_by(|a, b| a.ratio.total_cmp(&b.ratio));
+    match best {
+        Some(m) => format!(
+            "{config}: split sum {:.2} %; the cheapest lobe row within it: {} N = {} x {} frames, {:.2} % at {:.2}x",
+            100.0 * split,
+            m.method.family.name(),
+            m.method.samples,
+            m.method.frames,
+            100.0 * m.worst(0.3),
+            m.ratio
+        ),
+        None => format!(
+            "{config}: split sum {:.2} %; no lobe row measured within it",
+            100.0 * split
+        ),
+    }
+}
+
+/// The light sweep on `renderer`.
+pub fn light_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
+    renderer.set_draw_options(shadeballs::gpu::DrawOptions::default());
+    renderer.set_bake_config(BakeConfig::default());
+    renderer.set_multiple_scattering_term(true);
+    let settings = Settings::new(quick);
+    let (mut errors, mut cost) = tables(&settings);
+    let mut plots = Vec::new();
+    let mut notes = Vec::new();
+    let mut checks = Checks::default();
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let environment = Environment::builtin(builtin);
+        let mut series = Vec::new();
+        for material in LightMaterial::ALL {
+            let base = light_scene(environment.clone(), material);
+            let (measured, _) = measure(renderer, &base, &settings)?;
+            let config = [builtin.name(), material.name()];
+            push_rows(&mut errors, &mut cost, config, &measured);
+            notes.push(break_even(
+                &format!("{builtin}, {}", material.name()),
+                &measured,
+            ));
+            checks.add(material, &measured);
+            series.extend(curve_series(material, &measured));
+        }
+        plots.push((
+            format!("light_{builtin}"),
+            Plot {
+                title: format!(
+                    "Light under {builtin}: cost against error (GPU Monte Carlo reference)"
+                ),
+                x_label: format!(
+                    "cost over the split sum's frame ({}x{})",
+                    FRAME_SIZE.0, FRAME_SIZE.1
+                ),
+                y_label: "worst mean relative error, roughness >= 0.3".into(),
+                series,
+                goals: Vec::new(),
+            },
+        ));
+    }
+    notes.push(format!("Not measured: {PLAIN_MIRROR}."));
+    cost.note = notes.join("\n\n");
+    Ok(Sweep {
+        tables: vec![errors, cost],
+        plots,
+        goals: checks.goals(),
+    })
+}
+
+/// The sweep's checks, over every configuration.
+#[derive(Default)]
+struct Checks {
+    /// The largest Monte Carlo noise over the smallest worst error of a configuration.
+    noise_over_error: f64,
+    /// Metals: (lobe N = 1, lobe N = 64) worst errors at roughness >= 0.3.
+    lobe_ends: Vec<(f64, f64)>,
+    /// Metals: (first, last) progressive worst errors.
+    progressive_ends: Vec<(f64, f64)>,
+}
+
+impl Checks {
+    fn add(&mut self, material: LightMaterial, measured: &[Measured]) {
+        let smallest = measured
+            .iter()
+            .map(|m| m.worst(0.3))
+            .fold(f64::INFINITY, f64::min);
+        let noise = measured.iter().map(|m| m.noise(0.3)).fold(0.0, f64::max);
+        self.noise_over_error = self.noise_over_error.max(noise / smallest);
+        if material != LightMaterial::Metal {
+            return;
+        }
+        let ends = |family: Family| {
+            let rows: Vec<f64> = measured
+                .iter()
+                .filter(|m| m.method.family == family)
+                .map(|m| m.worst(0.3))
+                .collect();
+            (
+                rows.first().copied().unwrap_or(f64::NAN),
+                rows.last().copied().unwrap_or(f64::NAN),
+            )
+        };
+        self.lobe_ends.push(ends(Family::Lobe));
+        self.progressive_ends.push(ends(Family::Progressive));
+    }
+
+    fn goals(&self) -> Vec<Goal> {
+        let pct = |v: &[(f64, f64)]| {
+            v.iter()
+                .map(|(a, b)| format!("{:.2} -> {:.2} %", 100.0 * a, 100.0 * b))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let falls = |v: &[(f64, f64)]| !v.is_empty() && v.iter().all(|(a, b)| b < a);
+        vec![
+            Goal {
+                what: format!("light: the Monte Carlo reference's mean relative standard error at most {NOISE_FRACTION} of the smallest error it measures (roughness >= 0.3, every configuration)"),
+                figure: format!("worst {:.3} of it (light.csv)", self.noise_over_error),
+                met: self.noise_over_error <= NOISE_FRACTION,
+            },
+            Goal {
+                what: "light: the lobe's error falls from N = 1 to N = 64 (metals, studio and sky, worst at roughness >= 0.3)".into(),
+                figure: pct(&self.lobe_ends),
+                met: falls(&self.lobe_ends),
+            },
+            Goal {
+                what: "light: the progressive lobe's error falls from its first frame count to its last (metals)".into(),
+                figure: pct(&self.progressive_ends),
+                met: falls(&self.progressive_ends),
+            },
+        ]
+    }
+}
