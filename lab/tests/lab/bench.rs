@@ -135,6 +135,7 @@ fn bench_only_runs_the_named_sweeps() {
         "startup",
         "scale_balls",
         "ibl",
+        "light",
     ] {
         assert!(
             !dir.join(format!("{other}.csv")).exists(),
@@ -144,7 +145,7 @@ fn bench_only_runs_the_named_sweeps() {
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(
         summary.contains(
-            "Not measured: bake, read, lookup, render, startup, scale, ibl (not in --only)"
+            "Not measured: bake, read, lookup, render, startup, scale, ibl, light (not in --only)"
         ),
         "{summary}"
     );

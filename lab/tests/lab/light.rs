@@ -1,0 +1,158 @@
+//! `shadeballs-lab bench --only light` (issue 26, cost against error for light): the quick
+//! run writes its tables, plots and checks, the lobe's error falls as its samples grow, and
+//! the split sum's error against the GPU Monte Carlo is the ibl bench's against the CPU's.
+
+use std::collections::HashSet;
+
+use shadeballs::cpu::{render_montecarlo_part, Part};
+use shadeballs::environment::{Builtin, Environment, IblTerm};
+use shadeballs::lut::{self, BakeConfig, TableSet};
+use shadeballs_lab::bench::ibl::{errors_by_roughness, ibl_scene};
+use shadeballs_lab::bench::light::{
+    light_scene, method_image, methods, reference, Family, LightMaterial, LOBE_SAMPLES,
+};
+
+use crate::cli::{lab, temp_dir};
+use crate::pixels::vulkan;
+
+/// A CSV file of the run as a header and rows of cells.
+fn read_csv(dir: &std::path::Path, name: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(dir.join(format!("{name}.csv")))
+        .unwrap_or_else(|e| panic!("{name}.csv: {e}"));
+    let mut lines = text.lines();
+    let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
+    let header = split(lines.next().expect("a header"));
+    (header, lines.map(split).collect())
+}
+
+/// The worst error at roughness >= 0.3 of the cost table's row `(env, material, method,
+/// samples, frames)`.
+fn worst(rows: &[Vec<String>], key: [&str; 5]) -> f64 {
+    let row = rows
+        .iter()
+        .find(|r| r[..5] == key)
+        .unwrap_or_else(|| panic!("no row {key:?}"));
+    row[8].parse().unwrap()
+}
+
+#[test]
+fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
+    let dir = temp_dir("bench-light");
+    let (ok, stderr) = lab(&[
+        "bench",
+        "--quick",
+        "--only",
+        "light",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "bench --only light failed: {stderr}");
+    // The quick run's frame counts of the progressive rows (light::Settings::new(true)).
+    let frames = [1, 4];
+    let n_methods = methods(&frames).len();
+    assert_eq!(n_methods, 1 + LOBE_SAMPLES.len() + frames.len());
+    let (header, rows) = read_csv(&dir, "light");
+    assert_eq!(
+        header.join(","),
+        "environment,material,method,samples,frames,roughness,mean_rel_err,p99_rel_err,mc_rel_std_err"
+    );
+    // 2 environments x 2 materials x the methods x 5 roughness values.
+    assert_eq!(rows.len(), 4 * n_methods * 5);
+    let (header, cost) = read_csv(&dir, "light_cost");
+    assert_eq!(header[5..8].join(","), "frame_ms,image_ms,ratio");
+    assert_eq!(cost.len(), 4 * n_methods);
+    for row in rows.iter().chain(&cost) {
+        for cell in row.iter().skip(5) {
+            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{row:?}"));
+            assert!(v.is_finite() && v >= 0.0, "{row:?}");
+        }
+    }
+    for env in ["studio", "sky"] {
+        // Metals: 64 times the samples. A noise-bound error falls about 8x; a quarter leaves
+        // room for the lobe's bias and the reference's noise (1024 spp, about 2 %).
+        let n1 = worst(&cost, [env, "metal", "lobe", "1", "1"]);
+        let n64 = worst(&cost, [env, "metal", "lobe", "64", "1"]);
+        assert!(n64 < 0.25 * n1, "{env}: lobe N = 1 {n1}, N = 64 {n64}");
+        // Four frames of 16 samples: the noise about halves; three quarters leaves room.
+        let k1 = worst(&cost, [env, "metal", "lobe-progressive", "16", "1"]);
+        let k4 = worst(&cost, [env, "metal", "lobe-progressive", "16", "4"]);
+        assert!(
+            k4 < 0.75 * k1,
+            "{env}: progressive 1 frame {k1}, 4 frames {k4}"
+        );
+        // One frame of the progressive mode is the lobe's frame 0 at its N: the same image.
+        assert_eq!(k1, worst(&cost, [env, "metal", "lobe", "16", "1"]));
+        for material in ["metal", "plastic"] {
+            let split = cost
+                .iter()
+                .find(|r| r[0] == env && r[1] == material && r[2] == "split-sum")
+                .expect("a split-sum row");
+            assert_eq!(split[7], "1.000", "the split sum's ratio to itself");
+        }
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    for text in [
+        "Made at commit",
+        "the lobe's error falls from N = 1 to N = 64",
+        "Not measured: split sum along the plain mirror direction",
+        "(light_studio.png)",
+        "(light_sky.png)",
+    ] {
+        assert!(summary.contains(text), "summary lacks '{text}'");
+    }
+    for name in ["light_studio", "light_sky"] {
+        let img = image::open(dir.join(format!("{name}.png")))
+            .unwrap_or_else(|e| panic!("{name}.png: {e}"))
+            .to_rgb8();
+        let colours: HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        assert!(colours.len() > 20, "{name}.png looks blank");
+    }
+}
+
+/// The light bench's split sum on the metals is the ibl bench's kulla-conty image, and its
+/// error against the GPU Monte Carlo is the ibl bench's against the CPU Monte Carlo of the
+/// same model, per roughness, to within the two references' noise.
+#[test]
+fn light_split_sum_error_is_the_ibl_benchs() {
+    let mut renderer = vulkan();
+    let (w, h) = (96, 54);
+    let all = (f64::NEG_INFINITY, f64::INFINITY);
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let environment = Environment::builtin(builtin);
+        let scene = light_scene(environment.clone(), LightMaterial::Metal);
+        let ibl = ibl_scene(environment, IblTerm::KullaConty);
+        assert_eq!(
+            scene, ibl,
+            "the light bench's metals are the ibl bench's balls"
+        );
+        let split = methods(&[])[0];
+        assert_eq!(split.family, Family::SplitSum);
+        let image = method_image(&mut renderer, &scene, split, (w, h)).unwrap();
+        let gpu_mc = reference(&mut renderer, &scene, (w, h), 4096).unwrap();
+        let e = TableSet::full(lut::bake(&BakeConfig {
+            geometry: scene.effective_geometry(),
+            ..BakeConfig::default()
+        }));
+        let cpu_mc = render_montecarlo_part(&scene, &e, w, h, 2048, 7, Part::Whole).unwrap();
+        let light = errors_by_roughness(&scene, w, h, &image, &gpu_mc, all).unwrap();
+        let theirs = errors_by_roughness(&scene, w, h, &image, &cpu_mc, all).unwrap();
+        for (a, b) in light.iter().zip(&theirs) {
+            // Each reference's noise moves a mean relative error by at most about its own
+            // mean relative standard error (0.8 of it where the noise dominates a pixel's
+            // error, less where the method's own error does): the sum of the two bounds
+            // the difference.
+            let bound = a.3 + b.3;
+            println!(
+                "{builtin}, roughness {}: {:.4} (GPU Monte Carlo), {:.4} (CPU), bound {bound:.4}",
+                a.0, a.1, b.1
+            );
+            assert!(
+                (a.1 - b.1).abs() <= bound,
+                "{builtin}, roughness {}: {:.4} against the GPU Monte Carlo, {:.4} against the CPU's (bound {bound:.4})",
+                a.0,
+                a.1,
+                b.1
+            );
+        }
+    }
+}
