@@ -9,7 +9,8 @@ use shadeballs::environment::{Builtin, Environment, IblTerm};
 use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs_lab::bench::ibl::{errors_by_roughness, ibl_scene};
 use shadeballs_lab::bench::light::{
-    light_scene, method_image, methods, reference, Family, LightMaterial, LOBE_SAMPLES,
+    ball_errors, light_scene, method_image, methods, reference, row_scenes, Family, LightMaterial,
+    LOBE_SAMPLES,
 };
 
 use crate::cli::{lab, temp_dir};
@@ -54,18 +55,26 @@ fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
     let (header, rows) = read_csv(&dir, "light");
     assert_eq!(
         header.join(","),
-        "environment,material,method,samples,frames,roughness,mean_rel_err,p99_rel_err,mc_rel_std_err"
+        "environment,material,method,samples,frames,ball,roughness,mean_rel_err,p99_rel_err,mc_rel_std_err"
     );
-    // 2 environments x 2 materials x the methods x 5 roughness values.
-    assert_eq!(rows.len(), 4 * n_methods * 5);
+    // 2 environments x 2 materials x the methods x 2 rows of 5 balls.
+    assert_eq!(rows.len(), 4 * n_methods * 10);
     let (header, cost) = read_csv(&dir, "light_cost");
     assert_eq!(header[5..8].join(","), "frame_ms,image_ms,ratio");
     assert_eq!(cost.len(), 4 * n_methods);
-    for row in rows.iter().chain(&cost) {
-        for cell in row.iter().skip(5) {
-            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{row:?}"));
-            assert!(v.is_finite() && v >= 0.0, "{row:?}");
+    // The numbers: after the ball's name in light.csv, after the method in light_cost.csv.
+    let numbers = rows
+        .iter()
+        .map(|r| &r[6..])
+        .chain(cost.iter().map(|r| &r[5..]));
+    for cells in numbers {
+        for cell in cells {
+            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{cells:?}"));
+            assert!(v.is_finite() && v >= 0.0, "{cells:?}");
         }
+    }
+    for ball in ["copper", "white", "red", "blue"] {
+        assert!(rows.iter().any(|r| r[5] == ball), "no ball {ball}");
     }
     for env in ["studio", "sky"] {
         // Metals: 64 times the samples. A noise-bound error falls about 8x; a quarter leaves
@@ -135,6 +144,26 @@ fn light_split_sum_error_is_the_ibl_benchs() {
         }));
         let cpu_mc = render_montecarlo_part(&scene, &e, w, h, 2048, 7, Part::Whole).unwrap();
         let light = errors_by_roughness(&scene, w, h, &image, &gpu_mc, all).unwrap();
+        // Per ball: each row's balls alone; the pooled error of a roughness is a mean over
+        // the pixels of its two balls, so it lies between theirs.
+        let rows = row_scenes(&scene);
+        assert!(rows.iter().all(|r| r.balls.len() == 5), "two rows of five");
+        let balls = ball_errors(&scene, LightMaterial::Metal, (w, h), &image, &gpu_mc).unwrap();
+        assert_eq!(balls.len(), 10);
+        for (k, pooled) in light.iter().enumerate() {
+            let (top, bottom) = (balls[k], balls[k + 5]);
+            assert_eq!((top.row, bottom.row), ("copper", "white"));
+            assert_eq!((top.roughness, bottom.roughness), (pooled.0, pooled.0));
+            let (lo, hi) = (top.mean.min(bottom.mean), top.mean.max(bottom.mean));
+            assert!(
+                lo < hi,
+                "{builtin}: the two balls' errors are the same: {top:?}"
+            );
+            assert!(
+                (lo..=hi).contains(&pooled.1),
+                "{builtin}: pooled {pooled:?} outside {top:?}, {bottom:?}"
+            );
+        }
         let theirs = errors_by_roughness(&scene, w, h, &image, &cpu_mc, all).unwrap();
         for (a, b) in light.iter().zip(&theirs) {
             // Each reference's noise moves a mean relative error by at most about its own
