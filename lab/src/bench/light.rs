@@ -15,11 +15,11 @@
 //! plastics (the same layout, red IOR 1.5 over blue IOR 1.33 of `assets/scenes/plastic.toml`),
 //! every ball with the Kulla-Conty term, under `studio` and `sky`.
 //!
-//! Cost: the median wall time of a 1280x720 frame, each submitted and waited for, the
-//! methods' frames in turn within each round (the first method of a round rotating), and
-//! the median over rounds of the ratio to the split sum's frame of the same round. The
-//! progressive image after k frames costs k lobe frames of its N (the frame index changes
-//! a uniform, not the work).
+//! Cost: the median wall time of a 1280x720 frame (640x360 in the quick run), each
+//! submitted and waited for, the methods' frames in turn within each round (the first
+//! method of a round rotating), and the median over rounds of the ratio to the split sum's
+//! frame of the same round. The progressive image after k frames costs k lobe frames of its
+//! N (the frame index changes a uniform, not the work).
 
 use glam::DVec3;
 
@@ -36,7 +36,7 @@ use shadeballs::stats::MonteCarloImage;
 
 /// Lobe samples a pixel of the one-frame lobe rows.
 pub const LOBE_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
-/// The frame size the cost is measured at.
+/// The frame size the cost is measured at (the quick run's is smaller).
 pub const FRAME_SIZE: (u32, u32) = (1280, 720);
 /// The Monte Carlo reference's seed.
 const MC_SEED: u64 = 7;
@@ -220,16 +220,16 @@ pub fn reference(
     renderer.render_montecarlo(scene, size, spp, MC_SEED)
 }
 
-/// Frames of each of `scenes` at [`FRAME_SIZE`], in turn, `repeats` rounds after a warm-up
+/// Frames of each of `scenes` at `(w, h)`, in turn, `repeats` rounds after a warm-up
 /// round (pipelines, the driver's compile, the map's preparation), round `r` starting at
 /// scene `r mod n`: per scene its frame times (ms), and per scene the median over rounds of
 /// its time over scene 0's of the same round.
 pub fn frame_times(
     renderer: &mut Renderer,
     scenes: &[Scene],
+    (w, h): (u32, u32),
     repeats: usize,
 ) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
-    let (w, h) = FRAME_SIZE;
     let (_texture, view) = device::frame_target(renderer.gpu(), w, h);
     let target = Target {
         view: &view,
@@ -268,6 +268,8 @@ pub struct Settings {
     pub size: (u32, u32),
     /// The Monte Carlo reference's estimates a pixel.
     pub spp: u32,
+    /// The timed frames' size.
+    pub frame: (u32, u32),
     /// Rounds of timed frames.
     pub repeats: usize,
     /// The progressive rows' frame counts.
@@ -277,10 +279,13 @@ pub struct Settings {
 impl Settings {
     pub fn new(quick: bool) -> Self {
         if quick {
+            // Seconds, inside `bench --quick`'s minute: a quarter of the full run's frame
+            // and one timed round.
             Settings {
                 size: (96, 54),
                 spp: 1024,
-                repeats: 2,
+                frame: (640, 360),
+                repeats: 1,
                 frames: vec![1, 4],
             }
         } else {
@@ -291,6 +296,7 @@ impl Settings {
             Settings {
                 size: (160, 90),
                 spp: 32768,
+                frame: FRAME_SIZE,
                 repeats: 11,
                 frames: vec![1, 2, 4, 8, 16, 32, 64],
             }
@@ -359,7 +365,7 @@ pub fn measure(
         .copied()
         .collect();
     let scenes: Vec<Scene> = timed.iter().map(|m| m.scene(base)).collect();
-    let (mut times, ratios) = frame_times(renderer, &scenes, settings.repeats)?;
+    let (mut times, ratios) = frame_times(renderer, &scenes, settings.frame, settings.repeats)?;
     let mut out = Vec::new();
     for method in methods {
         let (w, h) = settings.size;
@@ -423,7 +429,7 @@ fn method_cells(m: &Method) -> [String; 3] {
 /// The two tables of the sweep: per roughness (`light.csv`) and the curve (`light_cost.csv`).
 fn tables(settings: &Settings) -> (Table, Table) {
     let (w, h) = settings.size;
-    let (fw, fh) = FRAME_SIZE;
+    let (fw, fh) = settings.frame;
     let errors = Table::new(
         "light",
         &format!(
@@ -609,7 +615,7 @@ pub fn light_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
                 ),
                 x_label: format!(
                     "cost over the split sum's frame ({}x{})",
-                    FRAME_SIZE.0, FRAME_SIZE.1
+                    settings.frame.0, settings.frame.1
                 ),
                 y_label: "worst ball's mean relative error, roughness >= 0.3".into(),
                 series,
