@@ -36,6 +36,34 @@ fn worst(rows: &[Vec<String>], key: [&str; 5]) -> f64 {
     row[8].parse().unwrap()
 }
 
+/// The cost table's metal rows: the lobe's error falls from N = 1 to 64 and over the
+/// progressive frames; the split sum's cost is its own unit.
+fn assert_the_lobe_converges(cost: &[Vec<String>]) {
+    for env in ["studio", "sky"] {
+        // Metals: 64 times the samples. A noise-bound error falls about 8x; a quarter leaves
+        // room for the lobe's bias and the reference's noise (1024 spp, about 2 %).
+        let n1 = worst(cost, [env, "metal", "lobe", "1", "1"]);
+        let n64 = worst(cost, [env, "metal", "lobe", "64", "1"]);
+        assert!(n64 < 0.25 * n1, "{env}: lobe N = 1 {n1}, N = 64 {n64}");
+        // Four frames of 16 samples: the noise about halves; three quarters leaves room.
+        let k1 = worst(cost, [env, "metal", "lobe-progressive", "16", "1"]);
+        let k4 = worst(cost, [env, "metal", "lobe-progressive", "16", "4"]);
+        assert!(
+            k4 < 0.75 * k1,
+            "{env}: progressive 1 frame {k1}, 4 frames {k4}"
+        );
+        // One frame of the progressive mode is the lobe's frame 0 at its N: the same image.
+        assert_eq!(k1, worst(cost, [env, "metal", "lobe", "16", "1"]));
+        for material in ["metal", "plastic"] {
+            let split = cost
+                .iter()
+                .find(|r| r[0] == env && r[1] == material && r[2] == "split-sum")
+                .expect("a split-sum row");
+            assert_eq!(split[7], "1.000", "the split sum's ratio to itself");
+        }
+    }
+}
+
 #[test]
 fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
     let dir = temp_dir("bench-light");
@@ -76,29 +104,7 @@ fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
     for ball in ["copper", "white", "red", "blue"] {
         assert!(rows.iter().any(|r| r[5] == ball), "no ball {ball}");
     }
-    for env in ["studio", "sky"] {
-        // Metals: 64 times the samples. A noise-bound error falls about 8x; a quarter leaves
-        // room for the lobe's bias and the reference's noise (1024 spp, about 2 %).
-        let n1 = worst(&cost, [env, "metal", "lobe", "1", "1"]);
-        let n64 = worst(&cost, [env, "metal", "lobe", "64", "1"]);
-        assert!(n64 < 0.25 * n1, "{env}: lobe N = 1 {n1}, N = 64 {n64}");
-        // Four frames of 16 samples: the noise about halves; three quarters leaves room.
-        let k1 = worst(&cost, [env, "metal", "lobe-progressive", "16", "1"]);
-        let k4 = worst(&cost, [env, "metal", "lobe-progressive", "16", "4"]);
-        assert!(
-            k4 < 0.75 * k1,
-            "{env}: progressive 1 frame {k1}, 4 frames {k4}"
-        );
-        // One frame of the progressive mode is the lobe's frame 0 at its N: the same image.
-        assert_eq!(k1, worst(&cost, [env, "metal", "lobe", "16", "1"]));
-        for material in ["metal", "plastic"] {
-            let split = cost
-                .iter()
-                .find(|r| r[0] == env && r[1] == material && r[2] == "split-sum")
-                .expect("a split-sum row");
-            assert_eq!(split[7], "1.000", "the split sum's ratio to itself");
-        }
-    }
+    assert_the_lobe_converges(&cost);
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     for text in [
         "Made at commit",
