@@ -110,7 +110,7 @@ fn prepare_map(gpu: &Gpu, environment: &Environment, config: BakeConfig) -> Envi
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     log::debug!(
         "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
-         GPU upload and prefilter {:.1} ms",
+         GPU upload and prefilter submitted in {:.1} ms",
         environment.source,
         ms(t_kernels),
         ms(t_chain - t_kernels),

@@ -273,8 +273,9 @@ impl Renderer {
     }
 
     /// Wall time of the latest preparation of an environment map: the kernels, its mip
-    /// chain and the split-sum table on the CPU, the upload and the GPU's prefiltering to
-    /// the queue's completion; `None` before any. A map drawn again while held (up to
+    /// chain and the split-sum table on the CPU, the upload and the submission of the GPU's
+    /// prefiltering (which runs on behind; wait on the queue to time it whole, as the lab's
+    /// `bench --only ibl` does); `None` before any. A map drawn again while held (up to
     /// [`MAX_PREFILTERED_MAPS`](super::MAX_PREFILTERED_MAPS)) is not prepared again.
     pub fn last_prefilter_time(&self) -> Option<Duration> {
         self.environment.last_prepared()
