@@ -632,6 +632,19 @@ impl Renderer {
         self.render_montecarlo_progressive(scene, (width, height), (spp, seed), |_| true)
     }
 
+    /// [`Renderer::render_montecarlo`] of one [`Part`](crate::stats::Part) of the model:
+    /// `Part::Multiple` integrates only the lobe the term adds (the GPU twin of
+    /// [`crate::cpu::render_montecarlo_part`]), the reference for a real-time term alone.
+    pub fn render_montecarlo_part(
+        &mut self,
+        scene: &Scene,
+        size: (u32, u32),
+        (spp, seed): (u32, u64),
+        part: crate::stats::Part,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        self.montecarlo_checked(scene, size, (spp, seed, part), |_| true)
+    }
+
     /// [`Renderer::render_montecarlo`] in passes of [`super::MC_PASS_SAMPLES`] estimates:
     /// after each pass but the last, `keep_going(estimates so far)` may stop the render
     /// (the image then holds the passes done; its `spp` says how many).
@@ -640,6 +653,18 @@ impl Renderer {
         scene: &Scene,
         (width, height): (u32, u32),
         (spp, seed): (u32, u64),
+        keep_going: impl FnMut(u32) -> bool,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        let whole = crate::stats::Part::Whole;
+        self.montecarlo_checked(scene, (width, height), (spp, seed, whole), keep_going)
+    }
+
+    /// The checks and error scopes around [`Renderer::montecarlo_passes`].
+    fn montecarlo_checked(
+        &mut self,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        (spp, seed, part): (u32, u64, crate::stats::Part),
         keep_going: impl FnMut(u32) -> bool,
     ) -> Result<crate::stats::MonteCarloImage> {
         crate::stats::check_montecarlo_inputs(scene, spp)?;
@@ -654,7 +679,7 @@ impl Renderer {
             });
         }
         let scopes = super::Scopes::push(&self.gpu.device);
-        let image = self.montecarlo_passes(scene, (width, height), (spp, seed), keep_going);
+        let image = self.montecarlo_passes(scene, (width, height), (spp, seed, part), keep_going);
         scopes.pop()?;
         self.gpu.check()?;
         image
@@ -665,7 +690,7 @@ impl Renderer {
         &mut self,
         scene: &Scene,
         size: (u32, u32),
-        (spp, seed): (u32, u64),
+        (spp, seed, part): (u32, u64, crate::stats::Part),
         keep_going: impl FnMut(u32) -> bool,
     ) -> Result<crate::stats::MonteCarloImage> {
         let frame = self.prepare_frame(scene, size.0, size.1)?;
@@ -683,6 +708,7 @@ impl Renderer {
             mu_axis: frame.plan.bake.layout.mu_axis,
             variant: frame.plan.truth_variant,
             size,
+            part,
         };
         pass.render(&self.gpu, scene, &mc, (spp, seed), keep_going)
     }
