@@ -290,6 +290,17 @@ impl Renderer {
             .map(drop)
     }
 
+    /// Hands over `chain`, built from `map` ([`MipChain::new`](crate::environment::MipChain::new))
+    /// beforehand (the CLI builds it while the device opens), for the next preparation of
+    /// that very map (the same `Arc`); a preparation of any other map builds its own.
+    pub fn offer_mip_chain(
+        &mut self,
+        map: Arc<crate::environment::EnvMap>,
+        chain: crate::environment::MipChain,
+    ) {
+        self.environment.offer_chain(map, chain);
+    }
+
     /// Rows in the memory cache.
     pub fn cached_rows(&self) -> usize {
         self.tables.cached_rows()
