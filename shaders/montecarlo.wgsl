@@ -42,7 +42,15 @@ struct McParams {
     strategies: u32,
     // Always 7: see estimate.
     shape: u32,
+    // PART_WHOLE or PART_MULTIPLE: the whole model, or the term's lobe alone (the
+    // reference for a real-time term; src/cpu/montecarlo.rs Part).
+    part: u32,
+    padding: u32,
 }
+
+// Values of McParams.part.
+const PART_WHOLE: u32 = 0u;
+const PART_MULTIPLE: u32 = 1u;
 
 // Bits of McParams.strategies.
 const STRATEGY_VNDF: u32 = 1u;
@@ -157,17 +165,20 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
 // The metal's part of model_brdf: f_micro with Schlick F per channel and the ball's term.
 fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
     let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
-    if p.ms <= 0.0 {
-        return spec;
+    var multiple = vec3<f32>(0.0);
+    if p.ms > 0.0 {
+        if b.term == TERM_TURQUIN {
+            multiple = p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o);
+        } else if b.term == TERM_FDEZ_AGUERA {
+            multiple = p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI;
+        } else {
+            multiple = p.ms * b.f_add_ms_norm.xyz * f_ms(p.loss_o, loss_i, b.f_add_ms_norm.w);
+        }
     }
-    if b.term == TERM_TURQUIN {
-        return spec + p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o);
+    if mc.part == PART_MULTIPLE {
+        return multiple;
     }
-    if b.term == TERM_FDEZ_AGUERA {
-        return spec + p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI;
-    }
-    let f_add = b.f_add_ms_norm.xyz;
-    return spec + p.ms * f_add * f_ms(p.loss_o, loss_i, b.f_add_ms_norm.w);
+    return spec + multiple;
 }
 
 // The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
@@ -191,6 +202,9 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
     var e_spec_i = 0.0;
     if two_sided(b) {
         e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
+    }
+    if mc.part == PART_MULTIPLE {
+        return vec3<f32>(p.ms * lobe);
     }
     return vec3<f32>(spec + p.ms * lobe) + coating_base(b, p.e_spec_o, e_spec_i, fresnel);
 }

@@ -18,6 +18,15 @@ pub fn median(v: &mut [f64]) -> f64 {
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
+/// Which part of the model a Monte Carlo render integrates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The whole BRDF.
+    Whole,
+    /// The multiple-scattering lobe alone (what the term adds; zero on balls without it).
+    Multiple,
+}
+
 /// A Monte Carlo image: per pixel (row-major, row 0 at the top) the mean linear radiance of
 /// `spp` independent estimates and the standard error of that mean.
 #[derive(Clone, Debug, PartialEq)]

@@ -21,34 +21,45 @@ use crate::scene::Scene;
 /// `montecarlo` tries `auto`'s adapters, and falls back to the CPU estimator with a notice
 /// where there is none or it cannot render to `Rgba32Float`.
 pub fn open(backend: Backend) -> Result<Option<Renderer>> {
+    let (renderer, notice) = open_quietly(backend)?;
+    if let Some(notice) = notice {
+        eprintln!("{notice}");
+    }
+    Ok(renderer)
+}
+
+/// [`open`], with the fallback's warning or notice returned rather than printed (`run`
+/// opens the device beside reading the scene and prints it only once the scene is read,
+/// so a bad scene file still gets one line).
+fn open_quietly(backend: Backend) -> Result<(Option<Renderer>, Option<String>)> {
     let tried = if backend == Backend::Montecarlo {
         Backend::Auto
     } else {
         backend
     };
     let Some(backends) = tried.wgpu_backends() else {
-        return Ok(None);
+        return Ok((None, None));
     };
     let renderer = match Gpu::new(backends) {
         Ok(gpu) => Renderer::new(gpu),
         Err(e @ Error::NoAdapter { .. }) if backend == Backend::Auto => {
-            eprintln!("warning: {e}; falling back to the CPU reference renderer");
-            return Ok(None);
+            let warning = format!("warning: {e}; falling back to the CPU reference renderer");
+            return Ok((None, Some(warning)));
         }
         Err(e @ Error::NoAdapter { .. }) if backend == Backend::Montecarlo => {
-            eprintln!("notice: {e}; the Monte Carlo backend runs on the CPU");
-            return Ok(None);
+            let notice = format!("notice: {e}; the Monte Carlo backend runs on the CPU");
+            return Ok((None, Some(notice)));
         }
         Err(e) => return Err(e),
     };
     if backend == Backend::Montecarlo && !renderer.truth_supported() {
-        eprintln!(
+        let notice = format!(
             "notice: {} cannot render to Rgba32Float; the Monte Carlo backend runs on the CPU",
             renderer.gpu().describe()
         );
-        return Ok(None);
+        return Ok((None, Some(notice)));
     }
-    Ok(Some(renderer))
+    Ok((Some(renderer), None))
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
@@ -56,19 +67,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     let sidecar = check_before_the_work(&args, kind)?;
-    let mut scene = args.scene.load()?;
-    if args.backend == Backend::Truth {
-        // Every ball is the walk's (and its label says so).
-        for b in &mut scene.balls {
-            b.model = crate::scene::Model::Truth;
-        }
-    }
-    // Reading the scene can wait (a FIFO, a slow disk): its own phase, not the device's.
-    phases.mark("scene");
+    let (scene, renderer) = scene_beside_the_device(&args, &mut phases)?;
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
-    let renderer = open(args.backend)?;
-    phases.mark("device");
     let (device, truth_spp) = match renderer {
         Some(mut renderer) if args.backend == Backend::Montecarlo => {
             render_montecarlo_on_gpu(&mut renderer, &scene, &args, kind, &mut phases)?
@@ -98,6 +99,57 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .into());
     }
     Ok(())
+}
+
+/// The scene, read (and its map generated or loaded, and its mip chain built where a GPU
+/// will prepare it) on this thread while the device opens on another
+/// ([`open`]'s fallback notice printed once the scene is read); phases `scene`, `mip chain`
+/// and `device` (what is left of the opening then).
+fn scene_beside_the_device(
+    args: &RenderArgs,
+    phases: &mut Phases,
+) -> anyhow::Result<(Scene, Option<Renderer>)> {
+    let backend = args.backend;
+    let opening = std::thread::spawn(move || open_quietly(backend));
+    let loaded = args.scene.load();
+    // Reading the scene can wait (a FIFO, a slow disk): its own phase, not the device's.
+    phases.mark("scene");
+    // The map's mip chain, where a GPU will prepare it (and it fits in memory; else the
+    // renderer says so).
+    let ahead = match &loaded {
+        Ok(scene) if backend.wgpu_backends().is_some() => scene
+            .environment_map
+            .as_ref()
+            .filter(|e| {
+                e.map
+                    .check_chain_memory(crate::environment::ChainOn::Gpu)
+                    .is_ok()
+            })
+            .map(|e| (e.map.clone(), crate::environment::MipChain::new(&e.map))),
+        _ => None,
+    };
+    if ahead.is_some() {
+        phases.mark("mip chain");
+    }
+    // Joined before any error returns: the process never exits under a device still opening.
+    let opened = opening.join();
+    let mut scene = loaded?;
+    if backend == Backend::Truth {
+        // Every ball is the walk's (and its label says so).
+        for b in &mut scene.balls {
+            b.model = crate::scene::Model::Truth;
+        }
+    }
+    let (mut renderer, notice) =
+        opened.map_err(|_| anyhow::anyhow!("opening the GPU device panicked"))??;
+    if let Some(notice) = notice {
+        eprintln!("{notice}");
+    }
+    if let (Some(r), Some((map, chain))) = (renderer.as_mut(), ahead) {
+        r.offer_mip_chain(map, chain);
+    }
+    phases.mark("device");
+    Ok((scene, renderer))
 }
 
 /// What can be refused before any work (issue 28, 4): the output path, the truth's

@@ -34,7 +34,7 @@ use crate::walk::Rng;
 pub use crate::stats::MAX_SPP;
 
 pub use crate::environment::sampler::LUMINANCE;
-pub use crate::stats::MonteCarloImage;
+pub use crate::stats::{MonteCarloImage, Part};
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -51,15 +51,6 @@ pub fn render_montecarlo(
     seed: u64,
 ) -> Result<MonteCarloImage> {
     render_montecarlo_part(scene, e, width, height, spp, seed, Part::Whole)
-}
-
-/// Which part of the model a Monte Carlo render integrates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Part {
-    /// The whole BRDF.
-    Whole,
-    /// The multiple-scattering lobe alone (what the term adds; zero on balls without it).
-    Multiple,
 }
 
 /// [`render_montecarlo`] of one [`Part`] of the model: `Part::Multiple` integrates only

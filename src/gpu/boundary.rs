@@ -153,6 +153,8 @@ pub const STRUCTS: [StructLayout; 7] = [
             map_size,
             strategies,
             shape,
+            part,
+            padding,
         }
     ),
 ];

@@ -134,8 +134,8 @@ pub struct EnvironmentTextures {
     pub convolved: wgpu::TextureView,
     /// The split-sum bias table, `R32Float`.
     pub split_sum: wgpu::TextureView,
-    /// Wall time of upload and prefiltering, to the queue's completion (the renderer
-    /// replaces it by the whole preparation's, CPU work included).
+    /// Wall time of the upload and the prefilter's encoding and submission (the GPU's work
+    /// runs on behind: the renderer replaces it by the whole preparation's on the CPU).
     pub prefilter_time: Duration,
 }
 
@@ -245,8 +245,10 @@ fn upload_split_sum(device: &wgpu::Device, queue: &wgpu::Queue, split: &SplitSum
 }
 
 impl EnvironmentTextures {
-    /// Uploads `chain` and `split`, prefilters on the GPU with `kernels`
-    /// ([`crate::environment::prefilter::kernels`]) and waits for the queue.
+    /// Uploads `chain` and `split` and submits their prefiltering on the GPU with `kernels`
+    /// ([`crate::environment::prefilter::kernels`]), without waiting for it: the queue runs
+    /// it while the CPU goes on (with the render pipelines' compilation, in a fresh
+    /// process), and every later submission that reads the textures comes after it.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -287,7 +289,6 @@ impl EnvironmentTextures {
             split.geometry,
             [&specular, &convolved],
         );
-        let _ = device.poll(wgpu::PollType::wait_indefinitely());
         let array = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -450,12 +451,6 @@ fn prefilter(
         ));
     }
     queue.submit([encoder.finish()]);
-    let t1 = Instant::now();
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
-    log::debug!(
-        "prefilter dispatches {:.1} ms",
-        t1.elapsed().as_secs_f64() * 1e3
-    );
 }
 
 /// The prefilter's one bind group layout for both entry points (each leaves one binding

@@ -4,11 +4,12 @@
 //! kept, the least recently drawn dropped first (the viewer's picker switches between
 //! built-ins without preparing one again).
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::context::Gpu;
 use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
-use crate::environment::{prefilter, ChainOn, Environment, MipChain};
+use crate::environment::{prefilter, ChainOn, EnvMap, Environment, MipChain};
 use crate::error::Result;
 use crate::lut::{self, BakeConfig, SplitSum};
 use crate::scene::Scene;
@@ -29,6 +30,9 @@ pub(crate) struct PrefilteredMaps {
     loaded: Vec<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
     /// Wall time of the latest preparation.
     last_prepared: Option<Duration>,
+    /// A mip chain built ahead for the map it holds (compared by identity), used by that
+    /// map's next preparation ([`PrefilteredMaps::offer_chain`]).
+    ahead: Option<(Arc<EnvMap>, MipChain)>,
 }
 
 impl PrefilteredMaps {
@@ -49,7 +53,14 @@ impl PrefilteredMaps {
             empty,
             loaded: Vec::new(),
             last_prepared: None,
+            ahead: None,
         }
+    }
+
+    /// Keeps `chain`, built from `map`, for that map's next preparation (the CLI builds it
+    /// while the device opens). Any other map's preparation builds its own.
+    pub(crate) fn offer_chain(&mut self, map: Arc<EnvMap>, chain: MipChain) {
+        self.ahead = Some((map, chain));
     }
 
     /// The bind group for `scene`: its map, prepared on the first draw with it (or with
@@ -72,7 +83,12 @@ impl PrefilteredMaps {
         environment.map.check_chain_memory(ChainOn::Gpu)?;
         // Dropped first: at most MAX_PREFILTERED_MAPS maps' textures at once.
         self.loaded.truncate(MAX_PREFILTERED_MAPS - 1);
-        let textures = prepare_map(gpu, environment, BakeConfig { geometry, ..config });
+        let ahead = match self.ahead.take() {
+            Some((map, chain)) if Arc::ptr_eq(&map, &environment.map) => Some(chain),
+            _ => None,
+        };
+        let config = BakeConfig { geometry, ..config };
+        let textures = prepare_map(gpu, environment, config, ahead);
         self.last_prepared = Some(textures.prefilter_time);
         let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
         self.loaded.insert(0, (key, textures, group.clone()));
@@ -95,14 +111,19 @@ impl PrefilteredMaps {
 }
 
 /// Prepares `environment` for shading with tables baked with `config` (its G the scene's):
-/// the kernels from those tables, the mip chain and the shipped split-sum table on the
-/// CPU, then the upload and the GPU's prefilter. The textures' `prefilter_time` is the
-/// whole preparation's wall time.
-fn prepare_map(gpu: &Gpu, environment: &Environment, config: BakeConfig) -> EnvironmentTextures {
+/// the kernels from those tables, the mip chain (`ahead`, where it was built beforehand)
+/// and the shipped split-sum table on the CPU, then the upload and the GPU's prefilter.
+/// The textures' `prefilter_time` is the whole preparation's wall time.
+fn prepare_map(
+    gpu: &Gpu,
+    environment: &Environment,
+    config: BakeConfig,
+    ahead: Option<MipChain>,
+) -> EnvironmentTextures {
     let start = Instant::now();
     let kernels = prefilter::kernels(&lut::bake(&config));
     let t_kernels = start.elapsed();
-    let chain = MipChain::new(&environment.map);
+    let chain = ahead.unwrap_or_else(|| MipChain::new(&environment.map));
     let t_chain = start.elapsed();
     let split = SplitSum::shipped(config.geometry);
     let t_split = start.elapsed();
@@ -110,7 +131,7 @@ fn prepare_map(gpu: &Gpu, environment: &Environment, config: BakeConfig) -> Envi
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     log::debug!(
         "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
-         GPU upload and prefilter {:.1} ms",
+         GPU upload and prefilter submitted in {:.1} ms",
         environment.source,
         ms(t_kernels),
         ms(t_chain - t_kernels),

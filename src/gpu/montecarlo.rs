@@ -29,7 +29,7 @@ use crate::environment::sampler::LuminanceCdf;
 use crate::error::{Error, Result};
 use crate::lut::MuAxis;
 use crate::scene::{Scene, MAX_BALLS};
-use crate::stats::MonteCarloImage;
+use crate::stats::{MonteCarloImage, Part};
 
 /// Estimates a pixel each pass draws (the last pass draws the rest): 16 keeps a pass of a
 /// 1280x720 frame of metal balls under a second on lavapipe (docs/design/environment.md,
@@ -56,7 +56,14 @@ pub(crate) struct McParams {
     pub(crate) map_size: [u32; 2],
     pub(crate) strategies: u32,
     pub(crate) shape: u32,
+    /// [`PART_WHOLE`] or [`PART_MULTIPLE`].
+    pub(crate) part: u32,
+    pub(crate) padding: u32,
 }
+
+/// `McParams.part`: the whole model, or the term's lobe alone ([`Part`]).
+const PART_WHOLE: u32 = 0;
+const PART_MULTIPLE: u32 = 1;
 
 /// What a Monte Carlo pass draws with: the frame's bind groups 0 and 1, its balls (and
 /// those hidden by an identical earlier one), the pipelines' choices and the image size.
@@ -69,6 +76,8 @@ pub(crate) struct McFrame<'a> {
     pub mu_axis: MuAxis,
     pub variant: Variant,
     pub size: (u32, u32),
+    /// The part of the model integrated.
+    pub part: Part,
 }
 
 /// Group 2's layout, the module, the pipelines by their choices and samples a pass, and
@@ -134,7 +143,7 @@ impl MonteCarloPass {
             gpu.queue
                 .write_buffer(&self.instances, 0, bytemuck::cast_slice(&quads));
         }
-        let (params, cdf) = inputs(gpu, scene, seed)?;
+        let (params, cdf) = inputs(gpu, scene, seed, frame.part)?;
         let state = State::new(device, &self.layout, frame.size, (&params, &cdf));
         let mut encoder = device.create_command_encoder(&Default::default());
         clear(&mut encoder, &state.views[0]);
@@ -241,7 +250,12 @@ impl MonteCarloPass {
 /// The parameters' buffer (and its bytes before the pass index is set) and the luminance
 /// tables' buffer of `scene`'s map (one zero where it has no sampler). Fails where the
 /// tables exceed the device's storage binding.
-fn inputs(gpu: &Gpu, scene: &Scene, seed: u64) -> Result<((wgpu::Buffer, Vec<u8>), wgpu::Buffer)> {
+fn inputs(
+    gpu: &Gpu,
+    scene: &Scene,
+    seed: u64,
+    part: Part,
+) -> Result<((wgpu::Buffer, Vec<u8>), wgpu::Buffer)> {
     let map = scene.environment_map.as_ref();
     let lit = scene.environment != DVec3::ZERO || map.is_some_and(|m| !m.is_black());
     let cdf = map.and_then(LuminanceCdf::of);
@@ -252,6 +266,11 @@ fn inputs(gpu: &Gpu, scene: &Scene, seed: u64) -> Result<((wgpu::Buffer, Vec<u8>
         map_size: cdf.as_ref().map_or([1, 1], |c| [c.width, c.height]),
         strategies: STRATEGY_VNDF | STRATEGY_COSINE | if cdf.is_some() { STRATEGY_MAP } else { 0 },
         shape: SHAPE_ALL,
+        part: match part {
+            Part::Whole => PART_WHOLE,
+            Part::Multiple => PART_MULTIPLE,
+        },
+        padding: 0,
     };
     let tables: Vec<f32> = match &cdf {
         Some(c) => [&c.marginal[..], &c.row_cdf, &c.texel].concat(),

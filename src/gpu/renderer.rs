@@ -273,8 +273,9 @@ impl Renderer {
     }
 
     /// Wall time of the latest preparation of an environment map: the kernels, its mip
-    /// chain and the split-sum table on the CPU, the upload and the GPU's prefiltering to
-    /// the queue's completion; `None` before any. A map drawn again while held (up to
+    /// chain and the split-sum table on the CPU, the upload and the submission of the GPU's
+    /// prefiltering (which runs on behind; wait on the queue to time it whole, as the lab's
+    /// `bench --only ibl` does); `None` before any. A map drawn again while held (up to
     /// [`MAX_PREFILTERED_MAPS`](super::MAX_PREFILTERED_MAPS)) is not prepared again.
     pub fn last_prefilter_time(&self) -> Option<Duration> {
         self.environment.last_prepared()
@@ -287,6 +288,17 @@ impl Renderer {
         self.environment
             .bind_group(&self.gpu, scene, self.bake_config)
             .map(drop)
+    }
+
+    /// Hands over `chain`, built from `map` ([`MipChain::new`](crate::environment::MipChain::new))
+    /// beforehand (the CLI builds it while the device opens), for the next preparation of
+    /// that very map (the same `Arc`); a preparation of any other map builds its own.
+    pub fn offer_mip_chain(
+        &mut self,
+        map: Arc<crate::environment::EnvMap>,
+        chain: crate::environment::MipChain,
+    ) {
+        self.environment.offer_chain(map, chain);
     }
 
     /// Rows in the memory cache.
@@ -631,6 +643,19 @@ impl Renderer {
         self.render_montecarlo_progressive(scene, (width, height), (spp, seed), |_| true)
     }
 
+    /// [`Renderer::render_montecarlo`] of one [`Part`](crate::stats::Part) of the model:
+    /// `Part::Multiple` integrates only the lobe the term adds (the GPU twin of
+    /// [`crate::cpu::render_montecarlo_part`]), the reference for a real-time term alone.
+    pub fn render_montecarlo_part(
+        &mut self,
+        scene: &Scene,
+        size: (u32, u32),
+        (spp, seed): (u32, u64),
+        part: crate::stats::Part,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        self.montecarlo_checked(scene, size, (spp, seed, part), |_| true)
+    }
+
     /// [`Renderer::render_montecarlo`] in passes of [`super::MC_PASS_SAMPLES`] estimates:
     /// after each pass but the last, `keep_going(estimates so far)` may stop the render
     /// (the image then holds the passes done; its `spp` says how many).
@@ -639,6 +664,18 @@ impl Renderer {
         scene: &Scene,
         (width, height): (u32, u32),
         (spp, seed): (u32, u64),
+        keep_going: impl FnMut(u32) -> bool,
+    ) -> Result<crate::stats::MonteCarloImage> {
+        let whole = crate::stats::Part::Whole;
+        self.montecarlo_checked(scene, (width, height), (spp, seed, whole), keep_going)
+    }
+
+    /// The checks and error scopes around [`Renderer::montecarlo_passes`].
+    fn montecarlo_checked(
+        &mut self,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        (spp, seed, part): (u32, u64, crate::stats::Part),
         keep_going: impl FnMut(u32) -> bool,
     ) -> Result<crate::stats::MonteCarloImage> {
         crate::stats::check_montecarlo_inputs(scene, spp)?;
@@ -653,7 +690,7 @@ impl Renderer {
             });
         }
         let scopes = super::Scopes::push(&self.gpu.device);
-        let image = self.montecarlo_passes(scene, (width, height), (spp, seed), keep_going);
+        let image = self.montecarlo_passes(scene, (width, height), (spp, seed, part), keep_going);
         scopes.pop()?;
         self.gpu.check()?;
         image
@@ -664,7 +701,7 @@ impl Renderer {
         &mut self,
         scene: &Scene,
         size: (u32, u32),
-        (spp, seed): (u32, u64),
+        (spp, seed, part): (u32, u64, crate::stats::Part),
         keep_going: impl FnMut(u32) -> bool,
     ) -> Result<crate::stats::MonteCarloImage> {
         let frame = self.prepare_frame(scene, size.0, size.1)?;
@@ -682,6 +719,7 @@ impl Renderer {
             mu_axis: frame.plan.bake.layout.mu_axis,
             variant: frame.plan.truth_variant,
             size,
+            part,
         };
         pass.render(&self.gpu, scene, &mc, (spp, seed), keep_going)
     }

@@ -732,3 +732,43 @@ fn render_refuses_bad_ibl_flags_in_one_line() {
         assert!(stderr.contains(says), "{flag} {value}: {stderr}");
     }
 }
+
+/// A mip chain built ahead (`Renderer::offer_mip_chain`, as `render` builds it while the
+/// device opens) is used for its own map only: the same pictures as a renderer that builds
+/// its own, whether the next map prepared is that map or another (whose picture a wrong
+/// chain would change).
+#[test]
+fn a_chain_built_ahead_serves_its_own_map_only() {
+    let scene_of = |b: Builtin| {
+        let mut s = Scene::reference();
+        s.lights.clear();
+        s.environment = DVec3::ZERO;
+        s.environment_map = Some(Environment::builtin(b));
+        s
+    };
+    let (studio, sky) = (scene_of(Builtin::Studio), scene_of(Builtin::Sky));
+    let (w, h) = (160, 90);
+    let draw = |r: &mut shadeballs::Renderer, s: &Scene| r.render_hdr(s, w, h).unwrap().rgba;
+    let mut fresh = crate::pixels::vulkan();
+    let want_studio = draw(&mut fresh, &studio);
+    let want_sky = draw(&mut fresh, &sky);
+    assert_ne!(want_studio, want_sky);
+    let chain_of = |s: &Scene| {
+        let e = s.environment_map.as_ref().unwrap();
+        (
+            e.map.clone(),
+            shadeballs::environment::MipChain::new(&e.map),
+        )
+    };
+    // The studio's chain offered, the sky prepared first: the sky builds its own.
+    let mut r = crate::pixels::vulkan();
+    let (map, chain) = chain_of(&studio);
+    r.offer_mip_chain(map, chain);
+    assert_eq!(draw(&mut r, &sky), want_sky);
+    // The sky's chain offered, the sky drawn from it.
+    let mut r = crate::pixels::vulkan();
+    let (map, chain) = chain_of(&sky);
+    r.offer_mip_chain(map, chain);
+    assert_eq!(draw(&mut r, &sky), want_sky);
+    assert_eq!(draw(&mut r, &studio), want_studio);
+}

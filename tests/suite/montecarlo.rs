@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use shadeballs::brdf::DIV_EPSILON;
 use shadeballs::cpu::montecarlo::{model_brdf, ShadingPoint};
-use shadeballs::cpu::{self, render_montecarlo, MonteCarloImage};
+use shadeballs::cpu::{self, render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
 use shadeballs::environment::{Builtin, EnvMap, Environment, IblTerm, Source};
 use shadeballs::lut::TableSet;
 use shadeballs::lut::{self, BakeConfig, Tables};
@@ -590,6 +590,55 @@ fn gpu_montecarlo_equals_the_cpu_within_noise() {
             assert_eq!(gpu.mean[p], cpu.mean[p], "{name}: background at {p}");
         }
         println!("{name}: worst |gpu - cpu| / se over balls and channels {worst:.2}");
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// The term's lobe alone (`Part::Multiple`, the reference of the lab's `bench --only ibl`
+/// for a real-time term) on the GPU equals the CPU's within 3 standard errors on every
+/// ball with the term and channel, and is exactly 0 on the balls without it.
+#[test]
+fn gpu_montecarlo_of_the_term_alone_equals_the_cpu_within_noise() {
+    let mut renderer = crate::pixels::vulkan();
+    let (w, h, spp) = (128, 72, 64);
+    let mut failed = Vec::new();
+    for (name, scene) in gpu_montecarlo_scenes() {
+        let scene = Scene {
+            antialias: false,
+            ..scene
+        };
+        let e = TableSet::from(tables_for(&scene));
+        let cpu = render_montecarlo_part(&scene, &e, w, h, spp, 5, Part::Multiple).unwrap();
+        let gpu = renderer
+            .render_montecarlo_part(&scene, (w, h), (spp, 5), Part::Multiple)
+            .unwrap();
+        let whole = renderer.render_montecarlo(&scene, (w, h), spp, 5).unwrap();
+        let means = ball_channel_means(&scene, [&gpu, &cpu]);
+        let wholes = ball_channel_means(&scene, [&whole, &whole]);
+        for (k, ([g, c], [all, _])) in means.iter().zip(&wholes).enumerate() {
+            if !scene.balls[k].model.has_term() {
+                assert_eq!(g.0, DVec3::ZERO, "{name}, ball {k}: no term, no lobe");
+                continue;
+            }
+            // The lobe is a part of the whole: positive and below it on every channel.
+            assert!(
+                g.0.cmpgt(DVec3::ZERO).all() && g.0.cmplt(all.0).all(),
+                "{name}, ball {k}: term {} whole {}",
+                g.0,
+                all.0
+            );
+            for ch in 0..3 {
+                let se = (g.1[ch].powi(2) + c.1[ch].powi(2)).sqrt();
+                let z = (g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON);
+                // The goal for the whole model, held by its part too.
+                if z > 3.0 {
+                    failed.push(format!(
+                        "{name}, ball {k}, channel {ch}: gpu {} cpu {} (se {se})",
+                        g.0[ch], c.0[ch]
+                    ));
+                }
+            }
+        }
     }
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

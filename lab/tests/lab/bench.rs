@@ -67,6 +67,11 @@ fn quick_bench_writes_well_formed_csv_markdown_and_png() {
     );
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(summary.contains("## Goals"), "{summary}");
+    // The startup sweep times the first PNG with a map against the first without.
+    assert!(
+        summary.contains("the first PNG with the studio map at most 2x"),
+        "{summary}"
+    );
     for name in CSVS {
         let text = std::fs::read_to_string(dir.join(format!("{name}.csv")))
             .unwrap_or_else(|e| panic!("{name}.csv: {e}"));
