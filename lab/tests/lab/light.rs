@@ -1,6 +1,6 @@
 //! `shadeballs-lab bench --only light` (issue 26, cost against error for light): the quick
 //! run writes its tables, plots and checks, the lobe's error falls as its samples grow, and
-//! the split sum's error against the GPU Monte Carlo is the ibl bench's against the CPU's.
+//! the split sum's error against the GPU Monte Carlo is its error against the CPU's.
 
 use std::collections::HashSet;
 
@@ -125,8 +125,9 @@ fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
 }
 
 /// The light bench's split sum on the metals is the ibl bench's kulla-conty image, and its
-/// error against the GPU Monte Carlo is the ibl bench's against the CPU Monte Carlo of the
-/// same model, per roughness, to within the two references' noise.
+/// error against the GPU Monte Carlo is its error against the CPU Monte Carlo of the same
+/// model (the ibl bench's reference where no device renders `Rgba32Float`), per roughness,
+/// to within the two references' noise.
 #[test]
 fn light_split_sum_error_is_the_ibl_benchs() {
     let mut renderer = vulkan();
