@@ -66,6 +66,10 @@ override IBL_SAMPLES: u32 = 1u;
 // crosses mixes the ball and the background by the fraction it covers); 0: one ray through
 // each pixel's centre, the image of before (src/scene Scene::antialias).
 override AA: u32 = 1u;
+// 1 (default): the split sum reads its prefiltered layers along the dominant direction
+// (environment.wgsl specular_direction); 0: along the mirror direction itself (a
+// measurement's switch, src/gpu/plan.rs DrawOptions::dominant_direction).
+override DOMINANT_DIRECTION: u32 = 1u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {

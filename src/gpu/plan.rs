@@ -52,6 +52,11 @@ pub struct DrawOptions {
     pub tables: TablePolicy,
     /// The term compiled in where balls use it (`true`), or out of every pipeline.
     pub term: bool,
+    /// The split sum reads its prefiltered layers along the dominant direction (`true`,
+    /// Lagarde & de Rousiers 2014: the mirror direction bent towards the normal as the lobe
+    /// widens), or along the mirror direction itself (`DOMINANT_DIRECTION` in
+    /// `types.wgsl`; GPU only: a measurement's switch, `bench --only light`).
+    pub dominant_direction: bool,
 }
 
 impl Default for DrawOptions {
@@ -59,6 +64,7 @@ impl Default for DrawOptions {
         DrawOptions {
             tables: TablePolicy::Auto,
             term: true,
+            dominant_direction: true,
         }
     }
 }
@@ -91,6 +97,9 @@ pub struct Variant {
     pub ibl_samples: u16,
     /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
     pub aa: bool,
+    /// The split sum's read along the dominant direction (`DOMINANT_DIRECTION`;
+    /// [`DrawOptions::dominant_direction`]).
+    pub dominant: bool,
     /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
     /// [`Scene::display`]).
     pub display: DisplayTransform,
@@ -161,6 +170,7 @@ impl Plan {
             ibl,
             ibl_samples,
             aa: scene.antialias,
+            dominant: options.dominant_direction,
             display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
@@ -195,6 +205,7 @@ impl Plan {
                 ibl: ibl.min(1),
                 ibl_samples: 0,
                 aa: false,
+                dominant: options.dominant_direction,
                 display,
             },
         }
@@ -235,6 +246,9 @@ impl fmt::Display for Variant {
         }?;
         if !self.aa {
             write!(f, ", no antialiasing")?;
+        }
+        if !self.dominant && self.ibl == 1 {
+            write!(f, ", read along the mirror direction")?;
         }
         Ok(())
     }

@@ -1,9 +1,9 @@
 //! Cost against error for light (issue 26): each way the map lights the balls, its frame
 //! time at 1280x720 against its whole image's error, the curve of `light.png`.
 //!
-//! Methods: the split sum (read along the dominant direction, the renderer's only split
-//! sum: no switch to the plain mirror direction exists, see [`PLAIN_MIRROR`]), the lobe
-//! mode at N = 1, 2, 4, ..., 64 samples a pixel in one frame, and the progressive lobe
+//! Methods: the split sum read along the dominant direction (the renderer's), the split
+//! sum read along the plain mirror direction (`DrawOptions::dominant_direction` off), the
+//! lobe mode at N = 1, 2, 4, ..., 64 samples a pixel in one frame, and the progressive lobe
 //! mode: frames `0..k` of [`DEFAULT_IBL_SAMPLES`] samples each averaged
 //! ([`Renderer::render_lobe_hdr`]), k = 1, 2, 4, ...
 //!
@@ -29,7 +29,7 @@ use super::{device, median, Goal, Sweep};
 use crate::plot::{Plot, Series, Style};
 use shadeballs::environment::{Builtin, Environment, IblMethod, IblTerm, DEFAULT_IBL_SAMPLES};
 use shadeballs::error::Result;
-use shadeballs::gpu::{Renderer, Target};
+use shadeballs::gpu::{DrawOptions, Renderer, Target};
 use shadeballs::lut::BakeConfig;
 use shadeballs::scene::{srgb_decode, Material, Scene};
 use shadeballs::stats::MonteCarloImage;
@@ -40,10 +40,6 @@ pub const LOBE_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
 pub const FRAME_SIZE: (u32, u32) = (1280, 720);
 /// The Monte Carlo reference's seed.
 const MC_SEED: u64 = 7;
-/// Why the split sum along the plain mirror direction has no row.
-pub const PLAIN_MIRROR: &str = "split sum along the plain mirror direction (no switch: \
-    `specular_direction` of shaders/environment.wgsl always bends r towards n, called from \
-    lighting.wgsl and coating.wgsl)";
 /// The Monte Carlo's noise counts as well under an error when at most this fraction of it
 /// (a fifth: the mean absolute error it adds to a noiseless image's is about 0.8 times
 /// its standard error, so a fifth moves a measured error by at most about a sixth).
@@ -54,6 +50,8 @@ pub const NOISE_FRACTION: f64 = 0.2;
 pub enum Family {
     /// One prefiltered read along the dominant direction.
     SplitSum,
+    /// One prefiltered read along the plain mirror direction.
+    SplitSumMirror,
     /// `samples` of the lobe in one frame.
     Lobe,
     /// `frames` frames of `samples` lobe samples, averaged.
@@ -61,9 +59,15 @@ pub enum Family {
 }
 
 impl Family {
+    /// Whether the family is one of the split sum's (one read, no samples).
+    pub fn is_split_sum(self) -> bool {
+        matches!(self, Family::SplitSum | Family::SplitSumMirror)
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Family::SplitSum => "split-sum",
+            Family::SplitSumMirror => "split-sum-mirror",
             Family::Lobe => "lobe",
             Family::Progressive => "lobe-progressive",
         }
@@ -144,7 +148,7 @@ impl Method {
     /// `base` lit by this method.
     pub fn scene(&self, base: &Scene) -> Scene {
         let mut scene = base.clone();
-        if self.family == Family::SplitSum {
+        if self.family.is_split_sum() {
             scene.ibl_method = IblMethod::SplitSum;
         } else {
             scene.ibl_method = IblMethod::Lobe;
@@ -152,16 +156,27 @@ impl Method {
         }
         scene
     }
+
+    /// The renderer's options for this method: the split sum's read along the mirror
+    /// direction for [`Family::SplitSumMirror`].
+    pub fn options(&self) -> DrawOptions {
+        DrawOptions {
+            dominant_direction: self.family != Family::SplitSumMirror,
+            ..DrawOptions::default()
+        }
+    }
 }
 
-/// The methods measured: the split sum, the lobe at each of [`LOBE_SAMPLES`], the
+/// The methods measured: the split sum along the dominant and along the mirror
+/// direction, the lobe at each of [`LOBE_SAMPLES`], the
 /// progressive lobe after each of `frames`.
 pub fn methods(frames: &[u32]) -> Vec<Method> {
-    let mut out = vec![Method {
-        family: Family::SplitSum,
+    let split = |family| Method {
+        family,
         samples: 0,
         frames: 1,
-    }];
+    };
+    let mut out = vec![split(Family::SplitSum), split(Family::SplitSumMirror)];
     out.extend(LOBE_SAMPLES.iter().map(|&samples| Method {
         family: Family::Lobe,
         samples,
@@ -201,13 +216,15 @@ pub fn method_image(
     (w, h): (u32, u32),
 ) -> Result<Vec<DVec3>> {
     let scene = method.scene(base);
+    renderer.set_draw_options(method.options());
     let image = if method.family == Family::Progressive {
-        renderer.render_lobe_hdr(&scene, w, h, method.frames)?
+        renderer.render_lobe_hdr(&scene, w, h, method.frames)
     } else {
         renderer.set_lobe_frame(0);
-        renderer.render_hdr(&scene, w, h)?
+        renderer.render_hdr(&scene, w, h)
     };
-    Ok(linear(&image.rgba))
+    renderer.set_draw_options(DrawOptions::default());
+    Ok(linear(&image?.rgba))
 }
 
 /// The Monte Carlo of `scene`'s model on the GPU: `spp` estimates a pixel at `size`.
@@ -220,13 +237,13 @@ pub fn reference(
     renderer.render_montecarlo(scene, size, spp, MC_SEED)
 }
 
-/// Frames of each of `scenes` at `(w, h)`, in turn, `repeats` rounds after a warm-up
+/// Frames of each of `scenes` (drawn with its options) at `(w, h)`, in turn, `repeats` rounds after a warm-up
 /// round (pipelines, the driver's compile, the map's preparation), round `r` starting at
 /// scene `r mod n`: per scene its frame times (ms), and per scene the median over rounds of
 /// its time over scene 0's of the same round.
 pub fn frame_times(
     renderer: &mut Renderer,
-    scenes: &[Scene],
+    scenes: &[(Scene, DrawOptions)],
     (w, h): (u32, u32),
     repeats: usize,
 ) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
@@ -243,14 +260,16 @@ pub fn frame_times(
     for round in 0..=repeats.max(1) {
         for j in 0..n {
             let k = (round + j) % n;
+            renderer.set_draw_options(scenes[k].1);
             let start = std::time::Instant::now();
-            renderer.render(&scenes[k], target)?;
+            renderer.render(&scenes[k].0, target)?;
             device::wait(renderer.gpu())?;
             if round > 0 {
                 times[k].push(start.elapsed().as_secs_f64() * 1e3);
             }
         }
     }
+    renderer.set_draw_options(DrawOptions::default());
     let ratios = times
         .iter()
         .map(|t| {
@@ -364,7 +383,8 @@ pub fn measure(
         .filter(|m| m.family != Family::Progressive)
         .copied()
         .collect();
-    let scenes: Vec<Scene> = timed.iter().map(|m| m.scene(base)).collect();
+    let scenes: Vec<(Scene, DrawOptions)> =
+        timed.iter().map(|m| (m.scene(base), m.options())).collect();
     let (mut times, ratios) = frame_times(renderer, &scenes, settings.frame, settings.repeats)?;
     let mut out = Vec::new();
     for method in methods {
@@ -418,7 +438,7 @@ pub fn ball_errors(
 }
 
 fn method_cells(m: &Method) -> [String; 3] {
-    let samples = if m.family == Family::SplitSum {
+    let samples = if m.family.is_split_sum() {
         "-".to_string()
     } else {
         m.samples.to_string()
@@ -516,6 +536,7 @@ fn curve_series(material: LightMaterial, measured: &[Measured]) -> Vec<Series> {
     };
     let families = [
         (Family::SplitSum, split_colour),
+        (Family::SplitSumMirror, [0, 158, 115]),
         (Family::Lobe, [0, 114, 178]),
         (Family::Progressive, [213, 94, 0]),
     ];
@@ -530,7 +551,7 @@ fn curve_series(material: LightMaterial, measured: &[Measured]) -> Vec<Series> {
                 .collect(),
             colour: Some(colour),
             style: match (family, material) {
-                (Family::SplitSum, _) => Style::Points,
+                (Family::SplitSum | Family::SplitSumMirror, _) => Style::Points,
                 (_, LightMaterial::Metal) => Style::Marked,
                 (_, LightMaterial::Plastic) => Style::Dashed,
             },
@@ -549,7 +570,12 @@ fn break_even(config: &str, measured: &[Measured]) -> String {
     };
     let split = split_row.worst(0.3);
     // The same errors to the last digit: the same image.
-    if measured.iter().all(|m| m.errors == split_row.errors) {
+    let sampled = |m: &&Measured| !m.method.family.is_split_sum();
+    if measured
+        .iter()
+        .filter(sampled)
+        .all(|m| m.errors == split_row.errors)
+    {
         return format!(
             "{config}: split sum {:.2} %; every lobe row's image is the split sum's (the same errors): the lobe mode does not shade this material on this commit",
             100.0 * split
@@ -557,7 +583,7 @@ fn break_even(config: &str, measured: &[Measured]) -> String {
     }
     let best = measured
         .iter()
-        .filter(|m| m.method.family != Family::SplitSum && m.worst(0.3) <= split)
+        .filter(|m| sampled(m) && m.worst(0.3) <= split)
         .min_by(|a, b| a.ratio.total_cmp(&b.ratio));
     match best {
         Some(m) => format!(
@@ -628,7 +654,6 @@ pub fn light_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             },
         ));
     }
-    notes.push(format!("Not measured: {PLAIN_MIRROR}."));
     cost.note = notes.join("\n\n");
     Ok(Sweep {
         tables: vec![errors, cost],

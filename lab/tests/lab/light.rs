@@ -79,7 +79,7 @@ fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
     // The quick run's frame counts of the progressive rows (light::Settings::new(true)).
     let frames = [1, 4];
     let n_methods = methods(&frames).len();
-    assert_eq!(n_methods, 1 + LOBE_SAMPLES.len() + frames.len());
+    assert_eq!(n_methods, 2 + LOBE_SAMPLES.len() + frames.len());
     let (header, rows) = read_csv(&dir, "light");
     assert_eq!(
         header.join(","),
