@@ -13,7 +13,15 @@
 //!
 //! ```text
 //! cargo run --release --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
+//! cargo run --release --example lobe_sweep -- --study [--frames 32]
 //! ```
+//!
+//! `--study` measures, on the CPU, each candidate estimator's bias and noise instead
+//! (`lobe/study.rs`). The Monte Carlo references are kept in `target/lobe_sweep/` and read
+//! back by later runs of the same size and sample count.
+
+#[path = "lobe/study.rs"]
+mod study;
 
 use std::time::Instant;
 
@@ -28,6 +36,10 @@ use shadeballs::scene::{Material, Model, Scene};
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
 /// Reference pixels darker than this are left out of relative errors (the lab's floor).
 const LUMINANCE_FLOOR: f64 = 1e-4;
+
+fn flag(name: &str) -> bool {
+    std::env::args().any(|a| a == name)
+}
 
 fn arg(name: &str, default: u32) -> u32 {
     let args: Vec<String> = std::env::args().collect();
@@ -148,9 +160,124 @@ fn frame_ms(renderer: &mut Renderer, scene: &Scene, repeats: u32) -> f64 {
     times[times.len() / 2]
 }
 
+/// The CPU Monte Carlo of `scene` (seed 7), read from `target/lobe_sweep/` where an
+/// earlier run of the same map, size and sample count left it, else rendered and kept.
+fn reference(
+    scene: &Scene,
+    e: &TableSet,
+    name: &str,
+    (w, h): (u32, u32),
+    spp: u32,
+) -> shadeballs::Result<MonteCarloImage> {
+    let dir = std::path::Path::new("target/lobe_sweep");
+    let path = dir.join(format!("mc-{name}-{w}x{h}-{spp}.bin"));
+    let pixels = (w * h) as usize;
+    if let Ok(bytes) = std::fs::read(&path) {
+        if bytes.len() == pixels * 48 {
+            let values: Vec<f64> = bytes
+                .chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+                .collect();
+            let vec = |k: usize| DVec3::new(values[k], values[k + 1], values[k + 2]);
+            return Ok(MonteCarloImage {
+                width: w,
+                height: h,
+                spp,
+                mean: (0..pixels).map(|i| vec(6 * i)).collect(),
+                std_error: (0..pixels).map(|i| vec(6 * i + 3)).collect(),
+                covered: vec![true; pixels],
+                antialias: scene.antialias,
+            });
+        }
+    }
+    let mc = cpu::render_montecarlo(scene, e, w, h, spp, 7)?;
+    let mut bytes = Vec::with_capacity(pixels * 48);
+    for (m, s) in mc.mean.iter().zip(&mc.std_error) {
+        for x in m.to_array().into_iter().chain(s.to_array()) {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    // A cache: a failure to keep it costs the next run the render, nothing else.
+    let temporary = path.with_extension("part");
+    if std::fs::create_dir_all(dir).is_ok() && std::fs::write(&temporary, &bytes).is_ok() {
+        let _ = std::fs::rename(&temporary, &path);
+    }
+    Ok(mc)
+}
+
+/// `--study`: each candidate's one-frame error, bias and noise (`lobe/study.rs`).
+fn run_study((w, h): (u32, u32), spp: u32) -> shadeballs::Result<()> {
+    let frames = arg("--frames", 32);
+    let only: Option<String> = std::env::args().skip_while(|a| a != "--only").nth(1);
+    println!(
+        "study at {w}x{h}, {frames} frames a variant, against the CPU Monte Carlo of {spp} spp"
+    );
+    println!("environment | variant | samples | one frame | bias | noise | worst ball: (bias, noise) by n.v <0.25, <0.5, >=0.5");
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let environment = Environment::builtin(builtin);
+        let s = scene(environment.clone());
+        let tables = lut::bake(&BakeConfig {
+            geometry: s.effective_geometry(),
+            ..BakeConfig::default()
+        });
+        let ibl = cpu::CpuEnvironment::new(&environment, &tables);
+        let e = TableSet::full(tables);
+        let mc = reference(&s, &e, builtin.name(), (w, h), spp)?;
+        let setup = study::Setup {
+            scene: &s,
+            environment: &environment,
+            e: &e,
+            ibl: &ibl,
+            mc: &mc,
+            size: (w, h),
+        };
+        println!(
+            "{builtin} | split sum | - | {:.2} % | | |",
+            100.0 * study::split_sum_error(&setup)
+        );
+        if flag("--progressive") {
+            for variant in study::progressive_candidates() {
+                for frames in [1, 4, 16, 64] {
+                    let e = study::progressive(&setup, &variant, 16, frames);
+                    println!(
+                        "{builtin} | {} progressive | {frames} x 16 | {:.2} % | | |",
+                        variant.name,
+                        100.0 * e
+                    );
+                }
+            }
+            continue;
+        }
+        for (variant, n) in study::candidates() {
+            if only.as_deref().is_some_and(|o| !variant.name.contains(o)) {
+                continue;
+            }
+            let f = study::measure(&setup, &variant, n, frames);
+            let by: Vec<String> = f
+                .by_mu
+                .iter()
+                .map(|(b, s)| format!("({:.1}, {:.1})", 100.0 * b, 100.0 * s))
+                .collect();
+            println!(
+                "{builtin} | {} | {n} | {:.2} % | {:.2} % | {:.2} % | ball {}: {}",
+                variant.name,
+                100.0 * f.frame,
+                100.0 * f.bias,
+                100.0 * f.noise,
+                f.worst_ball,
+                by.join(" ")
+            );
+        }
+    }
+    Ok(())
+}
+
 fn main() -> shadeballs::Result<()> {
     let (w, h) = (arg("--width", 160), arg("--height", 90));
     let spp = arg("--spp", 8192);
+    if flag("--study") {
+        return run_study((w, h), spp);
+    }
     let repeats = arg("--repeats", 11);
     let progressive = arg("--progressive-samples", 16);
     let mut renderer = Renderer::new(Gpu::new(wgpu::Backends::VULKAN)?);
@@ -166,7 +293,7 @@ fn main() -> shadeballs::Result<()> {
             ..BakeConfig::default()
         });
         let e = TableSet::full(tables);
-        let mc = cpu::render_montecarlo(&s, &e, w, h, spp, 7)?;
+        let mc = reference(&s, &e, builtin.name(), (w, h), spp)?;
         let row =
             |s: &Scene, label: &str, samples: String, r: &mut Renderer| -> shadeballs::Result<()> {
                 let image = linear(&r.render_hdr(s, w, h)?.rgba);
