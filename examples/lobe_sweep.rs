@@ -9,11 +9,12 @@
 //! 0.3 of the mean relative error of luminance over a ball's pixels, the Monte Carlo's own
 //! mean relative standard error beside it; the median frame time of `--repeats` frames.
 //! Then the progressive image: frames of `--progressive-samples` samples accumulated until
-//! the worst error is within 1 %, and what those frames cost at 1280x720.
+//! the worst error is within 1 %, and what those frames cost at 1280x720. The same for
+//! plastics (every ball a dielectric of IOR 1.5 with the term; `--plastics` for them alone).
 //!
 //! ```text
 //! cargo run --release --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
-//! cargo run --release --example lobe_sweep -- --study [--frames 32]
+//! cargo run --release --example lobe_sweep -- --study [--frames 32] [--progressive] [--only NAME]
 //! ```
 //!
 //! `--study` measures, on the CPU, each candidate estimator's bias and noise instead
@@ -65,6 +66,21 @@ fn scene(environment: Environment) -> Scene {
         antialias: false,
         ..scene
     }
+}
+
+/// The plastics under `environment`: the metals' scene with every ball a dielectric of IOR
+/// 1.5 (a red base on the top row, a light grey one below), each with the Kulla-Conty term.
+fn plastics(environment: Environment) -> Scene {
+    let mut s = scene(environment);
+    for (k, b) in s.balls.iter_mut().enumerate() {
+        let base = if k < 5 {
+            DVec3::new(0.6, 0.1, 0.1)
+        } else {
+            DVec3::splat(0.8)
+        };
+        b.material = Material::dielectric(base, 1.5);
+    }
+    s
 }
 
 /// The worst over the balls of roughness >= 0.3 of the mean relative luminance error of
@@ -278,49 +294,78 @@ fn main() -> shadeballs::Result<()> {
     if flag("--study") {
         return run_study((w, h), spp);
     }
-    let repeats = arg("--repeats", 11);
-    let progressive = arg("--progressive-samples", 16);
     let mut renderer = Renderer::new(Gpu::new(wgpu::Backends::VULKAN)?);
     println!(
         "{}; errors at {w}x{h} against Monte Carlo of {spp} spp",
         renderer.gpu().describe()
     );
-    println!("environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
-    for builtin in [Builtin::Studio, Builtin::Sky] {
-        let mut s = scene(Environment::builtin(builtin));
+    println!("balls, environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
+    let kinds: [(&str, fn(Environment) -> Scene); 2] = [("metals", scene), ("plastics", plastics)];
+    for (kind, make) in kinds {
+        if flag("--plastics") && kind == "metals" {
+            continue;
+        }
+        for builtin in [Builtin::Studio, Builtin::Sky] {
+            sweep(
+                &mut renderer,
+                make(Environment::builtin(builtin)),
+                (kind, builtin),
+                (w, h),
+                spp,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The sweep's rows for `s` (`kind` its balls, under `builtin`).
+fn sweep(
+    renderer: &mut Renderer,
+    mut s: Scene,
+    (kind, builtin): (&str, Builtin),
+    (w, h): (u32, u32),
+    spp: u32,
+) -> shadeballs::Result<()> {
+    let repeats = arg("--repeats", 11);
+    let progressive = arg("--progressive-samples", 16);
+    {
         let tables = lut::bake(&BakeConfig {
             geometry: s.effective_geometry(),
             ..BakeConfig::default()
         });
         let e = TableSet::full(tables);
-        let mc = reference(&s, &e, builtin.name(), (w, h), spp)?;
+        let name = match kind {
+            "metals" => builtin.name().to_string(),
+            _ => format!("{kind}-{builtin}"),
+        };
+        let mc = reference(&s, &e, &name, (w, h), spp)?;
         let row =
             |s: &Scene, label: &str, samples: String, r: &mut Renderer| -> shadeballs::Result<()> {
                 let image = linear(&r.render_hdr(s, w, h)?.rgba);
                 let (err, noise) = worst_error(s, (w, h), &image, &mc);
                 let ms = frame_ms(r, s, repeats);
                 println!(
-                    "{builtin} | {label} | {samples} | {:.2} % | {:.2} % | {ms:.1}",
+                    "{kind}, {builtin} | {label} | {samples} | {:.2} % | {:.2} % | {ms:.1}",
                     err * 100.0,
                     noise * 100.0
                 );
                 Ok(())
             };
         s.ibl_method = IblMethod::SplitSum;
-        row(&s, "split-sum", "-".into(), &mut renderer)?;
+        row(&s, "split-sum", "-".into(), renderer)?;
         s.ibl_method = IblMethod::Lobe;
         for n in [1, 2, 4, 8, 16, 32, 64] {
             s.ibl_samples = n;
-            row(&s, "lobe", n.to_string(), &mut renderer)?;
+            row(&s, "lobe", n.to_string(), renderer)?;
         }
         // Progressive: frames of `progressive` samples until within 1 %.
         s.ibl_samples = progressive;
-        let per_frame = frame_ms(&mut renderer, &s, repeats);
+        let per_frame = frame_ms(renderer, &s, repeats);
         let mut frames = 1;
         loop {
             let image = linear(&renderer.render_lobe_hdr(&s, w, h, frames)?.rgba);
             let (err, _) = worst_error(&s, (w, h), &image, &mc);
-            println!("{builtin} | lobe progressive | {frames} x {progressive} | {:.2} % | | {:.0} ms for {frames} frames", err * 100.0, per_frame * frames as f64);
+            println!("{kind}, {builtin} | lobe progressive | {frames} x {progressive} | {:.2} % | | {:.0} ms for {frames} frames", err * 100.0, per_frame * frames as f64);
             if err <= 0.01 || frames >= 256 {
                 break;
             }

@@ -29,7 +29,7 @@ use super::{LUMINANCE, LUMINANCE_FLOOR};
 /// Where the points of a pixel's frame come from.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Points {
-    /// The shipped R2 sequence rotated per pixel (Cranley-Patterson).
+    /// Before: the R2 sequence rotated per pixel (Cranley-Patterson), every frame.
     Rotated,
     /// The R2 sequence rotated per frame, the same points for every pixel.
     Fixed,
@@ -42,17 +42,17 @@ pub enum Points {
     /// XORed with the pixel's hash: each aligned block of `2^m` indices is a
     /// (0, m, 2)-net, so frames continue it.
     SobolXor,
-    /// Frame 0: Hammersley's net XORed with the pixel's hash; later frames the shipped R2
-    /// points from index `k N`.
+    /// Shipped: frame 0 Hammersley's net XORed with the pixel's hash
+    /// (`lobe::lobe_frame_point`), later frames the R2 points from index `k N`.
     NetThenR2,
 }
 
 /// How the samples are combined into the single scattering.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Form {
-    /// `sum w L / N` (shipped).
+    /// `sum w L / N` (before).
     Plain,
-    /// `sum w L / sum w` times the split sum's `F0 A + B`.
+    /// `sum w L / sum w` times the split sum's `F0 A + B` (shipped).
     SelfNormalised,
     /// The split sum plus `sum w (L - P) / N`, `P` the prefiltered layers along each sample.
     ControlVariate,
@@ -75,13 +75,22 @@ pub struct Variant {
 }
 
 impl Variant {
-    pub const SHIPPED: Variant = Variant {
-        name: "shipped",
+    /// The estimator before this study: R2 rotated per pixel, `sum w L / N`.
+    pub const BEFORE: Variant = Variant {
+        name: "before",
         points: Points::Rotated,
         form: Form::Plain,
         lod_bias: 0.0,
         clamp: None,
         ms_from_samples: false,
+    };
+    /// The shipped estimator (`lighting.wgsl` `lobe_mean_radiance`): the first frame's
+    /// net, self-normalised.
+    pub const SHIPPED: Variant = Variant {
+        name: "shipped: net then r2, self-normalised",
+        points: Points::NetThenR2,
+        form: Form::SelfNormalised,
+        ..Variant::BEFORE
     };
 }
 
@@ -201,8 +210,9 @@ fn point(points: Points, p: &Px, frame: u32, j: u32, n: u32) -> (f64, f64) {
             let y = prefilter::radical_inverse(j) + f64::from(s[1]) * unit;
             (x.fract(), y.fract())
         }
-        Points::NetThenR2 if frame == 0 => point(Points::HammersleyXor, p, 0, j, n),
-        Points::NetThenR2 => point(Points::Rotated, p, frame, j, n),
+        Points::NetThenR2 => {
+            lobe::lobe_frame_point(frame * n, j, n, lobe::pixel_scramble(p.px, p.py))
+        }
         Points::SobolXor => {
             let i = frame * n + j;
             let sc = lobe::pixel_scramble(p.px, p.py);
@@ -218,14 +228,11 @@ fn point(points: Points, p: &Px, frame: u32, j: u32, n: u32) -> (f64, f64) {
             let unit = 1.0 / 16_777_216.0;
             (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
         }
-        Points::HammersleyXor => {
-            let s = lobe::pixel_scramble(p.px ^ lobe::lobe_hash(frame), p.py);
-            let bits = n.max(2).next_power_of_two().trailing_zeros();
-            let x = (j << (32 - bits)) ^ s[0];
-            let y = j.reverse_bits() ^ s[1];
-            let unit = 1.0 / 16_777_216.0;
-            (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
-        }
+        Points::HammersleyXor => lobe::lobe_net_point(
+            j,
+            n,
+            lobe::pixel_scramble(p.px ^ lobe::lobe_hash(frame), p.py),
+        ),
     }
 }
 
@@ -449,153 +456,156 @@ pub fn split_sum_error(s: &Setup) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The candidates the study measures, each with its sample count.
+/// The candidates the study measures, each with its sample count: each one change from
+/// [`Variant::BEFORE`], then combinations, then the shipped estimator.
 pub fn candidates() -> Vec<(Variant, u32)> {
-    let base = Variant::SHIPPED;
-    let mut out = Vec::new();
-    for n in [16, 32, 64] {
-        out.push((base, n));
-        for (name, lod_bias) in [
-            ("lod bias -1", -1.0),
-            ("lod bias 0.5", 0.5),
-            ("lod bias 1", 1.0),
-        ] {
-            out.push((
-                Variant {
-                    name,
-                    lod_bias,
-                    ..base
-                },
-                n,
-            ));
-        }
-        for (name, points) in [
-            ("fixed per frame", Points::Fixed),
-            ("hammersley", Points::Hammersley),
-        ] {
-            out.push((
-                Variant {
-                    name,
-                    points,
-                    ..base
-                },
-                n,
-            ));
-        }
-        for (name, form) in [
-            ("self-normalised", Form::SelfNormalised),
-            ("control variate", Form::ControlVariate),
-        ] {
-            out.push((Variant { name, form, ..base }, n));
-        }
-        for (name, c) in [("clamp 4", 4.0), ("clamp 16", 16.0)] {
-            out.push((
-                Variant {
-                    name,
-                    clamp: Some(c),
-                    ..base
-                },
-                n,
-            ));
-        }
-        let best = Variant {
-            points: Points::HammersleyXor,
-            form: Form::SelfNormalised,
-            ..base
-        };
-        out.push((
+    let b = Variant::BEFORE;
+    let net = Variant {
+        points: Points::HammersleyXor,
+        form: Form::SelfNormalised,
+        ..b
+    };
+    let one = |name, v: Variant| Variant { name, ..v };
+    let variants = [
+        b,
+        one(
+            "lod bias -1",
             Variant {
-                name: "hammersley xor",
-                form: Form::Plain,
-                ..best
+                lod_bias: -1.0,
+                ..b
             },
-            n,
-        ));
-        out.push((
+        ),
+        one("lod bias 0.5", Variant { lod_bias: 0.5, ..b }),
+        one("lod bias 1", Variant { lod_bias: 1.0, ..b }),
+        one(
+            "fixed per frame",
             Variant {
-                name: "combined: hammersley xor, self-normalised",
-                ..best
+                points: Points::Fixed,
+                ..b
             },
-            n,
-        ));
-        out.push((
+        ),
+        one(
+            "hammersley",
             Variant {
-                name: "sobol xor",
+                points: Points::Hammersley,
+                ..b
+            },
+        ),
+        one(
+            "hammersley xor",
+            Variant {
+                points: Points::HammersleyXor,
+                ..b
+            },
+        ),
+        one(
+            "sobol xor",
+            Variant {
                 points: Points::SobolXor,
-                ..base
+                ..b
             },
-            n,
-        ));
-        out.push((
+        ),
+        one(
+            "self-normalised",
             Variant {
-                name: "net then r2, self-normalised",
-                points: Points::NetThenR2,
-                ..best
+                form: Form::SelfNormalised,
+                ..b
             },
-            n,
-        ));
-        out.push((
+        ),
+        one(
+            "control variate",
             Variant {
-                name: "sobol xor, self-normalised",
-                points: Points::SobolXor,
-                ..best
+                form: Form::ControlVariate,
+                ..b
             },
-            n,
-        ));
-        for (name, lod_bias) in [
-            ("combined, lod bias -0.5", -0.5),
-            ("combined, lod bias 0.25", 0.25),
-        ] {
-            out.push((
-                Variant {
-                    name,
-                    lod_bias,
-                    ..best
-                },
-                n,
-            ));
-        }
-        out.push((
+        ),
+        one(
+            "clamp 4",
             Variant {
-                name: "combined, clamp 16",
+                clamp: Some(4.0),
+                ..b
+            },
+        ),
+        one(
+            "clamp 16",
+            Variant {
                 clamp: Some(16.0),
-                ..best
+                ..b
             },
-            n,
-        ));
-        out.push((
+        ),
+        one(
+            "ms from samples",
             Variant {
-                name: "ms from samples",
                 ms_from_samples: true,
-                ..base
+                ..b
             },
-            n,
-        ));
-    }
-    out
+        ),
+        one("combined: hammersley xor, self-normalised", net),
+        one(
+            "sobol xor, self-normalised",
+            Variant {
+                points: Points::SobolXor,
+                ..net
+            },
+        ),
+        one(
+            "combined, lod bias -0.5",
+            Variant {
+                lod_bias: -0.5,
+                ..net
+            },
+        ),
+        one(
+            "combined, lod bias 0.25",
+            Variant {
+                lod_bias: 0.25,
+                ..net
+            },
+        ),
+        one(
+            "combined, clamp 16",
+            Variant {
+                clamp: Some(16.0),
+                ..net
+            },
+        ),
+        Variant::SHIPPED,
+        one(
+            "shipped, ms from samples",
+            Variant {
+                ms_from_samples: true,
+                ..Variant::SHIPPED
+            },
+        ),
+    ];
+    [16, 32, 64]
+        .into_iter()
+        .flat_map(|n| variants.iter().map(move |v| (*v, n)))
+        .collect()
 }
 
 /// The candidates the progressive figures compare.
 pub fn progressive_candidates() -> Vec<Variant> {
-    let base = Variant::SHIPPED;
+    let b = Variant::BEFORE;
     vec![
-        base,
+        b,
+        Variant::SHIPPED,
         Variant {
             name: "self-normalised",
             form: Form::SelfNormalised,
-            ..base
+            ..b
         },
         Variant {
-            name: "net then r2, self-normalised",
-            points: Points::NetThenR2,
+            name: "hammersley xor, self-normalised",
+            points: Points::HammersleyXor,
             form: Form::SelfNormalised,
-            ..base
+            ..b
         },
         Variant {
             name: "sobol xor, self-normalised",
             points: Points::SobolXor,
             form: Form::SelfNormalised,
-            ..base
+            ..b
         },
     ]
 }
