@@ -68,6 +68,9 @@ fn scene(environment: Environment) -> Scene {
     }
 }
 
+/// A scene of the sweep's balls under a map.
+type BallsUnder = fn(Environment) -> Scene;
+
 /// The plastics under `environment`: the metals' scene with every ball a dielectric of IOR
 /// 1.5 (a red base on the top row, a light grey one below), each with the Kulla-Conty term.
 fn plastics(environment: Environment) -> Scene {
@@ -300,7 +303,7 @@ fn main() -> shadeballs::Result<()> {
         renderer.gpu().describe()
     );
     println!("balls, environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
-    let kinds: [(&str, fn(Environment) -> Scene); 2] = [("metals", scene), ("plastics", plastics)];
+    let kinds: [(&str, BallsUnder); 2] = [("metals", scene), ("plastics", plastics)];
     for (kind, make) in kinds {
         if flag("--plastics") && kind == "metals" {
             continue;
