@@ -156,12 +156,12 @@ fn lobe_net_point(j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
 }
 
 // Sample j of a frame whose first index is `first`, `count` a frame: the first frame's from
-// the net, later frames' the R2 sequence from index `first` (lobe_frame_point).
+// the net, later frames' the R2 sequence from index `first` (lobe_frame_point). A select,
+// not an if: `first` comes from the uniform buffer, and lavapipe compiles a fragment
+// shader again at every bind when its control flow depends on a uniform value
+// (tests/suite/uniform_flow.rs).
 fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
-    if first == 0u {
-        return lobe_net_point(j, count, scramble);
-    }
-    return lobe_point(first + j, scramble);
+    return select(lobe_point(first + j, scramble), lobe_net_point(j, count, scramble), first == 0u);
 }
 
 // An orthonormal frame about unit n, as columns (tangent, bitangent, n) (Duff et al. 2017,

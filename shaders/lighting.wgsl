@@ -5,7 +5,7 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::{PI, DIV_EPSILON}
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::{alpha_from_roughness, f_dielectric, f0_from_ior}
+#import shadeballs::brdf::{alpha_from_roughness, f_dielectric}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
