@@ -9,11 +9,20 @@
 //! 0.3 of the mean relative error of luminance over a ball's pixels, the Monte Carlo's own
 //! mean relative standard error beside it; the median frame time of `--repeats` frames.
 //! Then the progressive image: frames of `--progressive-samples` samples accumulated until
-//! the worst error is within 1 %, and what those frames cost at 1280x720.
+//! the worst error is within 1 %, and what those frames cost at 1280x720. The same for
+//! plastics (every ball a dielectric of IOR 1.5 with the term; `--plastics` for them alone).
 //!
 //! ```text
 //! cargo run --release --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
+//! cargo run --release --example lobe_sweep -- --study [--frames 32] [--progressive] [--only NAME]
 //! ```
+//!
+//! `--study` measures, on the CPU, each candidate estimator's bias and noise instead
+//! (`lobe/study.rs`). The Monte Carlo references are kept in `target/lobe_sweep/` and read
+//! back by later runs of the same size and sample count.
+
+#[path = "lobe/study.rs"]
+mod study;
 
 use std::time::Instant;
 
@@ -28,6 +37,10 @@ use shadeballs::scene::{Material, Model, Scene};
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
 /// Reference pixels darker than this are left out of relative errors (the lab's floor).
 const LUMINANCE_FLOOR: f64 = 1e-4;
+
+fn flag(name: &str) -> bool {
+    std::env::args().any(|a| a == name)
+}
 
 fn arg(name: &str, default: u32) -> u32 {
     let args: Vec<String> = std::env::args().collect();
@@ -53,6 +66,24 @@ fn scene(environment: Environment) -> Scene {
         antialias: false,
         ..scene
     }
+}
+
+/// A scene of the sweep's balls under a map.
+type BallsUnder = fn(Environment) -> Scene;
+
+/// The plastics under `environment`: the metals' scene with every ball a dielectric of IOR
+/// 1.5 (a red base on the top row, a light grey one below), each with the Kulla-Conty term.
+fn plastics(environment: Environment) -> Scene {
+    let mut s = scene(environment);
+    for (k, b) in s.balls.iter_mut().enumerate() {
+        let base = if k < 5 {
+            DVec3::new(0.6, 0.1, 0.1)
+        } else {
+            DVec3::splat(0.8)
+        };
+        b.material = Material::dielectric(base, 1.5);
+    }
+    s
 }
 
 /// The worst over the balls of roughness >= 0.3 of the mean relative luminance error of
@@ -148,52 +179,196 @@ fn frame_ms(renderer: &mut Renderer, scene: &Scene, repeats: u32) -> f64 {
     times[times.len() / 2]
 }
 
+/// The CPU Monte Carlo of `scene` (seed 7), read from `target/lobe_sweep/` where an
+/// earlier run of the same map, size and sample count left it, else rendered and kept.
+fn reference(
+    scene: &Scene,
+    e: &TableSet,
+    name: &str,
+    (w, h): (u32, u32),
+    spp: u32,
+) -> shadeballs::Result<MonteCarloImage> {
+    let dir = std::path::Path::new("target/lobe_sweep");
+    let path = dir.join(format!("mc-{name}-{w}x{h}-{spp}.bin"));
+    let pixels = (w * h) as usize;
+    if let Ok(bytes) = std::fs::read(&path) {
+        if bytes.len() == pixels * 48 {
+            let values: Vec<f64> = bytes
+                .chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+                .collect();
+            let vec = |k: usize| DVec3::new(values[k], values[k + 1], values[k + 2]);
+            return Ok(MonteCarloImage {
+                width: w,
+                height: h,
+                spp,
+                mean: (0..pixels).map(|i| vec(6 * i)).collect(),
+                std_error: (0..pixels).map(|i| vec(6 * i + 3)).collect(),
+                covered: vec![true; pixels],
+                antialias: scene.antialias,
+            });
+        }
+    }
+    let mc = cpu::render_montecarlo(scene, e, w, h, spp, 7)?;
+    let mut bytes = Vec::with_capacity(pixels * 48);
+    for (m, s) in mc.mean.iter().zip(&mc.std_error) {
+        for x in m.to_array().into_iter().chain(s.to_array()) {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    // A cache: a failure to keep it costs the next run the render, nothing else.
+    let temporary = path.with_extension("part");
+    if std::fs::create_dir_all(dir).is_ok() && std::fs::write(&temporary, &bytes).is_ok() {
+        let _ = std::fs::rename(&temporary, &path);
+    }
+    Ok(mc)
+}
+
+/// `--study`: each candidate's one-frame error, bias and noise (`lobe/study.rs`).
+fn run_study((w, h): (u32, u32), spp: u32) -> shadeballs::Result<()> {
+    let frames = arg("--frames", 32);
+    let only: Option<String> = std::env::args().skip_while(|a| a != "--only").nth(1);
+    println!(
+        "study at {w}x{h}, {frames} frames a variant, against the CPU Monte Carlo of {spp} spp"
+    );
+    println!("environment | variant | samples | one frame | bias | noise | worst ball: (bias, noise) by n.v <0.25, <0.5, >=0.5");
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let environment = Environment::builtin(builtin);
+        let s = scene(environment.clone());
+        let tables = lut::bake(&BakeConfig {
+            geometry: s.effective_geometry(),
+            ..BakeConfig::default()
+        });
+        let ibl = cpu::CpuEnvironment::new(&environment, &tables);
+        let e = TableSet::full(tables);
+        let mc = reference(&s, &e, builtin.name(), (w, h), spp)?;
+        let setup = study::Setup {
+            scene: &s,
+            environment: &environment,
+            e: &e,
+            ibl: &ibl,
+            mc: &mc,
+            size: (w, h),
+        };
+        println!(
+            "{builtin} | split sum | - | {:.2} % | | |",
+            100.0 * study::split_sum_error(&setup)
+        );
+        if flag("--progressive") {
+            for variant in study::progressive_candidates() {
+                for frames in [1, 4, 16, 64] {
+                    let e = study::progressive(&setup, &variant, 16, frames);
+                    println!(
+                        "{builtin} | {} progressive | {frames} x 16 | {:.2} % | | |",
+                        variant.name,
+                        100.0 * e
+                    );
+                }
+            }
+            continue;
+        }
+        for (variant, n) in study::candidates() {
+            if only.as_deref().is_some_and(|o| !variant.name.contains(o)) {
+                continue;
+            }
+            let f = study::measure(&setup, &variant, n, frames);
+            let by: Vec<String> = f
+                .by_mu
+                .iter()
+                .map(|(b, s)| format!("({:.1}, {:.1})", 100.0 * b, 100.0 * s))
+                .collect();
+            println!(
+                "{builtin} | {} | {n} | {:.2} % | {:.2} % | {:.2} % | ball {}: {}",
+                variant.name,
+                100.0 * f.frame,
+                100.0 * f.bias,
+                100.0 * f.noise,
+                f.worst_ball,
+                by.join(" ")
+            );
+        }
+    }
+    Ok(())
+}
+
 fn main() -> shadeballs::Result<()> {
     let (w, h) = (arg("--width", 160), arg("--height", 90));
     let spp = arg("--spp", 8192);
-    let repeats = arg("--repeats", 11);
-    let progressive = arg("--progressive-samples", 16);
+    if flag("--study") {
+        return run_study((w, h), spp);
+    }
     let mut renderer = Renderer::new(Gpu::new(wgpu::Backends::VULKAN)?);
     println!(
         "{}; errors at {w}x{h} against Monte Carlo of {spp} spp",
         renderer.gpu().describe()
     );
-    println!("environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
-    for builtin in [Builtin::Studio, Builtin::Sky] {
-        let mut s = scene(Environment::builtin(builtin));
+    println!("balls, environment | method | samples | worst mean rel err (r >= 0.3) | mc rel std err | frame ms (1280x720)");
+    let kinds: [(&str, BallsUnder); 2] = [("metals", scene), ("plastics", plastics)];
+    for (kind, make) in kinds {
+        if flag("--plastics") && kind == "metals" {
+            continue;
+        }
+        for builtin in [Builtin::Studio, Builtin::Sky] {
+            sweep(
+                &mut renderer,
+                make(Environment::builtin(builtin)),
+                (kind, builtin),
+                (w, h),
+                spp,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The sweep's rows for `s` (`kind` its balls, under `builtin`).
+fn sweep(
+    renderer: &mut Renderer,
+    mut s: Scene,
+    (kind, builtin): (&str, Builtin),
+    (w, h): (u32, u32),
+    spp: u32,
+) -> shadeballs::Result<()> {
+    let repeats = arg("--repeats", 11);
+    let progressive = arg("--progressive-samples", 16);
+    {
         let tables = lut::bake(&BakeConfig {
             geometry: s.effective_geometry(),
             ..BakeConfig::default()
         });
         let e = TableSet::full(tables);
-        let mc = cpu::render_montecarlo(&s, &e, w, h, spp, 7)?;
+        let name = match kind {
+            "metals" => builtin.name().to_string(),
+            _ => format!("{kind}-{builtin}"),
+        };
+        let mc = reference(&s, &e, &name, (w, h), spp)?;
         let row =
             |s: &Scene, label: &str, samples: String, r: &mut Renderer| -> shadeballs::Result<()> {
                 let image = linear(&r.render_hdr(s, w, h)?.rgba);
                 let (err, noise) = worst_error(s, (w, h), &image, &mc);
                 let ms = frame_ms(r, s, repeats);
                 println!(
-                    "{builtin} | {label} | {samples} | {:.2} % | {:.2} % | {ms:.1}",
+                    "{kind}, {builtin} | {label} | {samples} | {:.2} % | {:.2} % | {ms:.1}",
                     err * 100.0,
                     noise * 100.0
                 );
                 Ok(())
             };
         s.ibl_method = IblMethod::SplitSum;
-        row(&s, "split-sum", "-".into(), &mut renderer)?;
+        row(&s, "split-sum", "-".into(), renderer)?;
         s.ibl_method = IblMethod::Lobe;
         for n in [1, 2, 4, 8, 16, 32, 64] {
             s.ibl_samples = n;
-            row(&s, "lobe", n.to_string(), &mut renderer)?;
+            row(&s, "lobe", n.to_string(), renderer)?;
         }
         // Progressive: frames of `progressive` samples until within 1 %.
         s.ibl_samples = progressive;
-        let per_frame = frame_ms(&mut renderer, &s, repeats);
+        let per_frame = frame_ms(renderer, &s, repeats);
         let mut frames = 1;
         loop {
             let image = linear(&renderer.render_lobe_hdr(&s, w, h, frames)?.rgba);
             let (err, _) = worst_error(&s, (w, h), &image, &mc);
-            println!("{builtin} | lobe progressive | {frames} x {progressive} | {:.2} % | | {:.0} ms for {frames} frames", err * 100.0, per_frame * frames as f64);
+            println!("{kind}, {builtin} | lobe progressive | {frames} x {progressive} | {:.2} % | | {:.0} ms for {frames} frames", err * 100.0, per_frame * frames as f64);
             if err <= 0.01 || frames >= 256 {
                 break;
             }

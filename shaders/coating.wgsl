@@ -15,6 +15,13 @@
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
+// With IBL = 2, the mean radiance of the coating's own lobe under the map at the pixel
+// being shaded (lighting.wgsl lobe_mean_radiance with the coating's Fresnel), set by
+// lighting.wgsl shade before shade_coating: the coating's map part reads it in place of the
+// prefiltered layers. (A private, so that shade_coating's signature and the split sum's
+// code stay as they are.)
+var<private> coating_lobe: vec3<f32>;
+
 // The coating's single-scattering albedo E_F(mu) from the ball's row of coating_rows
 // (src/lut/coating.rs): values at sqrt(mu) = k / (COATING_ROW_LEN - 1), linear between.
 fn coating_albedo(row: u32, mu: f32) -> f32 {
@@ -160,7 +167,9 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
 // The map's part of shade_coating (docs/design/environment.md, "Shading under a map"): the
 // prefiltered radiance along the dominant direction times the row's E_F(mu_o) (the split
 // sum's second factor is the directional albedo), the coating's term as the metal's, and
-// the base's albedo times the irradiance.
+// the base's albedo times the irradiance. With IBL = 2 the specular's radiance is the mean
+// of its own lobe's samples instead, coating_lobe (docs/design/environment.md, "Lighting
+// that follows the lobe").
 fn shade_coating_map(
     b: Ball,
     n: vec3<f32>,
@@ -179,7 +188,10 @@ fn shade_coating_map(
     let dominant = specular_direction(n, r, roughness);
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
-    let single = prefiltered * e_f_o;
+    var single = prefiltered * e_f_o;
+    if IBL == 2u {
+        single = coating_lobe * e_f_o;
+    }
     var lo = single + base_o * irradiance;
     if ms > 0.0 {
         let term = b.term;

@@ -5,14 +5,14 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::{PI, DIV_EPSILON}
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::alpha_from_roughness
+#import shadeballs::brdf::{alpha_from_roughness, f_dielectric}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
-#import shadeballs::environment::{pixel_scramble, lobe_point, lobe_frame, sample_vndf, vndf_density, lobe_lod}
+#import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_frame, sample_vndf, vndf_density, lobe_lod}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
-#import shadeballs::coating::shade_coating
+#import shadeballs::coating::{shade_coating, coating_lobe}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
 
@@ -21,10 +21,15 @@
 // buffer: screen.wgsl loop_counts says why): the metal's and the coating's, each with its
 // own term, mixed by the ball's metallic (an all-metal or all-dielectric ball shades one).
 // `pixel` (column, row) picks the pixel's sequence of lobe samples (IBL = 2).
+// With IBL = 2 the coating's specular lobe is sampled here too (lobe_mean_radiance with
+// the coating's Fresnel) and handed to shade_coating through coating_lobe.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let metallic = b.coating.x;
     if metallic >= 1.0 {
         return shade_metal(b, n, v, n_lights, pixel);
+    }
+    if IBL == 2u {
+        coating_lobe = lobe_mean_radiance(n, v, b.f0_roughness.w, vec3<f32>(0.0), b.coating.y, b.fresnel, pixel);
     }
     let coating = shade_coating(b, n, v, n_lights, term_weight(b));
     if metallic <= 0.0 {
@@ -153,7 +158,7 @@ fn shade_environment_map(
     let e_o = 1.0 - loss_o;
     var single = vec3<f32>(0.0);
     if IBL == 2u {
-        single = shade_environment_lobe(n, v, f0, roughness, pixel);
+        single = shade_environment_lobe(n, v, f0, roughness, fss_ess, pixel);
     } else {
         let r = 2.0 * dot(n, v) * n - v;
         let dominant = specular_direction(n, r, roughness);
@@ -175,14 +180,41 @@ fn shade_environment_map(
     return lo;
 }
 
-// The metal's single scattering at normal n towards v lit by the map, estimated from
-// IBL_SAMPLES directions of its own lobe (docs/design/environment.md, "Lighting that
-// follows the lobe"): the pixel's samples env.lobe.x .. + IBL_SAMPLES of its sequence
-// (lobe_point), each a GGX visible normal reflected (sample_vndf), dropped below the
-// horizon, weighted by f_micro mu_i / pdf (F G2 / G1(v), the estimator of Heitz 2018) and
-// reading the map's mip chain at its footprint (lobe_lod, among all the samples so far).
+// The metal's single scattering at normal n towards v lit by the map, from IBL_SAMPLES
+// directions of its own lobe (docs/design/environment.md, "Lighting that follows the
+// lobe"): the lobe's mean radiance (lobe_mean_radiance, Schlick's F of f0) times the split
+// sum's exactly tabulated fss_ess = F0 A + B, the lobe's albedo.
 // Mirrored by src/cpu/shade.rs shade_environment_lobe.
-fn shade_environment_lobe(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: f32, pixel: vec2<u32>) -> vec3<f32> {
+fn shade_environment_lobe(
+    n: vec3<f32>,
+    v: vec3<f32>,
+    f0: vec3<f32>,
+    roughness: f32,
+    fss_ess: vec3<f32>,
+    pixel: vec2<u32>,
+) -> vec3<f32> {
+    return lobe_mean_radiance(n, v, roughness, f0, 0.0, 0u, pixel) * fss_ess;
+}
+
+// The self-normalised mean radiance of a microfacet lobe at normal n towards v, lit by the
+// map: sum w L / sum w over the pixel's samples env.lobe.x .. + IBL_SAMPLES
+// (lobe_frame_point: a net in the first frame, the R2 sequence after), each a GGX visible
+// normal reflected (sample_vndf), dropped below the horizon, weighted by
+// w = f_micro mu_i / pdf (F G2 / G1(v), the estimator of Heitz 2018) and reading the map's
+// mip chain at its footprint (lobe_lod, among all the samples so far); 0 where no sample
+// lies above the horizon. Times the lobe's albedo it estimates the lobe's single
+// scattering, the weights' noise cancelled. F: Schlick's of f0 per channel where eta is
+// 0 (a metal), else the dielectric's of index eta in form `fresnel` (a coating).
+// Mirrored by src/cpu/shade.rs lobe_mean_radiance.
+fn lobe_mean_radiance(
+    n: vec3<f32>,
+    v: vec3<f32>,
+    roughness: f32,
+    f0: vec3<f32>,
+    eta: f32,
+    fresnel: u32,
+    pixel: vec2<u32>,
+) -> vec3<f32> {
     let mu_o = max(dot(n, v), 0.0);
     let alpha = alpha_from_roughness(roughness);
     let frame = lobe_frame(n);
@@ -192,8 +224,9 @@ fn shade_environment_lobe(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: 
     let count = env.lobe.x + f32(IBL_SAMPLES);
     let max_level = f32(textureNumLevels(env_radiance) - 1u);
     var sum = vec3<f32>(0.0);
+    var weights = vec3<f32>(0.0);
     for (var j = 0u; j < IBL_SAMPLES; j++) {
-        let u = lobe_point(first + j, scramble);
+        let u = lobe_frame_point(first, j, IBL_SAMPLES, scramble);
         let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
         let mu_i = dot(n, l);
         if mu_i <= 0.0 || mu_o <= 0.0 {
@@ -205,13 +238,19 @@ fn shade_environment_lobe(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: 
         if pdf <= DIV_EPSILON {
             continue;
         }
-        let f = f_micro(f_schlick(f0, dot(v, h)), mu_o, mu_i, n_dot_h, roughness, GEOMETRY);
+        var f = f_schlick(f0, dot(v, h));
+        if eta > 0.0 {
+            f = vec3<f32>(f_dielectric(dot(v, h), eta, fresnel));
+        }
+        let w = f_micro(f, mu_o, mu_i, n_dot_h, roughness, GEOMETRY) * (mu_i / pdf);
         let l_map = env_to_map(l, env.rotation);
         let lod = lobe_lod(pdf, count, l_map, env.lobe.zw, max_level);
         let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), lod).rgb;
-        sum += f * (mu_i / pdf) * radiance;
+        sum += w * radiance;
+        weights += w;
     }
-    return env.intensity * sum / f32(IBL_SAMPLES);
+    let mean = select(sum / max(weights, vec3<f32>(DIV_EPSILON)), vec3<f32>(0.0), weights <= vec3<f32>(DIV_EPSILON));
+    return env.intensity * mean;
 }
 
 // The weight of ball b's multiple-scattering term under MS_TERM: 1 compiled in, the ball's

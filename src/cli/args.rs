@@ -181,8 +181,9 @@ pub struct SceneArgs {
     #[arg(long)]
     pub ibl_term: Option<IblTerm>,
     /// How the environment map lights the balls: split-sum (one prefiltered read a pixel)
-    /// or lobe (--ibl-samples samples of each metal's own lobe a pixel a frame, each read
-    /// at its footprint's mip level). Default: the scene's `ibl_method`, else split-sum.
+    /// or lobe (--ibl-samples samples of each ball's own specular lobe a pixel a frame,
+    /// each read at its footprint's mip level). Default: the scene's `ibl_method`, else
+    /// split-sum.
     #[arg(long)]
     pub ibl_method: Option<IblMethod>,
     /// Lobe samples a pixel a frame under --ibl-method lobe, 1..=256 (default: the

@@ -6,12 +6,13 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::shade::{loss, Forms};
+use super::shade::{lobe_mean_radiance, loss, Forms, LobeSamples};
 use super::CpuEnvironment;
 use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
+    Geometry,
 };
 use crate::environment::IblTerm;
 use crate::lut::{coating_albedo, CoatingRows, TableSet, COATING_ROW_LEN};
@@ -227,7 +228,8 @@ pub(super) fn shade_coating(
     let point = CoatingPoint::new(scene, b, coat, (n, v), e);
     let mut lo = scene.environment * point.albedo();
     if let Some(map) = forms.map {
-        lo += shade_coating_map(scene, b, n, v, &point, map);
+        let lobe = forms.lobe.map(|l| (l, forms.geometry));
+        lo += shade_coating_map(scene, (b, &point), (n, v), map, lobe);
     }
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
@@ -241,29 +243,39 @@ pub(super) fn shade_coating(
     lo
 }
 
-/// `shade_coating_map` of `coating.wgsl`.
+/// `shade_coating_map` of `coating.wgsl`: under the lobe's method (`lobe`, the pixel's
+/// samples) the specular's radiance is its own lobe's mean ([`lobe_mean_radiance`] with the
+/// coating's Fresnel), else the prefiltered layers'.
 fn shade_coating_map(
     scene: &Scene,
-    b: &Ball,
-    n: DVec3,
-    v: DVec3,
-    p: &CoatingPoint,
+    (b, p): (&Ball, &CoatingPoint),
+    (n, v): (DVec3, DVec3),
     map: &CpuEnvironment,
+    lobe: Option<(LobeSamples, Geometry)>,
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
     let roughness = b.roughness;
     let intensity = map.intensity(environment);
-    let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
-    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
-    let prefiltered = intensity
-        * map
-            .prefiltered
-            .specular(environment.to_map(dominant), roughness);
     let irradiance = intensity * map.prefiltered.irradiance(n_map);
-    let single = prefiltered * p.e_f_o;
+    let radiance = match lobe {
+        Some(lobe) => {
+            let (eta, form) = (p.constants.eta, p.fresnel_form);
+            let fresnel = |v_dot_h: f64| DVec3::splat(f_dielectric(v_dot_h, eta, form));
+            lobe_mean_radiance(environment, map, (n, v), roughness, &fresnel, lobe)
+        }
+        None => {
+            let r = 2.0 * n.dot(v) * n - v;
+            let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+            intensity
+                * map
+                    .prefiltered
+                    .specular(environment.to_map(dominant), roughness)
+        }
+    };
+    let single = radiance * p.e_f_o;
     let mut lo = single + p.base_o * irradiance;
     if p.ms > 0.0 {
         lo += p.ms

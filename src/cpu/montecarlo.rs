@@ -432,7 +432,7 @@ fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
 /// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
 /// sample the projected disk, warp to the visible half, unstretch. May lie below the
 /// horizon (the caller's `mu_i <= 0` gives it no weight).
-pub(super) fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
+pub fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
     let vh = vh / vh.length().max(DIV_EPSILON);
     let lensq = vh.x * vh.x + vh.y * vh.y;
@@ -463,14 +463,15 @@ fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
 
 /// An orthonormal frame about a unit normal (Duff et al. 2017, "Building an Orthonormal
 /// Basis, Revisited", JCGT 6(1)).
-pub(super) struct Frame {
+pub struct Frame {
     t: DVec3,
     b: DVec3,
     n: DVec3,
 }
 
 impl Frame {
-    pub(super) fn new(n: DVec3) -> Self {
+    /// The frame about unit `n`.
+    pub fn new(n: DVec3) -> Self {
         let sign = 1.0f64.copysign(n.z);
         let a = -1.0 / (sign + n.z);
         let b = n.x * n.y * a;
@@ -480,10 +481,12 @@ impl Frame {
             n,
         }
     }
-    pub(super) fn to_local(&self, w: DVec3) -> DVec3 {
+    /// `w` in the frame (normal `+z`).
+    pub fn to_local(&self, w: DVec3) -> DVec3 {
         DVec3::new(w.dot(self.t), w.dot(self.b), w.dot(self.n))
     }
-    pub(super) fn to_world(&self, l: DVec3) -> DVec3 {
+    /// Local `l` in the world.
+    pub fn to_world(&self, l: DVec3) -> DVec3 {
         l.x * self.t + l.y * self.b + l.z * self.n
     }
 }

@@ -381,7 +381,7 @@ pub(super) fn shade_environment_lobe_map(
     } = *terms;
     let intensity = ibl.intensity(environment);
     let n_map = environment.to_map(n);
-    let single = shade_environment_lobe(environment, ibl, b, (n, v), lobe);
+    let single = shade_environment_lobe(environment, ibl, b, (n, v), terms.fss_ess, lobe);
     if ms <= 0.0 {
         return single;
     }
@@ -396,18 +396,34 @@ pub(super) fn shade_environment_lobe_map(
 }
 
 /// `shade_environment_lobe` of `lighting.wgsl`: the metal's single scattering at normal `n`
-/// towards `v` lit by the map, the mean of `lobe.count` samples of its GGX visible normals
-/// (each weighted by `f_micro mu_i / pdf` with the scene's G, read at its footprint's mip
-/// level).
+/// towards `v` lit by the map, the lobe's mean radiance ([`lobe_mean_radiance`], Schlick's
+/// F of the ball's F0) times the split sum's `fss_ess` (`F0 A + B`).
 pub(super) fn shade_environment_lobe(
     environment: &Environment,
     ibl: &CpuEnvironment,
     b: &Ball,
     (n, v): (DVec3, DVec3),
+    fss_ess: DVec3,
+    lobe: (LobeSamples, Geometry),
+) -> DVec3 {
+    let f0 = b.material.f0;
+    let fresnel = |v_dot_h: f64| per_channel(f0, |f| f_schlick(f, v_dot_h));
+    lobe_mean_radiance(environment, ibl, (n, v), b.roughness, &fresnel, lobe) * fss_ess
+}
+
+/// `lobe_mean_radiance` of `lighting.wgsl`: the self-normalised mean radiance `sum w L /
+/// sum w` of the lobe of `roughness` at normal `n` towards `v` over `lobe.count` samples of
+/// its GGX visible normals, each weighted by `w = f_micro mu_i / pdf` with the scene's G and
+/// `fresnel(v.h)` per channel, read at its footprint's mip level; 0 where no sample lies
+/// above the horizon.
+pub(super) fn lobe_mean_radiance(
+    environment: &Environment,
+    ibl: &CpuEnvironment,
+    (n, v): (DVec3, DVec3),
+    roughness: f64,
+    fresnel: &dyn Fn(f64) -> DVec3,
     (lobe, geometry): (LobeSamples, Geometry),
 ) -> DVec3 {
-    let roughness = b.roughness;
-    let f0 = b.material.f0;
     let mu_o = n.dot(v).max(0.0);
     let alpha = alpha_from_roughness(roughness);
     let frame = super::montecarlo::Frame::new(n);
@@ -416,9 +432,9 @@ pub(super) fn shade_environment_lobe(
     let size = (f64::from(level0.width), f64::from(level0.height));
     let max_level = (ibl.chain.levels.len() - 1) as f64;
     let count = f64::from(lobe.first) + f64::from(lobe.count);
-    let mut sum = DVec3::ZERO;
+    let (mut sum, mut weights) = (DVec3::ZERO, DVec3::ZERO);
     for j in 0..lobe.count {
-        let (u1, u2) = lobe::lobe_point(lobe.first.wrapping_add(j), lobe.scramble);
+        let (u1, u2) = lobe::lobe_frame_point(lobe.first, j, lobe.count, lobe.scramble);
         let l = frame.to_world(super::montecarlo::sample_vndf(v_local, alpha, u1, u2));
         let mu_i = n.dot(l);
         if mu_i <= 0.0 || mu_o <= 0.0 {
@@ -430,22 +446,22 @@ pub(super) fn shade_environment_lobe(
         if pdf <= DIV_EPSILON {
             continue;
         }
-        let v_dot_h = v.dot(h);
-        let f = per_channel(f0, |f| {
-            f_micro(
-                f_schlick(f, v_dot_h),
-                mu_o,
-                mu_i,
-                n_dot_h,
-                roughness,
-                geometry,
-            )
+        let w = per_channel(fresnel(v.dot(h)), |f| {
+            f_micro(f, mu_o, mu_i, n_dot_h, roughness, geometry) * (mu_i / pdf)
         });
         let l_map = environment.to_map(l);
         let lod = lobe::lobe_lod(pdf, count, l_map, size, max_level);
-        sum += f * (mu_i / pdf) * ibl.chain.sample(l_map, lod);
+        sum += w * ibl.chain.sample(l_map, lod);
+        weights += w;
     }
-    ibl.intensity(environment) * sum / f64::from(lobe.count)
+    let mean = DVec3::from_array(std::array::from_fn(|c| {
+        if weights[c] <= DIV_EPSILON {
+            0.0
+        } else {
+            sum[c] / weights[c]
+        }
+    }));
+    ibl.intensity(environment) * mean
 }
 
 /// [`term_turquin`] per channel.

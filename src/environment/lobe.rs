@@ -95,6 +95,33 @@ pub fn lobe_point(i: u32, scramble: [u32; 2]) -> (f64, f64) {
     (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
 }
 
+/// Point `j` of the `count` points of a pixel's first frame, in `[0, 1)^2`: Hammersley's
+/// set `(j / count, radical_inverse(j))` (Hammersley 1960) in 32-bit fixed point, each
+/// coordinate XORed with `scramble` (a digital shift, which keeps the set a (0, m, 2)-net
+/// when `count = 2^m`: every elementary box of area `1 / count` holds one point; Kollig &
+/// Keller 2002, "Efficient Multidimensional Sampling"); the same 24 high bits as
+/// [`lobe_point`]. `j / count` is `j` times `floor((2^32 - 1) / count) + 1` (exactly
+/// `2^32 / count` for a power of two; below `2^32` for every `j < count <= 65536`).
+pub fn lobe_net_point(j: u32, count: u32, scramble: [u32; 2]) -> (f64, f64) {
+    let step = (u32::MAX / count.max(1)).wrapping_add(1);
+    let x = j.wrapping_mul(step) ^ scramble[0];
+    let y = j.reverse_bits() ^ scramble[1];
+    let unit = 1.0 / 16_777_216.0;
+    (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
+}
+
+/// Sample `j` of a frame whose first index is `first` among `count` a frame: the first
+/// frame's from the net ([`lobe_net_point`], the best `count` points on their own), later
+/// frames' the R2 sequence from index `first` ([`lobe_point`], which keeps filling the
+/// square as frames accumulate).
+pub fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: [u32; 2]) -> (f64, f64) {
+    if first == 0 {
+        lobe_net_point(j, count, scramble)
+    } else {
+        lobe_point(first.wrapping_add(j), scramble)
+    }
+}
+
 /// The density per solid angle of a direction reflected about a visible normal `h` (Heitz
 /// 2018, eq. 17 with the reflection's Jacobian): `G1(v) D(h) / (4 mu_o)`, with
 /// `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact Smith G1 for
@@ -142,6 +169,43 @@ mod tests {
             cells[(y * 16.0) as usize * 16 + (x * 16.0) as usize] += 1;
         }
         assert!(cells.iter().all(|&c| c <= 3), "{cells:?}");
+    }
+
+    #[test]
+    fn the_first_frames_points_are_a_net() {
+        // 64 points, a digital shift of Hammersley's: every elementary box of area 1/64
+        // (8 x 8, 16 x 4 and 4 x 16 cells, 64 x 1 and 1 x 64 strips) holds exactly one point, whatever
+        // the pixel (the net property, exact for a power of two).
+        for (px, py) in [(0, 0), (17, 5), (1279, 719)] {
+            let s = pixel_scramble(px, py);
+            for (cols, rows) in [(8usize, 8usize), (64, 1), (1, 64), (16, 4), (4, 16)] {
+                let mut cells = vec![0u32; 64];
+                for j in 0..64 {
+                    let (x, y) = lobe_net_point(j, 64, s);
+                    assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+                    let c = (y * rows as f64) as usize * cols + (x * cols as f64) as usize;
+                    cells[c] += 1;
+                }
+                assert!(cells.iter().all(|&c| c == 1), "{cols}x{rows}: {cells:?}");
+            }
+        }
+        // A count that is no power of two still spreads over the square: unshifted, point
+        // j's x is j / 48 to the 24-bit fixed point's resolution (2^-24, the truncation of
+        // the low 8 bits; the step is rounded up, so at most one unit either way).
+        for j in 0..48 {
+            let (x, _) = lobe_net_point(j, 48, [0, 0]);
+            assert!(
+                (x - f64::from(j) / 48.0).abs() <= 1.0 / 16_777_216.0,
+                "{j}: {x}"
+            );
+        }
+    }
+
+    #[test]
+    fn later_frames_continue_the_r2_sequence() {
+        let s = pixel_scramble(3, 4);
+        assert_eq!(lobe_frame_point(16, 2, 16, s), lobe_point(18, s));
+        assert_eq!(lobe_frame_point(0, 2, 16, s), lobe_net_point(2, 16, s));
     }
 
     #[test]
