@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::brdf::Geometry;
 use crate::display::ToneMap;
-use crate::environment::{Background, IblTerm};
+use crate::environment::{Background, IblMethod, IblTerm, MAX_IBL_SAMPLES};
 use crate::lut::{Layout, LayoutKind};
 use crate::scene::{Layering, Material, Preset, Scene, MAX_MAGNITUDE};
 
@@ -105,6 +105,8 @@ pub struct Stats {
     pub scene_size: (u32, u32),
     /// Estimates a pixel the truth balls' image holds (`None` without truth balls).
     pub truth_samples: Option<u32>,
+    /// Lobe samples a pixel the image holds (`None` when no ball uses the lobe).
+    pub lobe_samples: Option<u32>,
 }
 
 /// Shows the panel on the right of `ui`.
@@ -156,6 +158,14 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
         ui.label(format!(
             "truth: {n} samples a pixel (accumulating while nothing changes)"
         ));
+    }
+    if let Some(n) = stats.lobe_samples {
+        let state = if n < super::state::LOBE_SAMPLE_CAP {
+            "converging while nothing changes"
+        } else {
+            "done"
+        };
+        ui.label(format!("lobe: {n} samples a pixel ({state})"));
     }
     ui.label(format!(
         "scene {}x{} on {}",
@@ -383,6 +393,7 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             if term != scene.term() {
                 scene.set_term(term);
             }
+            ibl_method(ui, scene);
         }
         let mut backgrounds = vec![Background::Environment, Background::Black];
         backgrounds.extend(controls.background_colour.map(Background::Colour));
@@ -413,6 +424,30 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             ui.label(status);
         }
     });
+}
+
+/// How the map lights the metals (split sum or the lobe's samples) and, under the lobe, the
+/// samples a pixel each frame adds (`ibl_method`, `ibl_samples`, as `--ibl-method`,
+/// `--ibl-samples`).
+fn ibl_method(ui: &mut egui::Ui, scene: &mut Scene) {
+    let name = |m: IblMethod| match m {
+        IblMethod::SplitSum => "split sum",
+        IblMethod::Lobe => "lobe (converges while nothing moves)",
+    };
+    combo(
+        ui,
+        "IBL method",
+        &mut scene.ibl_method,
+        &IblMethod::ALL,
+        name,
+    );
+    if scene.ibl_method == IblMethod::Lobe {
+        ui.add(
+            egui::Slider::new(&mut scene.ibl_samples, 1..=MAX_IBL_SAMPLES)
+                .logarithmic(true)
+                .text("lobe samples a frame"),
+        );
+    }
 }
 
 /// Loads the map file at `path` ([`edit::load_map_file`]) and says how it went, in the

@@ -531,3 +531,115 @@ fn lobe_converges_to_the_monte_carlo_of_the_model() {
         assert!(e_lobe < e_split, "{builtin}: {e_lobe} vs {e_split}");
     }
 }
+
+/// `scene` drawn by [`shadeballs::Renderer::render_progressive`] into a `w x h`
+/// `Rgba8Unorm` texture of the test's own, read back.
+fn progressive_ldr(r: &mut shadeballs::Renderer, scene: &Scene, (w, h): (u32, u32)) -> Vec<u8> {
+    use shadeballs::gpu::readback::Readback;
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let device = r.gpu().device.clone();
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("progressive target"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let target = shadeballs::Target {
+        view: &view,
+        format,
+        width: w,
+        height: h,
+    };
+    r.render_progressive(scene, target).unwrap();
+    let readback = Readback::new(&device, format, (w, h)).unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    readback.record(&mut encoder, &texture);
+    r.gpu().queue.submit([encoder.finish()]);
+    readback.read(&device).unwrap()
+}
+
+/// The lobe's frames summed on the GPU (`render_lobe_hdr`: `accumulate.wgsl`, one
+/// read-back) against the mean of the same frames of the CPU twin
+/// (`cpu::render_radiance_at_lobe_frame`), within the GPU-vs-CPU bound of one frame
+/// (`assert_close`, the render issue's; `lobe_gpu_matches_its_cpu_twin` holds it per
+/// frame), under both maps, 6 frames of 4 samples.
+#[test]
+fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
+    let mut r = vulkan();
+    let (w, h, frames) = (320, 180, 6);
+    for builtin in [Builtin::Studio, Builtin::Sky] {
+        let mut scene = lobe_scene(builtin, 4);
+        scene.antialias = true;
+        let gpu = r.render_lobe_hdr(&scene, w, h, frames).unwrap().rgba;
+        assert_eq!(r.lobe_samples(), Some(frames * 4));
+        let gpu: Vec<DVec3> = gpu
+            .chunks_exact(4)
+            .map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into()))
+            .collect();
+        let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
+        let mut mean = vec![DVec3::ZERO; (w * h) as usize];
+        for k in 0..frames {
+            let frame = cpu::render_radiance_at_lobe_frame(&scene, &tables, w, h, k);
+            for (m, x) in mean.iter_mut().zip(frame) {
+                *m += x / f64::from(frames);
+            }
+        }
+        let display = |x: &[DVec3]| cpu::to_display_rgba8(x, scene.exposure, scene.display());
+        assert_close(
+            &compare(&display(&gpu), &display(&mean), w),
+            &format!("lobe, {builtin}, {frames} frames summed on the GPU"),
+        );
+    }
+}
+
+/// The progressive draw (`render_progressive`, what the viewer calls each frame): its first
+/// frame is the single frame's picture byte for byte; each draw of the unchanged scene adds
+/// `ibl_samples` samples a pixel (a new exposure too: the sums are linear) and changes the
+/// picture; a moved camera starts again at one frame; the cap stops the count; a scene
+/// without the lobe holds none.
+#[test]
+fn lobe_progressive_counts_and_restarts_when_the_scene_changes() {
+    let mut r = vulkan();
+    let size = (96, 54);
+    let scene = lobe_scene(Builtin::Studio, 4);
+    let first = progressive_ldr(&mut r, &scene, size);
+    assert_eq!(r.lobe_samples(), Some(4));
+    r.set_lobe_frame(0);
+    assert!(first == r.render_ldr(&scene, size.0, size.1).unwrap().rgba);
+    let second = progressive_ldr(&mut r, &scene, size);
+    assert_eq!(r.lobe_samples(), Some(8));
+    assert_ne!(first, second);
+    let brighter = Scene {
+        exposure: 2.0,
+        ..scene.clone()
+    };
+    progressive_ldr(&mut r, &brighter, size);
+    assert_eq!(r.lobe_samples(), Some(12));
+    let mut moved = scene.clone();
+    moved.camera.position += DVec3::new(0.1, 0.0, 0.0);
+    let restarted = progressive_ldr(&mut r, &moved, size);
+    assert_eq!(r.lobe_samples(), Some(4));
+    r.set_lobe_frame(0);
+    assert!(restarted == r.render_ldr(&moved, size.0, size.1).unwrap().rgba);
+    r.set_lobe_sample_cap(Some(8));
+    for _ in 0..3 {
+        progressive_ldr(&mut r, &moved, size);
+    }
+    assert_eq!(r.lobe_samples(), Some(8));
+    let split = Scene {
+        ibl_method: IblMethod::SplitSum,
+        ..scene.clone()
+    };
+    let split_image = progressive_ldr(&mut r, &split, size);
+    assert_eq!(r.lobe_samples(), None);
+    assert!(split_image == r.render_ldr(&split, size.0, size.1).unwrap().rgba);
+}
