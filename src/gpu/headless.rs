@@ -111,12 +111,29 @@ fn hdr_format(r: &Renderer) -> Result<wgpu::TextureFormat> {
     }
 }
 
-/// How [`render_readback`] draws: one frame ([`Renderer::encode`]) or the lobe's
-/// progressive image ([`Renderer::encode_progressive`]).
+/// How [`render_readback`] draws: one frame ([`Renderer::encode`]), or the lobe's
+/// progressive image with a frame added (`Renderer::encode_lobe_mean`) or as held
+/// (`Renderer::encode_lobe_held`).
 #[derive(Clone, Copy, PartialEq)]
 enum Draw {
     Frame,
     Progressive,
+    Held,
+}
+
+/// The progressive image held, read back as f32 ([`Renderer::render_progressive_hdr`]).
+pub(super) fn render_progressive_hdr(
+    r: &mut Renderer,
+    scene: &Scene,
+    (width, height): (u32, u32),
+) -> Result<HdrImage> {
+    let format = hdr_format(r)?;
+    let bytes = render_readback(r, scene, (width, height), format, Draw::Held)?;
+    Ok(HdrImage {
+        width,
+        height,
+        rgba: bytemuck::pod_collect_to_vec(&bytes),
+    })
 }
 
 /// Draws `scene` into a new `width x height` texture of `format` and reads its texels back.
@@ -158,6 +175,7 @@ fn render_readback(
     let encoded = match draw {
         Draw::Frame => r.encode(scene, target, &mut encoder),
         Draw::Progressive => r.encode_lobe_mean(scene, target, &mut encoder),
+        Draw::Held => r.encode_lobe_held(scene, target, &mut encoder),
     };
     readback.record(&mut encoder, &texture);
     r.gpu().queue.submit([encoder.finish()]);

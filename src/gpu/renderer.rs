@@ -615,6 +615,17 @@ impl Renderer {
         self.progressive(scene, target, encoder, |_| true)
     }
 
+    /// [`Renderer::encode_progressive`] adding no frame where the sums already hold this
+    /// scene's (the image the latest progressive draw showed; one frame where they do not).
+    pub(super) fn encode_lobe_held(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<()> {
+        self.progressive(scene, target, encoder, |_| false)
+    }
+
     /// [`Renderer::encode_progressive`] and submits.
     pub fn render_progressive(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
         self.gpu.check()?;
@@ -772,6 +783,19 @@ impl Renderer {
         frames: u32,
     ) -> Result<HdrImage> {
         headless::render_lobe_hdr(self, scene, (width, height), frames)
+    }
+
+    /// The linear radiance of the progressive image [`Renderer::encode_progressive`] holds
+    /// for `scene` at `width x height` (as [`Renderer::render_hdr`] reads it back), adding
+    /// no frame where the sums hold this scene's: what a viewer shows, for its EXR. A scene
+    /// without the lobe is [`Renderer::render_hdr`]'s image.
+    pub fn render_progressive_hdr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+    ) -> Result<HdrImage> {
+        headless::render_progressive_hdr(self, scene, (width, height))
     }
 
     /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a

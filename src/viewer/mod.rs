@@ -85,6 +85,9 @@ pub struct Report {
     pub interval_ms: Option<f64>,
     /// Median wall time of drawing a frame (acquire, encode, GPU, present).
     pub draw_ms: Option<f64>,
+    /// Lobe samples a pixel the last frame's image held (`None` when no ball uses the
+    /// lobe).
+    pub lobe_samples: Option<u32>,
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are drawn).
@@ -182,6 +185,7 @@ impl App {
             adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
             interval_ms: self.clock.interval_ms(),
             draw_ms: self.clock.draw_ms(),
+            lobe_samples: state.and_then(|s| s.renderer.lobe_samples()),
         })
     }
 

@@ -643,3 +643,90 @@ fn lobe_progressive_counts_and_restarts_when_the_scene_changes() {
     assert_eq!(r.lobe_samples(), None);
     assert!(split_image == r.render_ldr(&split, size.0, size.1).unwrap().rgba);
 }
+
+/// Times the lobe's progressive image at 1280x720, three ways interleaved (so that the
+/// load of a shared machine falls on each alike), for the frame counts at which
+/// docs/design/environment.md's sweep found it within 1 % (sky: 16 frames of 16) or
+/// closest (studio: 256 frames of 16; `--ignored` with `LOBE_TIME_STUDIO=1`): summed on the
+/// GPU (`render_lobe_hdr`: `accumulate.wgsl`, one read-back); the way before it (each frame
+/// read back, `render_hdr`, and summed on the CPU in f64); and the frames alone drawn into
+/// an `Rgba8Unorm` target and waited for, read back never (the floor: the shading). A
+/// measurement, not a check: run it alone,
+/// `cargo test --release -p shadeballs --test suite -- --ignored ibl::time_lobe_progressive_at_720p --nocapture`.
+#[test]
+#[ignore]
+fn time_lobe_progressive_at_720p() {
+    use std::time::Instant;
+    let mut r = vulkan();
+    let (w, h) = (1280, 720);
+    let mut runs = vec![(Builtin::Sky, 16)];
+    if std::env::var_os("LOBE_TIME_STUDIO").is_some() {
+        runs.push((Builtin::Studio, 256));
+    }
+    let device = r.gpu().device.clone();
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("frame"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let target = shadeballs::Target {
+        view: &view,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        width: w,
+        height: h,
+    };
+    for (builtin, frames) in runs {
+        let scene = lobe_scene(builtin, 16);
+        // The first renders compile the pipelines and prefilter the map: not timed.
+        r.render_lobe_hdr(&scene, w, h, 1).unwrap();
+        r.render_hdr(&scene, w, h).unwrap();
+        r.render(&scene, target).unwrap();
+        let mut times = [Vec::new(), Vec::new(), Vec::new()];
+        for _ in 0..3 {
+            let start = Instant::now();
+            r.render_lobe_hdr(&scene, w, h, frames).unwrap();
+            times[0].push(start.elapsed().as_secs_f64());
+            let start = Instant::now();
+            let mut sum = vec![0.0f64; (4 * w * h) as usize];
+            for k in 0..frames {
+                r.set_lobe_frame(k);
+                let image = r.render_hdr(&scene, w, h).unwrap();
+                for (s, v) in sum.iter_mut().zip(&image.rgba) {
+                    *s += f64::from(*v);
+                }
+            }
+            r.set_lobe_frame(0);
+            times[1].push(start.elapsed().as_secs_f64());
+            let start = Instant::now();
+            for k in 0..frames {
+                r.set_lobe_frame(k);
+                r.render(&scene, target).unwrap();
+                let _ = device.poll(wgpu::PollType::wait_indefinitely());
+            }
+            r.set_lobe_frame(0);
+            times[2].push(start.elapsed().as_secs_f64());
+        }
+        for (t, what) in times.iter_mut().zip([
+            "summed on the GPU, one read-back",
+            "each frame read back, summed on the CPU",
+            "the frames alone, no read-back",
+        ]) {
+            t.sort_by(f64::total_cmp);
+            println!(
+                "{builtin}: {frames} frames of 16 at {w}x{h}, {what}: median {:.2} s of 3 ({:.1} ms a frame)",
+                t[1],
+                t[1] * 1e3 / f64::from(frames)
+            );
+        }
+    }
+}
