@@ -571,12 +571,17 @@ fn progressive_ldr(r: &mut shadeballs::Renderer, scene: &Scene, (w, h): (u32, u3
 /// read-back) against the mean of the same frames of the CPU twin
 /// (`cpu::render_radiance_at_lobe_frame`), within the GPU-vs-CPU bound of one frame
 /// (`assert_close`, the render issue's; `lobe_gpu_matches_its_cpu_twin` holds it per
-/// frame), under both maps, 6 frames of 4 samples.
+/// frame), under both maps, 6 frames of 4 samples; on Vulkan and on GL (which renders the
+/// same `Rgba32Uint` sums), under studio there.
 #[test]
 fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
-    let mut r = vulkan();
     let (w, h, frames) = (320, 180, 6);
-    for builtin in [Builtin::Studio, Builtin::Sky] {
+    let gl = || crate::pixels::renderer(wgpu::Backends::GL);
+    for (mut r, builtin, backend) in [
+        (vulkan(), Builtin::Studio, "Vulkan"),
+        (vulkan(), Builtin::Sky, "Vulkan"),
+        (gl(), Builtin::Studio, "GL"),
+    ] {
         let mut scene = lobe_scene(builtin, 4);
         scene.antialias = true;
         let gpu = r.render_lobe_hdr(&scene, w, h, frames).unwrap().rgba;
@@ -596,7 +601,7 @@ fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
         let display = |x: &[DVec3]| cpu::to_display_rgba8(x, scene.exposure, scene.display());
         assert_close(
             &compare(&display(&gpu), &display(&mean), w),
-            &format!("lobe, {builtin}, {frames} frames summed on the GPU"),
+            &format!("lobe, {builtin}, {frames} frames summed on {backend}"),
         );
     }
 }
