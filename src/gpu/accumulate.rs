@@ -176,10 +176,12 @@ impl LobePass {
         };
         if sums.frames == 0 {
             // The first frame adds to zero sums.
-            clear_pass(encoder, &sums.views[sums.latest], wgpu::Color::TRANSPARENT);
+            let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+            colour_pass(encoder, &sums.views[sums.latest], zero);
         }
         let next = 1 - sums.latest;
-        let mut pass = clear_pass(encoder, &sums.views[next], wgpu::Color::TRANSPARENT);
+        // The full-screen triangle writes every pixel: the older sums need no clear.
+        let mut pass = colour_pass(encoder, &sums.views[next], wgpu::LoadOp::Load);
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, draw.group0, &[]);
         pass.set_bind_group(1, draw.group1, &[]);
@@ -205,7 +207,7 @@ impl LobePass {
         let Some(sums) = &self.sums else {
             return;
         };
-        let mut pass = clear_pass(encoder, view, clear);
+        let mut pass = colour_pass(encoder, view, wgpu::LoadOp::Clear(clear));
         let (w, h) = (sums.key.size.0.min(size.0), sums.key.size.1.min(size.1));
         pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
         pass.set_scissor_rect(0, 0, w, h);
@@ -257,11 +259,11 @@ impl LobePass {
     }
 }
 
-/// A render pass over `view` that clears it to `colour` (and draws what is recorded in it).
-fn clear_pass<'e>(
+/// A render pass over `view` that starts with `load` (and draws what is recorded in it).
+fn colour_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     view: &wgpu::TextureView,
-    colour: wgpu::Color,
+    load: wgpu::LoadOp<wgpu::Color>,
 ) -> wgpu::RenderPass<'e> {
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("lobe accumulation"),
@@ -270,7 +272,7 @@ fn clear_pass<'e>(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(colour),
+                load,
                 store: wgpu::StoreOp::Store,
             },
         })],

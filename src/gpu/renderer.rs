@@ -667,28 +667,30 @@ impl Renderer {
         self.gpu.check()?;
         let scopes = super::Scopes::push(&self.gpu.device);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        let added = self.add_lobe_frame(scene, (w, h), &mut encoder);
+        let added = match self.start_lobe(scene, (w, h)) {
+            Some(frames) => self
+                .add_lobe_frame(scene, (w, h), frames, &mut encoder)
+                .map(drop),
+            None => Ok(()),
+        };
         self.gpu.queue.submit([encoder.finish()]);
         scopes.pop()?;
         added?;
         self.gpu.check()
     }
 
-    /// Starts (or keeps) the lobe's sums for `scene` at `size` and records the next frame's
-    /// addition to them; returns the frame's uniforms (`None`, recording nothing, where its
-    /// balls use no lobe).
+    /// Records the addition of frame `frames` (the count summed so far) of `scene` at `size`
+    /// to the lobe's sums (after [`Renderer::start_lobe`]); returns the frame's uniforms.
     fn add_lobe_frame(
         &mut self,
         scene: &Scene,
         size: (u32, u32),
+        frames: u32,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> Result<Option<Frame>> {
-        let Some(frames) = self.start_lobe(scene, size) else {
-            return Ok(None);
-        };
+    ) -> Result<Frame> {
         let frame = self.prepare_frame_at(scene, size, frames)?;
         self.encode_lobe_frame(scene, &frame, encoder);
-        Ok(Some(frame))
+        Ok(frame)
     }
 
     /// Keeps or starts the lobe's sums for `scene` at `size`: the frames summed so far, or
@@ -739,8 +741,7 @@ impl Renderer {
             return self.encode(scene, target, encoder);
         };
         let frame = if frames == 0 || add(self) {
-            self.add_lobe_frame(scene, size, encoder)?
-                .expect("the scene uses the lobe")
+            self.add_lobe_frame(scene, size, frames, encoder)?
         } else {
             self.prepare_frame_at(scene, size, frames)?
         };
