@@ -195,9 +195,17 @@ fn render_on_gpu(
     let (w, h) = (args.width, args.height);
     let pixels = u64::from(w) * u64::from(h);
     renderer.gpu().check_size(w, h)?;
+    let lobe_frames = args.ibl_frames.unwrap_or(1);
+    let lobe = lobe_frames > 1 && scene.ibl_method == crate::environment::IblMethod::Lobe;
+    let per_pixel = if lobe {
+        // The mean is read back as f32 whatever the file, besides the lobe's sums.
+        gpu_bytes_per_pixel(ImageKind::Exr) + LOBE_BYTES_PER_PIXEL
+    } else {
+        gpu_bytes_per_pixel(kind)
+    };
     memory::check(
         &format!("a {w}x{h} {} on the GPU", kind_name(kind)),
-        pixels * gpu_bytes_per_pixel(kind),
+        pixels * per_pixel,
     )?;
     let plan = renderer.plan_for(scene);
     if args.verbose {
@@ -214,8 +222,7 @@ fn render_on_gpu(
         accumulate_gpu_truth(renderer, scene, w, h, spp)?;
         phases.mark("truth");
     }
-    let lobe_frames = args.ibl_frames.unwrap_or(1);
-    if lobe_frames > 1 && scene.ibl_method == crate::environment::IblMethod::Lobe {
+    if lobe {
         // The mean of the frames in linear radiance, then the display transform (a PNG).
         let t = Instant::now();
         let image = renderer.render_lobe_hdr(scene, w, h, lobe_frames)?;
@@ -694,6 +701,11 @@ fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
 /// results (mean, standard error, coverage: 56 bytes) split into the image's three vectors
 /// (49 bytes).
 const MONTECARLO_BYTES_PER_PIXEL: u64 = 56 + 49;
+
+/// Bytes a pixel the lobe's progressive image holds on the GPU besides the target
+/// (counted, not measured): its `Rgba32Uint` frame and two sums, 16 bytes each, and the
+/// ball pass's f32 depth.
+const LOBE_BYTES_PER_PIXEL: u64 = 3 * 16 + 4;
 
 /// Peak bytes a pixel on the GPU path, measured on lavapipe (where the GPU's memory is the
 /// host's): the frame, the read-back buffer, its mapped copy and the unpadded image, each

@@ -53,5 +53,8 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         ms(report.interval_ms),
         ms(report.draw_ms),
     );
+    if let Some(n) = report.lobe_samples {
+        eprintln!("lobe: {n} samples a pixel at the last frame");
+    }
     Ok(())
 }

@@ -41,7 +41,8 @@ pub(super) fn render_ldr(
     width: u32,
     height: u32,
 ) -> Result<LdrImage> {
-    let rgba = render_readback(r, scene, width, height, wgpu::TextureFormat::Rgba8Unorm)?;
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let rgba = render_readback(r, scene, (width, height), format, Draw::Frame)?;
     Ok(LdrImage {
         width,
         height,
@@ -57,17 +58,9 @@ pub(super) fn render_hdr(
     width: u32,
     height: u32,
 ) -> Result<HdrImage> {
-    let format = if r.gpu().renderable(wgpu::TextureFormat::Rgba32Float) {
-        wgpu::TextureFormat::Rgba32Float
-    } else if r.gpu().renderable(wgpu::TextureFormat::Rgba32Uint) {
-        wgpu::TextureFormat::Rgba32Uint
-    } else {
-        return Err(Error::Gpu {
-            message: format!("{} cannot render to a 32-bit target", r.gpu().describe()),
-        });
-    };
+    let format = hdr_format(r)?;
     // Either format's texels are four f32s' bytes.
-    let bytes = render_readback(r, scene, width, height, format)?;
+    let bytes = render_readback(r, scene, (width, height), format, Draw::Frame)?;
     let rgba = bytemuck::pod_collect_to_vec(&bytes);
     Ok(HdrImage {
         width,
@@ -104,13 +97,52 @@ pub(super) fn accumulate_frames(
     Ok(())
 }
 
+/// The 32-bit target of a linear render: `Rgba32Float`, or where 32-bit float is not
+/// renderable (GL) `Rgba32Uint` for its bits.
+fn hdr_format(r: &Renderer) -> Result<wgpu::TextureFormat> {
+    if r.gpu().renderable(wgpu::TextureFormat::Rgba32Float) {
+        Ok(wgpu::TextureFormat::Rgba32Float)
+    } else if r.gpu().renderable(wgpu::TextureFormat::Rgba32Uint) {
+        Ok(wgpu::TextureFormat::Rgba32Uint)
+    } else {
+        Err(Error::Gpu {
+            message: format!("{} cannot render to a 32-bit target", r.gpu().describe()),
+        })
+    }
+}
+
+/// How [`render_readback`] draws: one frame ([`Renderer::encode`]), or the lobe's
+/// progressive image with a frame added (`Renderer::encode_lobe_mean`) or as held
+/// (`Renderer::encode_lobe_held`).
+#[derive(Clone, Copy, PartialEq)]
+enum Draw {
+    Frame,
+    Progressive,
+    Held,
+}
+
+/// The progressive image held, read back as f32 ([`Renderer::render_progressive_hdr`]).
+pub(super) fn render_progressive_hdr(
+    r: &mut Renderer,
+    scene: &Scene,
+    (width, height): (u32, u32),
+) -> Result<HdrImage> {
+    let format = hdr_format(r)?;
+    let bytes = render_readback(r, scene, (width, height), format, Draw::Held)?;
+    Ok(HdrImage {
+        width,
+        height,
+        rgba: bytemuck::pod_collect_to_vec(&bytes),
+    })
+}
+
 /// Draws `scene` into a new `width x height` texture of `format` and reads its texels back.
 fn render_readback(
     r: &mut Renderer,
     scene: &Scene,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     format: wgpu::TextureFormat,
+    draw: Draw,
 ) -> Result<Vec<u8>> {
     r.gpu().check_size(width, height)?;
     r.gpu().check()?;
@@ -140,7 +172,11 @@ fn render_readback(
         width,
         height,
     };
-    let encoded = r.encode(scene, target, &mut encoder);
+    let encoded = match draw {
+        Draw::Frame => r.encode(scene, target, &mut encoder),
+        Draw::Progressive => r.encode_lobe_mean(scene, target, &mut encoder),
+        Draw::Held => r.encode_lobe_held(scene, target, &mut encoder),
+    };
     readback.record(&mut encoder, &texture);
     r.gpu().queue.submit([encoder.finish()]);
     scopes.pop()?;
@@ -153,8 +189,11 @@ fn render_readback(
 }
 
 /// The mean of frames `0..frames` of the lobe's samples ([`Renderer::render_lobe_hdr`]):
-/// each frame drawn at its own lobe frame ([`Renderer::set_lobe_frame`]) and read back,
-/// summed in f64. The renderer's lobe frame is 0 again afterwards.
+/// the sums started again, `frames - 1` frames added on the GPU
+/// ([`Renderer::accumulate_lobe`]), waiting for the device every [`FRAMES_IN_FLIGHT`], then
+/// the last added and the mean resolved (`Renderer::encode_lobe_mean`) into a 32-bit
+/// target read back once. A scene whose balls use no lobe is drawn once. The renderer's
+/// lobe frame ([`Renderer::set_lobe_frame`], which the sums do not read) is 0 afterwards.
 pub(super) fn render_lobe_hdr(
     r: &mut Renderer,
     scene: &Scene,
@@ -170,29 +209,20 @@ pub(super) fn render_lobe_hdr(
             ),
         });
     }
-    let mut sum: Vec<f64> = Vec::new();
-    for k in 0..frames {
-        r.set_lobe_frame(k);
-        let image = render_hdr(r, scene, width, height);
-        let image = match image {
-            Ok(image) => image,
-            Err(e) => {
-                r.set_lobe_frame(0);
-                return Err(e);
-            }
-        };
-        if sum.is_empty() {
-            sum = vec![0.0; image.rgba.len()];
-        }
-        for (s, v) in sum.iter_mut().zip(&image.rgba) {
-            *s += f64::from(*v);
+    r.gpu().check_size(width, height)?;
+    r.set_lobe_frame(0);
+    r.reset_lobe();
+    for k in 1..frames {
+        r.accumulate_lobe(scene, width, height)?;
+        if k % FRAMES_IN_FLIGHT == 0 {
+            let _ = r.gpu().device.poll(wgpu::PollType::wait_indefinitely());
         }
     }
-    r.set_lobe_frame(0);
-    let scale = 1.0 / f64::from(frames);
+    let format = hdr_format(r)?;
+    let bytes = render_readback(r, scene, (width, height), format, Draw::Progressive)?;
     Ok(HdrImage {
         width,
         height,
-        rgba: sum.iter().map(|s| (s * scale) as f32).collect(),
+        rgba: bytemuck::pod_collect_to_vec(&bytes),
     })
 }

@@ -3,6 +3,7 @@
 //! by any wgpu program), the ball pipelines, headless rendering, the Monte Carlo of the model and the table probe. Knows
 //! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
+mod accumulate;
 mod bindings;
 pub mod boundary;
 mod context;

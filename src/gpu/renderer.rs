@@ -9,6 +9,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::accumulate::{LobeKey, LobePass, LOBE_FORMAT, LOBE_IBL};
 use super::bindings::{BallInstance, Bindings};
 use super::context::Gpu;
 use super::depth::DepthTarget;
@@ -78,6 +79,11 @@ pub struct Renderer {
     coating: CoatingRows,
     /// The frame of the lobe's samples the next draw takes ([`Renderer::set_lobe_frame`]).
     lobe_frame: u32,
+    /// The lobe's progressive image (`accumulate.wgsl`, `accumulate.rs`).
+    lobe: LobePass,
+    /// Most lobe samples a pixel [`Renderer::encode_progressive`] sums before it only
+    /// resolves ([`Renderer::set_lobe_sample_cap`]).
+    lobe_cap: Option<u32>,
 }
 
 impl Renderer {
@@ -87,6 +93,7 @@ impl Renderer {
         let environment = PrefilteredMaps::new(&gpu.device);
         let pipelines = Pipelines::new(&gpu.device, &bindings, &environment.layout);
         let truth = TruthPass::new(&gpu.device, &bindings.layout, &environment.layout);
+        let lobe = LobePass::new(&gpu.device, &bindings.layout, &environment.layout);
         let tables = TableCache::new(&gpu.device, &gpu.queue, &bindings);
         Renderer {
             gpu,
@@ -104,6 +111,8 @@ impl Renderer {
             environment,
             truth,
             lobe_frame: 0,
+            lobe,
+            lobe_cap: None,
             montecarlo: None,
         }
     }
@@ -454,8 +463,18 @@ impl Renderer {
     }
 
     /// Plans `scene`, binds its tables and map, and uploads the uniforms of a `w x h`
-    /// frame.
+    /// frame at the lobe frame set ([`Renderer::set_lobe_frame`]).
     fn prepare_frame(&mut self, scene: &Scene, w: u32, h: u32) -> Result<Frame> {
+        self.prepare_frame_at(scene, (w, h), self.lobe_frame)
+    }
+
+    /// [`Renderer::prepare_frame`] at frame `lobe_frame` of the lobe's samples.
+    fn prepare_frame_at(
+        &mut self,
+        scene: &Scene,
+        (w, h): (u32, u32),
+        lobe_frame: u32,
+    ) -> Result<Frame> {
         let env_group = self
             .environment
             .bind_group(&self.gpu, scene, self.bake_config)?;
@@ -470,7 +489,7 @@ impl Renderer {
         let balls = uniforms::balls(scene, &tables, &self.coating);
         let rows = self.coating.flat();
         queue.write_buffer(&self.bindings.coating_rows, 0, bytemuck::cast_slice(&rows));
-        let env_uniform = EnvUniform::of(scene).at_lobe_frame(scene, self.lobe_frame);
+        let env_uniform = EnvUniform::of(scene).at_lobe_frame(scene, lobe_frame);
         queue.write_buffer(
             &self.environment.uniform,
             0,
@@ -575,6 +594,181 @@ impl Renderer {
         self.truth.reset();
     }
 
+    /// Draws `scene` into `target` as [`Renderer::encode`] does, but a scene whose balls
+    /// use the lobe (`ibl_method = "lobe"` with a map) converges: each call while the scene
+    /// is unchanged (but for its exposure and display transform; the size, tables and draw
+    /// options too) adds the next frame of the lobe's samples to sums held on the GPU and
+    /// writes their mean (the lobe frame advances by itself; [`Renderer::set_lobe_frame`]
+    /// is not read), and a changed scene starts again from one frame
+    /// ([`Renderer::lobe_samples`]). Past [`Renderer::set_lobe_sample_cap`]'s cap it adds
+    /// nothing and writes the mean held. A scene without the lobe is drawn by `encode`.
+    pub fn encode_progressive(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<()> {
+        let capped = |samples: Option<u32>, cap: Option<u32>| {
+            samples.zip(cap).is_some_and(|(n, cap)| n >= cap)
+        };
+        self.progressive(scene, target, encoder, |r| {
+            !capped(r.lobe_samples(), r.lobe_cap)
+        })
+    }
+
+    /// [`Renderer::encode_progressive`] without the cap: always adds a frame (the headless
+    /// render's last frame, [`Renderer::render_lobe_hdr`]).
+    pub(super) fn encode_lobe_mean(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<()> {
+        self.progressive(scene, target, encoder, |_| true)
+    }
+
+    /// [`Renderer::encode_progressive`] adding no frame where the sums already hold this
+    /// scene's (the image the latest progressive draw showed; one frame where they do not).
+    pub(super) fn encode_lobe_held(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<()> {
+        self.progressive(scene, target, encoder, |_| false)
+    }
+
+    /// [`Renderer::encode_progressive`] and submits.
+    pub fn render_progressive(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
+        self.gpu.check()?;
+        self.check_truth_supported(scene)?;
+        let scopes = super::Scopes::push(&self.gpu.device);
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        let encoded = self.encode_progressive(scene, target, &mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        scopes.pop()?;
+        encoded?;
+        self.gpu.check()
+    }
+
+    /// Samples a pixel the lobe's progressive image holds (frames summed times the scene's
+    /// `ibl_samples`) after the latest [`Renderer::encode_progressive`],
+    /// [`Renderer::accumulate_lobe`] or [`Renderer::render_lobe_hdr`]; `None` when that
+    /// scene's balls use no lobe (or before any).
+    pub fn lobe_samples(&self) -> Option<u32> {
+        let frames = self.lobe.frames()?;
+        Some(frames.saturating_mul(self.lobe.samples_a_frame()))
+    }
+
+    /// Stops [`Renderer::encode_progressive`] adding frames once the image holds `cap`
+    /// samples a pixel (`None`, the default: no cap), so that an idle viewer goes idle.
+    pub fn set_lobe_sample_cap(&mut self, cap: Option<u32>) {
+        self.lobe_cap = cap;
+    }
+
+    /// Starts the lobe's sums again from zero at the next frame (they restart by
+    /// themselves when the scene changes).
+    pub fn reset_lobe(&mut self) {
+        self.lobe.reset();
+    }
+
+    /// Adds the next frame of the lobe's samples of `scene` at `w x h` to the sums
+    /// (starting them again if the scene changed) without drawing an image, and submits.
+    /// A scene whose balls use no lobe does nothing.
+    pub fn accumulate_lobe(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
+        self.gpu.check()?;
+        let scopes = super::Scopes::push(&self.gpu.device);
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        let added = match self.start_lobe(scene, (w, h)) {
+            Some(frames) => self
+                .add_lobe_frame(scene, (w, h), frames, &mut encoder)
+                .map(drop),
+            None => Ok(()),
+        };
+        self.gpu.queue.submit([encoder.finish()]);
+        scopes.pop()?;
+        added?;
+        self.gpu.check()
+    }
+
+    /// Records the addition of frame `frames` (the count summed so far) of `scene` at `size`
+    /// to the lobe's sums (after [`Renderer::start_lobe`]); returns the frame's uniforms.
+    fn add_lobe_frame(
+        &mut self,
+        scene: &Scene,
+        size: (u32, u32),
+        frames: u32,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<Frame> {
+        let frame = self.prepare_frame_at(scene, size, frames)?;
+        self.encode_lobe_frame(scene, &frame, encoder);
+        Ok(frame)
+    }
+
+    /// Keeps or starts the lobe's sums for `scene` at `size`: the frames summed so far, or
+    /// `None` (the sums dropped) where its balls use no lobe.
+    fn start_lobe(&mut self, scene: &Scene, size: (u32, u32)) -> Option<u32> {
+        let plan = self.make_plan(scene);
+        if !plan.draws.iter().any(|(v, _)| v.ibl == LOBE_IBL) {
+            self.lobe.forget();
+            return None;
+        }
+        let key = LobeKey::new(scene, size, &plan, self.options);
+        Some(self.lobe.start(&self.gpu.device, key))
+    }
+
+    /// Records the balls' pass of `frame` into the lobe's frame texture and its addition to
+    /// the sums (after [`Renderer::start_lobe`]).
+    fn encode_lobe_frame(
+        &mut self,
+        scene: &Scene,
+        frame: &Frame,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let Some(view) = self.lobe.frame_view().cloned() else {
+            return;
+        };
+        let target = Target {
+            view: &view,
+            format: LOBE_FORMAT,
+            width: frame.size.0,
+            height: frame.size.1,
+        };
+        self.encode_balls(scene, frame, target, encoder);
+        let draw = truth_draw(&self.gpu, frame);
+        self.lobe.accumulate(&draw, encoder);
+    }
+
+    /// The work of [`Renderer::encode_progressive`]: a frame added where `add(self)` says
+    /// so, then the mean resolved into `target` and the truth balls as `encode` draws them.
+    fn progressive(
+        &mut self,
+        scene: &Scene,
+        target: Target<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        add: impl Fn(&Self) -> bool,
+    ) -> Result<()> {
+        let size = (target.width, target.height);
+        let Some(frames) = self.start_lobe(scene, size) else {
+            return self.encode(scene, target, encoder);
+        };
+        let frame = if frames == 0 || add(self) {
+            self.add_lobe_frame(scene, size, frames, encoder)?
+        } else {
+            self.prepare_frame_at(scene, size, frames)?
+        };
+        let draw = truth_draw(&self.gpu, &frame);
+        let clear = background(scene, target.format);
+        self.lobe
+            .resolve(&draw, encoder, (target.view, target.format), size, clear);
+        if !frame.plan.truth.is_empty() && self.truth_frame(scene, &frame, encoder) {
+            let draw = truth_draw(&self.gpu, &frame);
+            self.truth
+                .resolve(&draw, encoder, target.view, target.format, frame.size);
+        }
+        Ok(())
+    }
+
     /// Renders `scene` into an `Rgba8Unorm` texture (not sRGB: the transfer curve is
     /// applied in the shader) and reads it back. Into a host's own `*Srgb` target the
     /// renderer writes linear values, which the hardware encodes to the same bytes.
@@ -591,7 +785,9 @@ impl Renderer {
 
     /// [`Renderer::render_hdr`] averaged over frames `0..frames` of the lobe's samples
     /// (`ibl_method = "lobe"`: the estimate of `frames * ibl_samples` samples a pixel;
-    /// `render --ibl-frames`). Errors when `frames` is outside `1..=MAX_IBL_FRAMES`.
+    /// `render --ibl-frames`): the sums started again and the frames summed on the GPU
+    /// ([`Renderer::accumulate_lobe`], [`Renderer::encode_progressive`]), one read-back.
+    /// Errors when `frames` is outside `1..=MAX_IBL_FRAMES`.
     pub fn render_lobe_hdr(
         &mut self,
         scene: &Scene,
@@ -600,6 +796,19 @@ impl Renderer {
         frames: u32,
     ) -> Result<HdrImage> {
         headless::render_lobe_hdr(self, scene, (width, height), frames)
+    }
+
+    /// The linear radiance of the progressive image [`Renderer::encode_progressive`] holds
+    /// for `scene` at `width x height` (as [`Renderer::render_hdr`] reads it back), adding
+    /// no frame where the sums hold this scene's: what a viewer shows, for its EXR. A scene
+    /// without the lobe is [`Renderer::render_hdr`]'s image.
+    pub fn render_progressive_hdr(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+    ) -> Result<HdrImage> {
+        headless::render_progressive_hdr(self, scene, (width, height))
     }
 
     /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a

@@ -29,6 +29,11 @@ pub(crate) const FS_TRUTH_OCCLUDER: &str = "fs_truth_occluder";
 pub(crate) const FS_TRUTH_RESOLVE: &str = "fs_truth_resolve";
 /// Fragment entry point of a ball's quad in a Monte Carlo pass (`montecarlo.wgsl`).
 pub(crate) const FS_MONTECARLO: &str = "fs_montecarlo";
+/// Fragment entry point of the lobe's accumulation: the sums plus this frame
+/// (`accumulate.wgsl`).
+pub(crate) const FS_LOBE_ACCUMULATE: &str = "fs_lobe_accumulate";
+/// Fragment entry point of the lobe's resolve: the mean of the frames summed so far.
+pub(crate) const FS_LOBE_RESOLVE: &str = "fs_lobe_resolve";
 /// Entry point of the table probe module.
 pub(crate) const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
@@ -51,6 +56,7 @@ pub fn entry_points(program: &Program) -> &'static [&'static str] {
             FS_TRUTH_RESOLVE,
         ],
         "shadeballs::montecarlo" => &[VS_BALL, FS_MONTECARLO],
+        "shadeballs::accumulate" => &[VS_MAIN, FS_LOBE_ACCUMULATE, FS_LOBE_RESOLVE],
         "shadeballs::probe" => &[PROBE_MAIN, PROBE_ROWS],
         "shadeballs::prefilter" => &[SPECULAR_MAIN, CONVOLVED_MAIN],
         _ => &[],
@@ -72,6 +78,8 @@ pub fn source(program: &Program) -> Option<&'static str> {
         "truth" => composed!("truth"),
         "truth_bits" => composed!("truth_bits"),
         "montecarlo" => composed!("montecarlo"),
+        "accumulate" => composed!("accumulate"),
+        "accumulate_bits" => composed!("accumulate_bits"),
         "probe" => composed!("probe"),
         "prefilter" => composed!("prefilter"),
         _ => return None,
@@ -102,6 +110,16 @@ pub fn truth_source(bits: bool) -> &'static str {
 /// vertex stage, the BRDFs, the coating's functions).
 pub(crate) fn montecarlo_source() -> &'static str {
     composed!("montecarlo")
+}
+
+/// The lobe's progressive image (`accumulate.wgsl`: its accumulation and resolve, and the
+/// screen's vertex stage and output it imports); `bits`: for an `Rgba32Uint` target.
+pub(crate) fn accumulate_source(bits: bool) -> &'static str {
+    if bits {
+        composed!("accumulate_bits")
+    } else {
+        composed!("accumulate")
+    }
 }
 
 /// The environment prefilter (compute): `prefilter.wgsl` and its imports (no renderer

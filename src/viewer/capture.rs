@@ -60,8 +60,8 @@ impl App {
     }
 }
 
-/// The scene area's linear radiance (before exposure and tone mapping, as `render`'s EXR):
-/// the scene's, or a wipe's two sides at the split, or a difference's `|a - b|` per channel.
+/// The scene area's linear radiance (before exposure and tone mapping, as `render`'s EXR;
+/// the lobe's image as converged so far): the scene's, or a wipe's two sides at the split, or a difference's `|a - b|` per channel.
 fn write_exr(
     state: &mut State,
     path: &Path,
@@ -69,11 +69,17 @@ fn write_exr(
     (width, height): (u32, u32),
 ) -> Result<()> {
     let rgba = match compare {
-        None => state.renderer.render_hdr(scene, width, height)?.rgba,
+        None => {
+            let r = &mut state.renderer;
+            r.render_progressive_hdr(scene, width, height)?.rgba
+        }
         Some(c) => {
             let (a, b) = c.scenes(scene);
-            let a = state.renderer.render_hdr(&a, width, height)?.rgba;
-            let b = state.second_renderer().render_hdr(&b, width, height)?.rgba;
+            let a = state.renderer.render_progressive_hdr(&a, width, height)?;
+            let b = state
+                .second_renderer()
+                .render_progressive_hdr(&b, width, height)?;
+            let (a, b) = (a.rgba, b.rgba);
             match c.view {
                 View::Wipe => wipe(&a, &b, width, c.split_px(width)),
                 View::Difference { .. } => a
@@ -152,6 +158,12 @@ fn save_scene(
     }
     if let Some(n) = state.renderer.truth_samples().filter(|_| scene.has_truth()) {
         eprintln!("note: the truth balls hold {n} samples a pixel: render with --spp {n}");
+    }
+    if let Some(n) = state.renderer.lobe_samples() {
+        let frames = n / scene.ibl_samples.max(1);
+        eprintln!(
+            "note: the lobe's image holds {n} samples a pixel: render with --ibl-frames {frames}"
+        );
     }
     if comparing {
         eprintln!("note: the file holds the scene itself, not the comparison");

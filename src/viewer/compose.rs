@@ -1,8 +1,10 @@
 //! A window frame from two cached images, so that a frame redoes only what changed:
 //!
-//! - the *scene image*: the balls shaded by [`Renderer::encode`] (the headless path) into
-//!   the scene area of a window-sized texture, the background's colour beyond it; shaded
-//!   again only when the scene, the bake settings or the size change;
+//! - the *scene image*: the balls shaded by [`Renderer::encode_progressive`] (the headless
+//!   path's [`Renderer::encode`], or the lobe's image converging) into the scene area of a
+//!   window-sized texture, the background's colour beyond it; shaded again only when the
+//!   scene, the bake settings or the size change, or while truth balls accumulate or the
+//!   lobe's image converges;
 //! - the *frame image*: the scene image with the panel drawn over it by egui; the panel is
 //!   drawn again only when egui's output changes or reaches over the scene area (a popup);
 //!   otherwise a new scene image is copied into its scene area alone.
@@ -160,12 +162,14 @@ impl Layers {
             renderer.bake_config(),
             (scene_width, width, height),
         );
-        // Truth balls accumulate: an unchanged scene is drawn again, each draw adding an
-        // estimate a pixel, up to the cap.
+        // Truth balls accumulate, and the lobe's image converges: an unchanged scene is
+        // drawn again, each draw adding an estimate (the truth's) or `ibl_samples` samples
+        // (the lobe's) a pixel, up to the caps.
         let accumulating = |r: &Renderer, s: &Scene| {
-            s.has_truth()
+            let truth = s.has_truth()
                 && r.truth_samples()
-                    .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP)
+                    .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP);
+            truth || super::state::lobe_open(r)
         };
         let scene_changed = self.scene_key.as_ref() != Some(&key)
             || match &compare {
@@ -186,7 +190,7 @@ impl Layers {
                         width: scene_width,
                         height,
                     };
-                    renderer.encode(scene, target, encoder)?;
+                    renderer.encode_progressive(scene, target, encoder)?;
                 }
                 Some((c, second)) => {
                     let sides = (&mut *renderer, second);
@@ -252,7 +256,7 @@ impl Layers {
                 width,
                 height,
             };
-            r.encode(s, target, encoder)?;
+            r.encode_progressive(s, target, encoder)?;
         }
         match c.view {
             View::Wipe => {

@@ -85,6 +85,9 @@ pub struct Report {
     pub interval_ms: Option<f64>,
     /// Median wall time of drawing a frame (acquire, encode, GPU, present).
     pub draw_ms: Option<f64>,
+    /// Lobe samples a pixel the last frame's image held (`None` when no ball uses the
+    /// lobe).
+    pub lobe_samples: Option<u32>,
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are drawn).
@@ -182,6 +185,7 @@ impl App {
             adapter: state.map_or_else(String::new, |s| s.renderer.gpu().describe()),
             interval_ms: self.clock.interval_ms(),
             draw_ms: self.clock.draw_ms(),
+            lobe_samples: state.and_then(|s| s.renderer.lobe_samples()),
         })
     }
 
@@ -349,15 +353,22 @@ impl App {
 
     /// Interactive: a frame was drawn because something changed; egui may ask for another
     /// (an animation) after `delay`, and truth balls keep accumulating while nothing changes
-    /// (each draw of an unchanged scene adds an estimate a pixel), up to the headless cap.
+    /// (each draw of an unchanged scene adds an estimate a pixel), up to the headless cap,
+    /// as the lobe's image does (`ibl_samples` a draw, up to [`state::LOBE_SAMPLE_CAP`]).
     fn schedule_next(&mut self, event_loop: &ActiveEventLoop, delay: Duration) {
         let compare = self.controls.compare.as_ref();
-        let accumulating = self
-            .state
+        let accumulating = self.state.as_ref().is_some_and(|s| {
+            s.truth_accumulating(&self.scene, compare) || s.lobe_converging(compare)
+        });
+        // The panel shows the count of the frame before: once more after the last frame
+        // added, so that it shows the final count.
+        let stale_count = self
+            .stats
             .as_ref()
-            .is_some_and(|s| s.truth_accumulating(&self.scene, compare));
+            .zip(self.state.as_ref())
+            .is_some_and(|((_, stats), state)| stats.lobe_samples != state.renderer.lobe_samples());
         // A deadline is kept until it is reached (`new_events`) or replaced.
-        if delay.is_zero() || accumulating {
+        if delay.is_zero() || accumulating || stale_count {
             self.request_redraw();
         } else {
             event_loop.set_control_flow(match Instant::now().checked_add(delay) {
@@ -448,6 +459,7 @@ fn refresh_stats<'a>(
                 && s.prefilter_ms == prefilter_ms
                 && s.scene_size == scene_size
                 && s.truth_samples.is_none()
+                && s.lobe_samples == state.renderer.lobe_samples()
         });
     if !fresh {
         let stats = Stats {
@@ -462,6 +474,7 @@ fn refresh_stats<'a>(
             } else {
                 None
             },
+            lobe_samples: state.renderer.lobe_samples(),
         };
         *held = Some((now, stats));
     }

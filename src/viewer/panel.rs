@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::brdf::Geometry;
 use crate::display::ToneMap;
-use crate::environment::{Background, IblTerm};
+use crate::environment::{Background, IblMethod, IblTerm, MAX_IBL_SAMPLES};
 use crate::lut::{Layout, LayoutKind};
 use crate::scene::{Layering, Material, Preset, Scene, MAX_MAGNITUDE};
 
@@ -105,6 +105,8 @@ pub struct Stats {
     pub scene_size: (u32, u32),
     /// Estimates a pixel the truth balls' image holds (`None` without truth balls).
     pub truth_samples: Option<u32>,
+    /// Lobe samples a pixel the image holds (`None` when no ball uses the lobe).
+    pub lobe_samples: Option<u32>,
 }
 
 /// Shows the panel on the right of `ui`.
@@ -156,6 +158,14 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
         ui.label(format!(
             "truth: {n} samples a pixel (accumulating while nothing changes)"
         ));
+    }
+    if let Some(n) = stats.lobe_samples {
+        let state = if n < super::state::LOBE_SAMPLE_CAP {
+            "converging while nothing changes"
+        } else {
+            "done"
+        };
+        ui.label(format!("lobe: {n} samples a pixel ({state})"));
     }
     ui.label(format!(
         "scene {}x{} on {}",
@@ -383,6 +393,7 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             if term != scene.term() {
                 scene.set_term(term);
             }
+            let _ = ibl_method(ui, scene);
         }
         let mut backgrounds = vec![Background::Environment, Background::Black];
         backgrounds.extend(controls.background_colour.map(Background::Colour));
@@ -413,6 +424,35 @@ fn environment(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             ui.label(status);
         }
     });
+}
+
+/// The IBL method's combo box's id salt.
+const IBL_METHOD_ID: &str = "ibl method";
+
+/// How the map lights the metals (split sum or the lobe's samples) and, under the lobe, the
+/// samples a pixel each frame adds (`ibl_method`, `ibl_samples`, as `--ibl-method`,
+/// `--ibl-samples`). Returns the method's combo box (its test clicks it).
+fn ibl_method(ui: &mut egui::Ui, scene: &mut Scene) -> egui::Response {
+    let name = |m: IblMethod| match m {
+        IblMethod::SplitSum => "split sum",
+        IblMethod::Lobe => "lobe (converges while nothing moves)",
+    };
+    let method = egui::ComboBox::new(IBL_METHOD_ID, "IBL method")
+        .selected_text(name(scene.ibl_method))
+        .show_ui(ui, |ui| {
+            for m in IblMethod::ALL {
+                ui.selectable_value(&mut scene.ibl_method, m, name(m));
+            }
+        })
+        .response;
+    if scene.ibl_method == IblMethod::Lobe {
+        ui.add(
+            egui::Slider::new(&mut scene.ibl_samples, 1..=MAX_IBL_SAMPLES)
+                .logarithmic(true)
+                .text("lobe samples a frame"),
+        );
+    }
+    method
 }
 
 /// Loads the map file at `path` ([`edit::load_map_file`]) and says how it went, in the
@@ -486,4 +526,66 @@ fn combo<T: PartialEq + Copy>(
                 ui.selectable_value(value, choice, name(choice));
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One pass of the IBL method's control over `scene` with `events` in a 400x300
+    /// window; returns its combo box's id and rectangle.
+    fn pass(
+        ctx: &egui::Context,
+        scene: &mut Scene,
+        events: Vec<egui::Event>,
+    ) -> (egui::Id, egui::Rect) {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(400.0, 300.0),
+            )),
+            events,
+            ..Default::default()
+        };
+        let mut method = None;
+        let _ = ctx.run_ui(input, |ui| method = Some(ibl_method(ui, scene)));
+        let method = method.expect("the pass ran the control");
+        (method.id, method.rect)
+    }
+
+    /// A click of the primary button at `at`.
+    fn click(at: egui::Pos2) -> Vec<egui::Event> {
+        let button = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        };
+        vec![egui::Event::PointerMoved(at), button(true), button(false)]
+    }
+
+    /// The panel's IBL method control: a click on its box opens the list, a click on its
+    /// second entry switches the scene to the lobe, on the first back to the split sum.
+    #[test]
+    fn the_ibl_method_control_switches_the_scene_between_split_sum_and_lobe() {
+        let ctx = egui::Context::default();
+        let mut scene = Scene::reference();
+        let (id, button) = pass(&ctx, &mut scene, Vec::new());
+        let pick = |scene: &mut Scene, entry: f32| {
+            pass(&ctx, scene, click(button.center()));
+            pass(&ctx, scene, Vec::new());
+            let list = ctx
+                .memory(|m| m.area_rect(id.with("popup")))
+                .expect("the list opens");
+            // Two entries, one above the other: `entry` 0 or 1.
+            let y = list.min.y + (0.25 + 0.5 * entry) * list.height();
+            pass(&ctx, scene, click(egui::pos2(list.center().x, y)));
+            pass(&ctx, scene, Vec::new());
+        };
+        assert_eq!(scene.ibl_method, IblMethod::SplitSum);
+        pick(&mut scene, 1.0);
+        assert_eq!(scene.ibl_method, IblMethod::Lobe);
+        pick(&mut scene, 0.0);
+        assert_eq!(scene.ibl_method, IblMethod::SplitSum);
+    }
 }

@@ -79,7 +79,7 @@ impl State {
             instance,
             surface,
             config,
-            renderer: Renderer::new(gpu),
+            renderer: viewer_renderer(Renderer::new(gpu)),
             second: None,
             egui,
             egui_labels,
@@ -240,7 +240,7 @@ impl State {
         let bake = self.renderer.bake_config();
         let second = self
             .second
-            .get_or_insert_with(|| Renderer::from_device(&device, &queue));
+            .get_or_insert_with(|| viewer_renderer(Renderer::from_device(&device, &queue)));
         second.set_bake_config(bake);
         second
     }
@@ -265,11 +265,34 @@ impl State {
         }
     }
 
+    /// Whether the lobe's image of the latest scene drawn (or of either side of the
+    /// comparison `compare`) is still converging: each draw of the unchanged scene adds
+    /// `ibl_samples` samples a pixel, up to [`LOBE_SAMPLE_CAP`].
+    pub fn lobe_converging(&self, compare: Option<&Compare>) -> bool {
+        lobe_open(&self.renderer)
+            || (compare.is_some() && self.second.as_ref().is_some_and(lobe_open))
+    }
+
     /// How many times the balls were shaded, and the panel drawn (frames that change
     /// only one of them reuse the other).
     pub fn draws(&self) -> (u64, u64) {
         (self.layers.scene_draws, self.layers.panel_draws)
     }
+}
+
+/// Most lobe samples a pixel the viewer sums while nothing changes (`ibl_method = "lobe"`):
+/// past it, an unchanged scene is not drawn again and the idle viewer goes idle.
+pub const LOBE_SAMPLE_CAP: u32 = 4096;
+
+/// `renderer` with the viewer's cap on the lobe's samples.
+fn viewer_renderer(mut renderer: Renderer) -> Renderer {
+    renderer.set_lobe_sample_cap(Some(LOBE_SAMPLE_CAP));
+    renderer
+}
+
+/// Whether `r`'s lobe image is under [`LOBE_SAMPLE_CAP`] (its latest scene uses the lobe).
+pub fn lobe_open(r: &Renderer) -> bool {
+    r.lobe_samples().is_some_and(|n| n < LOBE_SAMPLE_CAP)
 }
 
 /// The surface's configuration: an 8-bit format, one without an sRGB suffix where the

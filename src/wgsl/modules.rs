@@ -19,8 +19,9 @@ macro_rules! module {
 /// `constants`, `brdf`, `lut`, `environment`. The renderer's: `types` (override constants,
 /// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
-/// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `probe`, `prefilter`.
-pub const MODULES: [Module; 14] = [
+/// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `accumulate` (the lobe's
+/// progressive image), `probe`, `prefilter`.
+pub const MODULES: [Module; 15] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -33,6 +34,7 @@ pub const MODULES: [Module; 14] = [
     module!("balls"),
     module!("walk"),
     module!("montecarlo"),
+    module!("accumulate"),
     module!("probe"),
     module!("prefilter"),
 ];
@@ -83,6 +85,18 @@ pub const MONTECARLO: Program = Program {
     root: "shadeballs::montecarlo",
     defs: &[],
 };
+/// The lobe's progressive image: its frames summed on the GPU and their mean resolved.
+pub const ACCUMULATE: Program = Program {
+    name: "accumulate",
+    root: "shadeballs::accumulate",
+    defs: &[],
+};
+/// The lobe's progressive image for an `Rgba32Uint` target (its resolve writes bits).
+pub const ACCUMULATE_BITS: Program = Program {
+    name: "accumulate_bits",
+    root: "shadeballs::accumulate",
+    defs: &[OUTPUT_BITS],
+};
 /// The table probe.
 pub const PROBE: Program = Program {
     name: "probe",
@@ -97,8 +111,16 @@ pub const PREFILTER: Program = Program {
 };
 
 /// Every program the build composes.
-pub const PROGRAMS: [Program; 7] = [
-    BALLS, BALLS_BITS, TRUTH, TRUTH_BITS, MONTECARLO, PROBE, PREFILTER,
+pub const PROGRAMS: [Program; 9] = [
+    BALLS,
+    BALLS_BITS,
+    TRUTH,
+    TRUTH_BITS,
+    MONTECARLO,
+    ACCUMULATE,
+    ACCUMULATE_BITS,
+    PROBE,
+    PREFILTER,
 ];
 
 /// The root of [`crate::wgsl::KULLA_CONTY`]: the library's functions and the table reads.

@@ -1498,3 +1498,82 @@ fn a_comparison_idles_and_its_split_follows_a_drag() {
         "the first row's left part"
     );
 }
+
+/// `view --ibl-method lobe`: every frame of an unchanged scene shades the balls again and
+/// adds `--ibl-samples` samples a pixel (the report's count grows with the frames; the
+/// first frame may be drawn before the panel settles the scene area, which starts the
+/// count again), an orbit restarts it every frame (one frame's samples), and the picture
+/// differs from the split sum's.
+#[test]
+fn lobe_converges_while_nothing_moves_and_restarts_after_an_orbit() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-lobe");
+    let run = |method: &str, extra: &[&str]| {
+        let shot = dir.join(format!("lobe-{method}-{}.png", extra.len()));
+        let mut args = vec!["--environment", "sky", "--ibl-method", method];
+        args.extend(["--ibl-samples", "4", "--frames", "6"]);
+        args.extend(["--width", "640", "--height", "360"]);
+        args.extend(extra);
+        args.push("--screenshot");
+        let out = viewer(&x, &args).arg(&shot).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        (stderr, shot)
+    };
+    let (still, still_shot) = run("lobe", &[]);
+    assert_eq!(reported(&still, "frames ("), 6, "{still}");
+    let n = reported(&still, "lobe: ");
+    // 6 frames of 4, or 5 where the first frame's scene area differed.
+    assert!(
+        (20..=24).contains(&n),
+        "{n} samples after 6 frames: {still}"
+    );
+    let (orbit, _) = run("lobe", &["--orbit"]);
+    assert_eq!(reported(&orbit, "lobe: "), 4, "{orbit}");
+    let (split, split_shot) = run("split-sum", &[]);
+    assert!(!split.contains("lobe: "), "{split}");
+    let (lobe_pixels, _) = scene_pixels(&still_shot, &still);
+    let (split_pixels, _) = scene_pixels(&split_shot, &split);
+    assert_ne!(
+        lobe_pixels, split_pixels,
+        "the lobe's picture is the split sum's"
+    );
+}
+
+/// The lobe's image stops converging at the viewer's cap (4096 samples a pixel, 16 frames
+/// of 256) and the viewer then goes idle, as without the lobe
+/// (`idle_draws_nothing_and_only_the_scene_area_orbits`).
+#[test]
+fn lobe_stops_at_its_cap_and_the_viewer_goes_idle() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-lobe-cap");
+    let args = [
+        "--environment",
+        "sky",
+        "--ibl-method",
+        "lobe",
+        "--ibl-samples",
+        "256",
+        "--width",
+        "480",
+        "--height",
+        "270",
+    ];
+    let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
+    let stderr = drive(&x, child, |_| {
+        // 16 frames of a 180x270 scene area at 256 samples: the whole test took 19 s with
+        // four other viewer tests beside it on lavapipe (2 loaded cores); then idle.
+        std::thread::sleep(Duration::from_secs(15));
+    });
+    assert_eq!(reported(&stderr, "lobe: "), 4096, "{stderr}");
+    let frames = reported(&stderr, "viewed ");
+    let shaded = reported(&stderr, "frames (");
+    println!("lobe to its cap, then idle: {frames} frames, the balls shaded {shaded} times");
+    // 16 frames to the cap (17 where the first frame's scene area differed), one more for
+    // the panel's final count, and egui's few follow-ups: far under 15 s of redrawing.
+    assert!(
+        (16..=17).contains(&shaded),
+        "balls shaded {shaded} times: {stderr}"
+    );
+    assert!(frames <= 30, "{frames} frames: {stderr}");
+}

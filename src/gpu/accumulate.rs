@@ -1,0 +1,335 @@
+//! The lobe's progressive image on the GPU (`ibl_method = "lobe"`, docs/design/environment.md,
+//! "Lighting that follows the lobe"): frame `k` of the lobe's samples is drawn by the ball
+//! renderer into an `Rgba32Uint` frame (the bits of linear radiance), added to running sums
+//! held on the GPU (`fs_lobe_accumulate` in `accumulate.wgsl`: the bits of f32 sums, the
+//! count of frames in alpha, two textures read and written in turn), and the sums' mean
+//! resolved into the caller's target (`fs_lobe_resolve`). Nothing is read back per frame.
+//!
+//! The sums start again from zero whenever what the image depends on changes ([`LobeKey`]:
+//! the scene but for its exposure and display transform, the size, the tables and the draw
+//! options), so that a changed scene restarts the count at one frame.
+
+use std::collections::HashMap;
+
+use super::pipelines::{self, is_bits, PipelineKey, Shape};
+use super::plan::{DrawOptions, Plan};
+use super::shaders;
+use super::truth::{same_scene, Draw};
+use crate::lut::{BakeConfig, TableKey};
+use crate::scene::Scene;
+
+/// The format of the frame and of the sums: the bits of f32 (renderable on GL, which
+/// renders to no 32-bit float format, as on Vulkan).
+pub(crate) const LOBE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+/// [`crate::gpu::Variant::ibl`] of a draw lit by the lobe's samples.
+pub(crate) const LOBE_IBL: u8 = 2;
+
+/// What the lobe's sums depend on: the scene (compared by [`same_scene`]: not its exposure
+/// or display transform, the sums being linear), the image's size, and the plan's tables,
+/// bake settings and draw options.
+#[derive(Clone)]
+pub(crate) struct LobeKey {
+    pub scene: Scene,
+    pub size: (u32, u32),
+    pub tables: TableKey,
+    pub bake: BakeConfig,
+    pub options: DrawOptions,
+}
+
+impl LobeKey {
+    /// The key of `scene` drawn at `size` with `plan` under `options`.
+    pub fn new(scene: &Scene, size: (u32, u32), plan: &Plan, options: DrawOptions) -> Self {
+        LobeKey {
+            scene: scene.clone(),
+            size,
+            tables: plan.tables.clone(),
+            bake: plan.bake,
+            options,
+        }
+    }
+
+    /// Whether sums kept for `self` hold the image of `other` too.
+    fn same(&self, other: &LobeKey) -> bool {
+        self.size == other.size
+            && self.tables == other.tables
+            && self.bake == other.bake
+            && self.options == other.options
+            && same_scene(&self.scene, &other.scene)
+    }
+}
+
+/// Which entry point a pipeline of the accumulation runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Role {
+    /// `fs_lobe_accumulate` into the sums.
+    Accumulate,
+    /// `fs_lobe_resolve` into a target.
+    Resolve,
+}
+
+/// The accumulation's layout (group 2), module (made on first use), pipelines and sums.
+pub(crate) struct LobePass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// Float or display output, and bits output (each made on first use).
+    modules: [Option<wgpu::ShaderModule>; 2],
+    pipelines: HashMap<(Role, PipelineKey), wgpu::RenderPipeline>,
+    sums: Option<Sums>,
+}
+
+/// The frame texture's view, two sum textures' views (read and written in turn; a view
+/// keeps its texture alive) and a bind group reading the frame with each.
+struct Sums {
+    key: LobeKey,
+    frame: wgpu::TextureView,
+    views: [wgpu::TextureView; 2],
+    groups: [wgpu::BindGroup; 2],
+    /// The texture holding the latest sums.
+    latest: usize,
+    /// Frames summed so far.
+    frames: u32,
+}
+
+impl LobePass {
+    pub fn new(
+        device: &wgpu::Device,
+        group0: &wgpu::BindGroupLayout,
+        group1: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Uint,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("lobe sums"),
+            entries: &[entry(0), entry(1)],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("lobe accumulation"),
+            bind_group_layouts: &[Some(group0), Some(group1), Some(&layout)],
+            immediate_size: 0,
+        });
+        LobePass {
+            layout,
+            pipeline_layout,
+            modules: [None, None],
+            pipelines: HashMap::new(),
+            sums: None,
+        }
+    }
+
+    /// Frames summed so far (`None` when no sums are held).
+    pub fn frames(&self) -> Option<u32> {
+        self.sums.as_ref().map(|s| s.frames)
+    }
+
+    /// Lobe samples a pixel a frame of the sums held (0 when none are held).
+    pub fn samples_a_frame(&self) -> u32 {
+        self.sums.as_ref().map_or(0, |s| s.key.scene.ibl_samples)
+    }
+
+    /// Starts the sums again from zero at the next frame.
+    pub fn reset(&mut self) {
+        if let Some(s) = &mut self.sums {
+            s.frames = 0;
+        }
+    }
+
+    /// Drops the sums (the latest scene uses no lobe).
+    pub fn forget(&mut self) {
+        self.sums = None;
+    }
+
+    /// Makes the sums hold `key`'s image: kept where they already do, else started again
+    /// from zero (the textures kept where the size is the same). Returns the frames
+    /// summed so far.
+    pub fn start(&mut self, device: &wgpu::Device, key: LobeKey) -> u32 {
+        match self.sums.take() {
+            Some(s) if s.key.same(&key) => self.sums = Some(s),
+            Some(mut s) if s.key.size == key.size => {
+                s.frames = 0;
+                s.key = key;
+                self.sums = Some(s);
+            }
+            _ => self.sums = Some(Sums::new(device, &self.layout, key)),
+        }
+        self.frames().unwrap_or(0)
+    }
+
+    /// The view the ball pass draws this frame into (after [`LobePass::start`]).
+    pub fn frame_view(&self) -> Option<&wgpu::TextureView> {
+        self.sums.as_ref().map(|s| &s.frame)
+    }
+
+    /// Records the addition of the frame drawn into [`LobePass::frame_view`] to the sums.
+    pub fn accumulate(&mut self, draw: &Draw<'_>, encoder: &mut wgpu::CommandEncoder) {
+        let pipeline = self.pipeline(draw, Role::Accumulate, LOBE_FORMAT).clone();
+        let Some(sums) = self.sums.as_mut() else {
+            return;
+        };
+        if sums.frames == 0 {
+            // The first frame adds to zero sums.
+            let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+            colour_pass(encoder, &sums.views[sums.latest], zero);
+        }
+        let next = 1 - sums.latest;
+        // The full-screen triangle writes every pixel: the older sums need no clear.
+        let mut pass = colour_pass(encoder, &sums.views[next], wgpu::LoadOp::Load);
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, draw.group0, &[]);
+        pass.set_bind_group(1, draw.group1, &[]);
+        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
+        pass.draw(0..3, 0..1);
+        drop(pass);
+        sums.latest = next;
+        sums.frames = sums.frames.saturating_add(1);
+    }
+
+    /// Records the resolve of the sums' mean into `view` (of `format`) over the `size`
+    /// rectangle at its top-left corner, the rest of the attachment cleared to `clear`
+    /// (as the ball pass clears it).
+    pub fn resolve(
+        &mut self,
+        draw: &Draw<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, format): (&wgpu::TextureView, wgpu::TextureFormat),
+        size: (u32, u32),
+        clear: wgpu::Color,
+    ) {
+        let pipeline = self.pipeline(draw, Role::Resolve, format).clone();
+        let Some(sums) = &self.sums else {
+            return;
+        };
+        let mut pass = colour_pass(encoder, view, wgpu::LoadOp::Clear(clear));
+        let (w, h) = (sums.key.size.0.min(size.0), sums.key.size.1.min(size.1));
+        pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
+        pass.set_scissor_rect(0, 0, w, h);
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, draw.group0, &[]);
+        pass.set_bind_group(1, draw.group1, &[]);
+        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// The pipeline of `role` into `format` for `draw`'s choices, made on first use.
+    fn pipeline(
+        &mut self,
+        draw: &Draw<'_>,
+        role: Role,
+        format: wgpu::TextureFormat,
+    ) -> &wgpu::RenderPipeline {
+        let key = PipelineKey {
+            format,
+            geometry: draw.geometry,
+            mu_axis: draw.mu_axis,
+            variant: draw.variant,
+        };
+        // The accumulation writes bits whatever the module; only a resolve into a bits
+        // target needs the bits module's output.
+        let bits = role == Role::Resolve && is_bits(format);
+        let module = self.modules[bits as usize].get_or_insert_with(|| {
+            draw.device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("lobe accumulation"),
+                    source: wgpu::ShaderSource::Wgsl(shaders::accumulate_source(bits).into()),
+                })
+        });
+        let layout = &self.pipeline_layout;
+        self.pipelines.entry((role, key)).or_insert_with(|| {
+            let shape = Shape {
+                label: "lobe accumulation",
+                vs: shaders::VS_MAIN,
+                fs: match role {
+                    Role::Accumulate => shaders::FS_LOBE_ACCUMULATE,
+                    Role::Resolve => shaders::FS_LOBE_RESOLVE,
+                },
+                buffers: &[],
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                depth: None,
+            };
+            pipelines::create(draw.device, layout, module, key, shape)
+        })
+    }
+}
+
+/// A render pass over `view` that starts with `load` (and draws what is recorded in it).
+fn colour_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("lobe accumulation"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        ..Default::default()
+    })
+}
+
+impl Sums {
+    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, key: LobeKey) -> Self {
+        let (width, height) = key.size;
+        let texture = |label, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: LOBE_FORMAT,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let read = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let frame = texture("lobe frame", read).create_view(&Default::default());
+        let textures = [texture("lobe sums", read), texture("lobe sums", read)];
+        let views = [
+            textures[0].create_view(&Default::default()),
+            textures[1].create_view(&Default::default()),
+        ];
+        let group = |sum: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("lobe sums"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&frame),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(sum),
+                    },
+                ],
+            })
+        };
+        let groups = [group(&views[0]), group(&views[1])];
+        Sums {
+            key,
+            frame,
+            views,
+            groups,
+            latest: 0,
+            frames: 0,
+        }
+    }
+}
