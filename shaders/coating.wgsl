@@ -10,7 +10,7 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
-#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA, DOMINANT_DIRECTION}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
@@ -185,7 +185,8 @@ fn shade_coating_map(
     let intensity = env.intensity;
     let r = 2.0 * dot(n, v) * n - v;
     let n_map = env_to_map(n, rotation);
-    let dominant = specular_direction(n, r, roughness);
+    // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
+    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     var single = prefiltered * e_f_o;

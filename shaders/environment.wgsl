@@ -6,7 +6,6 @@
 #define_import_path shadeballs::environment
 #import shadeballs::constants::{PI, ROUGHNESS_MIN, DIV_EPSILON}
 #import shadeballs::brdf::d_ggx
-#import shadeballs::types::DOMINANT_DIRECTION
 
 // SPECULAR_LEVELS and CONVOLVED_LEVELS: layers of the prefiltered textures;
 // SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis; R2_STEP_*,
@@ -86,11 +85,7 @@ fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughne
 // Rousiers 2014, "Moving Frostbite to Physically Based Rendering", section 4.9.3: the
 // lobe of a rough surface, clipped by its horizon, leans towards the normal; the split
 // sum centres it on r). specular_direction in src/environment/prefilter.rs.
-// With DOMINANT_DIRECTION = 0, r itself (a measurement's switch: bench --only light).
 fn specular_direction(n: vec3<f32>, r: vec3<f32>, roughness: f32) -> vec3<f32> {
-    if DOMINANT_DIRECTION == 0u {
-        return r;
-    }
     let a = clamp(roughness, ROUGHNESS_MIN, 1.0);
     let alpha = a * a;
     let smoothness = 1.0 - alpha;

@@ -11,7 +11,7 @@
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_frame, sample_vndf, vndf_density, lobe_lod}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
-#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA, DOMINANT_DIRECTION}
 #import shadeballs::coating::{shade_coating, coating_lobe}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
@@ -161,7 +161,8 @@ fn shade_environment_map(
         single = shade_environment_lobe(n, v, f0, roughness, fss_ess, pixel);
     } else {
         let r = 2.0 * dot(n, v) * n - v;
-        let dominant = specular_direction(n, r, roughness);
+        // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
+        let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
         let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
         single = prefiltered * fss_ess;
     }

@@ -67,7 +67,8 @@ override IBL_SAMPLES: u32 = 1u;
 // each pixel's centre, the image of before (src/scene Scene::antialias).
 override AA: u32 = 1u;
 // 1 (default): the split sum reads its prefiltered layers along the dominant direction
-// (environment.wgsl specular_direction); 0: along the mirror direction itself (a
+// (environment.wgsl specular_direction, at its callers in lighting.wgsl and
+// coating.wgsl); 0: along the mirror direction itself (a
 // measurement's switch, src/gpu/plan.rs DrawOptions::dominant_direction).
 override DOMINANT_DIRECTION: u32 = 1u;
 

@@ -45,6 +45,7 @@ fn variant(term: TermMode) -> Variant {
         ibl: 0,
         ibl_samples: 0,
         aa: true,
+        dominant: true,
         // The reference scene's display (the homework's).
         display: DisplayTransform::HOMEWORK,
     }
@@ -103,6 +104,7 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             ibl: 0,
             ibl_samples: 0,
             aa: true,
+            dominant: true,
             display: DisplayTransform::HOMEWORK,
         }]
     );
