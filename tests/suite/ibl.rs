@@ -835,3 +835,76 @@ fn the_split_sum_reads_along_the_mirror_direction_when_asked() {
         "{changed} pixels changed"
     );
 }
+
+/// The term's cost under a map, two ways (docs/benchmarks.md, "The term's cost under a
+/// map"): the median of 11 frames with the term and 11 without, alternating and then each
+/// in a row (Turquin's term, studio, 1280x720, Vulkan). Prints; a measurement, not a check:
+/// `cargo test --release --test suite term_frame_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn term_frame_cost_alternating_and_in_a_row() {
+    let mut scene = Scene::reference();
+    for b in scene.balls.iter_mut() {
+        b.model = Model::from_term(IblTerm::Turquin);
+    }
+    let scene = Scene {
+        antialias: false,
+        ..under(
+            scene,
+            Environment::builtin(Builtin::Studio),
+            IblTerm::Turquin,
+        )
+    };
+    let mut r = vulkan();
+    let device = r.gpu().device.clone();
+    let (w, h) = (1280, 720);
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("term frame"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let target = shadeballs::gpu::Target {
+        view: &view,
+        format,
+        width: w,
+        height: h,
+    };
+    let mut frame = |r: &mut shadeballs::Renderer, on: bool| {
+        r.set_multiple_scattering_term(on);
+        let t = std::time::Instant::now();
+        r.render(&scene, target).unwrap();
+        let _ = r.gpu().device.poll(wgpu::PollType::wait_indefinitely());
+        t.elapsed().as_secs_f64() * 1e3
+    };
+    frame(&mut r, true);
+    frame(&mut r, false);
+    let median = |mut v: Vec<f64>| shadeballs::stats::median(&mut v);
+    let (mut on, mut off) = (Vec::new(), Vec::new());
+    for _ in 0..11 {
+        on.push(frame(&mut r, true));
+        off.push(frame(&mut r, false));
+    }
+    println!(
+        "alternating: with {:.2} ms, without {:.2} ms",
+        median(on),
+        median(off)
+    );
+    let on: Vec<f64> = (0..11).map(|_| frame(&mut r, true)).collect();
+    let off: Vec<f64> = (0..11).map(|_| frame(&mut r, false)).collect();
+    println!(
+        "in a row: with {:.2} ms, without {:.2} ms",
+        median(on),
+        median(off)
+    );
+}
