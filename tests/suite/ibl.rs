@@ -880,7 +880,7 @@ fn term_frame_cost_alternating_and_in_a_row() {
         width: w,
         height: h,
     };
-    let mut frame = |r: &mut shadeballs::Renderer, on: bool| {
+    let frame = |r: &mut shadeballs::Renderer, on: bool| {
         r.set_multiple_scattering_term(on);
         let t = std::time::Instant::now();
         r.render(&scene, target).unwrap();
