@@ -6,7 +6,7 @@
 
 #define_import_path shadeballs::screen
 #import shadeballs::constants::DIV_EPSILON
-#import shadeballs::types::{Ball, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET}
+#import shadeballs::types::{Ball, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET, BALL_TERM}
 #import shadeballs::types::{TONE_MAP_ACES, TONE_MAP_AGX, TONE_MAP_KHRONOS_NEUTRAL, TONE_MAP_REINHARD, TRANSFER_SRGB}
 #import shadeballs::bindings::globals
 
@@ -133,10 +133,11 @@ struct BallOut {
     @location(13) @interpolate(flat) fresnel: u32,
 }
 
-// The ball a BallOut carries.
+// The ball a BallOut carries (its term the pipeline's where BALL_TERM names one).
 fn ball_of(in: BallOut) -> Ball {
+    let term = select(in.term, BALL_TERM, BALL_TERM != 0u);
     return Ball(
-        in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, in.term,
+        in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, term,
         in.coating, in.e_spec_avg, in.coating_row, in.layering, in.fresnel,
     );
 }

@@ -71,6 +71,11 @@ override AA: u32 = 1u;
 // coating.wgsl); 0: along the mirror direction itself (a
 // measurement's switch, src/gpu/plan.rs DrawOptions::dominant_direction).
 override DOMINANT_DIRECTION: u32 = 1u;
+// 0 (default): each ball's term is its own (Ball.term, a flat varying); TERM_*: every ball
+// the pipeline draws has this term (src/gpu/plan.rs Variant::ball_term), a pipeline-time
+// choice, so that no other term's branch is run (lavapipe runs both sides of a branch on
+// a varying, the Kulla-Conty term's two reads of the convolved layers included).
+override BALL_TERM: u32 = 0u;
 
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {

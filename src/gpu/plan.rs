@@ -100,6 +100,9 @@ pub struct Variant {
     /// The split sum's read along the dominant direction (`DOMINANT_DIRECTION`;
     /// [`DrawOptions::dominant_direction`]).
     pub dominant: bool,
+    /// The term of every ball the pipeline draws (`BALL_TERM`: its `TERM_*` code) where the
+    /// term is compiled in and all of them share one, else 0 (each ball's own).
+    pub ball_term: u32,
     /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
     /// [`Scene::display`]).
     pub display: DisplayTransform,
@@ -171,6 +174,7 @@ impl Plan {
             ibl_samples,
             aa: scene.antialias,
             dominant: options.dominant_direction,
+            ball_term: 0,
             display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
@@ -181,8 +185,23 @@ impl Plan {
         } else {
             let (with, without): (Vec<usize>, Vec<usize>) =
                 all.into_iter().partition(|&k| balls[k].model.has_term());
+            // One term for every ball with it: a pipeline-time choice (BALL_TERM).
+            let codes: Vec<u32> = with
+                .iter()
+                .map(|&k| super::uniforms::term_code(balls[k].model))
+                .collect();
+            let shared = match codes.first() {
+                Some(&c) if codes.iter().all(|&x| x == c) => c,
+                _ => 0,
+            };
             [
-                (variant(TermMode::In), with),
+                (
+                    Variant {
+                        ball_term: shared,
+                        ..variant(TermMode::In)
+                    },
+                    with,
+                ),
                 (variant(TermMode::Out), without),
             ]
             .into_iter()
@@ -206,6 +225,7 @@ impl Plan {
                 ibl_samples: 0,
                 aa: false,
                 dominant: options.dominant_direction,
+                ball_term: 0,
                 display,
             },
         }

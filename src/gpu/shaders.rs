@@ -168,7 +168,7 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
 /// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `IBL_SAMPLES`, `AA`,
-/// `DOMINANT_DIRECTION`, the display
+/// `DOMINANT_DIRECTION`, `BALL_TERM`, the display
 /// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
 /// (`srgb`: the hardware encodes, so the shader writes linear).
 pub fn overrides_for(
@@ -177,7 +177,7 @@ pub fn overrides_for(
     mu_axis: MuAxis,
     variant: Variant,
     srgb: bool,
-) -> [(&'static str, f64); 13] {
+) -> [(&'static str, f64); 14] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -191,6 +191,7 @@ pub fn overrides_for(
         ("IBL_SAMPLES", f64::from(variant.ibl_samples.max(1))),
         ("AA", flag(variant.aa)),
         ("DOMINANT_DIRECTION", flag(variant.dominant)),
+        ("BALL_TERM", f64::from(variant.ball_term)),
         ("TONE_MAP", variant.display.tone_map.code() as f64),
         ("TRANSFER", variant.display.transfer.code() as f64),
         ("SRGB_TARGET", flag(srgb)),

@@ -46,6 +46,8 @@ fn variant(term: TermMode) -> Variant {
         ibl_samples: 0,
         aa: true,
         dominant: true,
+        // The reference scene's top row has the Kulla-Conty term (code 1), its only one.
+        ball_term: if term == TermMode::In { 1 } else { 0 },
         // The reference scene's display (the homework's).
         display: DisplayTransform::HOMEWORK,
     }
@@ -105,6 +107,7 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             ibl_samples: 0,
             aa: true,
             dominant: true,
+            ball_term: 0,
             display: DisplayTransform::HOMEWORK,
         }]
     );
