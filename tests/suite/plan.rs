@@ -258,3 +258,28 @@ fn games202_layout_rounds_e_avg_to_zero_and_rows_do_not() {
     // The row's value is its own 8-bit row's integral as read: non-zero, not the exact one.
     assert!(row.loss_avg > 0.0, "{}", row.loss_avg);
 }
+
+/// The term-in pipeline compiles the balls' term as a constant (`BALL_TERM`) when they
+/// share one, and keeps each ball's own (0) when they do not.
+#[test]
+fn a_shared_term_is_compiled_in_and_mixed_terms_stay_per_ball() {
+    use shadeballs::environment::IblTerm;
+    use shadeballs::scene::Model;
+    let term_in = |s: &Scene| {
+        plan(s)
+            .variants()
+            .into_iter()
+            .find(|v| v.term == TermMode::In)
+            .expect("a term-in draw")
+            .ball_term
+    };
+    let mut s = Scene::reference();
+    for b in s.balls.iter_mut().filter(|b| b.model.has_term()) {
+        b.model = Model::from_term(IblTerm::Turquin);
+    }
+    // TERM_TURQUIN (gpu::uniforms::TERM_CODES).
+    assert_eq!(term_in(&s), 2);
+    let first = s.balls.iter().position(|b| b.model.has_term()).unwrap();
+    s.balls[first].model = Model::from_term(IblTerm::FdezAguera);
+    assert_eq!(term_in(&s), 0, "two terms: each ball's own");
+}
