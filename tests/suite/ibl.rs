@@ -410,11 +410,20 @@ fn lobe_scene(builtin: Builtin, n: u32) -> Scene {
 /// at a later frame, every term, under both maps, with antialiasing on.
 #[test]
 fn lobe_gpu_matches_its_cpu_twin() {
+    assert_lobe_matches_its_cpu_twin("lobe", |builtin, term| {
+        lobe_scene(builtin, 4).with_term(term)
+    });
+}
+
+/// The GPU's lobe image of `scene_of(map, term)` (antialiasing on) against the CPU twin's
+/// within the split sum's bound, at 320x180, under studio and sky, for every term, at
+/// frames 0 and 5.
+fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTerm) -> Scene) {
     let mut r = vulkan();
     let (w, h) = (320, 180);
     for builtin in [Builtin::Studio, Builtin::Sky] {
         for term in IblTerm::ALL {
-            let mut scene = lobe_scene(builtin, 4).with_term(term);
+            let mut scene = scene_of(builtin, term);
             scene.antialias = true;
             for frame in [0, 5] {
                 r.set_lobe_frame(frame);
@@ -425,7 +434,7 @@ fn lobe_gpu_matches_its_cpu_twin() {
                 let cpu = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
                 assert_close(
                     &compare(&gpu, &cpu, w),
-                    &format!("lobe, {builtin}, {term}, frame {frame}"),
+                    &format!("{what}, {builtin}, {term}, frame {frame}"),
                 );
             }
         }
@@ -438,34 +447,17 @@ fn lobe_gpu_matches_its_cpu_twin() {
 /// reference copper row, every term, both maps, frames 0 and 5, antialiasing on.
 #[test]
 fn lobe_coating_gpu_matches_its_cpu_twin() {
-    let mut r = vulkan();
-    let (w, h) = (320, 180);
-    for builtin in [Builtin::Studio, Builtin::Sky] {
-        for term in IblTerm::ALL {
-            let mut scene = lobe_scene(builtin, 4);
-            for (k, b) in scene.balls.iter_mut().enumerate().skip(5) {
-                b.material = if k == 7 {
-                    Material::metallic_roughness(DVec3::new(0.9, 0.6, 0.3), 0.5, 1.5)
-                } else {
-                    Material::dielectric(DVec3::new(0.6, 0.1, 0.1), 1.5)
-                };
-            }
-            let mut scene = scene.with_term(term);
-            scene.antialias = true;
-            for frame in [0, 5] {
-                r.set_lobe_frame(frame);
-                let gpu = r.render_ldr(&scene, w, h).unwrap().rgba;
-                r.set_lobe_frame(0);
-                let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-                let radiance = cpu::render_radiance_at_lobe_frame(&scene, &tables, w, h, frame);
-                let cpu = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
-                assert_close(
-                    &compare(&gpu, &cpu, w),
-                    &format!("coating lobe, {builtin}, {term}, frame {frame}"),
-                );
-            }
+    assert_lobe_matches_its_cpu_twin("coating lobe", |builtin, term| {
+        let mut scene = lobe_scene(builtin, 4);
+        for (k, b) in scene.balls.iter_mut().enumerate().skip(5) {
+            b.material = if k == 7 {
+                Material::metallic_roughness(DVec3::new(0.9, 0.6, 0.3), 0.5, 1.5)
+            } else {
+                Material::dielectric(DVec3::new(0.6, 0.1, 0.1), 1.5)
+            };
         }
-    }
+        scene.with_term(term)
+    });
 }
 
 /// Under `lobe` the coating's specular is its lobe's samples, not the prefiltered layers:
@@ -599,20 +591,13 @@ fn progressive_ldr(r: &mut shadeballs::Renderer, scene: &Scene, (w, h): (u32, u3
     use shadeballs::gpu::readback::Readback;
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let device = r.gpu().device.clone();
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("progressive target"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
+    let texture = target_texture(
+        &device,
+        "progressive target",
+        (w, h),
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    );
     let view = texture.create_view(&Default::default());
     let target = shadeballs::Target {
         view: &view,
@@ -730,20 +715,13 @@ fn time_lobe_progressive_at_720p() {
         runs.push((Builtin::Studio, 256));
     }
     let device = r.gpu().device.clone();
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("frame"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let texture = target_texture(
+        &device,
+        "frame",
+        (w, h),
+        wgpu::TextureFormat::Rgba8Unorm,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
     let view = texture.create_view(&Default::default());
     let target = shadeballs::Target {
         view: &view,
@@ -859,20 +837,13 @@ fn term_frame_cost_alternating_and_in_a_row() {
     let device = r.gpu().device.clone();
     let (w, h) = (1280, 720);
     let format = wgpu::TextureFormat::Rgba8Unorm;
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("term frame"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
+    let texture = target_texture(
+        &device,
+        "term frame",
+        (w, h),
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
     let view = texture.create_view(&Default::default());
     let target = shadeballs::gpu::Target {
         view: &view,
@@ -907,4 +878,28 @@ fn term_frame_cost_alternating_and_in_a_row() {
         median(on),
         median(off)
     );
+}
+
+/// A `w x h` 2-D texture of `format` with `usage`, one level, for a test's frame target.
+fn target_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
