@@ -14,10 +14,10 @@
 #define_import_path shadeballs::balls
 #import shadeballs::constants::DIV_EPSILON
 #import shadeballs::environment::{direction_to_uv, env_to_map}
-#import shadeballs::types::{Ball, IBL, AA}
+#import shadeballs::types::{Ball, BallOut, ball_of, IBL, AA}
 #import shadeballs::bindings::{globals, env, env_radiance, env_sampler}
 #import shadeballs::lighting::shade
-#import shadeballs::screen::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
+#import shadeballs::screen::{VsOut, primary_ray, intersect_sphere}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
 
 // Antialiased silhouettes (docs/design/antialiasing.md). A pixel integrates radiance over
@@ -157,7 +157,7 @@ fn footprint_radiance(f: Footprint, b: Ball, n_lights: u32, pixel: vec2<u32>) ->
 // Radiance leaving ball b, hit at distance t along the ray, towards the eye, lit by the
 // first `n_lights` lights; `pixel` (column, row) picks the lobe's samples (shade).
 fn shade_hit(o: vec3<f32>, d: vec3<f32>, t: f32, b: Ball, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
-    let n = surface_normal(o + t * d - b.center_radius.xyz, d);
+    let n = surface_normal(o + t * d - b.center, d);
     return shade(b, n, -d, n_lights, pixel);
 }
 
@@ -188,13 +188,14 @@ struct BallFragment {
 // fragment, not one per ball.
 @fragment
 fn fs_ball(in: BallOut) -> BallFragment {
-    let f = ball_footprint(in.position.xy, in.center_radius.xyz, in.center_radius.w);
+    let b = ball_of(in);
+    let f = ball_footprint(in.position.xy, b.center, b.radius);
     if !(f.t > 0.0) {
         discard;
     }
     var out: BallFragment;
     let pixel = vec2<u32>(in.position.xy);
-    out.colour = output_value(footprint_radiance(f, ball_of(in), in.counts.y, pixel));
+    out.colour = output_value(footprint_radiance(f, b, in.counts.y, pixel));
     out.depth = f.t * DEPTH_SCALE;
     return out;
 }

@@ -10,7 +10,7 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
-#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA, DOMINANT_DIRECTION}
+#import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
@@ -37,12 +37,12 @@ fn coating_albedo(row: u32, mu: f32) -> f32 {
 // e_f + f_add loss, Turquin's e_f (1 + F0 (1 / E - 1)), Fdez-Aguera's e_f + FmsEms; loss
 // is 1 - E(mu) (src/scene coating_spec_albedo).
 fn coating_spec_albedo(e_f: f32, loss: f32, f0: f32, f_add: f32, ms: f32, term: u32) -> f32 {
-    var added = f_add * loss;
-    if term == TERM_TURQUIN {
-        added = term_turquin(vec3<f32>(e_f), vec3<f32>(f0), 1.0 - loss).x;
-    } else if term == TERM_FDEZ_AGUERA {
-        added = term_fdez_aguera(vec3<f32>(e_f), vec3<f32>(f0), loss).x;
-    }
+    let added = by_term_f32(
+        term,
+        f_add * loss,
+        term_turquin(vec3<f32>(e_f), vec3<f32>(f0), 1.0 - loss).x,
+        term_fdez_aguera(vec3<f32>(e_f), vec3<f32>(f0), loss).x,
+    );
     return e_f + ms * added;
 }
 
@@ -58,7 +58,7 @@ fn coating_base(b: Ball, e_spec_o: f32, e_spec_i: f32, fresnel_vh: f32) -> vec3<
     let albedo = b.diffuse;
     switch b.layering {
         case LAYERING_CONSTANT: {
-            return f_base_constant(albedo, b.coating.w);
+            return f_base_constant(albedo, b.coat_f_avg);
         }
         case LAYERING_GLTF: {
             return f_base_gltf(albedo, fresnel_vh);
@@ -70,7 +70,7 @@ fn coating_base(b: Ball, e_spec_o: f32, e_spec_i: f32, fresnel_vh: f32) -> vec3<
             return f_base_reciprocal(albedo, e_spec_o, e_spec_i, b.e_spec_avg);
         }
         default: {
-            return f_base_physical(albedo, e_spec_o, e_spec_i, b.e_spec_avg, b.coating.y);
+            return f_base_physical(albedo, e_spec_o, e_spec_i, b.e_spec_avg, b.eta);
         }
     }
 }
@@ -81,7 +81,7 @@ fn coating_base_albedo(b: Ball, e_spec_o: f32, fresnel_o: f32) -> vec3<f32> {
     let albedo = b.diffuse;
     switch b.layering {
         case LAYERING_CONSTANT: {
-            return base_albedo_constant(albedo, b.coating.w);
+            return base_albedo_constant(albedo, b.coat_f_avg);
         }
         case LAYERING_GLTF: {
             return base_albedo_gltf(albedo, fresnel_o);
@@ -90,7 +90,7 @@ fn coating_base_albedo(b: Ball, e_spec_o: f32, fresnel_o: f32) -> vec3<f32> {
             return base_albedo_view_only(albedo, e_spec_o);
         }
         default: {
-            return base_albedo_physical(albedo, e_spec_o, b.e_spec_avg, b.coating.y);
+            return base_albedo_physical(albedo, e_spec_o, b.e_spec_avg, b.eta);
         }
     }
 }
@@ -103,12 +103,12 @@ fn coating_base_albedo(b: Ball, e_spec_o: f32, fresnel_o: f32) -> vec3<f32> {
 // row's E_F(mu_o) with the term's part, E_spec(mu_o), and the base is weighted by the
 // ball's layering form.
 fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) -> vec3<f32> {
-    let roughness = b.f0_roughness.w;
-    let eta = b.coating.y;
-    let f_add = b.coating.z;
+    let roughness = b.roughness;
+    let eta = b.eta;
+    let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
     let term = b.term;
-    let norm = b.f_add_ms_norm.w;
+    let norm = b.ms_norm;
     let mu_o = max(dot(n, v), 0.0);
     var loss_o = 0.0;
     if ms > 0.0 {
@@ -146,13 +146,12 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         var loss_i = 0.0;
         if ms > 0.0 {
             loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
-            if term == TERM_TURQUIN {
-                lobe = term_turquin(vec3<f32>(spec), vec3<f32>(f0), e_o).x;
-            } else if term == TERM_FDEZ_AGUERA {
-                lobe = fms_ems / PI;
-            } else {
-                lobe = f_add * f_ms(loss_o, loss_i, norm);
-            }
+            lobe = by_term_f32(
+                term,
+                f_add * f_ms(loss_o, loss_i, norm),
+                term_turquin(vec3<f32>(spec), vec3<f32>(f0), e_o).x,
+                fms_ems / PI,
+            );
         }
         var e_spec_i = 0.0;
         if two_sided(b) {
@@ -180,7 +179,7 @@ fn shade_coating_map(
     ms: f32,
     base_o: vec3<f32>,
 ) -> vec3<f32> {
-    let roughness = b.f0_roughness.w;
+    let roughness = b.roughness;
     let rotation = env.rotation;
     let intensity = env.intensity;
     let r = 2.0 * dot(n, v) * n - v;
@@ -196,14 +195,14 @@ fn shade_coating_map(
     var lo = single + base_o * irradiance;
     if ms > 0.0 {
         let term = b.term;
-        if term == TERM_TURQUIN {
-            lo += ms * term_turquin(single, vec3<f32>(f0_from_ior(b.coating.y)), 1.0 - loss_o);
-        } else if term == TERM_FDEZ_AGUERA {
-            lo += ms * fms_ems * irradiance;
-        } else {
-            let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
-            lo += ms * b.coating.z * loss_o * multiple;
-        }
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+        // Each share added to lo in its own arm, as the shader always summed it.
+        lo = by_term(
+            term,
+            lo + ms * b.coat_f_add * loss_o * multiple,
+            lo + ms * term_turquin(single, vec3<f32>(f0_from_ior(b.eta)), 1.0 - loss_o),
+            lo + ms * fms_ems * irradiance,
+        );
     }
     return lo;
 }

@@ -120,8 +120,8 @@ fn split_sum_scale(f0: vec3<f32>, e_o: f32, bias: f32) -> vec3<f32> {
 
 // Lighting that follows the lobe (IBL = 2; docs/design/environment.md, "Lighting that
 // follows the lobe"): the sequence of a pixel's samples, the visible normals they pick and
-// the mip level each reads. CPU twins of the same names in src/environment/lobe.rs (the
-// sequence, the density, the level) and src/cpu/montecarlo.rs (sample_vndf, Frame).
+// the mip level each reads (the frame, the visible normals and their density: sampling.wgsl).
+// CPU twins of the same names in src/environment/lobe.rs (the sequence, the level).
 
 // PCG's hash of one 32-bit value (Jarzynski & Olano 2020, "Hash Functions for GPU
 // Rendering", JCGT 9(3)).
@@ -162,51 +162,6 @@ fn lobe_net_point(j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
 // (tests/suite/uniform_flow.rs).
 fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
     return select(lobe_point(first + j, scramble), lobe_net_point(j, count, scramble), first == 0u);
-}
-
-// An orthonormal frame about unit n, as columns (tangent, bitangent, n) (Duff et al. 2017,
-// "Building an Orthonormal Basis, Revisited"; Frame::new in src/cpu/montecarlo.rs).
-fn lobe_frame(n: vec3<f32>) -> mat3x3<f32> {
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    return mat3x3<f32>(
-        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
-        n,
-    );
-}
-
-// A reflected direction (local frame, normal +z) whose half vector follows GGX's
-// distribution of normals visible from v (Heitz 2018, "Sampling the GGX Distribution of
-// Visible Normals", JCGT 7(4), listing 1). May lie below the horizon.
-fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let stretched = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
-    let vh = stretched / max(length(stretched), DIV_EPSILON);
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    var t1 = vec3<f32>(1.0, 0.0, 0.0);
-    if lensq > DIV_EPSILON {
-        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
-    }
-    let t2 = cross(vh, t1);
-    let r = sqrt(u1);
-    let phi = 2.0 * PI * u2;
-    let p1 = r * cos(phi);
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
-    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
-    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
-    let h = ne / max(length(ne), DIV_EPSILON);
-    return 2.0 * dot(v, h) * h - v;
-}
-
-// The density per solid angle of sample_vndf's direction with half vector at n.h:
-// G1(v) D(h) / (4 mu_o), G1 / mu_o written to stay finite at grazing v.
-fn vndf_density(mu_o: f32, n_dot_h: f32, alpha: f32) -> f32 {
-    let c = clamp(mu_o, 0.0, 1.0);
-    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
-    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
-    return d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0;
 }
 
 // The mip level a lobe sample of density `pdf` reads among `count` samples (filtered

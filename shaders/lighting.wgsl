@@ -9,9 +9,10 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
-#import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_frame, sample_vndf, vndf_density, lobe_lod}
+#import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_lod}
+#import shadeballs::sampling::{duff_frame, sample_vndf, vndf_density}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
-#import shadeballs::types::{TERM_TURQUIN, TERM_FDEZ_AGUERA, DOMINANT_DIRECTION}
+#import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, coating_lobe}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
@@ -24,12 +25,12 @@
 // With IBL = 2 the coating's specular lobe is sampled here too (lobe_mean_radiance with
 // the coating's Fresnel) and handed to shade_coating through coating_lobe.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
-    let metallic = b.coating.x;
+    let metallic = b.metallic;
     if metallic >= 1.0 {
         return shade_metal(b, n, v, n_lights, pixel);
     }
     if IBL == 2u {
-        coating_lobe = lobe_mean_radiance(n, v, b.f0_roughness.w, vec3<f32>(0.0), b.coating.y, b.fresnel, pixel);
+        coating_lobe = lobe_mean_radiance(n, v, b.roughness, vec3<f32>(0.0), b.eta, b.fresnel, pixel);
     }
     let coating = shade_coating(b, n, v, n_lights, term_weight(b));
     if metallic <= 0.0 {
@@ -53,8 +54,8 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -
 // with the term on) and otherwise an approximation of the split-sum kind; with a map bound
 // FssEss is the split sum's F0 A + B (Karis 2013's second table).
 fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
-    let roughness = b.f0_roughness.w;
-    let f0 = b.f0_roughness.xyz;
+    let roughness = b.roughness;
+    let f0 = b.f0;
     let ms = term_weight(b);
     let term = b.term;
     let mu_o = max(dot(n, v), 0.0);
@@ -70,8 +71,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
     var norm = 0.0;
     var f_add = vec3<f32>(0.0);
     if MS_TERM != 0u {
-        norm = b.f_add_ms_norm.w;
-        f_add = b.f_add_ms_norm.xyz;
+        norm = b.ms_norm;
+        f_add = b.f_add;
     }
     // The single-scattering albedo: the split sum with a map bound, else F_avg E(mu_o).
     var fss_ess = f_avg_ss * e_o;
@@ -87,12 +88,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
         let single = f_avg_ss * e_o;
-        var added = f_add * loss_o;
-        if term == TERM_TURQUIN {
-            added = term_turquin(single, f0, e_o);
-        } else if term == TERM_FDEZ_AGUERA {
-            added = fms_ems;
-        }
+        let added = by_term(term, f_add * loss_o, term_turquin(single, f0, e_o), fms_ems);
         lo = globals.environment.xyz * (single + ms * added);
     }
     if IBL != 0u {
@@ -114,14 +110,13 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
         // its E read; then a branch on the ball's own term.
         if MS_TERM == 2u || (MS_TERM == 1u && ms > 0.0) {
-            if term == TERM_TURQUIN {
-                lobe = ms * term_turquin(spec, f0, e_o);
-            } else if term == TERM_FDEZ_AGUERA {
-                lobe = ms * fms_ems / PI;
-            } else {
-                let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
-                lobe = ms * f_add * f_ms(loss_o, loss_i, norm);
-            }
+            let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
+            lobe = by_term(
+                term,
+                ms * f_add * f_ms(loss_o, loss_i, norm),
+                ms * term_turquin(spec, f0, e_o),
+                ms * fms_ems / PI,
+            );
         }
         let f_r = spec + lobe;
         lo += f_r * lights[k].radiance.xyz * mu_i;
@@ -149,8 +144,8 @@ fn shade_environment_map(
     f_add: vec3<f32>,
     pixel: vec2<u32>,
 ) -> vec3<f32> {
-    let roughness = b.f0_roughness.w;
-    let f0 = b.f0_roughness.xyz;
+    let roughness = b.roughness;
+    let f0 = b.f0;
     let rotation = env.rotation;
     let intensity = env.intensity;
     let n_map = env_to_map(n, rotation);
@@ -169,14 +164,14 @@ fn shade_environment_map(
     var lo = single;
     if ms > 0.0 {
         let term = b.term;
-        if term == TERM_TURQUIN {
-            lo += ms * term_turquin(single, f0, e_o);
-        } else if term == TERM_FDEZ_AGUERA {
-            lo += ms * fms_ems * irradiance;
-        } else {
-            let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
-            lo += ms * f_add * loss_o * multiple;
-        }
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+        // Each share added to lo in its own arm, as the shader always summed it.
+        lo = by_term(
+            term,
+            lo + ms * f_add * loss_o * multiple,
+            lo + ms * term_turquin(single, f0, e_o),
+            lo + ms * fms_ems * irradiance,
+        );
     }
     return lo;
 }
@@ -218,7 +213,7 @@ fn lobe_mean_radiance(
 ) -> vec3<f32> {
     let mu_o = max(dot(n, v), 0.0);
     let alpha = alpha_from_roughness(roughness);
-    let frame = lobe_frame(n);
+    let frame = duff_frame(n);
     let v_local = v * frame;
     let scramble = pixel_scramble(pixel);
     let first = u32(env.lobe.x);

@@ -17,11 +17,12 @@
 #import shadeballs::brdf::{alpha_from_roughness, d_ggx, f_schlick, f_avg_schlick, f_micro, f_ms}
 #import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::lut::lut_loss_row
-#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale, sample_vndf}
-#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, TERM_TURQUIN, TERM_FDEZ_AGUERA}
+#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale}
+#import shadeballs::sampling::{duff_frame, sample_vndf, vndf_density, sample_cosine, arriving}
+#import shadeballs::types::{Ball, BallOut, ball_of, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, TERM_FDEZ_AGUERA, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_radiance, env_sampler, env_split_sum}
-#import shadeballs::screen::{BallOut, ball_of, primary_ray, intersect_sphere, surface_normal, DEPTH_SCALE}
+#import shadeballs::screen::{primary_ray, intersect_sphere, surface_normal, DEPTH_SCALE}
 
 // Estimates a fragment draws a pass (src/gpu/montecarlo.rs PASS_SAMPLES, or the last
 // pass's rest): a pipeline-time constant, so no loop exit reads a uniform.
@@ -112,8 +113,8 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     p.n = n;
     p.v = v;
     p.mu_o = max(dot(n, v), 0.0);
-    p.roughness = b.f0_roughness.w;
-    p.f0 = b.f0_roughness.xyz;
+    p.roughness = b.roughness;
+    p.f0 = b.f0;
     p.ms = b.ms;
     p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
     let e_o = 1.0 - p.loss_o;
@@ -121,11 +122,11 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     if IBL != 0u {
         p.fss_ess = split_sum_scale(p.f0, e_o, split_sum_bias(env_split_sum, p.mu_o, p.roughness));
     }
-    if b.coating.x < 1.0 {
-        let f0 = f0_from_ior(b.coating.y);
+    if b.metallic < 1.0 {
+        let f0 = f0_from_ior(b.eta);
         let loss = p.loss_o * p.ms;
         let e_f_o = coating_albedo(b.coating_row, p.mu_o);
-        p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coating.z, p.ms, b.term);
+        p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coat_f_add, p.ms, b.term);
         if p.ms > 0.0 && b.term == TERM_FDEZ_AGUERA {
             p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
         }
@@ -151,7 +152,7 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     if p.ms > 0.0 {
         loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
     }
-    let metallic = b.coating.x;
+    let metallic = b.metallic;
     var f = vec3<f32>(0.0);
     if metallic > 0.0 {
         f = metallic * metal_brdf(b, p, mu_i, h, loss_i);
@@ -167,13 +168,12 @@ fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) ->
     let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
     var multiple = vec3<f32>(0.0);
     if p.ms > 0.0 {
-        if b.term == TERM_TURQUIN {
-            multiple = p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o);
-        } else if b.term == TERM_FDEZ_AGUERA {
-            multiple = p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI;
-        } else {
-            multiple = p.ms * b.f_add_ms_norm.xyz * f_ms(p.loss_o, loss_i, b.f_add_ms_norm.w);
-        }
+        multiple = by_term(
+            b.term,
+            p.ms * b.f_add * f_ms(p.loss_o, loss_i, b.ms_norm),
+            p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o),
+            p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI,
+        );
     }
     if mc.part == PART_MULTIPLE {
         return multiple;
@@ -183,21 +183,20 @@ fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) ->
 
 // The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
 fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
-    let eta = b.coating.y;
-    let f_add = b.coating.z;
+    let eta = b.eta;
+    let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
     let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
     let spec = f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY).x;
     let loss_o = p.loss_o * p.ms;
     var lobe = 0.0;
     if p.ms > 0.0 {
-        if b.term == TERM_TURQUIN {
-            lobe = term_turquin(vec3<f32>(spec), vec3<f32>(f0), 1.0 - loss_o).x;
-        } else if b.term == TERM_FDEZ_AGUERA {
-            lobe = p.coat_fms_ems / PI;
-        } else {
-            lobe = f_add * f_ms(loss_o, loss_i, b.f_add_ms_norm.w);
-        }
+        lobe = by_term_f32(
+            b.term,
+            f_add * f_ms(loss_o, loss_i, b.ms_norm),
+            term_turquin(vec3<f32>(spec), vec3<f32>(f0), 1.0 - loss_o).x,
+            p.coat_fms_ems / PI,
+        );
     }
     var e_spec_i = 0.0;
     if two_sided(b) {
@@ -211,30 +210,10 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
 
 // Radiance arriving from world direction w: the uniform environment plus the map.
 fn incident(w: vec3<f32>) -> vec3<f32> {
-    var c = vec3<f32>(0.0);
-    if HAS_ENVIRONMENT == 1u {
-        c = globals.environment.xyz;
-    }
-    if IBL != 0u {
-        let uv = direction_to_uv(env_to_map(w, env.rotation));
-        c += env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
-    }
-    return c;
+    return arriving(w, HAS_ENVIRONMENT == 1u, globals.environment.xyz, IBL != 0u, env_radiance, env_sampler, env.rotation, env.intensity);
 }
 
-// An orthonormal frame about unit n (Duff et al. 2017, "Building an Orthonormal Basis,
-// Revisited", JCGT 6(1)); columns t, b, n (src/cpu/montecarlo.rs Frame).
-fn frame_of(n: vec3<f32>) -> mat3x3<f32> {
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    let bt = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
-    return mat3x3<f32>(t, bt, n);
-}
-
-// Density (solid angle) of sample_vndf at l: G1(v) D(h) / (4 mu_o), G1 / mu_o written
-// finite at grazing v (src/cpu/montecarlo.rs pdf_vndf says how).
+// Density (solid angle) of sample_vndf at l (vndf_density at l's half vector).
 fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
     let sum = p.v + l;
     let len = length(sum);
@@ -242,17 +221,7 @@ fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
         return 0.0;
     }
     let h = sum / len;
-    let c = clamp(p.mu_o, 0.0, 1.0);
-    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
-    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
-    return d_ggx(dot(p.n, h), alpha) * g1_over_mu / 4.0;
-}
-
-// A cosine-distributed direction about +z (Malley's method), density mu_i / pi.
-fn sample_cosine(u1: f32, u2: f32) -> vec3<f32> {
-    let r = sqrt(u1);
-    let phi = 2.0 * PI * u2;
-    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+    return vndf_density(p.mu_o, dot(p.n, h), alpha);
 }
 
 // The first index in [first, first + count) whose value exceeds x (count if none): the
@@ -347,7 +316,7 @@ fn estimate(b: Ball, p: ShadingPoint, rng: ptr<function, u32>) -> Estimates {
     }
     var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
     if (mc.shape & 2u) != 0u {
-        frame = frame_of(p.n);
+        frame = duff_frame(p.n);
     }
     let v_local = transpose(frame) * p.v;
     var alpha = 0.5;
@@ -394,8 +363,9 @@ struct McFragment {
 // (Chan et al.: the means by their counts, the squared deviations plus delta^2 n_a n_b / n).
 @fragment
 fn fs_montecarlo(in: BallOut) -> McFragment {
+    let b = ball_of(in);
     let ray = primary_ray(in.position.xy);
-    let t = intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+    let t = intersect_sphere(ray[0], ray[1], b.center, b.radius);
     if !(t > 0.0) {
         discard;
     }
@@ -403,8 +373,7 @@ fn fs_montecarlo(in: BallOut) -> McFragment {
     let before = textureLoad(mc_mean, px, 0i);
     let m2_before = textureLoad(mc_m2, px, 0i).rgb;
     var rng = mc_seed(u32(px.x), u32(px.y));
-    let b = ball_of(in);
-    let n = surface_normal(ray[0] + t * ray[1] - b.center_radius.xyz, ray[1]);
+    let n = surface_normal(ray[0] + t * ray[1] - b.center, ray[1]);
     let p = shading_point(b, n, -ray[1]);
     let drawn = estimate(b, p, &rng);
     let mean_b = direct(b, p, in.counts.y) + drawn.mean;

@@ -6,6 +6,7 @@
 #import shadeballs::constants::PI
 #import shadeballs::brdf::geometry_g
 #import shadeballs::environment::{direction_to_uv, uv_to_direction}
+#import shadeballs::sampling::duff_frame
 
 // The constants of src/environment/prefilter.rs, same names.
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
@@ -42,17 +43,6 @@ fn radical_inverse(i: u32) -> f32 {
     return f32(reverseBits(i)) / 4294967296.0;
 }
 
-// Two unit vectors completing unit n to a right-handed frame (Duff et al. 2017).
-fn orthonormal_basis(n: vec3<f32>) -> array<vec3<f32>, 2> {
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    return array<vec3<f32>, 2>(
-        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
-    );
-}
-
 // The GGX-filtered radiance about r (n = v = r) at alpha: SPECULAR_SAMPLES half-vectors with
 // pdf D cos(theta_h), each read at the mip level its solid angle covers (Krivanek & Colbert
 // 2008), weighted by G(1, n.l) of `geometry` at `roughness` (prefilter_specular in
@@ -60,7 +50,7 @@ fn orthonormal_basis(n: vec3<f32>) -> array<vec3<f32>, 2> {
 fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, samples: u32) -> vec3<f32> {
     let w0 = f32(params.size.z);
     let h0 = f32(params.size.w);
-    let basis = orthonormal_basis(r);
+    let basis = duff_frame(r);
     let a2 = alpha * alpha;
     let max_lod = f32(params.limits.y);
     var sum = vec3<f32>(0.0);

@@ -6,7 +6,7 @@
 
 #define_import_path shadeballs::screen
 #import shadeballs::constants::DIV_EPSILON
-#import shadeballs::types::{Ball, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET, BALL_TERM}
+#import shadeballs::types::{BallIn, BallOut, ball_out, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET}
 #import shadeballs::types::{TONE_MAP_ACES, TONE_MAP_AGX, TONE_MAP_KHRONOS_NEUTRAL, TONE_MAP_REINHARD, TRANSFER_SRGB}
 #import shadeballs::bindings::globals
 
@@ -111,76 +111,17 @@ fn surface_normal(p: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
     return -d;
 }
 
-struct BallOut {
-    @builtin(position) position: vec4<f32>,
-    // loop_counts(), as in VsOut.
-    @location(1) @interpolate(flat) counts: vec2<u32>,
-    // The quad's ball, from its instance (src/gpu/bindings.rs BallInstance) and handed on
-    // as flat varyings: a fragment shades only its own ball, so it reads no per-ball buffer.
-    // On lavapipe a buffer read at a per-pixel index is a gather that costs about what a
-    // table read does; a flat varying is a broadcast (docs/benchmarks.md, "The term's cost").
-    @location(2) @interpolate(flat) center_radius: vec4<f32>,
-    @location(3) @interpolate(flat) f0_roughness: vec4<f32>,
-    @location(4) @interpolate(flat) diffuse: vec3<f32>,
-    @location(7) @interpolate(flat) ms: f32,
-    @location(5) @interpolate(flat) f_add_ms_norm: vec4<f32>,
-    @location(6) @interpolate(flat) lut_row: vec3<f32>,
-    @location(8) @interpolate(flat) term: u32,
-    @location(9) @interpolate(flat) coating: vec4<f32>,
-    @location(10) @interpolate(flat) e_spec_avg: f32,
-    @location(11) @interpolate(flat) coating_row: u32,
-    @location(12) @interpolate(flat) layering: u32,
-    @location(13) @interpolate(flat) fresnel: u32,
-}
-
-// The ball a BallOut carries (its term the pipeline's where BALL_TERM names one).
-fn ball_of(in: BallOut) -> Ball {
-    let term = select(in.term, BALL_TERM, BALL_TERM != 0u);
-    return Ball(
-        in.center_radius, in.f0_roughness, in.diffuse, in.ms, in.f_add_ms_norm, in.lut_row, term,
-        in.coating, in.e_spec_avg, in.coating_row, in.layering, in.fresnel,
-    );
-}
-
 // One corner of a ball's quad per vertex (a triangle strip, vertices 0..4): `rect` is its
-// bounds in NDC, [x0, y0, x1, y1], the other attributes the ball's members (src/gpu/
-// renderer.rs encode, one instance per ball).
+// bounds in NDC, [x0, y0, x1, y1], the other attributes the ball's members (BallIn and
+// ball_out in types.wgsl, generated; src/gpu/renderer.rs, one instance per ball).
 @vertex
-fn vs_ball(
-    @builtin(vertex_index) index: u32,
-    @location(0) rect: vec4<f32>,
-    @location(2) center_radius: vec4<f32>,
-    @location(3) f0_roughness: vec4<f32>,
-    @location(4) diffuse: vec3<f32>,
-    @location(7) ms: f32,
-    @location(5) f_add_ms_norm: vec4<f32>,
-    @location(6) lut_row: vec3<f32>,
-    @location(8) term: u32,
-    @location(9) coating: vec4<f32>,
-    @location(10) e_spec_avg: f32,
-    @location(11) coating_row: u32,
-    @location(12) layering: u32,
-    @location(13) fresnel: u32,
-) -> BallOut {
+fn vs_ball(@builtin(vertex_index) index: u32, in: BallIn) -> BallOut {
     // Corners (0,0) (1,0) (0,1) (1,1): the index's bits.
     let cx = f32(index & 1u);
     let cy = f32((index >> 1u) & 1u);
-    var out: BallOut;
-    out.position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
-    out.counts = loop_counts();
-    out.center_radius = center_radius;
-    out.f0_roughness = f0_roughness;
-    out.diffuse = diffuse;
-    out.ms = ms;
-    out.f_add_ms_norm = f_add_ms_norm;
-    out.lut_row = lut_row;
-    out.term = term;
-    out.coating = coating;
-    out.e_spec_avg = e_spec_avg;
-    out.coating_row = coating_row;
-    out.layering = layering;
-    out.fresnel = fresnel;
-    return out;
+    let rect = in.rect;
+    let position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
+    return ball_out(in, position, loop_counts());
 }
 
 // The depth of a hit at distance t > 0: t scaled by the power of two DEPTH_SCALE, which is

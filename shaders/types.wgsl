@@ -77,6 +77,32 @@ override DOMINANT_DIRECTION: u32 = 1u;
 // a varying, the Kulla-Conty term's two reads of the convolved layers included).
 override BALL_TERM: u32 = 0u;
 
+// Which of a value's three shares the ball's term (TERM_*; src/gpu/uniforms.rs term_code)
+// takes: 1 Turquin's, 2 Fdez-Aguera's, 0 Kulla-Conty's. The one choice among the terms:
+// every shader chooses through it (by_term, by_term_f32). Each share is formed by the
+// caller; a pipeline-time term (BALL_TERM) folds the others away.
+fn term_share(term: u32) -> u32 {
+    if term == TERM_TURQUIN {
+        return 1u;
+    }
+    if term == TERM_FDEZ_AGUERA {
+        return 2u;
+    }
+    return 0u;
+}
+
+// The share of `term_share(term)` among Kulla-Conty's, Turquin's and Fdez-Aguera's.
+fn by_term(term: u32, kulla_conty: vec3<f32>, turquin: vec3<f32>, fdez_aguera: vec3<f32>) -> vec3<f32> {
+    let share = term_share(term);
+    return select(select(kulla_conty, fdez_aguera, share == 2u), turquin, share == 1u);
+}
+
+// by_term of scalars.
+fn by_term_f32(term: u32, kulla_conty: f32, turquin: f32, fdez_aguera: f32) -> f32 {
+    let share = term_share(term);
+    return select(select(kulla_conty, fdez_aguera, share == 2u), turquin, share == 1u);
+}
+
 // Mirrors src/gpu/uniforms.rs Globals (every member a vec4 for one std140 layout).
 struct Globals {
     cam_origin: vec4<f32>,
@@ -95,38 +121,102 @@ struct Globals {
     lut: LutParams,
 }
 
+// The ball (src/gpu/uniforms.rs GpuBall, whose member list BALL_MEMBERS this block is
+// generated from: gpu::ball): `Ball` by its members' names, and how a quad carries it from
+// its instance (BallIn, the vertex attributes) to the fragment stage (BallOut, flat
+// varyings, each a run of members packed by 16-byte row), ball_of unpacking it.
+// generated from gpu::uniforms::BALL_MEMBERS by tests/suite/boundary.rs: do not edit
 struct Ball {
-    // xyz: centre; w: radius.
-    center_radius: vec4<f32>,
-    // xyz: the metal's linear F0; w: roughness (raw; the BRDF functions clamp it).
-    f0_roughness: vec4<f32>,
-    // The dielectric's linear base colour (0 for a metal): the albedo a viewer sees or
-    // the substrate's, as the layering form reads it.
+    center: vec3<f32>,
+    radius: f32,
+    f0: vec3<f32>,
+    roughness: f32,
     diffuse: vec3<f32>,
-    // The multiple-scattering term's weight: 1 with it, 0 without.
     ms: f32,
-    // Constant over the ball, formed on the CPU (src/gpu/uniforms.rs balls): xyz: the
-    // metal's f_add of the preset (f_add_accurate or f_add_games202 of E_avg); w: f_ms_norm
-    // of 1 - E_avg at the ball's roughness as read: lut_loss_avg of the 2-D table, or its
-    // own row's.
-    f_add_ms_norm: vec4<f32>,
-    // The roughness half of an E read at the ball's roughness (Tables::lut_row;
-    // lut_loss_row in lut.wgsl): first row index, weight of the next row, alpha.
+    f_add: vec3<f32>,
+    ms_norm: f32,
     lut_row: vec3<f32>,
-    // The ball's term (TERM_*; 0 without one).
     term: u32,
-    // The coating (src/scene CoatingConstants): x: metallic, the metal's share; y: the
-    // coating's index eta; z: its f_add (0 without the term); w: its average Fresnel.
-    coating: vec4<f32>,
-    // The average of the coating's specular albedo with the ball's term, E_spec_avg.
+    metallic: f32,
+    eta: f32,
+    coat_f_add: f32,
+    coat_f_avg: f32,
     e_spec_avg: f32,
-    // The ball's row in coating_rows (0 for an all-metal ball, which reads none).
     coating_row: u32,
-    // The layering form (LAYERING_*).
     layering: u32,
-    // The coating's Fresnel (FRESNEL_*; the preset's).
     fresnel: u32,
 }
+
+// The ball's members as a quad's instance attributes (BallInstance::LAYOUT).
+struct BallIn {
+    @location(0) rect: vec4<f32>,
+    @location(1) ball_0: vec4<f32>,
+    @location(2) ball_1: vec4<f32>,
+    @location(3) ball_2: vec4<f32>,
+    @location(4) ball_3: vec4<f32>,
+    @location(5) ball_4: vec3<f32>,
+    @location(6) ball_5: u32,
+    @location(7) ball_6: vec4<f32>,
+    @location(8) ball_7: f32,
+    @location(9) ball_8: vec3<u32>,
+}
+
+// A quad's fragment: its ball as flat varyings (a fragment shades only its own
+// ball, so it reads no per-ball buffer: a flat varying is a broadcast).
+struct BallOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) counts: vec2<u32>,
+    @location(1) @interpolate(flat) ball_0: vec4<f32>,
+    @location(2) @interpolate(flat) ball_1: vec4<f32>,
+    @location(3) @interpolate(flat) ball_2: vec4<f32>,
+    @location(4) @interpolate(flat) ball_3: vec4<f32>,
+    @location(5) @interpolate(flat) ball_4: vec3<f32>,
+    @location(6) @interpolate(flat) ball_5: u32,
+    @location(7) @interpolate(flat) ball_6: vec4<f32>,
+    @location(8) @interpolate(flat) ball_7: f32,
+    @location(9) @interpolate(flat) ball_8: vec3<u32>,
+}
+
+fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
+    var out: BallOut;
+    out.position = position;
+    out.counts = counts;
+    out.ball_0 = in.ball_0;
+    out.ball_1 = in.ball_1;
+    out.ball_2 = in.ball_2;
+    out.ball_3 = in.ball_3;
+    out.ball_4 = in.ball_4;
+    out.ball_5 = in.ball_5;
+    out.ball_6 = in.ball_6;
+    out.ball_7 = in.ball_7;
+    out.ball_8 = in.ball_8;
+    return out;
+}
+
+fn ball_of(in: BallOut) -> Ball {
+    var b: Ball;
+    b.center = in.ball_0.xyz;
+    b.radius = in.ball_0.w;
+    b.f0 = in.ball_1.xyz;
+    b.roughness = in.ball_1.w;
+    b.diffuse = in.ball_2.xyz;
+    b.ms = in.ball_2.w;
+    b.f_add = in.ball_3.xyz;
+    b.ms_norm = in.ball_3.w;
+    b.lut_row = in.ball_4;
+    b.term = in.ball_5;
+    b.metallic = in.ball_6.x;
+    b.eta = in.ball_6.y;
+    b.coat_f_add = in.ball_6.z;
+    b.coat_f_avg = in.ball_6.w;
+    b.e_spec_avg = in.ball_7;
+    b.coating_row = in.ball_8.x;
+    b.layering = in.ball_8.y;
+    b.fresnel = in.ball_8.z;
+    b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);
+    return b;
+}
+// end of the generated ball
 
 // Mirrors src/gpu/environment.rs EnvUniform.
 struct EnvUniform {

@@ -24,10 +24,10 @@
 #import shadeballs::constants::{PI, DIV_EPSILON, GEOMETRY_SMITH_CORRELATED}
 #import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, fresnel_dielectric}
 #import shadeballs::brdf::f_micro
-#import shadeballs::environment::{direction_to_uv, env_to_map}
-#import shadeballs::types::{Ball, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::sampling::{duff_frame, arriving}
+#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
-#import shadeballs::screen::{VsOut, BallOut, ball_of, primary_ray, intersect_sphere}
+#import shadeballs::screen::{VsOut, primary_ray, intersect_sphere}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
 
 // Scattering events a GPU path may have (a cut, not a roulette: it loses the energy of
@@ -147,28 +147,9 @@ fn walk_sample_visible_normal(wi: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> ve
     return m / max(length(m), DIV_EPSILON);
 }
 
-// An orthonormal frame about unit n (Duff et al. 2017, "Building an Orthonormal Basis,
-// Revisited", JCGT 6(1)); src/cpu/montecarlo.rs Frame. Columns t, b, n.
-fn walk_frame(n: vec3<f32>) -> mat3x3<f32> {
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    let bt = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
-    return mat3x3<f32>(t, bt, n);
-}
-
 // Radiance arriving from world direction d: the uniform environment plus the map.
 fn walk_arriving(d: vec3<f32>) -> vec3<f32> {
-    var c = vec3<f32>(0.0);
-    if HAS_ENVIRONMENT == 1u {
-        c = globals.environment.xyz;
-    }
-    if IBL != 0u {
-        let uv = direction_to_uv(env_to_map(d, env.rotation));
-        c += env.intensity * textureSampleLevel(env_radiance, env_sampler, uv, 0.0).rgb;
-    }
-    return c;
+    return arriving(d, HAS_ENVIRONMENT == 1u, globals.environment.xyz, IBL != 0u, env_radiance, env_sampler, env.rotation, env.intensity);
 }
 
 // One walk entering along v (local wi, wi.z > 0) on a conductor of Schlick F0 `f0`: the
@@ -503,21 +484,21 @@ fn coating_walk(frame: mat3x3<f32>, wi: vec3<f32>, rho: vec3<f32>, alpha: f32, e
 // the first `n_lights` lights (what src/cpu/truth.rs single_fixed + estimate give, with
 // the metal's environment single scattering drawn instead of tabulated): the metal's part
 // (the lights' single scattering exactly, then walk_estimate) and the dielectric's
-// (coating_walk, every order) mixed by metallic (Ball.coating.x). A pure metal draws no
+// (coating_walk, every order) mixed by metallic (Ball.metallic). A pure metal draws no
 // coating walk and shades as before it had one.
 fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let mu_o = dot(n, v);
     if mu_o <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let roughness = b.f0_roughness.w;
+    let roughness = b.roughness;
     let alpha = alpha_from_roughness(roughness);
-    let metallic = b.coating.x;
+    let metallic = b.metallic;
     var coated = vec3<f32>(0.0);
     if metallic < 1.0 {
-        let frame = walk_frame(n);
+        let frame = duff_frame(n);
         let wi = transpose(frame) * v;
-        coated = coating_walk(frame, wi, b.diffuse, alpha, b.coating.y, n_lights, rng);
+        coated = coating_walk(frame, wi, b.diffuse, alpha, b.eta, n_lights, rng);
         if metallic <= 0.0 {
             return coated;
         }
@@ -533,8 +514,8 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
 // lights' single scattering exactly (f_micro with Schlick F, GGX D, height-correlated
 // Smith G) and one walk_estimate.
 fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, mu_o: f32, alpha: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
-    let roughness = b.f0_roughness.w;
-    let f0 = b.f0_roughness.xyz;
+    let roughness = b.roughness;
+    let f0 = b.f0;
     var lo = vec3<f32>(0.0);
     if HAS_LIGHTS == 1u {
         for (var k = 0u; k < n_lights; k++) {
@@ -548,7 +529,7 @@ fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, mu_o: f32, alpha: f32,
             lo += spec * lights[k].radiance.xyz * mu_i;
         }
     }
-    let frame = walk_frame(n);
+    let frame = duff_frame(n);
     let wi = transpose(frame) * v;
     return lo + walk_estimate(frame, wi, f0, alpha, n_lights, rng);
 }
@@ -567,7 +548,8 @@ struct TruthFragment {
 // the ray misses it): the truth traces one ray through each pixel's centre (its balls are
 // not antialiased).
 fn ball_distance(in: BallOut, ray: array<vec3<f32>, 2>) -> f32 {
-    return intersect_sphere(ray[0], ray[1], in.center_radius.xyz, in.center_radius.w);
+    let b = ball_of(in);
+    return intersect_sphere(ray[0], ray[1], b.center, b.radius);
 }
 
 // One more estimate at a truth ball's pixel: the previous sum plus this frame's, seeded
@@ -585,7 +567,7 @@ fn fs_truth(in: BallOut) -> TruthFragment {
     let previous = textureLoad(truth_sum, p, 0i);
     var rng = rng_seed(u32(p.x), u32(p.y), u32(previous.w));
     let b = ball_of(in);
-    let n = surface_normal(ray[0] + t * ray[1] - b.center_radius.xyz, ray[1]);
+    let n = surface_normal(ray[0] + t * ray[1] - b.center, ray[1]);
     var x = shade_truth(b, n, -ray[1], in.counts.y, &rng);
     let finite = all(abs(x) < vec3<f32>(3.0e38));
     x = select(vec3<f32>(0.0), x, finite);

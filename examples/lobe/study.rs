@@ -18,10 +18,10 @@ use shadeballs::brdf::{
     alpha_from_roughness, f_add_preset, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
     GAMES202_EDGE_TINT,
 };
-use shadeballs::cpu::montecarlo::{sample_vndf, Frame};
 use shadeballs::cpu::{self, CpuEnvironment, MonteCarloImage};
 use shadeballs::environment::{lobe, prefilter, Environment};
 use shadeballs::lut::TableSet;
+use shadeballs::sampling::{sample_vndf, vndf_density, Frame};
 use shadeballs::scene::Scene;
 
 use super::{LUMINANCE, LUMINANCE_FLOOR};
@@ -264,7 +264,7 @@ fn estimate(
         }
         let h = (p.v + l).normalize();
         let n_dot_h = p.n.dot(h);
-        let pdf = lobe::vndf_density(p.mu_o, n_dot_h, alpha);
+        let pdf = vndf_density(p.mu_o, n_dot_h, alpha);
         if pdf <= shadeballs::brdf::DIV_EPSILON {
             continue;
         }

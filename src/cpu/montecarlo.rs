@@ -21,13 +21,13 @@ use super::coating::{Coat, CoatingPoint};
 use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
 use super::{surface_normal, Bins, PixelView};
 use crate::brdf::{
-    alpha_from_roughness, d_ggx, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry,
-    DIV_EPSILON,
+    alpha_from_roughness, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry, DIV_EPSILON,
 };
 use crate::environment::sampler::EnvSampler;
 use crate::environment::IblTerm;
 use crate::error::Result;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
+use crate::sampling::{arriving, sample_cosine, sample_vndf, vndf_density, Frame};
 use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -317,12 +317,8 @@ impl<'a> Lighting<'a> {
 
     /// Radiance arriving from world direction `w`: the uniform environment plus the map.
     fn incident(&self, w: DVec3) -> DVec3 {
-        let map = self
-            .scene
-            .environment_map
-            .as_ref()
-            .map_or(DVec3::ZERO, |m| m.radiance(w));
-        self.scene.environment + map
+        let map = self.scene.environment_map.as_ref();
+        arriving(w, self.scene.environment, map.map(|m| |d| m.radiance(d)))
     }
 
     pub(super) fn background(&self, d: DVec3) -> DVec3 {
@@ -409,11 +405,7 @@ impl<'a> Lighting<'a> {
     }
 }
 
-/// Density (solid angle) of [`sample_vndf`] at `l` (Heitz 2018, eq. 17 with the reflection's
-/// Jacobian `1 / (4 v.h)`): `G1(v) D(h) / (4 mu_o)`, written with
-/// `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact Smith G1 for GGX,
-/// whatever G the model uses: it is the distribution the sampler draws from), finite at
-/// grazing `v`.
+/// Density (solid angle) of [`sample_vndf`] at `l`: [`vndf_density`] at `l`'s half vector.
 fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
     let sum = p.v + l;
     let len = sum.length();
@@ -421,72 +413,5 @@ fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
         return 0.0;
     }
     let h = sum / len;
-    let c = p.mu_o.clamp(0.0, 1.0);
-    let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
-    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
-    d_ggx(p.n.dot(h), alpha) * g1_over_mu / 4.0
-}
-
-/// A reflected direction (local frame, normal `+z`) whose half vector follows GGX's
-/// distribution of normals visible from `v` (Heitz 2018, "Sampling the GGX Distribution of
-/// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
-/// sample the projected disk, warp to the visible half, unstretch. May lie below the
-/// horizon (the caller's `mu_i <= 0` gives it no weight).
-pub fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
-    let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
-    let vh = vh / vh.length().max(DIV_EPSILON);
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if lensq > DIV_EPSILON {
-        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
-    } else {
-        DVec3::X
-    };
-    let t2 = vh.cross(t1);
-    let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    let p1 = r * phi.cos();
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
-    let ne = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0));
-    let h = ne / ne.length().max(DIV_EPSILON);
-    2.0 * v.dot(h) * h - v
-}
-
-/// A cosine-distributed direction about `+z` (Malley's method: the unit disk projected up),
-/// density `mu_i / pi`.
-fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
-    let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
-}
-
-/// An orthonormal frame about a unit normal (Duff et al. 2017, "Building an Orthonormal
-/// Basis, Revisited", JCGT 6(1)).
-pub struct Frame {
-    t: DVec3,
-    b: DVec3,
-    n: DVec3,
-}
-
-impl Frame {
-    /// The frame about unit `n`.
-    pub fn new(n: DVec3) -> Self {
-        let sign = 1.0f64.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        Frame {
-            t: DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-            b: DVec3::new(b, sign + n.y * n.y * a, -n.y),
-            n,
-        }
-    }
-    /// `w` in the frame (normal `+z`).
-    pub fn to_local(&self, w: DVec3) -> DVec3 {
-        DVec3::new(w.dot(self.t), w.dot(self.b), w.dot(self.n))
-    }
-    /// Local `l` in the world.
-    pub fn to_world(&self, l: DVec3) -> DVec3 {
-        l.x * self.t + l.y * self.b + l.z * self.n
-    }
+    vndf_density(p.mu_o, p.n.dot(h), alpha)
 }

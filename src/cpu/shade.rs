@@ -426,7 +426,7 @@ pub(super) fn lobe_mean_radiance(
 ) -> DVec3 {
     let mu_o = n.dot(v).max(0.0);
     let alpha = alpha_from_roughness(roughness);
-    let frame = super::montecarlo::Frame::new(n);
+    let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
     let level0 = &ibl.chain.levels[0];
     let size = (f64::from(level0.width), f64::from(level0.height));
@@ -435,14 +435,14 @@ pub(super) fn lobe_mean_radiance(
     let (mut sum, mut weights) = (DVec3::ZERO, DVec3::ZERO);
     for j in 0..lobe.count {
         let (u1, u2) = lobe::lobe_frame_point(lobe.first, j, lobe.count, lobe.scramble);
-        let l = frame.to_world(super::montecarlo::sample_vndf(v_local, alpha, u1, u2));
+        let l = frame.to_world(crate::sampling::sample_vndf(v_local, alpha, u1, u2));
         let mu_i = n.dot(l);
         if mu_i <= 0.0 || mu_o <= 0.0 {
             continue;
         }
         let h = (v + l).normalize();
         let n_dot_h = n.dot(h);
-        let pdf = lobe::vndf_density(mu_o, n_dot_h, alpha);
+        let pdf = crate::sampling::vndf_density(mu_o, n_dot_h, alpha);
         if pdf <= DIV_EPSILON {
             continue;
         }

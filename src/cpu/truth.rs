@@ -34,11 +34,12 @@ use std::time::Instant;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::montecarlo::{Frame, Lighting, MonteCarloImage, ShadingPoint, LUMINANCE, MAX_SPP};
+use super::montecarlo::{Lighting, MonteCarloImage, ShadingPoint, LUMINANCE, MAX_SPP};
 use super::{surface_normal, Bins};
 use crate::brdf::{Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
 use crate::lut::TableSet;
+use crate::sampling::Frame;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Model, Scene, MAX_BALLS};
 use crate::walk::coating::Coating;
 use crate::walk::microsurface::Microsurface;

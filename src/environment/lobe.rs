@@ -14,7 +14,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 
 use super::prefilter::POLE_SIN_MIN;
-use crate::brdf::{d_ggx, DIV_EPSILON};
+use crate::brdf::DIV_EPSILON;
 
 /// How a ball is lit by the environment map (`ibl_method` in a scene file,
 /// `--ibl-method`).
@@ -120,17 +120,6 @@ pub fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: [u32; 2]) -> (
     } else {
         lobe_point(first.wrapping_add(j), scramble)
     }
-}
-
-/// The density per solid angle of a direction reflected about a visible normal `h` (Heitz
-/// 2018, eq. 17 with the reflection's Jacobian): `G1(v) D(h) / (4 mu_o)`, with
-/// `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact Smith G1 for
-/// GGX; the distribution the sampler draws from).
-pub fn vndf_density(mu_o: f64, n_dot_h: f64, alpha: f64) -> f64 {
-    let c = mu_o.clamp(0.0, 1.0);
-    let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
-    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
-    d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0
 }
 
 /// The mip level a lobe sample of density `pdf` reads (filtered importance sampling):

@@ -311,18 +311,6 @@ pub fn radical_inverse(i: u32) -> f64 {
     i.reverse_bits() as f64 / 4294967296.0
 }
 
-/// `orthonormal_basis` of `prefilter.wgsl`: two unit vectors completing unit `n` to a
-/// right-handed frame (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
-pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
-    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (
-        DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        DVec3::new(b, sign + n.y * n.y * a, -n.y),
-    )
-}
-
 /// `prefilter_specular` of `prefilter.wgsl`: the GGX-filtered radiance about `r` (`n = v =
 /// r`) at `roughness`, from `chain`. Each sample is weighted by `G(1, n.l)` of `geometry`,
 /// not by Karis's `n.l`: with `v = n` the radiance the lobe reflects is
@@ -340,7 +328,7 @@ pub fn prefilter_specular(
     let max_lod = fis_max_level(chain) as f64;
     let level0 = &chain.levels[0];
     let (w0, h0) = (level0.width as f64, level0.height as f64);
-    let (t, b) = orthonormal_basis(r);
+    let (t, b) = crate::sampling::duff_frame(r).tangents();
     let a2 = alpha * alpha;
     let mut sum = DVec3::ZERO;
     let mut weight = 0.0;

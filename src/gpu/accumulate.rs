@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use super::pipelines::{self, is_bits, PipelineKey, Shape};
 use super::plan::{DrawOptions, Plan};
 use super::shaders;
-use super::truth::{same_scene, Draw};
+use super::sums::{self, same_scene, Draw, Sums, SumsSpec};
 use crate::lut::{BakeConfig, TableKey};
 use crate::scene::Scene;
 
@@ -75,20 +75,15 @@ pub(crate) struct LobePass {
     /// Float or display output, and bits output (each made on first use).
     modules: [Option<wgpu::ShaderModule>; 2],
     pipelines: HashMap<(Role, PipelineKey), wgpu::RenderPipeline>,
-    sums: Option<Sums>,
+    sums: Option<Held>,
 }
 
-/// The frame texture's view, two sum textures' views (read and written in turn; a view
-/// keeps its texture alive) and a bind group reading the frame with each.
-struct Sums {
+/// The key summed, the frame texture's view and the sums (whose bind groups read the
+/// frame too).
+struct Held {
     key: LobeKey,
     frame: wgpu::TextureView,
-    views: [wgpu::TextureView; 2],
-    groups: [wgpu::BindGroup; 2],
-    /// The texture holding the latest sums.
-    latest: usize,
-    /// Frames summed so far.
-    frames: u32,
+    sums: Sums,
 }
 
 impl LobePass {
@@ -111,11 +106,8 @@ impl LobePass {
             label: Some("lobe sums"),
             entries: &[entry(0), entry(1)],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("lobe accumulation"),
-            bind_group_layouts: &[Some(group0), Some(group1), Some(&layout)],
-            immediate_size: 0,
-        });
+        let pipeline_layout =
+            sums::pipeline_layout(device, "lobe accumulation", [group0, group1, &layout]);
         LobePass {
             layout,
             pipeline_layout,
@@ -127,7 +119,7 @@ impl LobePass {
 
     /// Frames summed so far (`None` when no sums are held).
     pub fn frames(&self) -> Option<u32> {
-        self.sums.as_ref().map(|s| s.frames)
+        self.sums.as_ref().map(|s| s.sums.frames())
     }
 
     /// Lobe samples a pixel a frame of the sums held (0 when none are held).
@@ -138,7 +130,7 @@ impl LobePass {
     /// Starts the sums again from zero at the next frame.
     pub fn reset(&mut self) {
         if let Some(s) = &mut self.sums {
-            s.frames = 0;
+            s.sums.reset();
         }
     }
 
@@ -154,11 +146,11 @@ impl LobePass {
         match self.sums.take() {
             Some(s) if s.key.same(&key) => self.sums = Some(s),
             Some(mut s) if s.key.size == key.size => {
-                s.frames = 0;
+                s.sums.reset();
                 s.key = key;
                 self.sums = Some(s);
             }
-            _ => self.sums = Some(Sums::new(device, &self.layout, key)),
+            _ => self.sums = Some(Held::new(device, &self.layout, key)),
         }
         self.frames().unwrap_or(0)
     }
@@ -171,25 +163,17 @@ impl LobePass {
     /// Records the addition of the frame drawn into [`LobePass::frame_view`] to the sums.
     pub fn accumulate(&mut self, draw: &Draw<'_>, encoder: &mut wgpu::CommandEncoder) {
         let pipeline = self.pipeline(draw, Role::Accumulate, LOBE_FORMAT).clone();
-        let Some(sums) = self.sums.as_mut() else {
+        let Some(held) = self.sums.as_mut() else {
             return;
         };
-        if sums.frames == 0 {
-            // The first frame adds to zero sums.
-            let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
-            colour_pass(encoder, &sums.views[sums.latest], zero);
-        }
-        let next = 1 - sums.latest;
+        held.sums.clear_if_empty(encoder);
         // The full-screen triangle writes every pixel: the older sums need no clear.
-        let mut pass = colour_pass(encoder, &sums.views[next], wgpu::LoadOp::Load);
+        let groups = (draw.group0, draw.group1);
+        let mut pass = held.sums.next_pass(encoder, groups, wgpu::LoadOp::Load);
         pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, draw.group0, &[]);
-        pass.set_bind_group(1, draw.group1, &[]);
-        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
         pass.draw(0..3, 0..1);
         drop(pass);
-        sums.latest = next;
-        sums.frames = sums.frames.saturating_add(1);
+        held.sums.advance();
     }
 
     /// Records the resolve of the sums' mean into `view` (of `format`) over the `size`
@@ -204,18 +188,10 @@ impl LobePass {
         clear: wgpu::Color,
     ) {
         let pipeline = self.pipeline(draw, Role::Resolve, format).clone();
-        let Some(sums) = &self.sums else {
-            return;
-        };
-        let mut pass = colour_pass(encoder, view, wgpu::LoadOp::Clear(clear));
-        let (w, h) = (sums.key.size.0.min(size.0), sums.key.size.1.min(size.1));
-        pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
-        pass.set_scissor_rect(0, 0, w, h);
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, draw.group0, &[]);
-        pass.set_bind_group(1, draw.group1, &[]);
-        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
-        pass.draw(0..3, 0..1);
+        if let Some(held) = &self.sums {
+            let target = (view, wgpu::LoadOp::Clear(clear));
+            held.sums.resolve(draw, encoder, &pipeline, target, size);
+        }
     }
 
     /// The pipeline of `role` into `format` for `draw`'s choices, made on first use.
@@ -259,77 +235,21 @@ impl LobePass {
     }
 }
 
-/// A render pass over `view` that starts with `load` (and draws what is recorded in it).
-fn colour_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    view: &wgpu::TextureView,
-    load: wgpu::LoadOp<wgpu::Color>,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("lobe accumulation"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        ..Default::default()
-    })
-}
-
-impl Sums {
+impl Held {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, key: LobeKey) -> Self {
-        let (width, height) = key.size;
-        let texture = |label, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: LOBE_FORMAT,
-                usage,
-                view_formats: &[],
-            })
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let frame = sums::texture(device, "lobe frame", LOBE_FORMAT, key.size, usage)
+            .create_view(&Default::default());
+        let spec = SumsSpec {
+            label: "lobe sums",
+            format: LOBE_FORMAT,
+            targets: 1,
+            size: key.size,
+            copy_src: false,
+            depth: false,
         };
-        let read = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let frame = texture("lobe frame", read).create_view(&Default::default());
-        let textures = [texture("lobe sums", read), texture("lobe sums", read)];
-        let views = [
-            textures[0].create_view(&Default::default()),
-            textures[1].create_view(&Default::default()),
-        ];
-        let group = |sum: &wgpu::TextureView| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("lobe sums"),
-                layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&frame),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(sum),
-                    },
-                ],
-            })
-        };
-        let groups = [group(&views[0]), group(&views[1])];
-        Sums {
-            key,
-            frame,
-            views,
-            groups,
-            latest: 0,
-            frames: 0,
-        }
+        let leading = [wgpu::BindingResource::TextureView(&frame)];
+        let sums = Sums::new(device, layout, spec, &leading, &[]);
+        Held { key, frame, sums }
     }
 }

@@ -2,9 +2,10 @@
 //! balls' storage buffer and the per-ball quads' vertex buffer; a bind group joins them
 //! with the tables ([`GpuTables`], `upload.rs`).
 
-use std::mem::size_of;
+use std::mem::{offset_of, size_of};
 
-use super::uniforms::{Globals, GpuBall, GpuLight};
+use super::ball;
+use super::uniforms::{Globals, GpuBall, GpuLight, BALL_MEMBERS};
 use super::upload::GpuTables;
 use crate::lut::COATING_ROW_LEN;
 use crate::scene::{MAX_BALLS, MAX_LIGHTS};
@@ -36,26 +37,22 @@ pub struct BallInstance {
     pub ball: GpuBall,
 }
 
+/// The vertex attributes of a [`BallInstance`]: `rect`, then the ball's members packed
+/// (`gpu::ball`, generated from [`BALL_MEMBERS`]; `BallIn` of `types.wgsl`).
+const ATTRIBUTES: [wgpu::VertexAttribute; 1 + ball::attribute_count(BALL_MEMBERS)] =
+    ball::attributes(
+        BALL_MEMBERS,
+        offset_of!(BallInstance, rect) as u64,
+        offset_of!(BallInstance, ball) as u64,
+    );
+
 impl BallInstance {
-    /// The vertex layout of [`BallInstance`], one per instance (locations as in `vs_ball`).
-    pub(crate) const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    /// The vertex layout of [`BallInstance`], one per instance (`BallIn` of `types.wgsl`,
+    /// `vs_ball`'s input).
+    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
         array_stride: size_of::<BallInstance>() as u64,
         step_mode: wgpu::VertexStepMode::Instance,
-        attributes: &wgpu::vertex_attr_array![
-            0 => Float32x4,
-            2 => Float32x4,
-            3 => Float32x4,
-            4 => Float32x3,
-            7 => Float32,
-            5 => Float32x4,
-            6 => Float32x3,
-            8 => Uint32,
-            9 => Float32x4,
-            10 => Float32,
-            11 => Uint32,
-            12 => Uint32,
-            13 => Uint32
-        ],
+        attributes: &ATTRIBUTES,
     };
 }
 

@@ -5,9 +5,10 @@
 
 use std::mem::{offset_of, size_of};
 
+use super::bindings::BallInstance;
 use super::environment::{EnvUniform, PrefilterParams};
 use super::montecarlo::McParams;
-use super::uniforms::{Globals, GpuBall, GpuLight};
+use super::uniforms::{Globals, GpuBall, GpuLight, BALL_MEMBERS};
 use crate::lut::LutParams;
 
 /// A Rust struct's layout under the name of its WGSL twin.
@@ -69,6 +70,30 @@ macro_rules! layout {
     };
 }
 
+/// The WGSL [`BALL_MEMBERS`] generate (`gpu::ball`), line by line: what `types.wgsl`
+/// holds between the ball's markers (tests/suite/boundary.rs).
+pub fn ball_wgsl() -> Vec<String> {
+    super::ball::wgsl(BALL_MEMBERS)
+}
+
+/// The vertex attributes of a ball's quad ([`BallInstance::LAYOUT`], generated from
+/// [`BALL_MEMBERS`]): what `vs_ball`'s input must declare, location for location.
+pub fn ball_attributes() -> &'static [wgpu::VertexAttribute] {
+    BallInstance::LAYOUT.attributes
+}
+
+/// [`BALL_MEMBERS`] as [`StructLayout::members`].
+const BALL_LAYOUT: [(&str, usize, &str); BALL_MEMBERS.len()] = {
+    let mut out = [("", 0, ""); BALL_MEMBERS.len()];
+    let mut k = 0;
+    while k < out.len() {
+        let m = BALL_MEMBERS[k];
+        out[k] = (m.name, m.offset, m.ty.wgsl());
+        k += 1;
+    }
+    out
+};
+
 /// Every struct of the boundary.
 pub const STRUCTS: [StructLayout; 7] = [
     layout!(
@@ -84,23 +109,12 @@ pub const STRUCTS: [StructLayout; 7] = [
             lut,
         }
     ),
-    layout!(
-        "Ball",
-        GpuBall {
-            center_radius,
-            f0_roughness,
-            diffuse,
-            ms,
-            f_add_ms_norm,
-            lut_row,
-            term,
-            coating,
-            e_spec_avg,
-            coating_row,
-            layering,
-            fresnel,
-        }
-    ),
+    StructLayout {
+        wgsl: "Ball",
+        rust: "GpuBall",
+        size: size_of::<GpuBall>(),
+        members: &BALL_LAYOUT,
+    },
     layout!(
         "Light",
         GpuLight {

@@ -4,20 +4,20 @@
 //! nothing of windows: [`Renderer::render`] draws into any `TextureView`.
 
 mod accumulate;
+mod ball;
 mod bindings;
 pub mod boundary;
 mod context;
 mod depth;
 pub mod environment;
-mod headless;
 mod map_cache;
 mod montecarlo;
 mod pipelines;
 pub mod plan;
-mod probe;
 pub mod readback;
 mod renderer;
 pub mod shaders;
+mod sums;
 mod table_cache;
 mod truth;
 pub mod uniforms;
@@ -25,13 +25,14 @@ mod upload;
 
 pub use bindings::texture_load_layout;
 pub use context::{Backend, Gpu};
-pub use headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
 pub use map_cache::MAX_PREFILTERED_MAPS;
 pub use montecarlo::PASS_SAMPLES as MC_PASS_SAMPLES;
 pub use pipelines::{is_bits, is_linear};
 pub use plan::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
-pub use probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target, QUAD_PAD_PX};
+pub use renderer::headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
+pub use renderer::probe::{ProbeSample, MAX_PROBE_GRID};
+pub use renderer::{Renderer, Target};
+pub use sums::QUAD_PAD_PX;
 pub use table_cache::MAX_CACHED_ROWS;
 pub use upload::{loss_quads, GpuTables};
 

@@ -19,16 +19,15 @@ use super::bindings::BallInstance;
 use super::pipelines::DEPTH_FORMAT;
 use super::plan::Variant;
 use super::readback::Readback;
-use super::renderer::QUAD_PAD_PX;
 use super::shaders;
-use super::truth::SUM_FORMAT;
+use super::sums::{self, Sums, SumsSpec, QUAD_PAD_PX, SUM_FORMAT};
 use super::uniforms::GpuBall;
 use super::Gpu;
 use crate::brdf::Geometry;
 use crate::environment::sampler::LuminanceCdf;
 use crate::error::{Error, Result};
 use crate::lut::MuAxis;
-use crate::scene::{Scene, MAX_BALLS};
+use crate::scene::Scene;
 use crate::stats::{MonteCarloImage, Part};
 
 /// Estimates a pixel each pass draws (the last pass draws the rest): 16 keeps a pass of a
@@ -90,15 +89,6 @@ pub(crate) struct MonteCarloPass {
     instances: wgpu::Buffer,
 }
 
-/// The two pairs of state textures (mean and count; squared deviations), a bind group
-/// reading each pair, and the depth target.
-struct State {
-    textures: [[wgpu::Texture; 2]; 2],
-    views: [[wgpu::TextureView; 2]; 2],
-    groups: [wgpu::BindGroup; 2],
-    depth: wgpu::TextureView,
-}
-
 impl MonteCarloPass {
     pub fn new(
         device: &wgpu::Device,
@@ -106,23 +96,12 @@ impl MonteCarloPass {
         group1: &wgpu::BindGroupLayout,
     ) -> Self {
         let layout = group2_layout(device);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("montecarlo"),
-            bind_group_layouts: &[Some(group0), Some(group1), Some(&layout)],
-            immediate_size: 0,
-        });
-        let instances = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("montecarlo quads"),
-            size: (std::mem::size_of::<BallInstance>() * MAX_BALLS) as u64,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         MonteCarloPass {
+            pipeline_layout: sums::pipeline_layout(device, "montecarlo", [group0, group1, &layout]),
             layout,
-            pipeline_layout,
             module: None,
             pipelines: HashMap::new(),
-            instances,
+            instances: sums::quad_buffer(device, "montecarlo quads"),
         }
     }
 
@@ -144,11 +123,22 @@ impl MonteCarloPass {
                 .write_buffer(&self.instances, 0, bytemuck::cast_slice(&quads));
         }
         let (params, cdf) = inputs(gpu, scene, seed, frame.part)?;
-        let state = State::new(device, &self.layout, frame.size, (&params, &cdf));
+        // Two targets a side: the mean with the count of estimates, and the squared
+        // deviations; the parameters and the luminance tables bound after them.
+        let spec = SumsSpec {
+            label: "montecarlo state",
+            format: SUM_FORMAT,
+            targets: 2,
+            size: frame.size,
+            copy_src: true,
+            depth: true,
+        };
+        let trailing = [params.0.as_entire_binding(), cdf.as_entire_binding()];
+        let mut state = Sums::new(device, &self.layout, spec, &[], &trailing);
         let mut encoder = device.create_command_encoder(&Default::default());
-        clear(&mut encoder, &state.views[0]);
+        state.clear_if_empty(&mut encoder);
         gpu.queue.submit([encoder.finish()]);
-        let (mut done, mut latest, mut pass_index) = (0u32, 0usize, 0u32);
+        let (mut done, mut pass_index) = (0u32, 0u32);
         while done < spp {
             let k = PASS_SAMPLES.min(spp - done);
             let pipeline = self.pipeline(device, frame, k).clone();
@@ -156,74 +146,27 @@ impl MonteCarloPass {
             p.pass_index = pass_index;
             gpu.queue.write_buffer(&params.0, 0, bytemuck::bytes_of(&p));
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.draw(
-                &mut encoder,
-                frame,
-                &state,
-                latest,
-                (&pipeline, quads.len()),
-            );
+            let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+            let mut pass = state.next_pass(&mut encoder, (frame.group0, frame.group1), zero);
+            if !quads.is_empty() {
+                pass.set_pipeline(&pipeline);
+                pass.set_vertex_buffer(0, self.instances.slice(..));
+                pass.draw(0..4, 0..quads.len() as u32);
+            }
+            drop(pass);
             gpu.queue.submit([encoder.finish()]);
             let _ = device.poll(wgpu::PollType::wait_indefinitely());
             gpu.check()?;
-            latest = 1 - latest;
+            state.advance();
             done += k;
             pass_index += 1;
             if done < spp && !keep_going(done) {
                 break;
             }
         }
-        let mut image = read_state(gpu, &state, latest, frame.size, done)?;
+        let mut image = read_state(gpu, &state, frame.size, done)?;
         fill_background(scene, &mut image);
         Ok(image)
-    }
-
-    /// Records one pass reading pair `latest` of `state` into the other pair.
-    fn draw(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        frame: &McFrame<'_>,
-        state: &State,
-        latest: usize,
-        (pipeline, n_quads): (&wgpu::RenderPipeline, usize),
-    ) {
-        let next = 1 - latest;
-        let attachment = |view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("montecarlo pass"),
-            color_attachments: &[
-                attachment(&state.views[next][0]),
-                attachment(&state.views[next][1]),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &state.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
-        if n_quads == 0 {
-            return;
-        }
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame.group0, &[]);
-        pass.set_bind_group(1, frame.group1, &[]);
-        pass.set_bind_group(2, &state.groups[latest], &[]);
-        pass.set_vertex_buffer(0, self.instances.slice(..));
-        pass.draw(0..4, 0..n_quads as u32);
     }
 
     /// The pipeline of `frame`'s choices drawing `k` estimates a pass, created on first use.
@@ -305,22 +248,14 @@ fn inputs(
 /// Every ball's quad over its bounds without the antialiasing pad (one ray through each
 /// pixel's centre, as the CPU estimator), but those hidden by an identical earlier ball.
 fn quads(scene: &Scene, frame: &McFrame<'_>) -> Vec<BallInstance> {
-    let (w, h) = frame.size;
-    let basis = scene.camera.basis(w, h);
-    scene
-        .balls
-        .iter()
-        .take(frame.balls.len())
-        .enumerate()
-        .filter(|&(k, _)| !frame.hidden[k])
-        .filter_map(|(k, b)| {
-            let rect = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX)?;
-            Some(BallInstance {
-                rect: rect.map(|v| v as f32),
-                ball: frame.balls[k],
-            })
-        })
-        .collect()
+    let all = 0..scene.balls.len();
+    sums::quads(
+        scene,
+        (frame.balls, frame.hidden),
+        frame.size,
+        QUAD_PAD_PX,
+        all,
+    )
 }
 
 /// Group 2: the two state textures (read with `textureLoad`), the parameters and the
@@ -357,101 +292,6 @@ fn group2_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
-impl State {
-    fn new(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        (width, height): (u32, u32),
-        (params, cdf): (&(wgpu::Buffer, Vec<u8>), &wgpu::Buffer),
-    ) -> Self {
-        let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC;
-        let pair = || {
-            [
-                texture("montecarlo mean", SUM_FORMAT, usage),
-                texture("montecarlo squared deviations", SUM_FORMAT, usage),
-            ]
-        };
-        let textures = [pair(), pair()];
-        let views = textures
-            .each_ref()
-            .map(|p| p.each_ref().map(|t| t.create_view(&Default::default())));
-        let groups = views.each_ref().map(|[mean, m2]| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("montecarlo state"),
-                layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(mean),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(m2),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: params.0.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: cdf.as_entire_binding(),
-                    },
-                ],
-            })
-        });
-        let depth = texture(
-            "montecarlo depth",
-            DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
-        State {
-            textures,
-            views,
-            groups,
-            depth,
-        }
-    }
-}
-
-/// Clears a pair of state textures to zero (no estimates yet).
-fn clear(encoder: &mut wgpu::CommandEncoder, views: &[wgpu::TextureView; 2]) {
-    let attachment = |view| {
-        Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })
-    };
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("montecarlo reset"),
-        color_attachments: &[attachment(&views[0]), attachment(&views[1])],
-        ..Default::default()
-    });
-}
-
 /// Fills the pixels of `image` no ball covers with `scene`'s background along each
 /// pixel's ray ([`Scene::background_along`], as the CPU estimator).
 fn fill_background(scene: &Scene, image: &mut MonteCarloImage) {
@@ -465,13 +305,12 @@ fn fill_background(scene: &Scene, image: &mut MonteCarloImage) {
     }
 }
 
-/// Reads pair `latest` back into an image of `spp` estimates a covered pixel: the mean,
+/// Reads the latest pair back into an image of `spp` estimates a covered pixel: the mean,
 /// and the standard error `sqrt(M2 / ((n - 1) n))` (0 where `n < 2`); a pixel no ball
 /// covers (count 0) is left black for [`fill_background`].
 fn read_state(
     gpu: &Gpu,
-    state: &State,
-    latest: usize,
+    state: &Sums,
     (width, height): (u32, u32),
     spp: u32,
 ) -> Result<MonteCarloImage> {
@@ -481,7 +320,7 @@ fn read_state(
         Readback::new(device, SUM_FORMAT, (width, height))?,
     ];
     let mut encoder = device.create_command_encoder(&Default::default());
-    for (r, t) in readbacks.iter().zip(&state.textures[latest]) {
+    for (r, t) in readbacks.iter().zip(state.latest_textures()) {
         r.record(&mut encoder, t);
     }
     gpu.queue.submit([encoder.finish()]);

@@ -13,23 +13,19 @@
 //! pass drew into the target (tone-mapped, or linear for a float target).
 //!
 //! The sums start again from zero whenever the scene (but its exposure) or the image size
-//! changes ([`same_scene`]).
+//! changes ([`same_scene`]). The sums, their bind groups and the resolve are `sums.rs`'s.
 
 use std::collections::HashMap;
-use std::sync::Arc;
 
 use super::bindings::BallInstance;
-use super::pipelines::{self, is_bits, PipelineKey, Shape, DEPTH_FORMAT};
+use super::pipelines::{self, is_bits, PipelineKey, Shape};
 use super::plan::Variant;
-use super::renderer::QUAD_PAD_PX;
 use super::shaders;
+use super::sums::{self, same_scene, Draw, Sums, SumsSpec, QUAD_PAD_PX, SUM_FORMAT};
 use super::uniforms::GpuBall;
 use crate::brdf::Geometry;
 use crate::lut::MuAxis;
 use crate::scene::{Model, Scene, MAX_BALLS};
-
-/// The accumulation's format: f32 sums (rgb) and the count of estimates (alpha).
-pub(crate) const SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// What a truth pipeline is compiled for: G, mu axis, variant, and the entry point's role.
 type Key = (Geometry, MuAxis, Variant, Role);
@@ -45,18 +41,6 @@ enum Role {
     Resolve(wgpu::TextureFormat),
 }
 
-/// What the accumulation and resolve passes draw with: the device, the bind groups 0 and
-/// 1, and the pipelines' compile-time choices.
-pub struct Draw<'a> {
-    pub device: &'a wgpu::Device,
-    pub queue: &'a wgpu::Queue,
-    pub group0: &'a wgpu::BindGroup,
-    pub group1: &'a wgpu::BindGroup,
-    pub geometry: Geometry,
-    pub mu_axis: MuAxis,
-    pub variant: Variant,
-}
-
 /// The truth's layout (group 2), modules (float or display output, and bits output: each
 /// created on first use), pipelines, quads and the running sums.
 pub(crate) struct TruthPass {
@@ -66,80 +50,28 @@ pub(crate) struct TruthPass {
     pipelines: HashMap<Key, wgpu::RenderPipeline>,
     /// The accumulation pass's quads: the truth balls', then the others'.
     instances: wgpu::Buffer,
-    sums: Option<Sums>,
-}
-
-/// Two sum textures (ping-pong), a bind group reading each, and the depth target.
-struct Sums {
-    /// The scene (map compared by identity: [`same_scene`]) and size summed.
-    scene: Scene,
-    size: (u32, u32),
-    /// Kept alive with their views.
-    _textures: [wgpu::Texture; 2],
-    views: [wgpu::TextureView; 2],
-    groups: [wgpu::BindGroup; 2],
-    depth: wgpu::TextureView,
-    /// The texture holding the latest sums.
-    latest: usize,
-    /// Estimates per truth pixel so far.
-    frames: u32,
-}
-
-/// Whether two scenes give the same truth image but for its exposure and display transform
-/// (the sums are linear radiance): equal but for the exposure, tone mapper and transfer
-/// curve, with the same map (the same shared texels, turned and scaled alike), so that
-/// no frame compares a map's texels.
-pub fn same_scene(a: &Scene, b: &Scene) -> bool {
-    let strip = |s: &Scene| Scene {
-        environment_map: None,
-        exposure: 1.0,
-        tone_map: None,
-        transfer: None,
-        ..s.clone()
-    };
-    let maps = match (&a.environment_map, &b.environment_map) {
-        (None, None) => true,
-        (Some(x), Some(y)) => {
-            Arc::ptr_eq(&x.map, &y.map)
-                && x.rotation_deg == y.rotation_deg
-                && x.intensity == y.intensity
-        }
-        _ => false,
-    };
-    maps && strip(a) == strip(b)
+    /// The scene (map compared by identity: [`same_scene`]) summed, and its sums (with a
+    /// depth target).
+    sums: Option<(Scene, Sums)>,
 }
 
 /// The accumulation pass's quads of `scene` at `size`: the truth balls', then the other
 /// balls' (they hide what is behind them), each over its bounds without the antialiasing
 /// pad (the walk traces one ray through each pixel's centre); `hidden` balls (by an
 /// identical earlier one) are left out.
-pub fn quads(
+pub(crate) fn quads(
     scene: &Scene,
     balls: &[GpuBall],
     hidden: &[bool],
     size: (u32, u32),
 ) -> (Vec<BallInstance>, Vec<BallInstance>) {
-    let (w, h) = size;
-    let basis = scene.camera.basis(w, h);
-    let (mut truth, mut others) = (Vec::new(), Vec::new());
-    for (k, b) in scene.balls.iter().take(balls.len()).enumerate() {
-        if hidden[k] {
-            continue;
-        }
-        let Some(rect) = basis.sphere_bounds(b.center, b.radius, w, h, QUAD_PAD_PX) else {
-            continue;
-        };
-        let quad = BallInstance {
-            rect: rect.map(|v| v as f32),
-            ball: balls[k],
-        };
-        if b.model == Model::Truth {
-            truth.push(quad);
-        } else {
-            others.push(quad);
-        }
-    }
-    (truth, others)
+    let members = |truth: bool| {
+        let all = scene.balls.iter().enumerate();
+        all.filter(move |(_, b)| (b.model == Model::Truth) == truth)
+            .map(|(k, _)| k)
+    };
+    let quads = |truth| sums::quads(scene, (balls, hidden), size, QUAD_PAD_PX, members(truth));
+    (quads(true), quads(false))
 }
 
 impl TruthPass {
@@ -149,36 +81,25 @@ impl TruthPass {
         group1: &wgpu::BindGroupLayout,
     ) -> Self {
         let layout = super::bindings::texture_load_layout(device, "truth sums");
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("truth"),
-            bind_group_layouts: &[Some(group0), Some(group1), Some(&layout)],
-            immediate_size: 0,
-        });
-        let instances = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("truth quads"),
-            size: (std::mem::size_of::<BallInstance>() * MAX_BALLS) as u64,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         TruthPass {
+            pipeline_layout: sums::pipeline_layout(device, "truth", [group0, group1, &layout]),
             layout,
             modules: [None, None],
-            pipeline_layout,
             pipelines: HashMap::new(),
-            instances,
+            instances: sums::quad_buffer(device, "truth quads"),
             sums: None,
         }
     }
 
     /// Estimates per truth pixel of the latest accumulation (`None` before any).
     pub fn frames(&self) -> Option<u32> {
-        self.sums.as_ref().map(|s| s.frames)
+        self.sums.as_ref().map(|(_, s)| s.frames())
     }
 
     /// Starts the sums again from zero at the next frame.
     pub fn reset(&mut self) {
-        if let Some(s) = &mut self.sums {
-            s.frames = 0;
+        if let Some((_, s)) = &mut self.sums {
+            s.reset();
         }
     }
 
@@ -194,21 +115,26 @@ impl TruthPass {
         quads: (&[BallInstance], &[BallInstance]),
     ) {
         let (truth, others) = quads;
-        let keep = self
-            .sums
-            .as_ref()
-            .is_some_and(|s| s.size == size && same_scene(&s.scene, scene));
-        if !keep {
-            let fresh = match self.sums.take() {
-                Some(mut s) if s.size == size => {
-                    s.frames = 0;
-                    s.scene = scene.clone();
-                    s
-                }
-                _ => Sums::new(draw.device, &self.layout, scene.clone(), size),
-            };
-            self.sums = Some(fresh);
-        }
+        let fresh = match self.sums.take() {
+            Some((held, s)) if s.size() == size && same_scene(&held, scene) => (held, s),
+            Some((_, mut s)) if s.size() == size => {
+                s.reset();
+                (scene.clone(), s)
+            }
+            _ => {
+                let spec = SumsSpec {
+                    label: "truth sums",
+                    format: SUM_FORMAT,
+                    targets: 1,
+                    size,
+                    copy_src: false,
+                    depth: true,
+                };
+                let s = Sums::new(draw.device, &self.layout, spec, &[], &[]);
+                (scene.clone(), s)
+            }
+        };
+        self.sums = Some(fresh);
         let truth_pipeline = self.pipeline(draw, Role::Truth).clone();
         let occluder_pipeline = self.pipeline(draw, Role::Occluder).clone();
         let mut all = truth.to_vec();
@@ -218,36 +144,10 @@ impl TruthPass {
             draw.queue
                 .write_buffer(&self.instances, 0, bytemuck::cast_slice(&all));
         }
-        let sums = self.sums.as_mut().expect("made above");
-        if sums.frames == 0 {
-            // The first frame reads zero sums.
-            clear(encoder, &sums.views[sums.latest]);
-        }
-        let next = 1 - sums.latest;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("truth accumulation"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &sums.views[next],
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &sums.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
-        pass.set_bind_group(0, draw.group0, &[]);
-        pass.set_bind_group(1, draw.group1, &[]);
-        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
+        let (_, sums) = self.sums.as_mut().expect("made above");
+        sums.clear_if_empty(encoder);
+        let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+        let mut pass = sums.next_pass(encoder, (draw.group0, draw.group1), zero);
         let stride = std::mem::size_of::<BallInstance>() as u64;
         let n_truth = truth.len().min(all.len());
         for (pipeline, range) in [
@@ -263,8 +163,7 @@ impl TruthPass {
             pass.draw(0..4, 0..range.len() as u32);
         }
         drop(pass);
-        sums.latest = next;
-        sums.frames = sums.frames.saturating_add(1);
+        sums.advance();
     }
 
     /// Records the resolve of the latest sums into `view` (of `format`), over the
@@ -278,30 +177,9 @@ impl TruthPass {
         size: (u32, u32),
     ) {
         let pipeline = self.pipeline(draw, Role::Resolve(format)).clone();
-        let Some(sums) = &self.sums else {
-            return;
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("truth resolve"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        let (w, h) = sums.size.min(size);
-        pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
-        pass.set_scissor_rect(0, 0, w, h);
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, draw.group0, &[]);
-        pass.set_bind_group(1, draw.group1, &[]);
-        pass.set_bind_group(2, &sums.groups[sums.latest], &[]);
-        pass.draw(0..3, 0..1);
+        if let Some((_, sums)) = &self.sums {
+            sums.resolve(draw, encoder, &pipeline, (view, wgpu::LoadOp::Load), size);
+        }
     }
 
     /// The pipeline of `role` for `draw`'s choices, created on first use.
@@ -319,86 +197,6 @@ impl TruthPass {
         self.pipelines
             .entry(key)
             .or_insert_with(|| create(draw, layout, module, role))
-    }
-}
-
-/// Clears a sum texture to zero (no draw).
-fn clear(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("truth reset"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        ..Default::default()
-    });
-}
-
-impl Sums {
-    fn new(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        scene: Scene,
-        size: (u32, u32),
-    ) -> Self {
-        let extent = wgpu::Extent3d {
-            width: size.0,
-            height: size.1,
-            depth_or_array_layers: 1,
-        };
-        let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let textures = [
-            texture("truth sums", SUM_FORMAT, usage),
-            texture("truth sums", SUM_FORMAT, usage),
-        ];
-        let views = [
-            textures[0].create_view(&Default::default()),
-            textures[1].create_view(&Default::default()),
-        ];
-        let group = |view: &wgpu::TextureView| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("truth sums"),
-                layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }],
-            })
-        };
-        let groups = [group(&views[0]), group(&views[1])];
-        let depth = texture(
-            "truth depth",
-            DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
-        Sums {
-            scene,
-            size,
-            _textures: textures,
-            views,
-            groups,
-            depth,
-            latest: 0,
-            frames: 0,
-        }
     }
 }
 

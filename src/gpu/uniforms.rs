@@ -33,36 +33,48 @@ pub struct Globals {
     pub lut: LutParams,
 }
 
-/// One ball of the balls uniform array: `Ball` of `types.wgsl` ([`balls`]).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct GpuBall {
-    /// xyz: centre; w: radius.
-    pub center_radius: [f32; 4],
-    /// xyz: the metal's linear F0; w: roughness (raw; the shader clamps it).
-    pub f0_roughness: [f32; 4],
-    /// The dielectric's linear base colour (0 for a metal).
-    pub diffuse: [f32; 3],
-    /// The multiple-scattering term's weight: 1 with it, 0 without.
-    pub ms: f32,
-    /// xyz: `f_add` of the scene's preset; w: `f_ms_norm` of `1 - E_avg` at the ball's
-    /// roughness as read; all 0 without the term.
-    pub f_add_ms_norm: [f32; 4],
-    /// The roughness half of the ball's E reads ([`TableSet::lut_row`]).
-    pub lut_row: [f32; 3],
-    /// The ball's term ([`term_code`]: `TERM_*` of `types.wgsl`; 0 without one).
-    pub term: u32,
-    /// x: metallic; y: the coating's index; z: its `f_add` (0 without the term); w: its
-    /// average Fresnel ([`CoatingConstants`]).
-    pub coating: [f32; 4],
-    /// The coating's `E_spec_avg` ([`CoatingConstants::e_spec_avg`]).
-    pub e_spec_avg: f32,
-    /// The ball's row of the coating rows (0 for an all-metal ball).
-    pub coating_row: u32,
-    /// The layering form ([`LAYERING_CODES`]).
-    pub layering: u32,
-    /// The coating's Fresnel (`FRESNEL_*`, [`crate::gpu::shaders::fresnel_id`]).
-    pub fresnel: u32,
+super::ball::gpu_ball! {
+    /// One ball of the balls storage buffer and of each quad's instance: `Ball` of
+    /// `types.wgsl` ([`balls`]). The one list of its members: `gpu::ball` generates the
+    /// WGSL and the vertex layout from it.
+    struct GpuBall {
+        /// Centre.
+        center: [f32; 3],
+        /// Radius.
+        radius: f32,
+        /// The metal's linear F0.
+        f0: [f32; 3],
+        /// Roughness (raw; the shader clamps it).
+        roughness: f32,
+        /// The dielectric's linear base colour (0 for a metal).
+        diffuse: [f32; 3],
+        /// The multiple-scattering term's weight: 1 with it, 0 without.
+        ms: f32,
+        /// `f_add` of the scene's preset (0 without the term).
+        f_add: [f32; 3],
+        /// `f_ms_norm` of `1 - E_avg` at the ball's roughness as read (0 without the term).
+        ms_norm: f32,
+        /// The roughness half of the ball's E reads ([`TableSet::lut_row`]).
+        lut_row: [f32; 3],
+        /// The ball's term ([`term_code`]: `TERM_*` of `types.wgsl`; 0 without one).
+        term: u32,
+        /// The metal's share ([`CoatingConstants`]).
+        metallic: f32,
+        /// The coating's index.
+        eta: f32,
+        /// The coating's `f_add` (0 without the term).
+        coat_f_add: f32,
+        /// The coating's average Fresnel.
+        coat_f_avg: f32,
+        /// The coating's `E_spec_avg` ([`CoatingConstants::e_spec_avg`]).
+        e_spec_avg: f32,
+        /// The ball's row of the coating rows (0 for an all-metal ball).
+        coating_row: u32,
+        /// The layering form ([`LAYERING_CODES`]).
+        layering: u32,
+        /// The coating's Fresnel (`FRESNEL_*`, [`crate::gpu::shaders::fresnel_id`]).
+        fresnel: u32,
+    }
 }
 
 /// One light of the lights uniform array: `Light` of `types.wgsl` ([`lights`]).
@@ -77,6 +89,10 @@ pub struct GpuLight {
 
 fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+fn v3(v: glam::DVec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
 }
 
 /// Globals for rendering `scene` at `width x height` with `tables`.
@@ -120,14 +136,14 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
             let e_avg = 1.0 - loss_avg as f64;
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
-            let f_add_ms_norm = if b.model.has_term() {
+            let (f_add, ms_norm) = if b.model.has_term() {
                 let f0 = b.material.f0.to_array();
                 let f_add =
                     |c: usize| f_add_preset(scene.preset.f_avg_form(), f0[c], tint[c], e_avg);
                 let norm = f_ms_norm(loss_avg as f64) as f32;
-                [f_add(0) as f32, f_add(1) as f32, f_add(2) as f32, norm]
+                ([f_add(0) as f32, f_add(1) as f32, f_add(2) as f32], norm)
             } else {
-                [0.0; 4]
+                ([0.0; 3], 0.0)
             };
             let ms = if b.model.has_term() { 1.0 } else { 0.0 };
             let coating_constants =
@@ -136,19 +152,20 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 .coating_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
             GpuBall {
-                center_radius: v4(b.center, b.radius),
-                f0_roughness: v4(b.material.f0, b.roughness),
+                center: v3(b.center),
+                radius: b.radius as f32,
+                f0: v3(b.material.f0),
+                roughness: b.roughness as f32,
                 diffuse: b.material.diffuse.as_vec3().to_array(),
                 ms: ms as f32,
-                f_add_ms_norm,
+                f_add,
+                ms_norm,
                 lut_row: tables.lut_row(b.roughness as f32),
                 term: term_code(b.model),
-                coating: [
-                    b.material.metallic as f32,
-                    coating_constants.eta as f32,
-                    coating_constants.f_add as f32,
-                    coating_constants.f_avg as f32,
-                ],
+                metallic: b.material.metallic as f32,
+                eta: coating_constants.eta as f32,
+                coat_f_add: coating_constants.f_add as f32,
+                coat_f_avg: coating_constants.f_avg as f32,
                 e_spec_avg: coating_constants.e_spec_avg as f32,
                 coating_row,
                 layering: layering_code(scene.layering),

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use shadeballs::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
 use shadeballs::display::{self, ToneMap, Transfer};
 use shadeballs::environment::{lobe, prefilter};
-use shadeballs::gpu::boundary::{StructLayout, STRUCTS};
+use shadeballs::gpu::boundary::{self, StructLayout, STRUCTS};
 use shadeballs::gpu::shaders;
 use shadeballs::gpu::uniforms::{LAYERING_CODES, TERM_CODES};
 use shadeballs::lut::{self, EAvgRead, MuAxis};
@@ -17,6 +17,10 @@ use shadeballs::wgsl::PROGRAMS;
 
 const BEGIN: &str = "// generated from the Rust constants by tests/suite/boundary.rs: do not edit";
 const END: &str = "// end of the generated constants";
+/// The markers of the ball's block in `types.wgsl` (`boundary::ball_wgsl`).
+const BALL_BEGIN: &str =
+    "// generated from gpu::uniforms::BALL_MEMBERS by tests/suite/boundary.rs: do not edit";
+const BALL_END: &str = "// end of the generated ball";
 
 /// A WGSL constant's name, type and value, and the Rust item it comes from.
 struct Constant {
@@ -283,12 +287,21 @@ fn blocks() -> Vec<(&'static str, Vec<String>)> {
 
 /// `text` with its generated block replaced by `block`, or why it has no single block.
 fn with_block(text: &str, block: &[String]) -> Result<String, String> {
-    let begin = text.find(BEGIN).ok_or("no begin marker")?;
-    if text[begin + BEGIN.len()..].contains(BEGIN) {
+    with_marked(text, (BEGIN, END), block)
+}
+
+/// `text` with the block between the markers `open` and `close` replaced by `block`.
+fn with_marked(
+    text: &str,
+    (open, close): (&str, &str),
+    block: &[String],
+) -> Result<String, String> {
+    let begin = text.find(open).ok_or("no begin marker")?;
+    if text[begin + open.len()..].contains(open) {
         return Err("two begin markers".into());
     }
-    let end = begin + text[begin..].find(END).ok_or("no end marker")?;
-    let mut out = text[..begin + BEGIN.len()].to_string();
+    let end = begin + text[begin..].find(close).ok_or("no end marker")?;
+    let mut out = text[..begin + open.len()].to_string();
     out.push('\n');
     for line in block {
         out.push_str(line);
@@ -486,4 +499,105 @@ fn a_layout_mismatch_is_found() {
     let mut resized = found["Ball"].clone();
     resized.0 += 16;
     assert!(mismatch(ball, &resized).is_some());
+}
+
+#[test]
+fn the_wgsl_ball_is_generated_from_the_rust_members() {
+    // The ball's one list (gpu::uniforms::BALL_MEMBERS) gives `struct Ball`, the vertex
+    // input, the flat varyings and ball_of in types.wgsl; a hand edit there fails here.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/types.wgsl");
+    let text = std::fs::read_to_string(&path).expect("types.wgsl reads");
+    let block = boundary::ball_wgsl();
+    let expected = with_marked(&text, (BALL_BEGIN, BALL_END), &block)
+        .unwrap_or_else(|e| panic!("types.wgsl: {e}"));
+    if expected != text {
+        if std::env::var_os("SHADEBALLS_BLESS").is_some() {
+            std::fs::write(&path, &expected).expect("types.wgsl writes");
+        } else {
+            panic!(
+                "the ball in types.wgsl differs from what gpu::uniforms::BALL_MEMBERS generates \
+                 (SHADEBALLS_BLESS=1 cargo test --release -- boundary:: rewrites it)"
+            );
+        }
+    }
+    // The struct is declared once, in the block.
+    assert_eq!(expected.matches("struct Ball {").count(), 1);
+}
+
+/// A vertex attribute's format as the WGSL type of its input.
+fn format_wgsl(format: wgpu::VertexFormat) -> &'static str {
+    use wgpu::VertexFormat as F;
+    match format {
+        F::Float32 => "f32",
+        F::Float32x2 => "vec2<f32>",
+        F::Float32x3 => "vec3<f32>",
+        F::Float32x4 => "vec4<f32>",
+        F::Uint32 => "u32",
+        F::Uint32x2 => "vec2<u32>",
+        F::Uint32x3 => "vec3<u32>",
+        F::Uint32x4 => "vec4<u32>",
+        other => panic!("no WGSL type for {other:?}"),
+    }
+}
+
+/// `vs_ball`'s vertex inputs in `program`, by location: (location, WGSL type).
+fn vs_ball_inputs(source: &str) -> Option<Vec<(u32, String)>> {
+    let module = naga::front::wgsl::parse_str(source).expect("the program parses");
+    let entry = module.entry_points.iter().find(|e| e.name == "vs_ball")?;
+    let mut inputs = Vec::new();
+    let mut add = |binding: &Option<naga::Binding>, ty| {
+        if let Some(naga::Binding::Location { location, .. }) = binding {
+            inputs.push((*location, wgsl_type(&module, ty)));
+        }
+    };
+    for arg in &entry.function.arguments {
+        match &module.types[arg.ty].inner {
+            naga::TypeInner::Struct { members, .. } => {
+                for m in members {
+                    add(&m.binding, m.ty);
+                }
+            }
+            _ => add(&arg.binding, arg.ty),
+        }
+    }
+    inputs.sort();
+    Some(inputs)
+}
+
+/// The generated vertex layout's (location, WGSL type) pairs, sorted.
+fn layout_inputs(attributes: &[wgpu::VertexAttribute]) -> Vec<(u32, String)> {
+    let mut out: Vec<(u32, String)> = attributes
+        .iter()
+        .map(|a| (a.shader_location, format_wgsl(a.format).to_string()))
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn the_ball_vertex_layout_is_what_vs_ball_reads() {
+    let layout = layout_inputs(boundary::ball_attributes());
+    let mut programs = 0;
+    for program in PROGRAMS {
+        let source = shaders::source(&program).expect("a built program");
+        if let Some(inputs) = vs_ball_inputs(source) {
+            programs += 1;
+            assert_eq!(
+                inputs, layout,
+                "{}: vs_ball against BallInstance::LAYOUT",
+                program.name
+            );
+        }
+    }
+    // Control: the balls, the truth and the Monte Carlo draw quads.
+    assert!(programs >= 3, "{programs} programs with vs_ball");
+    // Control: a deliberate mismatch (an attribute of another format, or moved) is found.
+    let mut wrong = boundary::ball_attributes().to_vec();
+    wrong[2].format = wgpu::VertexFormat::Uint32x4;
+    let source = shaders::source(&PROGRAMS[0]).expect("a built program");
+    let inputs = vs_ball_inputs(source).expect("the balls' program has vs_ball");
+    assert_ne!(inputs, layout_inputs(&wrong));
+    let mut moved = boundary::ball_attributes().to_vec();
+    moved[3].shader_location = 40;
+    assert_ne!(inputs, layout_inputs(&moved));
 }

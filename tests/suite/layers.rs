@@ -11,9 +11,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 15] = [
+const LIBRARY: [&str; 16] = [
     "crate",
     "brdf",
+    "sampling",
     "lut",
     "walk",
     "environment",
@@ -35,7 +36,17 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
     const FRONT: [&str; 3] = ["lab", "cli", "viewer"];
     let below = |extra: &[&'static str]| FRONT.iter().chain(extra).copied().collect();
     Some(match module {
-        "brdf" => below(&["lut", "walk", "environment", "scene", "gpu", "cpu"]),
+        "brdf" => below(&[
+            "sampling",
+            "lut",
+            "walk",
+            "environment",
+            "scene",
+            "gpu",
+            "cpu",
+        ]),
+        // The sampling maths sit on the maths alone.
+        "sampling" => below(&["lut", "walk", "environment", "scene", "gpu", "cpu"]),
         "lut" => below(&["walk", "environment", "scene", "gpu", "cpu"]),
         "walk" => below(&["environment", "scene", "gpu", "cpu"]),
         "environment" => below(&["scene", "gpu", "cpu"]),

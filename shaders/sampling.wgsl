@@ -1,0 +1,86 @@
+// sampling.wgsl: the sampling maths the lobe (lighting.wgsl), the Monte Carlo
+// (montecarlo.wgsl), the walk (walk.wgsl) and the prefilter (prefilter.wgsl) share, once.
+// Library functions: no bindings, no override constants; the map, its sampler and the
+// uniform environment are arguments. Each has an f64 twin of the same name in
+// src/sampling.rs.
+
+#define_import_path shadeballs::sampling
+#import shadeballs::constants::{PI, DIV_EPSILON}
+#import shadeballs::brdf::d_ggx
+#import shadeballs::environment::{direction_to_uv, env_to_map}
+
+// An orthonormal frame about unit n, as columns (tangent, bitangent, n) (Duff et al. 2017,
+// "Building an Orthonormal Basis, Revisited", JCGT 6(1)).
+fn duff_frame(n: vec3<f32>) -> mat3x3<f32> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return mat3x3<f32>(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+        n,
+    );
+}
+
+// A reflected direction (local frame, normal +z) whose half vector follows GGX's
+// distribution of normals visible from v (Heitz 2018, "Sampling the GGX Distribution of
+// Visible Normals", JCGT 7(4), listing 1). May lie below the horizon.
+fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let stretched = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
+    let vh = stretched / max(length(stretched), DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if lensq > DIV_EPSILON {
+        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
+    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
+    let h = ne / max(length(ne), DIV_EPSILON);
+    return 2.0 * dot(v, h) * h - v;
+}
+
+// The density per solid angle of sample_vndf's direction with half vector at n.h:
+// G1(v) D(h) / (4 mu_o), G1 / mu_o written to stay finite at grazing v.
+fn vndf_density(mu_o: f32, n_dot_h: f32, alpha: f32) -> f32 {
+    let c = clamp(mu_o, 0.0, 1.0);
+    let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
+    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
+    return d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0;
+}
+
+// A cosine-distributed direction about +z (Malley's method), density mu_i / pi.
+fn sample_cosine(u1: f32, u2: f32) -> vec3<f32> {
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+}
+
+// Radiance arriving from world direction d: the uniform environment `environment` where
+// `has_uniform`, plus the map (its base level, turned by `rotation`, times `intensity`)
+// where `has_map`.
+fn arriving(
+    d: vec3<f32>,
+    has_uniform: bool,
+    environment: vec3<f32>,
+    has_map: bool,
+    map: texture_2d<f32>,
+    map_sampler: sampler,
+    rotation: vec2<f32>,
+    intensity: f32,
+) -> vec3<f32> {
+    var c = vec3<f32>(0.0);
+    if has_uniform {
+        c = environment;
+    }
+    if has_map {
+        let uv = direction_to_uv(env_to_map(d, rotation));
+        c += intensity * textureSampleLevel(map, map_sampler, uv, 0.0).rgb;
+    }
+    return c;
+}

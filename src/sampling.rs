@@ -1,0 +1,106 @@
+//! The sampling maths once, the f64 twin of `shaders/sampling.wgsl` name for name: the
+//! orthonormal frame about a normal ([`duff_frame`]), GGX's visible normals reflected
+//! ([`sample_vndf`]) and their density ([`vndf_density`]), the cosine hemisphere
+//! ([`sample_cosine`]) and the radiance arriving along a direction ([`arriving`]). The
+//! lobe (`cpu::shade`), the Monte Carlo (`cpu::montecarlo`), the truth (`cpu::truth`) and
+//! the prefilter's twin (`environment::prefilter`) take them from here. Above the maths
+//! (`brdf`) alone.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use crate::brdf::{d_ggx, DIV_EPSILON};
+
+/// An orthonormal frame about a unit normal, columns (tangent, bitangent, normal).
+pub struct Frame {
+    t: DVec3,
+    b: DVec3,
+    n: DVec3,
+}
+
+/// The orthonormal frame about unit `n` (Duff et al. 2017, "Building an Orthonormal Basis,
+/// Revisited", JCGT 6(1)).
+pub fn duff_frame(n: DVec3) -> Frame {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    Frame {
+        t: DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        b: DVec3::new(b, sign + n.y * n.y * a, -n.y),
+        n,
+    }
+}
+
+impl Frame {
+    /// The frame about unit `n` ([`duff_frame`]).
+    pub fn new(n: DVec3) -> Self {
+        duff_frame(n)
+    }
+    /// The tangent and the bitangent.
+    pub fn tangents(&self) -> (DVec3, DVec3) {
+        (self.t, self.b)
+    }
+    /// `w` in the frame (normal `+z`).
+    pub fn to_local(&self, w: DVec3) -> DVec3 {
+        DVec3::new(w.dot(self.t), w.dot(self.b), w.dot(self.n))
+    }
+    /// Local `l` in the world.
+    pub fn to_world(&self, l: DVec3) -> DVec3 {
+        l.x * self.t + l.y * self.b + l.z * self.n
+    }
+}
+
+/// A reflected direction (local frame, normal `+z`) whose half vector follows GGX's
+/// distribution of normals visible from `v` (Heitz 2018, "Sampling the GGX Distribution of
+/// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
+/// sample the projected disk, warp to the visible half, unstretch. May lie below the
+/// horizon (the caller's `mu_i <= 0` gives it no weight). The walk's visible normal
+/// ([`crate::brdf::visible_normal`]) takes `v` on either side of the horizon; this one
+/// clamps it to the upper side, as the shaders' lobe does.
+pub fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
+    let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
+    let vh = vh / vh.length().max(DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > DIV_EPSILON {
+        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+    } else {
+        DVec3::X
+    };
+    let t2 = vh.cross(t1);
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+    let ne = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0));
+    let h = ne / ne.length().max(DIV_EPSILON);
+    2.0 * v.dot(h) * h - v
+}
+
+/// The density per solid angle of [`sample_vndf`]'s direction with half vector at `n.h`
+/// (Heitz 2018, eq. 17 with the reflection's Jacobian `1 / (4 v.h)`): `G1(v) D(h) / (4
+/// mu_o)`, with `G1(v) / mu_o = 2 / (mu_o + sqrt(mu_o^2 + alpha^2 (1 - mu_o^2)))` (exact
+/// Smith G1 for GGX, whatever G the model uses: the distribution the sampler draws from),
+/// finite at grazing `v`.
+pub fn vndf_density(mu_o: f64, n_dot_h: f64, alpha: f64) -> f64 {
+    let c = mu_o.clamp(0.0, 1.0);
+    let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
+    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
+    d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0
+}
+
+/// A cosine-distributed direction about `+z` (Malley's method: the unit disk projected up),
+/// density `mu_i / pi`.
+pub fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
+}
+
+/// Radiance arriving from world direction `d`: the uniform `environment` plus the `map`'s
+/// radiance along `d` (none without a map).
+pub fn arriving(d: DVec3, environment: DVec3, map: Option<impl Fn(DVec3) -> DVec3>) -> DVec3 {
+    environment + map.map_or(DVec3::ZERO, |m| m(d))
+}
