@@ -6,8 +6,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::shade::{lobe_mean_radiance, loss, Forms, LobeSamples};
-use super::CpuEnvironment;
+use super::light::{lobe_mean_radiance, loss, CpuEnvironment, Forms, LobeSamples};
 use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
@@ -103,7 +102,7 @@ impl CoatingPoint {
         let roughness = b.roughness;
         let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
-        let loss_avg = super::shade::loss_avg(e, roughness);
+        let loss_avg = super::light::loss_avg(e, roughness);
         let read = |mu: f64| loss(e, mu, roughness);
         let eta = constants.eta;
         let f0 = f0_from_ior(eta);

@@ -4,6 +4,7 @@
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
 pub mod coating;
+mod light;
 pub mod montecarlo;
 mod shade;
 pub mod truth;
@@ -11,13 +12,15 @@ pub mod truth;
 use glam::DVec3;
 use rayon::prelude::*;
 
+pub use light::CpuEnvironment;
 pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
-pub use shade::{intersect_sphere, shade, shade_environment_map, CpuEnvironment, PointTerms};
+pub use shade::{intersect_sphere, shade, shade_environment_map, PointTerms};
 pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
 
-use shade::{shade_point, Forms, LobeSamples};
+use light::{Forms, LobeSamples};
+use shade::shade_point;
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;

@@ -18,7 +18,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::coating::{Coat, CoatingPoint};
-use super::shade::{f_add_rgb, loss, loss_avg, per_channel};
+use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::{surface_normal, Bins, PixelView};
 use crate::brdf::{
     alpha_from_roughness, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry, DIV_EPSILON,
