@@ -40,6 +40,7 @@ pub mod labels;
 pub mod lut;
 pub mod memory;
 pub mod output;
+pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod stats;

@@ -2,7 +2,7 @@
 //! nothing itself (the flags are in `args.rs`), calling the library, and reporting on
 //! stderr. The binary (`src/main.rs`) only sets up the process ([`process::init`]) and
 //! calls [`main`]. The lab's binary (`shadeballs-lab`, lab/) shares the scene's flags
-//! ([`SceneArgs`]), the process set-up, [`open_renderer`], [`one_line_error`] and
+//! ([`SceneArgs`]), the process set-up, [`one_line_error`] and
 //! [`advice`].
 
 mod args;
@@ -20,7 +20,6 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub use args::*;
-pub use render::open as open_renderer;
 
 #[derive(Parser)]
 #[command(

@@ -486,6 +486,19 @@ pub fn to_rgba_f32(radiance: &[DVec3]) -> Vec<f32> {
         .collect()
 }
 
+/// The nearest ball the ray from `o` along unit `d` hits, and its distance (f64; of two at
+/// one distance, the lower index, as the renderers draw them): what [`ball_index_map`]
+/// gives each pixel, for callers that need the hit too.
+pub fn nearest_ball(scene: &Scene, o: DVec3, d: DVec3) -> Option<(f64, usize)> {
+    scene
+        .balls
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (intersect_sphere(o, d, b.center, b.radius), i))
+        .filter(|(t, _)| *t > 0.0)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 /// Per pixel (row-major, row 0 at the top), the ball whose sphere the centre ray hits
 /// first (`None`: background): which ball each pixel of a Monte Carlo image belongs to.
 pub fn ball_index_map(scene: &Scene, width: u32, height: u32) -> Vec<Option<usize>> {
@@ -494,14 +507,7 @@ pub fn ball_index_map(scene: &Scene, width: u32, height: u32) -> Vec<Option<usiz
         .flat_map(|y| (0..width).map(move |x| (x, y)))
         .map(|(x, y)| {
             let d = basis.ray(x, y, width, height);
-            scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(i, b)| (intersect_sphere(basis.origin, d, b.center, b.radius), i))
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, i)| i)
+            nearest_ball(scene, basis.origin, d).map(|(_, i)| i)
         })
         .collect()
 }

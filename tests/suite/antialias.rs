@@ -28,14 +28,7 @@ enum Kind {
 
 /// The nearest ball the ray in unit direction `d` from the eye hits, if any (f64).
 fn nearest(scene: &Scene, o: DVec3, d: DVec3) -> Option<usize> {
-    let mut best: Option<(f64, usize)> = None;
-    for (k, b) in scene.balls.iter().enumerate() {
-        let t = cpu::intersect_sphere(o, d, b.center, b.radius);
-        if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
-            best = Some((t, k));
-        }
-    }
-    best.map(|(_, k)| k)
+    cpu::nearest_ball(scene, o, d).map(|(_, k)| k)
 }
 
 /// Each pixel's [`Kind`], from the f64 rays through the centres of the reference image's

@@ -557,7 +557,7 @@ fn worst_ball_error(
 
 /// The lobe's progressive image against the CPU Monte Carlo of the same model (96x54,
 /// 2048 spp, the metals of roughness >= 0.3): under sky, 16 frames of 16 samples within
-/// 3 % (measured 1.09 % at 160x90 by examples/lobe_sweep, docs/design/environment.md,
+/// 3 % (measured 1.09 % at 160x90 by lab/examples/lobe_sweep, docs/design/environment.md,
 /// "Lighting that follows the lobe"; the split sum is 4.8 % there); under studio, 64 frames
 /// of 16 within 4 % (measured 2.3 %; the split sum 25.6 %) and closer than the split sum.
 /// (Here, at 96x54: sky 1.5 %, studio 2.8 %; the split sum 4.8 % and 23.8 %.)

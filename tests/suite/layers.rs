@@ -11,8 +11,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 16] = [
+const LIBRARY: [&str; 17] = [
     "crate",
+    "render",
     "brdf",
     "sampling",
     "lut",
@@ -55,6 +56,8 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
         "gpu" => below(&["cpu"]),
         // Labels are laid out from the scene alone and drawn into any RGBA8 image.
         "labels" => below(&["gpu", "cpu"]),
+        // The render by any backend sits on both renderers, below the front ends.
+        "render" => below(&[]),
         m if LIBRARY.contains(&m) => below(&[]),
         // The lab's crate: its command line shares the `shadeballs` one's flags
         // (`shadeballs::cli`, not a `crate::` path), and nothing here can import it.

@@ -80,17 +80,8 @@ pub fn errors_by_roughness(
         for py in 0..h {
             for px in 0..w {
                 let d = basis.ray(px, py, w, h);
-                let hit = scene
-                    .balls
-                    .iter()
-                    .map(|b| {
-                        (
-                            cpu::intersect_sphere(basis.origin, d, b.center, b.radius),
-                            b,
-                        )
-                    })
-                    .filter(|(t, _)| *t > 0.0)
-                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let hit =
+                    cpu::nearest_ball(scene, basis.origin, d).map(|(t, k)| (t, &scene.balls[k]));
                 let Some((t, b)) = hit else { continue };
                 if b.roughness != r {
                     continue;

@@ -12,7 +12,11 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     shadeballs::cli::check_wgpu_backend_env(args.backend)?;
     // The homework's scene by default: the one docs/truth.md's figures are of.
     let scene = args.scene.load_or(shadeballs::scene::Scene::reference)?;
-    let mut renderer = shadeballs::cli::open_renderer(args.backend)?;
+    // The library's opening of a backend, with its fallbacks (`shadeballs::render::open`).
+    let (mut renderer, notice) = shadeballs::render::open(args.backend)?;
+    if let Some(notice) = notice {
+        eprintln!("{notice}");
+    }
     let options = CompareOptions {
         scene,
         out: args.out,

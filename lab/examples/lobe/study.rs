@@ -138,16 +138,7 @@ fn pixels(s: &Setup) -> Vec<Px> {
     for py in 0..h {
         for px in 0..w {
             let d = basis.ray(px, py, w, h);
-            let hit = scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(k, b)| {
-                    let t = cpu::intersect_sphere(basis.origin, d, b.center, b.radius);
-                    (t, k)
-                })
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let hit = cpu::nearest_ball(scene, basis.origin, d);
             let Some((t, k)) = hit else { continue };
             let b = &scene.balls[k];
             let i = (py * w + px) as usize;

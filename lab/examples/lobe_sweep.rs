@@ -13,8 +13,8 @@
 //! plastics (every ball a dielectric of IOR 1.5 with the term; `--plastics` for them alone).
 //!
 //! ```text
-//! cargo run --release --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
-//! cargo run --release --example lobe_sweep -- --study [--frames 32] [--progressive] [--only NAME]
+//! cargo run --release -p shadeballs-lab --example lobe_sweep [-- --width 160 --height 90 --spp 8192 --repeats 11]
+//! cargo run --release -p shadeballs-lab --example lobe_sweep -- --study [--frames 32] [--progressive] [--only NAME]
 //! ```
 //!
 //! `--study` measures, on the CPU, each candidate estimator's bias and noise instead
@@ -101,18 +101,7 @@ fn worst_error(
     for py in 0..h {
         for px in 0..w {
             let d = basis.ray(px, py, w, h);
-            let hit = scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(k, b)| {
-                    (
-                        cpu::intersect_sphere(basis.origin, d, b.center, b.radius),
-                        k,
-                    )
-                })
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let hit = cpu::nearest_ball(scene, basis.origin, d);
             let Some((_, k)) = hit else { continue };
             let i = (py * w + px) as usize;
             let y_ref = mc.mean[i].dot(LUMINANCE);
