@@ -157,8 +157,9 @@ pub struct BakeArgs {
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); default: render's and view's showcase (assets/scenes/default.toml),
-    /// compare's homework scene (assets/scenes/homework.toml).
+    /// Scene file (TOML), or a glTF file (.gltf, .glb: its materials, as `shadeballs
+    /// import` reads them); default: render's and view's showcase
+    /// (assets/scenes/default.toml), compare's homework scene (assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else
@@ -173,6 +174,11 @@ pub struct SceneArgs {
     /// physical, the form closest to the random walk; docs/design/materials.md).
     #[arg(long)]
     pub layering: Option<Layering>,
+    /// What a dielectric's base colour means: apparent (the colour a viewer sees, as glTF,
+    /// OpenPBR and Blender read it) or substrate (the albedo under the coating). Default:
+    /// the scene's `base_reading`, else apparent.
+    #[arg(long, value_name = "apparent|substrate")]
+    pub base_reading: Option<crate::scene::BaseReading>,
     /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
     #[arg(long, value_name = "NAME|FILE", help = environment_help())]
     pub environment: Option<String>,
@@ -229,12 +235,19 @@ impl SceneArgs {
         default: fn() -> crate::scene::Scene,
     ) -> crate::Result<crate::scene::Scene> {
         let mut scene = match &self.scene {
+            // A glTF file: its materials and spheres (`shadeballs import`'s scene).
+            Some(path) if crate::import::is_gltf(path) => {
+                let imported = crate::import::load(path)?;
+                super::import::print_notices(&imported);
+                imported.scene
+            }
             Some(path) => crate::scene::load(path)?,
             None => default(),
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
         scene.layering = self.layering.unwrap_or(scene.layering);
+        scene.base_reading = self.base_reading.unwrap_or(scene.base_reading);
         if let Some(name) = &self.environment {
             scene.environment_map = Some(Environment::named(name)?);
             scene.environment = glam::DVec3::ZERO;

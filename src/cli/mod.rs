@@ -8,6 +8,7 @@
 mod args;
 mod bake;
 mod environment;
+mod import;
 pub mod interrupt;
 mod probe;
 pub mod process;
@@ -41,6 +42,8 @@ enum Command {
     Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
+    /// Read a glTF 2.0 file's materials (and its spheres' places) into a scene file.
+    Import(import::ImportArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
     Probe(ProbeArgs),
     /// Open a window showing the shading balls, with a panel to change them live.
@@ -102,6 +105,7 @@ pub fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args),
         Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
+        Command::Import(args) => import::run(args),
         Command::Probe(args) => probe::run(args),
         Command::View(args) => view::run(args),
     };

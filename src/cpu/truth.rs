@@ -161,6 +161,9 @@ pub fn render_truth(
     mut progress: impl FnMut(&TruthProgress) -> bool,
 ) -> Result<TruthImage> {
     settings.check()?;
+    // The walk goes through the substrate the base reading implies.
+    let substrates = scene.with_substrates(e);
+    let scene = &substrates;
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];

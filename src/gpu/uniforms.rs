@@ -138,7 +138,15 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
             GpuBall {
                 center_radius: v4(b.center, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
-                diffuse: b.material.diffuse.as_vec3().to_array(),
+                // The substrate the base reading implies (scene::base_albedo).
+                diffuse: crate::scene::base_albedo(
+                    scene,
+                    b,
+                    tables,
+                    scene.coating_key(b).and_then(|k| coating.row(&k)),
+                )
+                .as_vec3()
+                .to_array(),
                 ms: ms as f32,
                 f_add_ms_norm,
                 lut_row: tables.lut_row(b.roughness as f32),

@@ -5,6 +5,8 @@
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! layering = "physical"        # optional: how a dielectric's base sits under its coating:
 //!                              #   constant | gltf | view-only | reciprocal | physical (default)
+//! base_reading = "apparent"    # optional: what a dielectric's base colour means: apparent
+//!                              #   (default: the colour a viewer sees, as glTF) | substrate
 //! exposure = 1.0               # optional, > 0
 //! background = "environment"   # optional: environment (default) | black | [r, g, b]
 //! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
@@ -42,7 +44,8 @@
 //! # multiple_scattering = true #   shorthand: true = that default, false = "none"
 //! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
 //! # material = { base_color = [0.8, 0.3, 0.1], metallic = 0.5, ior = 1.5 }
-//! #   the engines' material: base_color sRGB (the sRGB curve), metallic in [0, 1]
+//! #   the engines' material: base_color sRGB (the sRGB curve; or base_color_linear,
+//! #   linear), metallic in [0, 1]
 //! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
 //! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (or a grey f0 for the ior)
 //! ```
@@ -78,6 +81,7 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     layering: Option<Named<Layering>>,
+    base_reading: Option<Named<super::BaseReading>>,
     exposure: Option<Positive>,
     antialias: Option<bool>,
     background: Option<BackgroundValue>,
@@ -154,6 +158,9 @@ struct MaterialFile {
     /// The engines' metallic-roughness material: sRGB colour (the sRGB curve), the metal's
     /// F0 and the dielectric's base.
     base_color: Option<Colour>,
+    /// `base_color` given linear (what `shadeballs import` writes where no sRGB value
+    /// decodes to a glTF file's linear colour exactly).
+    base_color_linear: Option<Colour>,
     /// With `base_color`: in [0, 1], default 0.
     metallic: Option<Metallic>,
     /// The dielectric's index of refraction (default 1.5).
@@ -355,6 +362,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
         layering: file.layering.map_or(reference.layering, |l| l.0),
+        base_reading: file.base_reading.map_or(reference.base_reading, |r| r.0),
         labels: file.labels,
         antialias: file.antialias.unwrap_or(reference.antialias),
         tone_map,
@@ -459,7 +467,14 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let m = m.into_inner();
     let fail = |message: &str| Err((span.clone(), message.to_string()));
     let ior = m.ior.map(|i| i.0);
-    match (m.kind, m.base_color) {
+    let base_color = match (m.base_color, m.base_color_linear) {
+        (Some(_), Some(_)) => {
+            return fail("a material takes `base_color` (sRGB) or `base_color_linear`, not both")
+        }
+        (Some(b), None) => Some(srgb_decode(b.0.to_array())),
+        (None, linear) => linear.map(|b| b.0),
+    };
+    match (m.kind, base_color) {
         (Some(_), Some(_)) => fail("a material takes `kind` or `base_color`, not both"),
         (None, None) => fail(
             "a material needs `base_color` (with `metallic` and `ior`) or a `kind` \
@@ -470,7 +485,7 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
                 return fail("`base_color` takes no `albedo` or `f0`");
             }
             Ok(Material::metallic_roughness(
-                srgb_decode(base.0.to_array()),
+                base,
                 m.metallic.map_or(0.0, |x| x.0),
                 ior.unwrap_or(DEFAULT_IOR),
             ))

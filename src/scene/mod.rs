@@ -12,6 +12,7 @@ mod file;
 mod material;
 mod model;
 mod preset;
+mod reading;
 mod showcase;
 #[cfg(feature = "scene-files")]
 mod values;
@@ -27,6 +28,7 @@ pub use material::{
 };
 pub use model::Model;
 pub use preset::Preset;
+pub use reading::{base_albedo, substrate_albedo, BaseReading};
 pub use showcase::{
     showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
     SHOWCASE_ROW_HALF_GAP,
@@ -111,6 +113,9 @@ pub struct Scene {
     pub geometry: Geometry,
     /// How every dielectric's base is weighted under its coating.
     pub layering: Layering,
+    /// What every dielectric's `base_color` means: the colour a viewer sees (default) or
+    /// the substrate's albedo under the coating (`base_reading`, `--base-reading`).
+    pub base_reading: BaseReading,
     /// Whether the chart's labels (roughness under each column, the row's model, a
     /// caption) are drawn into PNG pictures and the viewer (`crate::labels`); the
     /// renderers themselves never draw them. On in the built-in scenes, off by default in
@@ -164,6 +169,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             layering: Layering::default(),
+            base_reading: BaseReading::default(),
             labels: true,
             antialias: true,
             // The homework's display: Reinhard and gamma 1/2.2, whichever the preset.

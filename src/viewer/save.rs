@@ -54,6 +54,7 @@ fn top_level(out: &mut String, scene: &Scene) {
     let _ = writeln!(out, "preset = {}", string(scene.preset.name()));
     let _ = writeln!(out, "geometry = {}", string(scene.geometry.name()));
     let _ = writeln!(out, "layering = {}", string(scene.layering.name()));
+    let _ = writeln!(out, "base_reading = {}", string(scene.base_reading.name()));
     let _ = writeln!(out, "exposure = {}", num(scene.exposure));
     let background = match scene.background {
         Background::Environment => string("environment"),
@@ -155,6 +156,16 @@ fn material(m: &Material) -> Result<String, String> {
                 num(m.ior)
             ));
         }
+    }
+    if m.f0 == m.diffuse {
+        // Not every linear value is the sRGB decode of a double (the decode's slope is
+        // above 1 there): the linear value itself.
+        return Ok(format!(
+            "{{ base_color_linear = {}, metallic = {}, ior = {} }}",
+            vec3(m.f0),
+            num(m.metallic),
+            num(m.ior)
+        ));
     }
     let pow = |c: f64| srgb_to_linear([c; 3]).x;
     if m.metallic == 0.0 && m.f0 == DVec3::ZERO {

@@ -11,13 +11,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 15] = [
+const LIBRARY: [&str; 16] = [
     "crate",
     "brdf",
     "lut",
     "walk",
     "environment",
     "scene",
+    "import",
     "gpu",
     "cpu",
     "display",
@@ -39,7 +40,9 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
         "lut" => below(&["walk", "environment", "scene", "gpu", "cpu"]),
         "walk" => below(&["environment", "scene", "gpu", "cpu"]),
         "environment" => below(&["scene", "gpu", "cpu"]),
-        "scene" => below(&["gpu", "cpu"]),
+        "scene" => below(&["import", "gpu", "cpu"]),
+        // glTF files read as scenes: on the scene, beside the renderers.
+        "import" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),
         "gpu" => below(&["cpu"]),
         // Labels are laid out from the scene alone and drawn into any RGBA8 image.

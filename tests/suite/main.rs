@@ -2,6 +2,7 @@
 
 mod antialias;
 mod bad_input;
+mod base_reading;
 mod boundary;
 mod bounds;
 mod clamp;
@@ -15,6 +16,7 @@ mod environment;
 mod example;
 mod extreme_scenes;
 mod fuzz;
+mod gltf_import;
 mod golden;
 mod gpu_eval;
 mod gpu_faults;
