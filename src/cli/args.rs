@@ -126,7 +126,8 @@ pub struct BakeArgs {
     /// Output file: .csv (one row per texel), .exr (f32), .png (16 bit), or .ktx2: the
     /// texture the shader reads (R = 1 - E, G = 1 - E_avg of the row; the layout in its
     /// key/value block), in the --storage format: f32 R32G32_SFLOAT, f16 R16G16_SFLOAT,
-    /// unorm8 R8G8_UNORM.
+    /// unorm8 R8G8_UNORM; or .h / .glsl: C / GLSL float arrays of 1 - E and 1 - E_avg as
+    /// stored, their layout in a comment.
     #[arg(long)]
     pub out: PathBuf,
     /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.

@@ -8,6 +8,7 @@
 mod args;
 mod bake;
 mod environment;
+mod export;
 mod import;
 pub mod interrupt;
 mod probe;
@@ -42,6 +43,9 @@ enum Command {
     Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
+    /// Write the ball shading (GGX, the Kulla-Conty term, the coating, the table reads) as
+    /// WGSL, GLSL, HLSL or MSL with a fragment entry point that shades one ball.
+    ExportShader(export::ExportShaderArgs),
     /// Read a glTF 2.0 file's materials (and its spheres' places) into a scene file.
     Import(import::ImportArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
@@ -106,6 +110,7 @@ pub fn main() -> ExitCode {
         Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
         Command::Import(args) => import::run(args),
+        Command::ExportShader(args) => export::run(args),
         Command::Probe(args) => probe::run(args),
         Command::View(args) => view::run(args),
     };

@@ -24,6 +24,7 @@ mod gpu_stress;
 mod gpu_truth;
 mod hostile;
 mod ibl;
+mod interop;
 mod ktx2;
 mod labels;
 mod layers;
