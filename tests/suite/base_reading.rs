@@ -230,3 +230,59 @@ fn the_white_furnace_holds_under_both_readings() {
         }
     }
 }
+
+/// The README's metallic-roughness chart (assets/scenes/metallic_roughness.toml) under both
+/// readings: the all-metal row is the same, every row with a dielectric part brighter
+/// under the apparent reading (the default). `--nocapture` prints docs/interop.md's
+/// before/after figures: each row's mean radiance (the mean over its balls of each
+/// ball's mean over its inner pixels, channels averaged).
+#[test]
+fn the_metallic_roughness_chart_before_and_after() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes/metallic_roughness.toml");
+    let mut apparent = shadeballs::scene::load(&path).unwrap();
+    apparent.antialias = false;
+    let substrate = Scene {
+        base_reading: BaseReading::Substrate,
+        ..apparent.clone()
+    };
+    let (w, h) = (480, 270);
+    let e = tables(&apparent);
+    let pixels: Vec<Vec<usize>> = (0..apparent.balls.len())
+        .map(|k| interior(&apparent, k, w, h))
+        .collect();
+    let a = ball_means(
+        &shadeballs::cpu::render_radiance(&apparent, &e, w, h),
+        &pixels,
+    );
+    let s = ball_means(
+        &shadeballs::cpu::render_radiance(&substrate, &e, w, h),
+        &pixels,
+    );
+    let mut rows: Vec<(f64, Vec<usize>)> = Vec::new();
+    for (k, b) in apparent.balls.iter().enumerate() {
+        match rows.iter_mut().find(|(m, _)| *m == b.material.metallic) {
+            Some((_, ks)) => ks.push(k),
+            None => rows.push((b.material.metallic, vec![k])),
+        }
+    }
+    for (metallic, ks) in rows {
+        let mean = |m: &[DVec3]| {
+            ks.iter().map(|&k| m[k].element_sum() / 3.0).sum::<f64>() / ks.len() as f64
+        };
+        let (before, after) = (mean(&s), mean(&a));
+        println!(
+            "metallic {metallic}: substrate reading (before) {before:.4}, apparent (after) \
+             {after:.4}: {:.3}x",
+            after / before
+        );
+        if metallic == 1.0 {
+            assert_eq!(before, after);
+        } else {
+            assert!(
+                after > before * 1.01,
+                "metallic {metallic}: {after} against {before}"
+            );
+        }
+    }
+}
