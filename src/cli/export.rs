@@ -14,7 +14,7 @@ pub enum Lang {
     Glsl,
     /// HLSL, shader model 5.1.
     Hlsl,
-    /// Metal Shading Language 2.0.
+    /// Metal Shading Language 1.0 (naga's default).
     Msl,
 }
 
@@ -108,10 +108,10 @@ pub fn translate(lang: Lang) -> Result<String, String> {
             .0
         }
     };
+    // Every language takes a `//` comment.
     Ok(format!(
-        "{} shadeballs {}: the ball shading of the Kulla-Conty BRDF (docs/interop.md), \
+        "// shadeballs {}: the ball shading of the Kulla-Conty BRDF (docs/interop.md), \
          entry point {ENTRY_POINT}; written by naga from the crate's WGSL.\n{text}",
-        if lang == Lang::Wgsl { "//" } else { "//" },
         env!("CARGO_PKG_VERSION"),
     ))
 }

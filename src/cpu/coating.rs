@@ -38,7 +38,7 @@ impl Coat {
         let f32_of = |x: f64| x as f32 as f64;
         Some(Coat {
             row: *rows.row(&key)?,
-            albedo: crate::scene::base_albedo(scene, b, e, rows.row(&key)),
+            albedo: crate::scene::base_albedo(scene, b, e, rows.row(&key), Some(&c)),
             constants: CoatingConstants {
                 eta: f32_of(c.eta),
                 f_add: f32_of(c.f_add),

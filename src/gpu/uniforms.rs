@@ -144,6 +144,7 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                     b,
                     tables,
                     scene.coating_key(b).and_then(|k| coating.row(&k)),
+                    Some(&coating_constants),
                 )
                 .as_vec3()
                 .to_array(),

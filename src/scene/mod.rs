@@ -28,7 +28,7 @@ pub use material::{
 };
 pub use model::Model;
 pub use preset::Preset;
-pub use reading::{base_albedo, substrate_albedo, BaseReading};
+pub use reading::{base_albedo, substrate_albedo, substrate_albedo_with, BaseReading};
 pub use showcase::{
     showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
     SHOWCASE_ROW_HALF_GAP,

@@ -55,16 +55,38 @@ pub fn substrate_albedo(
     e: &TableSet,
     row: Option<&[f32; COATING_ROW_LEN]>,
 ) -> DVec3 {
+    substrate_albedo_with(scene, b, e, row, None)
+}
+
+/// [`substrate_albedo`], with the ball's own coating constants where the caller has
+/// formed them (`CoatingConstants::of_ball`): a Kulla-Conty ball's are the ones the
+/// reading takes, so its `E_spec_avg` is not formed twice (an `F_avg` integral per ball
+/// per frame).
+pub fn substrate_albedo_with(
+    scene: &Scene,
+    b: &Ball,
+    e: &TableSet,
+    row: Option<&[f32; COATING_ROW_LEN]>,
+    own: Option<&CoatingConstants>,
+) -> DVec3 {
     let (BaseReading::Apparent, Some(row)) = (scene.base_reading, row) else {
         return b.material.diffuse;
     };
     if !b.material.has_dielectric() {
         return b.material.diffuse;
     }
+    let eta = b.material.ior;
+    let solve = |e_spec_avg: f64| {
+        let d = b.material.diffuse;
+        let s = |a: f64| crate::brdf::substrate_albedo(a, e_spec_avg, eta);
+        DVec3::new(s(d.x), s(d.y), s(d.z))
+    };
+    if let (Model::KullaConty, Some(c)) = (b.model, own) {
+        return solve(c.e_spec_avg);
+    }
     let r = b.roughness as f32;
     let e_avg = 1.0 - f64::from(e.lut_loss_avg(r));
     let loss = |mu: f64| f64::from(e.lut_loss(mu as f32, r));
-    let eta = b.material.ior;
     let c = CoatingConstants::new(
         eta,
         row,
@@ -73,23 +95,23 @@ pub fn substrate_albedo(
         e_avg,
         loss,
     );
-    let solve = |a: f64| crate::brdf::substrate_albedo(a, c.e_spec_avg, eta);
-    let d = b.material.diffuse;
-    DVec3::new(solve(d.x), solve(d.y), solve(d.z))
+    solve(c.e_spec_avg)
 }
 
 /// The base albedo the renderers give ball `b`'s coating: the substrate
 /// ([`substrate_albedo`]) where the scene's layering is the physical one or the ball is the
 /// truth (the walk goes through a substrate), else `diffuse` as it is (the engines' forms
-/// weight the colour a viewer sees).
+/// weight the colour a viewer sees); `own`: the ball's coating constants where the caller
+/// has them ([`substrate_albedo_with`]).
 pub fn base_albedo(
     scene: &Scene,
     b: &Ball,
     e: &TableSet,
     row: Option<&[f32; COATING_ROW_LEN]>,
+    own: Option<&CoatingConstants>,
 ) -> DVec3 {
     if scene.layering == Layering::Physical || b.model == Model::Truth {
-        substrate_albedo(scene, b, e, row)
+        substrate_albedo_with(scene, b, e, row, own)
     } else {
         b.material.diffuse
     }
@@ -147,6 +169,10 @@ mod tests {
             let (substrate, _) = plastic(BaseReading::Substrate, base);
             assert_eq!(substrate_albedo(&substrate, b, &e, row).x, base);
             assert_eq!(scene.with_substrates(&e).balls[0].material.diffuse.x, rho);
+            // A Kulla-Conty ball's own constants are the reading's: the same substrate.
+            assert_eq!(b.model, Model::KullaConty);
+            let own = CoatingConstants::of_ball(&scene, b, &e, &rows).unwrap();
+            assert_eq!(substrate_albedo_with(&scene, b, &e, row, Some(&own)).x, rho);
         }
     }
 }
