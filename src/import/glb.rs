@@ -73,7 +73,7 @@ pub fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
                 bytes.len()
             ));
         };
-        if len % 4 != 0 {
+        if !len.is_multiple_of(4) {
             return Err(format!(
                 ".glb chunk {index} at byte {at}: its length {len} is not a multiple of 4"
             ));

@@ -795,8 +795,8 @@ fn placements(doc: &mut Doc) -> std::result::Result<Placements, String> {
         .rev()
         .map(|&r| (r, DMat4::IDENTITY, 0))
         .collect();
-    let mut mesh_bounds: Vec<Option<Option<(DVec3, DVec3, Option<usize>)>>> =
-        vec![None; meshes.len()];
+    // Per mesh, once: its cube (bounds and material) if it is one.
+    let mut mesh_bounds: Vec<Option<Cube>> = vec![None; meshes.len()];
     while let Some((i, parent, depth)) = stack.pop() {
         if depth > MAX_NODE_DEPTH {
             return Err(format!(
@@ -863,13 +863,12 @@ fn scene_roots(scene: &Value, at: &str, nodes: usize) -> std::result::Result<Vec
         .collect()
 }
 
+/// A mesh's bounds (least and greatest corner) and its first primitive's material, where
+/// the bounds are a cube.
+type Cube = Option<(DVec3, DVec3, Option<usize>)>;
+
 /// The bounds of mesh `m` and its first primitive's material if the bounds are a cube.
-#[allow(clippy::type_complexity)]
-fn mesh_cube(
-    doc: &mut Doc,
-    mesh: &Value,
-    m: usize,
-) -> std::result::Result<Option<(DVec3, DVec3, Option<usize>)>, String> {
+fn mesh_cube(doc: &mut Doc, mesh: &Value, m: usize) -> std::result::Result<Cube, String> {
     let at = format!("meshes[{m}]");
     let mesh = object(mesh, &at)?;
     let primitives = array(mesh, "primitives", &at)?;

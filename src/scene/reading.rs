@@ -4,12 +4,13 @@
 //!
 //! The renderers shade and walk a substrate: under the apparent reading, the substrate
 //! albedo whose light, seen through the coating, has the average albedo `base_color`,
-//! solved on the CPU once per ball in closed form (`brdf::substrate_albedo`: `rho = a / (T
-//! + a F_in)`, the physical layering's average albedo `rho T / (1 - rho F_in)` inverted),
-//! before the balls reach either renderer; no shader changes. The coating's average albedo
-//! `E_spec_avg` in it is the Kulla-Conty one (single scattering plus the term), whatever
-//! the ball's model: the substrate is the material's, so a ball without the term, and the
-//! truth's walk, take the same substrate as the ball with it.
+//! solved on the CPU once per ball in closed form (`brdf::substrate_albedo`:
+//! `rho = a / (T + a F_in)`, the physical layering's average albedo
+//! `rho T / (1 - rho F_in)` inverted), before the balls reach either renderer; no shader
+//! changes. The coating's average albedo `E_spec_avg` in it is the Kulla-Conty one (single
+//! scattering plus the term), whatever the ball's model: the substrate is the material's,
+//! so a ball without the term, and the truth's walk, take the same substrate as the ball
+//! with it.
 
 use glam::DVec3;
 
