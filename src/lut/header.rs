@@ -39,7 +39,11 @@ fn layout_comment(tables: &Tables) -> String {
          (roughness) holds {mu} values of mu; value [j * {mu} + i] is texel (i, j) of the\n\
          {mu} x {r} E texture the crate's shader reads (lut_loss in lut.wgsl, the\n\
          exported shader's lut_loss). SHADEBALLS_LOSS_AVG: 1 - E_avg(roughness), {r}\n\
-         values, texel (j, 0) of the {r} x 1 E_avg texture.\n\
+         values, texel (j, 0) of the {r} x 2 E_avg texture; SHADEBALLS_ROW_ROUGHNESS: each\n\
+         row's roughness, {r} values, its texel (j, 1) (the power-law E_avg read uses it).\n\
+         The crate's shader reads E as 2x2 blocks: texel (i, j) of its Rgba32Float E\n\
+         texture holds the loss at (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1), clamped\n\
+         at the last column and row (gpu::upload::loss_quads).\n\
          Layout: {kind} (mu axis {mu_axis:?}, E_avg read {e_avg:?}), stored as {storage}.\n\
          Texel i of an axis of n texels sits where x * scale + bias = i. The LutParams\n\
          uniform that addresses them:\n\
@@ -80,6 +84,7 @@ pub fn source(tables: &Tables, language: Language) -> String {
     let (mu, r) = (layout.mu_size, layout.r_size);
     let n = tables.stored_loss.len();
     let comment = layout_comment(tables);
+    let roughness: Vec<f32> = (0..r).map(|j| layout.row_roughness(j)).collect();
     match language {
         Language::C => {
             let comment: String = comment.lines().map(|l| format!(" * {l}\n")).collect();
@@ -88,9 +93,11 @@ pub fn source(tables: &Tables, language: Language) -> String {
                  #define SHADEBALLS_MU_SIZE {mu}\n#define SHADEBALLS_R_SIZE {r}\n\n\
                  static const float SHADEBALLS_LOSS[{n}] = {{\n{}\n}};\n\n\
                  static const float SHADEBALLS_LOSS_AVG[{r}] = {{\n{}\n}};\n\n\
+                 static const float SHADEBALLS_ROW_ROUGHNESS[{r}] = {{\n{}\n}};\n\n\
                  #endif\n",
                 values(&tables.stored_loss, language),
                 values(&tables.stored_loss_avg, language),
+                values(&roughness, language),
             )
         }
         Language::Glsl => {
@@ -98,9 +105,11 @@ pub fn source(tables: &Tables, language: Language) -> String {
             format!(
                 "{comment}\nconst int SHADEBALLS_MU_SIZE = {mu};\nconst int SHADEBALLS_R_SIZE = {r};\n\n\
                  const float SHADEBALLS_LOSS[{n}] = float[{n}](\n{}\n);\n\n\
-                 const float SHADEBALLS_LOSS_AVG[{r}] = float[{r}](\n{}\n);\n",
+                 const float SHADEBALLS_LOSS_AVG[{r}] = float[{r}](\n{}\n);\n\n\
+                 const float SHADEBALLS_ROW_ROUGHNESS[{r}] = float[{r}](\n{}\n);\n",
                 values(&tables.stored_loss, language),
                 values(&tables.stored_loss_avg, language),
+                values(&roughness, language),
             )
         }
     }

@@ -75,9 +75,10 @@ fn shade_ball(n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     if ball.environment.w == 1.0 {
         rho = substrate_albedo(base, e_spec_avg, eta);
     }
-    // Uniform environment: the metal's albedo E (with its term) and the coating's.
+    // Uniform environment (the renderer's approximation, lighting.wgsl): the metal's albedo
+    // F_avg E(mu_o) with its term, the coating's E_spec(mu_o) and its base.
     let e_o = 1.0 - loss_o;
-    let metal_albedo = f_schlick(base, mu_o) * e_o + metal_f_add * loss_o;
+    let metal_albedo = f_avg_schlick(base) * e_o + metal_f_add * loss_o;
     let coat_albedo = vec3<f32>(e_spec_o) + base_albedo_physical(rho, e_spec_o, e_spec_avg, eta);
     var radiance = ball.environment.xyz * mix(coat_albedo, metal_albedo, metallic);
     if mu_i > 0.0 && mu_o > 0.0 {
