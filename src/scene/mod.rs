@@ -18,7 +18,10 @@ mod values;
 
 use glam::DVec3;
 
-pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
+pub use camera::{
+    bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
+    MIN_GPU_PIXEL_ANGLE,
+};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
@@ -52,6 +55,23 @@ pub const MAX_LIGHTS: usize = 16;
 /// `1 / (pi alpha^2)`, `G / (4 mu_o)` up to `1 / (2 alpha)`), so 16 lights of radiance 1e12
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
+
+/// A number for a message, in the shortest form that reads back as it (`{:?}`), but with an
+/// exponent from 1e6 up and below 1e-4 (`1e13`, not `10000000000000.0`; issue 38, 9).
+pub fn short_number(v: f64) -> String {
+    let a = v.abs();
+    if a.is_finite() && a != 0.0 && !(1e-4..1e6).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v:?}")
+    }
+}
+
+/// [`short_number`] of each component: `[1e13, 0.0, 0.0]`.
+pub fn short_numbers(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|&c| short_number(c)).collect();
+    format!("[{}]", parts.join(", "))
+}
 
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout
 /// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =
