@@ -7,6 +7,7 @@ use crate::lut::{self, io::write_tables, BakeConfig, Layout, Method};
 
 pub fn run(args: BakeArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
+    super::guard::check_out(&args.out, &[])?;
     let mut layout = Layout::of_kind(args.layout);
     if let Some((mu, r)) = args.size {
         layout = layout.with_size(mu, r);

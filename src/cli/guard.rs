@@ -67,6 +67,14 @@ pub fn refuse_overlaps(outputs: &[Named], inputs: &[Named]) -> Result<()> {
     Ok(())
 }
 
+/// [`refuse_overlaps`] and [`probe_folders`] for a command of one output, `--out`, and
+/// `inputs` (`bake`, `environment`, `probe`).
+pub fn check_out(out: &Path, inputs: &[Named]) -> Result<()> {
+    let outputs = outputs(&[("--out", Some(out))]);
+    refuse_overlaps(&outputs, inputs)?;
+    probe_folders(&outputs)
+}
+
 /// Checks that each output's folder (the folder of the file its links lead to) takes a new
 /// file, by making one there and removing it: a folder the user cannot write in, or a
 /// read-only file system, is refused before the work, not after it.

@@ -205,18 +205,23 @@ pub fn uv_to_direction(uv: DVec2) -> DVec3 {
     )
 }
 
+/// The largest radiance a map may reach once scaled by its intensity: the bound every
+/// radiance of a scene keeps, `scene::MAX_MAGNITUDE` (the scene's layer is above this one;
+/// a constant assertion there checks that the two agree).
+pub const MAX_MAP_RADIANCE: f64 = 1e12;
+
 /// Checks that a map whose brightest texel is `peak`, times `intensity`, stays within the
-/// bound every radiance of a scene keeps, [`crate::scene::MAX_MAGNITUDE`] (issue 38, 1: a
+/// bound every radiance of a scene keeps, [`MAX_MAP_RADIANCE`] (issue 38, 1: a
 /// map of 1e30 at intensity 1e9 rendered infinite pixels, and f32's 3.4e38 is passed by
 /// any sum of such texels, an exposure, a Monte Carlo estimate's square). The message says
 /// the largest intensity the map takes.
 pub fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), String> {
-    let bound = crate::scene::MAX_MAGNITUDE;
+    let bound = MAX_MAP_RADIANCE;
     let radiance = f64::from(peak) * intensity;
     if radiance <= bound {
         return Ok(());
     }
-    let short = crate::scene::short_number;
+    let short = crate::error::short_number;
     Err(format!(
         "its brightest texel {} times intensity {} is a radiance of {}, beyond the {bound:e} \
          every radiance of a scene is held to (use an intensity of at most {})",
@@ -230,7 +235,7 @@ pub fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), 
 /// The largest intensity a map whose brightest texel is `peak` takes
 /// ([`check_map_radiance`]), rounded down to 3 significant digits.
 pub fn max_map_intensity(peak: f32) -> f64 {
-    let bound = crate::scene::MAX_MAGNITUDE;
+    let bound = MAX_MAP_RADIANCE;
     if peak <= 0.0 {
         return bound;
     }

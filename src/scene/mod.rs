@@ -56,22 +56,10 @@ pub const MAX_LIGHTS: usize = 16;
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
 
-/// A number for a message, in the shortest form that reads back as it (`{:?}`), but with an
-/// exponent from 1e6 up and below 1e-4 (`1e13`, not `10000000000000.0`; issue 38, 9).
-pub fn short_number(v: f64) -> String {
-    let a = v.abs();
-    if a.is_finite() && a != 0.0 && !(1e-4..1e6).contains(&a) {
-        format!("{v:e}")
-    } else {
-        format!("{v:?}")
-    }
-}
+// A map's radiance is held to the same bound (`environment::check_map_radiance`).
+const _: () = assert!(MAX_MAGNITUDE == crate::environment::MAX_MAP_RADIANCE);
 
-/// [`short_number`] of each component: `[1e13, 0.0, 0.0]`.
-pub fn short_numbers(v: &[f64]) -> String {
-    let parts: Vec<String> = v.iter().map(|&c| short_number(c)).collect();
-    format!("[{}]", parts.join(", "))
-}
+pub use crate::error::{short_number, short_numbers};
 
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout
 /// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =

@@ -496,7 +496,8 @@ fn an_unwritable_output_folder_is_refused_before_the_work() {
     }
     let x = ro.join("x.exr");
     let png = ro.join("x.png");
-    let cases: [Vec<&str>; 4] = [
+    let csv = ro.join("t.csv");
+    let cases: [Vec<&str>; 6] = [
         vec![
             "render",
             "--backend",
@@ -509,12 +510,15 @@ fn an_unwritable_output_folder_is_refused_before_the_work() {
         vec!["render", "--backend", "montecarlo-cpu", "--out", s(&x)],
         vec!["render", "--backend", "cpu", "--out", s(&png)],
         vec!["view", "--frames", "1", "--screenshot", s(&png)],
+        vec!["bake", "--samples", "1000000", "--out", s(&csv)],
+        vec!["environment", "--name", "sky", "--out", s(&x)],
     ];
     for args in cases {
         let (out, took) = run_unprivileged(&copy, &args);
         let line = one_line_failure(&out, &["takes no new file", "Permission denied"]);
         assert!(line.contains(s(&ro)), "{line}");
         assert!(took < Duration::from_millis(500), "{args:?}: {took:?}");
+        println!("refused in {:.1} ms", took.as_secs_f64() * 1e3);
         assert_eq!(std::fs::read_dir(&ro).unwrap().count(), 0, "{args:?}");
     }
     std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
@@ -575,7 +579,7 @@ fn exr_comment(path: &Path) -> String {
     let header = &meta.headers[0];
     let comment = (header.shared_attributes.other.iter())
         .chain(&header.own_attributes.other)
-        .find(|(k, _)| k.to_string() == "comment")
+        .find(|(k, _)| **k == *"comment")
         .map(|(_, v)| match v {
             exr::meta::attribute::AttributeValue::Text(t) => t.to_string(),
             v => format!("{v:?}"),
