@@ -337,11 +337,11 @@ pub struct RenderArgs {
     pub spp: Option<u32>,
     /// --backend truth stops once every ball's mean radiance has this relative standard
     /// error: a fraction (0.005) or a percentage (0.5%), from 0.01% to 100%.
-    #[arg(long, value_parser = parse_stderr)]
+    #[arg(long, value_parser = parse_stderr, allow_negative_numbers = true)]
     pub stderr: Option<f64>,
     /// Random seed of --backend montecarlo and truth (ignored by other backends): the same
     /// seed gives the same image on any number of threads.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Frames of --ibl-method lobe accumulated into the image on a GPU backend, 1..=4096
     /// (default 1): frame k takes the lobe samples k N .. (k + 1) N of each pixel's
@@ -446,11 +446,12 @@ pub struct ViewArgs {
     #[arg(long, value_name = "A,B", value_parser = crate::viewer::compare::parse_sides)]
     pub compare: Option<(crate::viewer::compare::Side, crate::viewer::compare::Side)>,
     /// With --compare: the split's place across the scene area, 0..=1 (default 0.5).
-    #[arg(long, requires = "compare", value_parser = parse_split)]
+    #[arg(long, requires = "compare", value_parser = parse_split, allow_negative_numbers = true)]
     pub split: Option<f64>,
     /// With --compare: show |A - B| of the displayed values times this scale (1, 2, 4, 8,
     /// 16, 32 or 64) in a colour ramp with a colour bar, instead of the wipe.
-    #[arg(long, requires = "compare", value_parser = parse_difference_scale)]
+    #[arg(long, requires = "compare", value_parser = parse_difference_scale,
+          allow_negative_numbers = true)]
     pub difference: Option<u32>,
     /// GPU backend (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto, value_parser = view_backend_parser())]

@@ -9,6 +9,7 @@ mod args;
 mod bake;
 mod environment;
 mod export;
+mod guard;
 mod import;
 pub mod interrupt;
 mod probe;
@@ -140,7 +141,17 @@ pub fn main() -> ExitCode {
 pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
     use crate::Error;
     match e.chain().find_map(|c| c.downcast_ref::<Error>())? {
+        // Issue 38, 8: under a memory limit the driver fails for want of memory, not of a
+        // package.
+        Error::NoAdapter { message, .. } if message.contains(crate::error::SHORT_OF_MEMORY) => {
+            Some("raise the memory limit (ulimit -v, the cgroup), or use --backend cpu")
+        }
         Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),
+        // A device lost (or another GPU failure) with memory short: say so.
+        Error::Gpu { .. } if crate::memory::short_for_driver().is_some() => Some(
+            "less than 1 GB of memory is available: the device may have run out of it; raise \
+             the limit (ulimit -v, the cgroup) or choose a smaller size",
+        ),
         Error::TruthUnsupported { .. } => Some("use --backend vulkan"),
         Error::Display { .. } => {
             Some("without a display, `shadeballs render` draws the same scene to a PNG")

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::args::RenderArgs;
-use super::{interrupt, progress};
+use super::{guard, interrupt, progress};
 use crate::cpu;
 use crate::environment::ChainOn;
 use crate::error::{Error, Result};
@@ -67,7 +67,19 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     let sidecar = check_before_the_work(&args, kind)?;
+    // Issue 38: no output over an input or another output; every output's folder writable.
+    let outputs = guard::outputs(&[
+        ("--out", Some(args.out.as_path())),
+        ("the standard-error sidecar", sidecar.as_deref()),
+    ]);
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, None))?;
+    guard::probe_folders(&outputs)?;
     let (scene, renderer) = scene_beside_the_device(&args, &mut phases)?;
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, Some(&scene)))?;
+    let on_gpu = renderer.is_some() && args.backend != Backend::Montecarlo;
+    if let Some(notice) = guard::ibl_frames_ignored(args.ibl_frames, on_gpu, &scene) {
+        eprintln!("{notice}");
+    }
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
     let (device, truth_spp) = match renderer {
@@ -195,8 +207,11 @@ fn render_on_gpu(
     let (w, h) = (args.width, args.height);
     let pixels = u64::from(w) * u64::from(h);
     renderer.gpu().check_size(w, h)?;
+    guard::check_f32_camera(scene, w, h)?;
     let lobe_frames = args.ibl_frames.unwrap_or(1);
-    let lobe = lobe_frames > 1 && scene.ibl_method == crate::environment::IblMethod::Lobe;
+    let lobe = lobe_frames > 1
+        && scene.ibl_method == crate::environment::IblMethod::Lobe
+        && scene.environment_map.is_some();
     let per_pixel = if lobe {
         // The mean is read back as f32 whatever the file, besides the lobe's sums.
         gpu_bytes_per_pixel(ImageKind::Exr) + LOBE_BYTES_PER_PIXEL
@@ -227,8 +242,9 @@ fn render_on_gpu(
         let t = Instant::now();
         let image = renderer.render_lobe_hdr(scene, w, h, lobe_frames)?;
         eprintln!(
-            "lobe: {lobe_frames} frames of {} samples at {w}x{h} in {:.1} ms",
-            scene.ibl_samples,
+            "lobe: {} of {} at {w}x{h} in {:.1} ms",
+            crate::stats::count(lobe_frames, "frame"),
+            crate::stats::count(scene.ibl_samples, "sample"),
             t.elapsed().as_secs_f64() * 1e3
         );
         phases.mark("render");
@@ -282,6 +298,7 @@ fn render_montecarlo_on_gpu(
 ) -> Result<(String, Option<u32>)> {
     let (w, h) = (args.width, args.height);
     renderer.gpu().check_size(w, h)?;
+    guard::check_f32_camera(scene, w, h)?;
     // Four Rgba32Float textures and two read-backs on the device; mean, error and coverage
     // on the host.
     memory::check(
@@ -308,14 +325,19 @@ fn render_montecarlo_on_gpu(
     drop(stoppable);
     phases.mark("render");
     montecarlo_summary(&image, args.seed, started);
+    // The samples a pixel in the file, complete or stopped (issue 38, 7), as the truth's.
+    let note = samples_note("Monte Carlo on the GPU", image.spp);
     match kind {
         ImageKind::Png => {
             let mut rgba = cpu::to_display_rgba8(&image.mean, scene.exposure, scene.display());
             drop(image.mean);
             draw_labels(scene, args, &mut rgba, phases)?;
-            write_png(&args.out, w, h, rgba)?
+            output::write_png_noted(&args.out, w, h, rgba, &note)?
         }
-        ImageKind::Exr => write_exr(&args.out, w, h, cpu::to_rgba_f32(&image.mean))?,
+        ImageKind::Exr => {
+            let rgba = cpu::to_rgba_f32(&image.mean);
+            output::stage_exr_noted(&args.out, w, h, rgba, &note)?.commit()?
+        }
     }
     let stopped = interrupt::stop_requested().map(|_| image.spp);
     Ok((
@@ -362,7 +384,7 @@ fn render_on_cpu(
     } else {
         0
     };
-    memory::check(
+    memory::check_on_cpu(
         &format!("a {w}x{h} {} on the CPU", kind_name(kind)),
         pixels * (cpu_bytes_per_pixel(kind) + extra),
     )?;
@@ -384,14 +406,20 @@ fn render_on_cpu(
     phases.mark("bake");
     let (radiance, walked) = cpu_radiance(scene, &tables, args, phases)?;
     let spp = walked.as_ref().map(|(_, spp)| *spp);
+    // The samples a pixel of a progressive backend, in the file (issue 38, 7).
+    let note = match spp {
+        Some(spp) => Some(truth_note(spp)),
+        None => montecarlo
+            .then(|| samples_note("Monte Carlo on the CPU", args.spp.unwrap_or(DEFAULT_SPP))),
+    };
     // The radiance (24 bytes a pixel) is dropped before the encoder starts.
     match kind {
         ImageKind::Png => {
             let mut rgba = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
             drop(radiance);
             draw_labels(scene, args, &mut rgba, phases)?;
-            match spp {
-                Some(spp) => output::write_png_noted(&args.out, w, h, rgba, &truth_note(spp))?,
+            match &note {
+                Some(note) => output::write_png_noted(&args.out, w, h, rgba, note)?,
                 None => write_png(&args.out, w, h, rgba)?,
             }
         }
@@ -418,7 +446,10 @@ fn render_on_cpu(
                         path.display()
                     );
                 }
-                _ => write_exr(&args.out, w, h, rgba)?,
+                _ => match &note {
+                    Some(note) => output::stage_exr_noted(&args.out, w, h, rgba, note)?.commit()?,
+                    None => write_exr(&args.out, w, h, rgba)?,
+                },
             }
         }
     }
@@ -435,10 +466,16 @@ fn render_on_cpu(
 /// The text a truth PNG carries (its `Comment`): the samples a pixel, and the signal that
 /// stopped the render early, if one did.
 fn truth_note(spp: u32) -> String {
+    samples_note("truth (random walk)", spp)
+}
+
+/// The text a progressive backend's file carries (a PNG's `Comment`, an EXR's `comment`):
+/// what rendered it, the samples a pixel, and the signal that stopped it early, if one did.
+fn samples_note(what: &str, spp: u32) -> String {
     let stopped = interrupt::stop_requested().map_or(String::new(), |s| {
         format!(", interrupted by {}", interrupt::signal_name(s))
     });
-    format!("shadeballs truth (random walk): {spp} spp{stopped}")
+    format!("shadeballs {what}: {spp} spp{stopped}")
 }
 
 /// The CPU's radiance, and the truth's per-pixel standard error with its samples a pixel.
@@ -551,6 +588,15 @@ fn render_truth(
                 );
             }
         }
+    }
+    if image.balls.iter().all(|b| b.relative_std_error().is_none()) {
+        eprintln!(
+            "warning: no ball covers a pixel of the {}x{} image: the walk has nothing to \
+             estimate (the background is exact), so it stopped at {}",
+            args.width,
+            args.height,
+            crate::stats::count(image.image.spp, "sample")
+        );
     }
     // One estimate a pixel gives no standard error (issue 28, 5): say so, not "+- 0 %".
     let one = image.image.spp < 2;
@@ -688,12 +734,14 @@ fn kind_name(kind: ImageKind) -> &'static str {
     }
 }
 
-/// Peak bytes a pixel on the CPU path: the radiance (3 f64), then the pixels for the
-/// encoder (RGBA8 or RGBA f32) made from it.
+/// Peak bytes a pixel on the CPU path: the radiance (3 f64) twice (rayon collects it in
+/// pieces, then into one vector: measured under `ulimit -v`, issue 38, 8, where the GPU's
+/// margin no longer hides it), then the pixels for the encoder (RGBA8 or RGBA f32) made
+/// from it.
 fn cpu_bytes_per_pixel(kind: ImageKind) -> u64 {
     match kind {
-        ImageKind::Png => 24 + 4,
-        ImageKind::Exr => 24 + 16,
+        ImageKind::Png => 2 * 24 + 4,
+        ImageKind::Exr => 2 * 24 + 16,
     }
 }
 

@@ -14,7 +14,7 @@ use crate::scene::{CoatingConstants, Layering, Model, Scene, MAX_BALLS, MAX_LIGH
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Globals {
-    /// xyz: the eye ([`crate::scene::CameraBasis::origin`]); w: 1.
+    /// xyz: the eye, always 0: the balls are uploaded relative to it ([`balls`]); w: 1.
     pub cam_origin: [f32; 4],
     /// xyz: unit view direction; w: 0.
     pub cam_forward: [f32; 4],
@@ -37,7 +37,7 @@ pub struct Globals {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuBall {
-    /// xyz: centre; w: radius.
+    /// xyz: centre less the camera's position (computed in f64); w: radius.
     pub center_radius: [f32; 4],
     /// xyz: the metal's linear F0; w: roughness (raw; the shader clamps it).
     pub f0_roughness: [f32; 4],
@@ -83,7 +83,10 @@ fn v4(v: glam::DVec3, w: f64) -> [f32; 4] {
 pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
     Globals {
-        cam_origin: v4(basis.origin, 1.0),
+        // The GPU works relative to the camera (issue 38, 4): the eye at the origin, each
+        // ball's centre less the eye in f64 (`balls`), so f32 holds the offsets that
+        // matter, not coordinates far from the world's origin.
+        cam_origin: v4(glam::DVec3::ZERO, 1.0),
         cam_forward: v4(basis.forward, 0.0),
         cam_right: v4(basis.right, 0.0),
         cam_up: v4(basis.up, 0.0),
@@ -136,7 +139,7 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 .coating_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
             GpuBall {
-                center_radius: v4(b.center, b.radius),
+                center_radius: v4(b.center - scene.camera.position, b.radius),
                 f0_roughness: v4(b.material.f0, b.roughness),
                 // The substrate the base reading implies (scene::base_albedo).
                 diffuse: crate::scene::base_albedo(

@@ -47,7 +47,8 @@
 //! #   the engines' material: base_color sRGB (the sRGB curve; or base_color_linear,
 //! #   linear), metallic in [0, 1]
 //! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
-//! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (or a grey f0 for the ior)
+//! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (albedo required, as a
+//! #   metal's; a grey f0 for the ior)
 //! ```
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
@@ -399,7 +400,12 @@ fn environment(e: Spanned<EnvironmentFile>, path: &Path) -> Spanned2<(DVec3, Opt
         (None, Some(file), None) => {
             let map_span = file.span();
             let file = folder_of(path).join(file.into_inner());
-            let (map, _stats) = environment::load(&file).map_err(|e| (map_span, e.to_string()))?;
+            let (map, _stats) =
+                environment::load(&file).map_err(|e| (map_span.clone(), e.to_string()))?;
+            environment::check_map_radiance(map.peak(), intensity).map_err(|e| {
+                let e = format!("the map '{}': {e}", file.display());
+                (map_span, e)
+            })?;
             (Source::File(file), map)
         }
         (None, None, Some(b)) => (
@@ -500,14 +506,20 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
             _ => fail("a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)"),
         },
         (Some(KindFile::Dielectric), None) => {
-            let diffuse = m
-                .albedo
-                .map_or(DVec3::ZERO, |a| super::srgb_to_linear(a.0.to_array()));
             let ior = match (m.f0, ior) {
                 (Some(_), Some(_)) => return fail("a dielectric takes `ior` or `f0`, not both"),
                 (Some(f0), None) => ior_from_f0(f0.0).map_err(|e| (span.clone(), e))?,
                 (None, ior) => ior.unwrap_or(DEFAULT_IOR),
             };
+            // A dielectric needs its base colour, as a metal its F0 (issue 38, 9: it got a
+            // black base silently).
+            let Some(albedo) = m.albedo else {
+                return fail(
+                    "a dielectric needs `albedo` (its sRGB base colour; [0, 0, 0] for a black \
+                     base, a clear coat over nothing)",
+                );
+            };
+            let diffuse = super::srgb_to_linear(albedo.0.to_array());
             Ok(Material::dielectric(diffuse, ior))
         }
     }
@@ -518,17 +530,33 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
 fn ior_from_f0(f0: DVec3) -> std::result::Result<f64, String> {
     if f0.max_element() - f0.min_element() > 1e-9 {
         return Err(format!(
-            "a dielectric's f0 must be grey (one index of refraction), not {:?}; give `ior`",
-            f0.to_array()
+            "a dielectric's f0 must be grey (one index of refraction), not {}; give `ior`",
+            super::short_numbers(&f0.to_array())
         ));
     }
     let r = f0.x.sqrt();
     let (lo, hi) = super::IOR_RANGE;
-    let ior = (1.0 + r) / (1.0 - r).max(crate::brdf::DIV_EPSILON);
+    let f0_range = || {
+        let f0_of = |ior: f64| ((ior - 1.0) / (ior + 1.0)).powi(2);
+        format!("give f0 in [{:.4}, {:.4}]", f0_of(lo), f0_of(hi))
+    };
+    // F0 = 1 (or more) is a perfect mirror: no index of refraction gives it (issue 38, 9:
+    // it printed "ior 2000000000000.000").
+    if r >= 1.0 - crate::brdf::DIV_EPSILON {
+        return Err(format!(
+            "a dielectric's f0 {} is a perfect mirror, which no ior gives ({}; a mirror is \
+             a metal's f0 = [1, 1, 1])",
+            super::short_number(f0.x),
+            f0_range()
+        ));
+    }
+    let ior = (1.0 + r) / (1.0 - r);
     if !(lo..=hi).contains(&ior) {
         return Err(format!(
-            "a dielectric's f0 {} gives ior {ior:.3}, outside [{lo}, {hi}]",
-            f0.x
+            "a dielectric's f0 {} gives ior {}, outside [{lo}, {hi}] ({})",
+            super::short_number(f0.x),
+            super::short_number((ior * 1e3).round() / 1e3),
+            f0_range()
         ));
     }
     Ok(ior)

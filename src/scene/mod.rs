@@ -19,7 +19,10 @@ mod values;
 
 use glam::DVec3;
 
-pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
+pub use camera::{
+    bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
+    MIN_GPU_PIXEL_ANGLE,
+};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
@@ -54,6 +57,11 @@ pub const MAX_LIGHTS: usize = 16;
 /// `1 / (pi alpha^2)`, `G / (4 mu_o)` up to `1 / (2 alpha)`), so 16 lights of radiance 1e12
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
+
+// A map's radiance is held to the same bound (`environment::check_map_radiance`).
+const _: () = assert!(MAX_MAGNITUDE == crate::environment::MAX_MAP_RADIANCE);
+
+pub use crate::error::{short_number, short_numbers};
 
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout
 /// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =

@@ -49,6 +49,20 @@ pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     Ok(out)
 }
 
+/// `scene` as its file loads back: a map file's path made absolute, as the file names it
+/// (issue 38, 3: a relative path from `--environment` or a relative scene's `map`).
+pub fn as_written(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    if let Some(e) = &mut scene.environment_map {
+        if let Source::File(path) = &e.source {
+            if let Ok(absolute) = std::path::absolute(path) {
+                e.source = Source::File(absolute);
+            }
+        }
+    }
+    scene
+}
+
 /// The keys before the first table.
 fn top_level(out: &mut String, scene: &Scene) {
     let _ = writeln!(out, "preset = {}", string(scene.preset.name()));

@@ -23,6 +23,7 @@ mod gpu_faults;
 mod gpu_stress;
 mod gpu_truth;
 mod hostile;
+mod hostile_round4;
 mod ibl;
 mod interop;
 mod ktx2;
