@@ -75,7 +75,7 @@ pub enum Error {
     },
 
     /// No adapter for the requested backends.
-    #[error("no GPU adapter for {backends}: {message}; software Vulkan (lavapipe) is in the package mesa-vulkan-drivers")]
+    #[error("no GPU adapter for {backends}: {message}{}", no_adapter_hint(message))]
     NoAdapter {
         /// The backends asked for (`Debug` of `wgpu::Backends`).
         backends: String,
@@ -158,4 +158,37 @@ macro_rules! named_enum {
             }
         }
     };
+}
+
+/// What [`Error::NoAdapter`] adds to wgpu's reason: where lavapipe is packaged, unless the
+/// reason already says that memory was short (`gpu::Gpu::new` adds
+/// [`crate::memory::short_for_driver`]'s line: issue 38, 8, where the package was advised
+/// to a run under `ulimit -v`).
+fn no_adapter_hint(message: &str) -> &'static str {
+    if message.contains(SHORT_OF_MEMORY) {
+        ""
+    } else {
+        "; software Vulkan (lavapipe) is in the package mesa-vulkan-drivers"
+    }
+}
+
+/// The words of [`crate::memory::short_for_driver`] that [`no_adapter_hint`] and the
+/// command line's advice look for.
+pub const SHORT_OF_MEMORY: &str = "for want of memory";
+
+/// A number for a message, in the shortest form that reads back as it (`{:?}`), but with an
+/// exponent from 1e6 up and below 1e-4 (`1e13`, not `10000000000000.0`; issue 38, 9).
+pub fn short_number(v: f64) -> String {
+    let a = v.abs();
+    if a.is_finite() && a != 0.0 && !(1e-4..1e6).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v:?}")
+    }
+}
+
+/// [`short_number`] of each component: `[1e13, 0.0, 0.0]`.
+pub fn short_numbers(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|&c| short_number(c)).collect();
+    format!("[{}]", parts.join(", "))
 }

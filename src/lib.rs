@@ -36,6 +36,8 @@ pub mod display;
 pub mod environment;
 pub mod error;
 pub mod gpu;
+#[cfg(feature = "gltf")]
+pub mod import;
 pub mod labels;
 pub mod lut;
 pub mod memory;

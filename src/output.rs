@@ -45,7 +45,7 @@ pub fn remove_temp_files_in_flight() -> usize {
 
 /// The file `path` names once its symbolic links are followed (a link is written through,
 /// not replaced); `path` itself when it is not a link, or does not exist.
-fn follow_links(path: &Path) -> Result<PathBuf> {
+pub(crate) fn follow_links(path: &Path) -> Result<PathBuf> {
     let mut p = path.to_path_buf();
     // Linux's own limit on links followed in one lookup.
     for _ in 0..40 {
@@ -112,7 +112,7 @@ pub fn check_output_folder(path: &Path) -> Result<()> {
     }
 }
 
-fn folder_of(path: &Path) -> &Path {
+pub(crate) fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),

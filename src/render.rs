@@ -99,6 +99,9 @@ pub struct Rendered {
     pub spp: Option<u32>,
     /// The truth's per-pixel standard error, RGBA f32 (linear requests only).
     pub std_error: Option<Vec<f32>>,
+    /// What a progressive backend (the Monte Carlo, the truth) rendered with, and its
+    /// samples a pixel: the note its file carries.
+    pub sampled: Option<(&'static str, u32)>,
 }
 
 /// What a front end is told while a render runs.
@@ -156,7 +159,8 @@ fn on_gpu(
     let pixels = u64::from(w) * u64::from(h);
     renderer.gpu().check_size(w, h)?;
     let lobe_frames = request.ibl_frames.unwrap_or(1);
-    let lobe = lobe_frames > 1 && scene.ibl_method == IblMethod::Lobe;
+    let lobe =
+        lobe_frames > 1 && scene.ibl_method == IblMethod::Lobe && scene.environment_map.is_some();
     let per_pixel = if lobe {
         // The mean is read back as f32 whatever the file, besides the lobe's sums.
         gpu_bytes_per_pixel(true) + LOBE_BYTES_PER_PIXEL
@@ -188,8 +192,9 @@ fn on_gpu(
         let t = Instant::now();
         let image = renderer.render_lobe_hdr(scene, w, h, lobe_frames)?;
         progress.line(&format!(
-            "lobe: {lobe_frames} frames of {} samples at {w}x{h} in {:.1} ms",
-            scene.ibl_samples,
+            "lobe: {} of {} at {w}x{h} in {:.1} ms",
+            crate::stats::count(lobe_frames, "frame"),
+            crate::stats::count(scene.ibl_samples, "sample"),
             t.elapsed().as_secs_f64() * 1e3
         ));
         progress.phase("render");
@@ -226,6 +231,7 @@ fn on_gpu(
         device: renderer.gpu().describe(),
         spp: None,
         std_error: None,
+        sampled: None,
     })
 }
 
@@ -274,6 +280,7 @@ fn montecarlo_on_gpu(
         device: format!("GPU Monte Carlo, {}", renderer.gpu().describe()),
         spp: Some(image.spp),
         std_error: None,
+        sampled: Some(("Monte Carlo on the GPU", image.spp)),
     })
 }
 
@@ -324,7 +331,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
     } else {
         0
     };
-    memory::check(
+    memory::check_on_cpu(
         &format!("a {w}x{h} {} on the CPU", kind_name(request.linear)),
         pixels * (cpu_bytes_per_pixel(request.linear) + extra),
     )?;
@@ -361,6 +368,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
             device: name.to_string(),
             spp: Some(image.spp),
             std_error,
+            sampled: Some(("truth (random walk)", image.spp)),
         });
     }
     let radiance = if montecarlo {
@@ -385,11 +393,16 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
         progress.phase("render");
         radiance
     };
+    let sampled = montecarlo.then(|| {
+        let spp = request.spp.unwrap_or(DEFAULT_SPP);
+        ("Monte Carlo on the CPU", spp)
+    });
     Ok(Rendered {
         pixels: pixels_of(scene, request.linear, radiance),
         device: name.to_string(),
         spp: None,
         std_error: None,
+        sampled,
     })
 }
 
@@ -433,6 +446,13 @@ fn render_truth(
                 ));
             }
         }
+    }
+    if image.balls.iter().all(|b| b.relative_std_error().is_none()) {
+        progress.line(&format!(
+            "warning: no ball covers a pixel of the {w}x{h} image: the walk has nothing to \
+             estimate (the background is exact), so it stopped at {}",
+            crate::stats::count(image.image.spp, "sample")
+        ));
     }
     // One estimate a pixel gives no standard error (issue 28, 5): say so, not "+- 0 %".
     let one = image.image.spp < 2;
@@ -513,13 +533,15 @@ fn check_cpu_size(w: u32, h: u32) -> Result<()> {
     Ok(())
 }
 
-/// Peak bytes a pixel on the CPU path: the radiance (3 f64), then the pixels for the
-/// encoder (RGBA8 or RGBA f32) made from it.
+/// Peak bytes a pixel on the CPU path: the radiance (3 f64) twice (rayon collects it in
+/// pieces, then into one vector: measured under `ulimit -v`, issue 38, 8, where the GPU's
+/// margin no longer hides it), then the pixels for the encoder (RGBA8 or RGBA f32) made
+/// from it.
 fn cpu_bytes_per_pixel(linear: bool) -> u64 {
     if linear {
-        24 + 16
+        2 * 24 + 16
     } else {
-        24 + 4
+        2 * 24 + 4
     }
 }
 

@@ -8,6 +8,15 @@ use crate::environment::sampler::LUMINANCE;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 
+/// A count for a message, its noun singular for one: `1 sample`, `16 samples` (issue 38, 9:
+/// "1 samples").
+pub fn count(n: impl Into<u64>, noun: &str) -> String {
+    match n.into() {
+        1 => format!("1 {noun}"),
+        n => format!("{n} {noun}s"),
+    }
+}
+
 /// Most samples per pixel the Monte Carlo estimators accept (`--spp`).
 pub const MAX_SPP: u32 = 65536;
 

@@ -8,10 +8,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# g++ builds FLIP's C++ reference (nv-flip-sys, for the lab's `shadeballs-lab compare`).
+# g++ builds FLIP's C++ reference (nv-flip-sys, for the lab's `shadeballs-lab compare`);
+# its cc compiles `bake --out tables.h` in a test. glslang-tools validates the GLSL of
+# `export-shader` and `bake --out tables.glsl`.
 # The viewer's window under Xvfb also needs the X11 client libraries winit loads at run
 # time (Xlib, Xcursor, Xrandr, XInput2, xkbcommon-x11).
-packages=(g++ mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool
+packages=(g++ glslang-tools mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool
     libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
 missing=()
 for p in "${packages[@]}"; do

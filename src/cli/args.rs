@@ -126,7 +126,8 @@ pub struct BakeArgs {
     /// Output file: .csv (one row per texel), .exr (f32), .png (16 bit), or .ktx2: the
     /// texture the shader reads (R = 1 - E, G = 1 - E_avg of the row; the layout in its
     /// key/value block), in the --storage format: f32 R32G32_SFLOAT, f16 R16G16_SFLOAT,
-    /// unorm8 R8G8_UNORM.
+    /// unorm8 R8G8_UNORM; or .h / .glsl: C / GLSL float arrays of 1 - E and 1 - E_avg as
+    /// stored, their layout in a comment.
     #[arg(long)]
     pub out: PathBuf,
     /// Table size: N (N x N) or MUxR (mu texels x roughness texels). Default: the layout's.
@@ -157,8 +158,9 @@ pub struct BakeArgs {
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); default: render's and view's showcase (assets/scenes/default.toml),
-    /// compare's homework scene (assets/scenes/homework.toml).
+    /// Scene file (TOML), or a glTF file (.gltf, .glb: its materials, as `shadeballs
+    /// import` reads them); default: render's and view's showcase
+    /// (assets/scenes/default.toml), compare's homework scene (assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else
@@ -173,6 +175,11 @@ pub struct SceneArgs {
     /// physical, the form closest to the random walk; docs/design/materials.md).
     #[arg(long)]
     pub layering: Option<Layering>,
+    /// What a dielectric's base colour means: apparent (the colour a viewer sees, as glTF,
+    /// OpenPBR and Blender read it) or substrate (the albedo under the coating). Default:
+    /// the scene's `base_reading`, else apparent.
+    #[arg(long, value_name = "apparent|substrate")]
+    pub base_reading: Option<crate::scene::BaseReading>,
     /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
     #[arg(long, value_name = "NAME|FILE", help = environment_help())]
     pub environment: Option<String>,
@@ -229,12 +236,19 @@ impl SceneArgs {
         default: fn() -> crate::scene::Scene,
     ) -> crate::Result<crate::scene::Scene> {
         let mut scene = match &self.scene {
+            // A glTF file: its materials and spheres (`shadeballs import`'s scene).
+            Some(path) if crate::import::is_gltf(path) => {
+                let imported = crate::import::load(path)?;
+                super::import::print_notices(&imported);
+                imported.scene
+            }
             Some(path) => crate::scene::load(path)?,
             None => default(),
         };
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
         scene.layering = self.layering.unwrap_or(scene.layering);
+        scene.base_reading = self.base_reading.unwrap_or(scene.base_reading);
         if let Some(name) = &self.environment {
             scene.environment_map = Some(Environment::named(name)?);
             scene.environment = glam::DVec3::ZERO;
@@ -323,11 +337,11 @@ pub struct RenderArgs {
     pub spp: Option<u32>,
     /// --backend truth stops once every ball's mean radiance has this relative standard
     /// error: a fraction (0.005) or a percentage (0.5%), from 0.01% to 100%.
-    #[arg(long, value_parser = parse_stderr)]
+    #[arg(long, value_parser = parse_stderr, allow_negative_numbers = true)]
     pub stderr: Option<f64>,
     /// Random seed of --backend montecarlo and truth (ignored by other backends): the same
     /// seed gives the same image on any number of threads.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Frames of --ibl-method lobe accumulated into the image on a GPU backend, 1..=4096
     /// (default 1): frame k takes the lobe samples k N .. (k + 1) N of each pixel's
@@ -432,11 +446,12 @@ pub struct ViewArgs {
     #[arg(long, value_name = "A,B", value_parser = crate::viewer::compare::parse_sides)]
     pub compare: Option<(crate::viewer::compare::Side, crate::viewer::compare::Side)>,
     /// With --compare: the split's place across the scene area, 0..=1 (default 0.5).
-    #[arg(long, requires = "compare", value_parser = parse_split)]
+    #[arg(long, requires = "compare", value_parser = parse_split, allow_negative_numbers = true)]
     pub split: Option<f64>,
     /// With --compare: show |A - B| of the displayed values times this scale (1, 2, 4, 8,
     /// 16, 32 or 64) in a colour ramp with a colour bar, instead of the wipe.
-    #[arg(long, requires = "compare", value_parser = parse_difference_scale)]
+    #[arg(long, requires = "compare", value_parser = parse_difference_scale,
+          allow_negative_numbers = true)]
     pub difference: Option<u32>,
     /// GPU backend (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto, value_parser = view_backend_parser())]

@@ -7,6 +7,7 @@ use crate::lut::{self, io::write_tables, BakeConfig, Layout, Method};
 
 pub fn run(args: BakeArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
+    super::guard::check_out(&args.out, &[])?;
     let mut layout = Layout::of_kind(args.layout);
     if let Some((mu, r)) = args.size {
         layout = layout.with_size(mu, r);
@@ -25,11 +26,11 @@ pub fn run(args: BakeArgs) -> anyhow::Result<()> {
     let estimate = estimated_seconds(&config);
     let tables = if estimate > PROGRESS_AFTER_S {
         eprintln!(
-            "warning: this bake takes about {} ({} with {} samples on a {}x{} table); \
+            "warning: this bake takes about {} ({} with {} on a {}x{} table); \
              elapsed time follows every {PROGRESS_EVERY_S} s, Ctrl-C stops it",
             duration(estimate),
             config.method,
-            config.samples,
+            crate::stats::count(config.samples as u64, "sample"),
             layout.mu_size,
             layout.r_size
         );
@@ -40,14 +41,14 @@ pub fn run(args: BakeArgs) -> anyhow::Result<()> {
     let elapsed = start.elapsed();
     write_tables(&tables, &args.out)?;
     eprintln!(
-        "baked E {}x{} + E_avg {} ({} G, {} with {} samples, {} layout, {} storage) in {:.2} \
+        "baked E {}x{} + E_avg {} ({} G, {} with {}, {} layout, {} storage) in {:.2} \
          ms -> {}",
         layout.mu_size,
         layout.r_size,
         layout.r_size,
         config.geometry,
         config.method,
-        config.samples,
+        crate::stats::count(config.samples as u64, "sample"),
         layout.kind,
         layout.storage,
         elapsed.as_secs_f64() * 1e3,

@@ -20,6 +20,7 @@ pub fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
         .into());
     }
     crate::output::check_output_path(&args.out)?;
+    super::guard::check_out(&args.out, &[])?;
     let start = Instant::now();
     let map = args.name.generate(args.width);
     let generated = start.elapsed();

@@ -8,6 +8,9 @@
 mod args;
 mod bake;
 mod environment;
+mod export;
+mod guard;
+mod import;
 pub mod interrupt;
 mod probe;
 pub mod process;
@@ -40,6 +43,11 @@ enum Command {
     Environment(EnvironmentArgs),
     /// Render the shading balls (GPU, or the CPU reference renderer) to .png or .exr.
     Render(RenderArgs),
+    /// Write the ball shading (GGX, the Kulla-Conty term, the coating, the table reads) as
+    /// WGSL, GLSL, HLSL or MSL with a fragment entry point that shades one ball.
+    ExportShader(export::ExportShaderArgs),
+    /// Read a glTF 2.0 file's materials (and its spheres' places) into a scene file.
+    Import(import::ImportArgs),
     /// Evaluate on the GPU what the shader reads from the tables on an N x N grid (CSV).
     Probe(ProbeArgs),
     /// Open a window showing the shading balls, with a panel to change them live.
@@ -101,6 +109,8 @@ pub fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args),
         Command::Environment(args) => environment::run(args),
         Command::Render(args) => render::run(args),
+        Command::Import(args) => import::run(args),
+        Command::ExportShader(args) => export::run(args),
         Command::Probe(args) => probe::run(args),
         Command::View(args) => view::run(args),
     };
@@ -130,7 +140,17 @@ pub fn main() -> ExitCode {
 pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
     use crate::Error;
     match e.chain().find_map(|c| c.downcast_ref::<Error>())? {
+        // Issue 38, 8: under a memory limit the driver fails for want of memory, not of a
+        // package.
+        Error::NoAdapter { message, .. } if message.contains(crate::error::SHORT_OF_MEMORY) => {
+            Some("raise the memory limit (ulimit -v, the cgroup), or use --backend cpu")
+        }
         Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),
+        // A device lost (or another GPU failure) with memory short: say so.
+        Error::Gpu { .. } if crate::memory::short_for_driver().is_some() => Some(
+            "less than 1 GB of memory is available: the device may have run out of it; raise \
+             the limit (ulimit -v, the cgroup) or choose a smaller size",
+        ),
         Error::TruthUnsupported { .. } => Some("use --backend vulkan"),
         Error::Display { .. } => {
             Some("without a display, `shadeballs render` draws the same scene to a PNG")

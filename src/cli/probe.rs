@@ -10,6 +10,11 @@ use crate::{output, scene};
 
 pub fn run(args: ProbeArgs) -> anyhow::Result<()> {
     output::check_output_path(&args.out)?;
+    let scene = args
+        .scene
+        .iter()
+        .map(|p| ("the scene file --scene".to_string(), p.clone()));
+    super::guard::check_out(&args.out, &scene.collect::<Vec<_>>())?;
     if output::extension(&args.out) != "csv" {
         anyhow::bail!(
             "--out '{}' must be a .csv file (the probe writes CSV)",

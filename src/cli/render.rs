@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::args::RenderArgs;
-use super::{interrupt, progress};
+use super::{guard, interrupt, progress};
 use crate::cpu::TruthProgress;
 use crate::error::{Error, Result};
 use crate::gpu::{Backend, Renderer};
@@ -19,7 +19,19 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
     let sidecar = check_before_the_work(&args, kind)?;
+    // Issue 38: no output over an input or another output; every output's folder writable.
+    let outputs = guard::outputs(&[
+        ("--out", Some(args.out.as_path())),
+        ("the standard-error sidecar", sidecar.as_deref()),
+    ]);
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, None))?;
+    guard::probe_folders(&outputs)?;
     let (scene, renderer) = scene_beside_the_device(&args, &mut phases)?;
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, Some(&scene)))?;
+    let on_gpu = renderer.is_some() && args.backend != Backend::Montecarlo;
+    if let Some(notice) = guard::ibl_frames_ignored(args.ibl_frames, on_gpu, &scene) {
+        eprintln!("{notice}");
+    }
     let geometry = scene.effective_geometry();
     let (w, h) = (args.width, args.height);
     let (device, truth_spp) =
@@ -155,9 +167,15 @@ fn render_and_write(
         stoppable: None,
         terminal: std::io::IsTerminal::is_terminal(&std::io::stderr()),
     };
+    if let Some(r) = &renderer {
+        // The GPU's f32 camera (issue 38, 4), checked where the size is.
+        r.gpu().check_size(w, h)?;
+        guard::check_f32_camera(scene, w, h)?;
+    }
     let rendered = dispatch::render(renderer.as_mut(), scene, &request, &mut told)?;
     let truth = args.backend == Backend::Truth;
-    let note = rendered.spp.filter(|_| truth).map(truth_note);
+    // The samples a pixel of a progressive backend, in the file (issue 38, 7).
+    let note = rendered.sampled.map(|(what, spp)| samples_note(what, spp));
     match rendered.pixels {
         Pixels::Display(mut rgba) => {
             draw_labels(scene, args, &mut rgba, phases)?;
@@ -175,13 +193,16 @@ fn render_and_write(
                 output::commit_all(vec![side, image])?;
                 eprintln!("per-pixel standard error -> {}", path.display());
             }
-            (Some(path), _, _, Some(note)) => {
+            (Some(path), _, _, Some(note)) if truth => {
                 // Stopped after the first pass: one estimate a pixel has no error.
                 output::stage_exr_noted(&args.out, w, h, rgba, note)?.commit()?;
                 eprintln!(
                     "{} not written: one estimate a pixel has no standard error",
                     path.display()
                 );
+            }
+            (_, _, _, Some(note)) => {
+                output::stage_exr_noted(&args.out, w, h, rgba, note)?.commit()?
             }
             _ => write_exr(&args.out, w, h, rgba)?,
         },
@@ -238,13 +259,13 @@ impl dispatch::Progress for Told<'_> {
     }
 }
 
-/// The text a truth picture carries (a PNG's `Comment`, an EXR's `comment`): the samples a
-/// pixel, and the signal that stopped the render early, if one did.
-fn truth_note(spp: u32) -> String {
+/// The text a progressive backend's file carries (a PNG's `Comment`, an EXR's `comment`):
+/// what rendered it, the samples a pixel, and the signal that stopped it early, if one did.
+fn samples_note(what: &str, spp: u32) -> String {
     let stopped = interrupt::stop_requested().map_or(String::new(), |s| {
         format!(", interrupted by {}", interrupt::signal_name(s))
     });
-    format!("shadeballs truth (random walk): {spp} spp{stopped}")
+    format!("shadeballs {what}: {spp} spp{stopped}")
 }
 
 /// The sidecar of a truth `.exr`: `NAME.stderr.exr` beside `NAME.exr`.

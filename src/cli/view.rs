@@ -1,6 +1,7 @@
 //! `shadeballs view`: the interactive viewer (the [`crate::viewer`] front end).
 
 use super::args::ViewArgs;
+use super::guard;
 use crate::output::{self, image_kind};
 use crate::viewer::compare::{Compare, View};
 
@@ -24,7 +25,16 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         c
     });
     super::check_wgpu_backend_env(args.backend)?;
+    // Issue 38: no output over an input or the other output; their folders writable.
+    let outputs = guard::outputs(&[
+        ("--screenshot", args.screenshot.as_deref()),
+        ("--save-scene", args.save_scene.as_deref()),
+    ]);
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, None))?;
+    guard::probe_folders(&outputs)?;
     let scene = args.scene.load()?;
+    guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, Some(&scene)))?;
+    guard::check_f32_camera(&scene, args.width, args.height)?;
     let report = crate::viewer::run(crate::viewer::ViewOptions {
         scene,
         backend: args.backend,
@@ -54,7 +64,8 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         ms(report.draw_ms),
     );
     if let Some(n) = report.lobe_samples {
-        eprintln!("lobe: {n} samples a pixel at the last frame");
+        let n = crate::stats::count(n, "sample");
+        eprintln!("lobe: {n} a pixel at the last frame");
     }
     Ok(())
 }

@@ -24,6 +24,8 @@ use crate::scene::{coating_spec_albedo, Ball, CoatingConstants, Layering, Scene}
 pub struct Coat {
     row: [f32; COATING_ROW_LEN],
     constants: CoatingConstants,
+    /// The base's albedo as the shading takes it (`scene::base_albedo`).
+    albedo: DVec3,
 }
 
 impl Coat {
@@ -35,6 +37,7 @@ impl Coat {
         let f32_of = |x: f64| x as f32 as f64;
         Some(Coat {
             row: *rows.row(&key)?,
+            albedo: crate::scene::base_albedo(scene, b, e, rows.row(&key), Some(&c)),
             constants: CoatingConstants {
                 eta: f32_of(c.eta),
                 f_add: f32_of(c.f_add),
@@ -98,7 +101,11 @@ pub struct CoatingBrdf {
 impl CoatingPoint {
     /// Ball `b`'s coating `coat` seen at unit normal `n` from `v`, with E from `e`.
     pub fn new(scene: &Scene, b: &Ball, coat: &Coat, (n, v): (DVec3, DVec3), e: &TableSet) -> Self {
-        let Coat { row, constants } = *coat;
+        let Coat {
+            row,
+            constants,
+            albedo,
+        } = *coat;
         let roughness = b.roughness;
         let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
@@ -120,7 +127,7 @@ impl CoatingPoint {
             row,
             constants,
             layering: scene.layering,
-            albedo: b.material.diffuse,
+            albedo,
             fresnel_form,
             geometry: scene.effective_geometry(),
             roughness,

@@ -162,6 +162,9 @@ pub fn render_truth(
     mut progress: impl FnMut(&TruthProgress) -> bool,
 ) -> Result<TruthImage> {
     settings.check()?;
+    // The walk goes through the substrate the base reading implies.
+    let substrates = scene.with_substrates(e);
+    let scene = &substrates;
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
@@ -215,12 +218,12 @@ pub fn render_truth(
         });
         done += batch;
         ball_means = means(&pixels, balls.len(), done);
-        let worst_stderr = (done >= 2).then(|| {
-            ball_means
-                .iter()
-                .filter_map(BallMean::relative_std_error)
-                .fold(0.0, f64::max)
-        });
+        // None with no ball pixels (issue 38, 9: it read "0.000 %" and met any target).
+        let worst_stderr = ball_means
+            .iter()
+            .filter_map(BallMean::relative_std_error)
+            .reduce(f64::max)
+            .filter(|_| done >= 2);
         let state = TruthProgress {
             spp: done,
             worst_stderr,
@@ -228,10 +231,14 @@ pub fn render_truth(
         };
         let go_on = progress(&state);
         passes.push(state);
-        let converged = matches!(
-            (settings.stderr, worst_stderr),
-            (Some(target), Some(worst)) if worst <= target
-        );
+        // Without a ball pixel the image is exact (the background alone): two estimates,
+        // whose standard errors are zero, and no more.
+        let nothing_to_walk = pixels.is_empty() && done >= 2;
+        let converged = nothing_to_walk
+            || matches!(
+                (settings.stderr, worst_stderr),
+                (Some(target), Some(worst)) if worst <= target
+            );
         if !go_on || converged {
             break;
         }

@@ -123,13 +123,14 @@ impl EnvMap {
     /// on `on` need more memory than is available ([`crate::memory::check`]; issue 28, 3).
     pub fn check_chain_memory(&self, on: ChainOn) -> Result<()> {
         let (w, h) = (self.width, self.height);
-        let device = match on {
-            ChainOn::Gpu => "GPU",
-            ChainOn::Cpu => "CPU",
+        let (device, margin) = match on {
+            ChainOn::Gpu => ("GPU", crate::memory::GPU_MARGIN),
+            ChainOn::Cpu => ("CPU", crate::memory::CPU_MARGIN),
         };
-        crate::memory::check(
+        crate::memory::check_with_margin(
             &format!("the {w}x{h} environment map's mip chain and textures on the {device}"),
             u64::from(w) * u64::from(h) * on.bytes_per_texel(),
+            margin,
         )
     }
 
@@ -204,6 +205,51 @@ pub fn uv_to_direction(uv: DVec2) -> DVec3 {
     )
 }
 
+/// The largest radiance a map may reach once scaled by its intensity: the bound every
+/// radiance of a scene keeps, `scene::MAX_MAGNITUDE` (the scene's layer is above this one;
+/// a constant assertion there checks that the two agree).
+pub const MAX_MAP_RADIANCE: f64 = 1e12;
+
+/// Checks that a map whose brightest texel is `peak`, times `intensity`, stays within the
+/// bound every radiance of a scene keeps, [`MAX_MAP_RADIANCE`] (issue 38, 1: a
+/// map of 1e30 at intensity 1e9 rendered infinite pixels, and f32's 3.4e38 is passed by
+/// any sum of such texels, an exposure, a Monte Carlo estimate's square). The message says
+/// the largest intensity the map takes.
+pub fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), String> {
+    let bound = MAX_MAP_RADIANCE;
+    let radiance = f64::from(peak) * intensity;
+    if radiance <= bound {
+        return Ok(());
+    }
+    let short = crate::error::short_number;
+    Err(format!(
+        "its brightest texel {} times intensity {} is a radiance of {}, beyond the {bound:e} \
+         every radiance of a scene is held to (use an intensity of at most {})",
+        short(f64::from(peak)),
+        short(intensity),
+        short(radiance),
+        short(max_map_intensity(peak))
+    ))
+}
+
+/// The largest intensity a map whose brightest texel is `peak` takes
+/// ([`check_map_radiance`]), rounded down to 3 significant digits.
+pub fn max_map_intensity(peak: f32) -> f64 {
+    let bound = MAX_MAP_RADIANCE;
+    if peak <= 0.0 {
+        return bound;
+    }
+    let exact = (bound / f64::from(peak)).min(bound);
+    let digits = 10f64.powi(exact.log10().floor() as i32 - 2);
+    let rounded = (exact / digits).floor() * digits;
+    // The rounding of `digits` may leave it a hair above the bound.
+    if f64::from(peak) * rounded <= bound {
+        rounded
+    } else {
+        exact * (1.0 - 1e-12)
+    }
+}
+
 /// Where an environment map came from (for messages and the viewer's picker).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Source {
@@ -249,9 +295,14 @@ impl Environment {
         }
     }
 
-    /// The map in the file at `path` ([`load`]), not turned, intensity 1.
+    /// The map in the file at `path` ([`load`]), not turned, intensity 1; refused where its
+    /// brightest texel is beyond the scene's bound on radiance ([`check_map_radiance`]).
     pub fn from_file(path: &std::path::Path) -> Result<Self> {
         let (map, _stats) = load(path)?;
+        check_map_radiance(map.peak(), 1.0).map_err(|message| Error::Environment {
+            path: path.to_path_buf(),
+            message,
+        })?;
         Ok(Environment {
             source: Source::File(path.to_path_buf()),
             map: Arc::new(map),

@@ -133,7 +133,12 @@ impl Gpu {
         let adapter = pollster::block_on(instance.request_adapter(&options)).map_err(|e| {
             Error::NoAdapter {
                 backends: format!("{backends:?}"),
-                message: e.to_string(),
+                // Under a memory limit the driver's failure says "no adapter" too
+                // (issue 38, 8): the memory is named, not a package to install.
+                message: match crate::memory::short_for_driver() {
+                    Some(short) => format!("{e}; {short}"),
+                    None => e.to_string(),
+                },
             }
         })?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

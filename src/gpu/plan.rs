@@ -260,8 +260,8 @@ impl fmt::Display for Variant {
             1 => write!(f, ", environment map"),
             _ => write!(
                 f,
-                ", environment map (lobe, {} samples a frame)",
-                self.ibl_samples
+                ", environment map (lobe, {} a frame)",
+                crate::stats::count(self.ibl_samples, "sample")
             ),
         }?;
         if !self.aa {
@@ -279,7 +279,10 @@ impl fmt::Display for Plan {
         let bake = &self.bake;
         let method = match bake.method {
             Method::Chebyshev => format!("chebyshev, {} nodes a segment", bake.samples),
-            m => format!("{m}, {} samples", bake.samples),
+            m => format!(
+                "{m}, {}",
+                crate::stats::count(bake.samples as u64, "sample")
+            ),
         };
         let l = &bake.layout;
         match &self.tables {

@@ -14,7 +14,7 @@ use crate::scene::{CoatingConstants, Layering, Model, Scene, MAX_BALLS, MAX_LIGH
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Globals {
-    /// xyz: the eye ([`crate::scene::CameraBasis::origin`]); w: 1.
+    /// xyz: the eye, always 0: the balls are uploaded relative to it ([`balls`]); w: 1.
     pub cam_origin: [f32; 4],
     /// xyz: unit view direction; w: 0.
     pub cam_forward: [f32; 4],
@@ -38,7 +38,8 @@ super::ball::gpu_ball! {
     /// `types.wgsl` ([`balls`]). The one list of its members: `gpu::ball` generates the
     /// WGSL and the vertex layout from it.
     struct GpuBall {
-        /// Centre.
+        /// Centre less the camera's position (computed in f64: the GPU works relative to
+        /// the camera).
         center: [f32; 3],
         /// Radius.
         radius: f32,
@@ -99,7 +100,10 @@ fn v3(v: glam::DVec3) -> [f32; 3] {
 pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
     Globals {
-        cam_origin: v4(basis.origin, 1.0),
+        // The GPU works relative to the camera (issue 38, 4): the eye at the origin, each
+        // ball's centre less the eye in f64 (`balls`), so f32 holds the offsets that
+        // matter, not coordinates far from the world's origin.
+        cam_origin: v4(glam::DVec3::ZERO, 1.0),
         cam_forward: v4(basis.forward, 0.0),
         cam_right: v4(basis.right, 0.0),
         cam_up: v4(basis.up, 0.0),
@@ -152,11 +156,20 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 .coating_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
             GpuBall {
-                center: v3(b.center),
+                center: v3(b.center - scene.camera.position),
                 radius: b.radius as f32,
                 f0: v3(b.material.f0),
                 roughness: b.roughness as f32,
-                diffuse: b.material.diffuse.as_vec3().to_array(),
+                // The substrate the base reading implies (scene::base_albedo).
+                diffuse: crate::scene::base_albedo(
+                    scene,
+                    b,
+                    tables,
+                    scene.coating_key(b).and_then(|k| coating.row(&k)),
+                    Some(&coating_constants),
+                )
+                .as_vec3()
+                .to_array(),
                 ms: ms as f32,
                 f_add,
                 ms_norm,

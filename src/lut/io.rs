@@ -39,11 +39,15 @@ pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
             expected: "this build writes .csv and .ktx2 (.exr and .png need the crate feature `image-files`)",
         }),
         "ktx2" => write_atomic(path, &super::ktx2::encode_tables(tables)?),
+        // Source code for another engine: C arrays, GLSL arrays (lut::header).
+        "h" => write_atomic(path, super::header::source(tables, super::header::Language::C).as_bytes()),
+        "glsl" => write_atomic(path, super::header::source(tables, super::header::Language::Glsl).as_bytes()),
         _ => Err(Error::Format {
             path: path.to_path_buf(),
             expected: crate::output::format_hint(
                 path,
-                "use .csv, .exr or .png, or .ktx2 (the texture the shader reads)",
+                "use .csv, .exr or .png, .ktx2 (the texture the shader reads), or .h or .glsl \
+                 (C or GLSL arrays)",
             ),
         }),
     }

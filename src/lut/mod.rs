@@ -7,6 +7,7 @@ pub mod accuracy;
 mod chebyshev;
 pub mod coating;
 mod estimators;
+pub mod header;
 mod integrand;
 pub mod io;
 pub mod ktx2;

@@ -57,6 +57,25 @@ impl Camera {
         None
     }
 
+    /// Why the GPU cannot draw this camera's `width x height` image as the CPU does, if it
+    /// cannot (issue 38, 4): a pixel spans less than [`MIN_GPU_PIXEL_ANGLE`], finer than
+    /// the f32 directions of the shader's rays resolve (its f32 unit vectors are 6e-8
+    /// apart), so its balls would be drawn in blocks of pixels. The camera must be valid.
+    pub fn gpu_problem(&self, width: u32, height: u32) -> Option<String> {
+        let angle = self.basis(width, height).pixel_angle(width, height);
+        if angle >= MIN_GPU_PIXEL_ANGLE {
+            return None;
+        }
+        let side = f64::from(width.max(height));
+        let vfov = 2.0 * (MIN_GPU_PIXEL_ANGLE * side / 2.0).atan().to_degrees();
+        Some(format!(
+            "a pixel of the {width}x{height} image spans {angle:.2e} rad (vfov_deg {}), \
+             finer than the GPU's f32 rays resolve ({MIN_GPU_PIXEL_ANGLE:.1e} rad): use \
+             vfov_deg of at least about {vfov:.2e}, or --backend cpu",
+            crate::scene::short_number(self.vfov_deg)
+        ))
+    }
+
     /// The frame for an image `width / height`. The camera must be valid
     /// ([`Camera::problem`] is `None`; scenes are validated on load).
     pub fn basis(&self, width: u32, height: u32) -> CameraBasis {
@@ -73,6 +92,12 @@ impl Camera {
         }
     }
 }
+
+/// The least angle, in radians (tangent units), that a pixel may span on the GPU: 16 steps
+/// of f32 at 1 (`f32::EPSILON`), so that the shader's f32 ray directions place a silhouette
+/// within 1/16 of a pixel of the CPU's f64 ones ([`Camera::gpu_problem`]). At 720 rows that
+/// is a vfov of 0.08 degrees; at 16384, 1.8 degrees.
+pub const MIN_GPU_PIXEL_ANGLE: f64 = 16.0 * f32::EPSILON as f64;
 
 /// Pixels added around each ball's exact bounds by both renderers (the GPU's quads,
 /// the CPU's screen bins): the shader's f32 ray may hit a pixel whose centre the f64

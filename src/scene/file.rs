@@ -5,6 +5,8 @@
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! layering = "physical"        # optional: how a dielectric's base sits under its coating:
 //!                              #   constant | gltf | view-only | reciprocal | physical (default)
+//! base_reading = "apparent"    # optional: what a dielectric's base colour means: apparent
+//!                              #   (default: the colour a viewer sees, as glTF) | substrate
 //! exposure = 1.0               # optional, > 0
 //! background = "environment"   # optional: environment (default) | black | [r, g, b]
 //! ibl_term = "kulla-conty"     # optional: turquin | fdez-aguera | kulla-conty (default):
@@ -42,9 +44,11 @@
 //! # multiple_scattering = true #   shorthand: true = that default, false = "none"
 //! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
 //! # material = { base_color = [0.8, 0.3, 0.1], metallic = 0.5, ior = 1.5 }
-//! #   the engines' material: base_color sRGB (the sRGB curve), metallic in [0, 1]
+//! #   the engines' material: base_color sRGB (the sRGB curve; or base_color_linear,
+//! #   linear), metallic in [0, 1]
 //! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
-//! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (or a grey f0 for the ior)
+//! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (albedo required, as a
+//! #   metal's; a grey f0 for the ior)
 //! ```
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
@@ -78,6 +82,7 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     layering: Option<Named<Layering>>,
+    base_reading: Option<Named<super::BaseReading>>,
     exposure: Option<Positive>,
     antialias: Option<bool>,
     background: Option<BackgroundValue>,
@@ -154,6 +159,9 @@ struct MaterialFile {
     /// The engines' metallic-roughness material: sRGB colour (the sRGB curve), the metal's
     /// F0 and the dielectric's base.
     base_color: Option<Colour>,
+    /// `base_color` given linear (what `shadeballs import` writes where no sRGB value
+    /// decodes to a glTF file's linear colour exactly).
+    base_color_linear: Option<Colour>,
     /// With `base_color`: in [0, 1], default 0.
     metallic: Option<Metallic>,
     /// The dielectric's index of refraction (default 1.5).
@@ -355,6 +363,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
         layering: file.layering.map_or(reference.layering, |l| l.0),
+        base_reading: file.base_reading.map_or(reference.base_reading, |r| r.0),
         labels: file.labels,
         antialias: file.antialias.unwrap_or(reference.antialias),
         tone_map,
@@ -391,7 +400,12 @@ fn environment(e: Spanned<EnvironmentFile>, path: &Path) -> Spanned2<(DVec3, Opt
         (None, Some(file), None) => {
             let map_span = file.span();
             let file = folder_of(path).join(file.into_inner());
-            let (map, _stats) = environment::load(&file).map_err(|e| (map_span, e.to_string()))?;
+            let (map, _stats) =
+                environment::load(&file).map_err(|e| (map_span.clone(), e.to_string()))?;
+            environment::check_map_radiance(map.peak(), intensity).map_err(|e| {
+                let e = format!("the map '{}': {e}", file.display());
+                (map_span, e)
+            })?;
             (Source::File(file), map)
         }
         (None, None, Some(b)) => (
@@ -459,7 +473,14 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let m = m.into_inner();
     let fail = |message: &str| Err((span.clone(), message.to_string()));
     let ior = m.ior.map(|i| i.0);
-    match (m.kind, m.base_color) {
+    let base_color = match (m.base_color, m.base_color_linear) {
+        (Some(_), Some(_)) => {
+            return fail("a material takes `base_color` (sRGB) or `base_color_linear`, not both")
+        }
+        (Some(b), None) => Some(srgb_decode(b.0.to_array())),
+        (None, linear) => linear.map(|b| b.0),
+    };
+    match (m.kind, base_color) {
         (Some(_), Some(_)) => fail("a material takes `kind` or `base_color`, not both"),
         (None, None) => fail(
             "a material needs `base_color` (with `metallic` and `ior`) or a `kind` \
@@ -470,7 +491,7 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
                 return fail("`base_color` takes no `albedo` or `f0`");
             }
             Ok(Material::metallic_roughness(
-                srgb_decode(base.0.to_array()),
+                base,
                 m.metallic.map_or(0.0, |x| x.0),
                 ior.unwrap_or(DEFAULT_IOR),
             ))
@@ -485,14 +506,20 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
             _ => fail("a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)"),
         },
         (Some(KindFile::Dielectric), None) => {
-            let diffuse = m
-                .albedo
-                .map_or(DVec3::ZERO, |a| super::srgb_to_linear(a.0.to_array()));
             let ior = match (m.f0, ior) {
                 (Some(_), Some(_)) => return fail("a dielectric takes `ior` or `f0`, not both"),
                 (Some(f0), None) => ior_from_f0(f0.0).map_err(|e| (span.clone(), e))?,
                 (None, ior) => ior.unwrap_or(DEFAULT_IOR),
             };
+            // A dielectric needs its base colour, as a metal its F0 (issue 38, 9: it got a
+            // black base silently).
+            let Some(albedo) = m.albedo else {
+                return fail(
+                    "a dielectric needs `albedo` (its sRGB base colour; [0, 0, 0] for a black \
+                     base, a clear coat over nothing)",
+                );
+            };
+            let diffuse = super::srgb_to_linear(albedo.0.to_array());
             Ok(Material::dielectric(diffuse, ior))
         }
     }
@@ -503,17 +530,33 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
 fn ior_from_f0(f0: DVec3) -> std::result::Result<f64, String> {
     if f0.max_element() - f0.min_element() > 1e-9 {
         return Err(format!(
-            "a dielectric's f0 must be grey (one index of refraction), not {:?}; give `ior`",
-            f0.to_array()
+            "a dielectric's f0 must be grey (one index of refraction), not {}; give `ior`",
+            super::short_numbers(&f0.to_array())
         ));
     }
     let r = f0.x.sqrt();
     let (lo, hi) = super::IOR_RANGE;
-    let ior = (1.0 + r) / (1.0 - r).max(crate::brdf::DIV_EPSILON);
+    let f0_range = || {
+        let f0_of = |ior: f64| ((ior - 1.0) / (ior + 1.0)).powi(2);
+        format!("give f0 in [{:.4}, {:.4}]", f0_of(lo), f0_of(hi))
+    };
+    // F0 = 1 (or more) is a perfect mirror: no index of refraction gives it (issue 38, 9:
+    // it printed "ior 2000000000000.000").
+    if r >= 1.0 - crate::brdf::DIV_EPSILON {
+        return Err(format!(
+            "a dielectric's f0 {} is a perfect mirror, which no ior gives ({}; a mirror is \
+             a metal's f0 = [1, 1, 1])",
+            super::short_number(f0.x),
+            f0_range()
+        ));
+    }
+    let ior = (1.0 + r) / (1.0 - r);
     if !(lo..=hi).contains(&ior) {
         return Err(format!(
-            "a dielectric's f0 {} gives ior {ior:.3}, outside [{lo}, {hi}]",
-            f0.x
+            "a dielectric's f0 {} gives ior {}, outside [{lo}, {hi}] ({})",
+            super::short_number(f0.x),
+            super::short_number((ior * 1e3).round() / 1e3),
+            f0_range()
         ));
     }
     Ok(ior)

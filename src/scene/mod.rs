@@ -12,13 +12,17 @@ mod file;
 mod material;
 mod model;
 mod preset;
+mod reading;
 mod showcase;
 #[cfg(feature = "scene-files")]
 mod values;
 
 use glam::DVec3;
 
-pub use camera::{bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX};
+pub use camera::{
+    bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
+    MIN_GPU_PIXEL_ANGLE,
+};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
@@ -27,6 +31,7 @@ pub use material::{
 };
 pub use model::Model;
 pub use preset::Preset;
+pub use reading::{base_albedo, substrate_albedo, substrate_albedo_with, BaseReading};
 pub use showcase::{
     showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
     SHOWCASE_ROW_HALF_GAP,
@@ -52,6 +57,11 @@ pub const MAX_LIGHTS: usize = 16;
 /// `1 / (pi alpha^2)`, `G / (4 mu_o)` up to `1 / (2 alpha)`), so 16 lights of radiance 1e12
 /// under an exposure of 1e12 stay below 1e35, and squared distances below 1e25.
 pub const MAX_MAGNITUDE: f64 = 1e12;
+
+// A map's radiance is held to the same bound (`environment::check_map_radiance`).
+const _: () = assert!(MAX_MAGNITUDE == crate::environment::MAX_MAP_RADIANCE);
+
+pub use crate::error::{short_number, short_numbers};
 
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout
 /// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =
@@ -111,6 +121,9 @@ pub struct Scene {
     pub geometry: Geometry,
     /// How every dielectric's base is weighted under its coating.
     pub layering: Layering,
+    /// What every dielectric's `base_color` means: the colour a viewer sees (default) or
+    /// the substrate's albedo under the coating (`base_reading`, `--base-reading`).
+    pub base_reading: BaseReading,
     /// Whether the chart's labels (roughness under each column, the row's model, a
     /// caption) are drawn into PNG pictures and the viewer (`crate::labels`); the
     /// renderers themselves never draw them. On in the built-in scenes, off by default in
@@ -164,6 +177,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             layering: Layering::default(),
+            base_reading: BaseReading::default(),
             labels: true,
             antialias: true,
             // The homework's display: Reinhard and gamma 1/2.2, whichever the preset.

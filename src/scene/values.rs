@@ -1,13 +1,14 @@
 //! Checked value types for the scene file: each rejects bad input while toml deserialises
 //! it, so the error carries the value's line and column (and `file.rs` adds the key's
-//! name). Numbers print as `{:?}` does: 1e30, not 31 digits.
+//! name). Numbers print in their shortest form, with an exponent from 1e6 up
+//! (`super::short_number`): 1e30 and 1e13, not 31 or 14 digits.
 
 use std::str::FromStr;
 
 use glam::DVec3;
 use serde::{Deserialize, Deserializer};
 
-use super::MAX_MAGNITUDE;
+use super::{short_number, short_numbers, MAX_MAGNITUDE};
 
 /// Exactly `N` numbers: an array with more or fewer is an error (serde's fixed-size arrays
 /// ignore extra values in toml).
@@ -26,11 +27,15 @@ fn exactly<const N: usize, T: Copy + Default>(v: &[T]) -> Result<[T; N], String>
 fn finite3(v: &[f64]) -> Result<DVec3, String> {
     let v: [f64; 3] = exactly(v)?;
     if !v.iter().all(|c| c.is_finite()) {
-        return Err(format!("{v:?} has a NaN or infinite component"));
+        return Err(format!(
+            "{} has a NaN or infinite component",
+            short_numbers(&v)
+        ));
     }
     if v.iter().any(|c| c.abs() > MAX_MAGNITUDE) {
         return Err(format!(
-            "{v:?} has a component beyond {MAX_MAGNITUDE:e} in magnitude"
+            "{} has a component beyond {MAX_MAGNITUDE:e} in magnitude",
+            short_numbers(&v)
         ));
     }
     Ok(DVec3::from_array(v))
@@ -70,7 +75,10 @@ impl TryFrom<Vec<f64>> for Direction {
     fn try_from(v: Vec<f64>) -> Result<Self, String> {
         let d = finite3(&v)?;
         if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
-            return Err(format!("{v:?} has zero (or unrepresentable) length"));
+            return Err(format!(
+                "{} has zero (or unrepresentable) length",
+                short_numbers(&v)
+            ));
         }
         Ok(Direction(d.normalize()))
     }
@@ -86,7 +94,10 @@ impl TryFrom<Vec<f64>> for Colour {
     fn try_from(v: Vec<f64>) -> Result<Self, String> {
         let c = finite3(&v)?;
         if c.min_element() < 0.0 || c.max_element() > 1.0 {
-            return Err(format!("{v:?} has a channel outside [0, 1]"));
+            return Err(format!(
+                "{} has a channel outside [0, 1]",
+                short_numbers(&v)
+            ));
         }
         Ok(Colour(c))
     }
@@ -102,7 +113,7 @@ impl TryFrom<Vec<f64>> for Radiance {
     fn try_from(v: Vec<f64>) -> Result<Self, String> {
         let c = finite3(&v)?;
         if c.min_element() < 0.0 {
-            return Err(format!("{v:?} has a negative channel"));
+            return Err(format!("{} has a negative channel", short_numbers(&v)));
         }
         Ok(Radiance(c))
     }
@@ -120,7 +131,8 @@ impl TryFrom<f64> for Positive {
             Ok(Positive(v))
         } else {
             Err(format!(
-                "{v:?} must be a number greater than 0 and at most {MAX_MAGNITUDE:e}"
+                "{} must be a number greater than 0 and at most {MAX_MAGNITUDE:e}",
+                short_number(v)
             ))
         }
     }
@@ -137,7 +149,7 @@ impl TryFrom<f64> for Roughness {
         if (0.0..=1.0).contains(&v) {
             Ok(Roughness(v))
         } else {
-            Err(format!("roughness {v:?} is outside [0, 1]"))
+            Err(format!("roughness {} is outside [0, 1]", short_number(v)))
         }
     }
 }
@@ -153,7 +165,7 @@ impl TryFrom<f64> for Metallic {
         if (0.0..=1.0).contains(&v) {
             Ok(Metallic(v))
         } else {
-            Err(format!("metallic {v:?} is outside [0, 1]"))
+            Err(format!("metallic {} is outside [0, 1]", short_number(v)))
         }
     }
 }
@@ -170,7 +182,7 @@ impl TryFrom<f64> for Ior {
         if (lo..=hi).contains(&v) {
             Ok(Ior(v))
         } else {
-            Err(format!("ior {v:?} is outside [{lo}, {hi}]"))
+            Err(format!("ior {} is outside [{lo}, {hi}]", short_number(v)))
         }
     }
 }
@@ -186,7 +198,7 @@ impl TryFrom<f64> for Fov {
         if v > 0.0 && v < 180.0 {
             Ok(Fov(v))
         } else {
-            Err(format!("vfov_deg {v:?} is outside (0, 180)"))
+            Err(format!("vfov_deg {} is outside (0, 180)", short_number(v)))
         }
     }
 }
@@ -234,7 +246,8 @@ impl TryFrom<f64> for Finite {
             Ok(Finite(v))
         } else {
             Err(format!(
-                "{v:?} must be a finite number at most {MAX_MAGNITUDE:e} in magnitude"
+                "{} must be a finite number at most {MAX_MAGNITUDE:e} in magnitude",
+                short_number(v)
             ))
         }
     }
@@ -252,7 +265,8 @@ impl TryFrom<f64> for NonNegative {
             Ok(NonNegative(v))
         } else {
             Err(format!(
-                "{v:?} must be a number of at least 0 and at most {MAX_MAGNITUDE:e}"
+                "{} must be a number of at least 0 and at most {MAX_MAGNITUDE:e}",
+                short_number(v)
             ))
         }
     }

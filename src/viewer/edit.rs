@@ -541,6 +541,9 @@ pub fn set_map_rotation(scene: &mut Scene, degrees: f64) {
 /// itself is kept.
 pub fn set_map_intensity(scene: &mut Scene, intensity: f64) {
     if let Some(e) = &mut scene.environment_map {
-        e.intensity = intensity.max(0.0);
+        // At most what keeps the map within the scene's bound on radiance (issue 38, 1).
+        e.intensity = intensity
+            .max(0.0)
+            .min(crate::environment::max_map_intensity(e.map.peak()));
     }
 }

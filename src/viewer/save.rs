@@ -49,11 +49,26 @@ pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     Ok(out)
 }
 
+/// `scene` as its file loads back: a map file's path made absolute, as the file names it
+/// (issue 38, 3: a relative path from `--environment` or a relative scene's `map`).
+pub fn as_written(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    if let Some(e) = &mut scene.environment_map {
+        if let Source::File(path) = &e.source {
+            if let Ok(absolute) = std::path::absolute(path) {
+                e.source = Source::File(absolute);
+            }
+        }
+    }
+    scene
+}
+
 /// The keys before the first table.
 fn top_level(out: &mut String, scene: &Scene) {
     let _ = writeln!(out, "preset = {}", string(scene.preset.name()));
     let _ = writeln!(out, "geometry = {}", string(scene.geometry.name()));
     let _ = writeln!(out, "layering = {}", string(scene.layering.name()));
+    let _ = writeln!(out, "base_reading = {}", string(scene.base_reading.name()));
     let _ = writeln!(out, "exposure = {}", num(scene.exposure));
     let background = match scene.background {
         Background::Environment => string("environment"),
@@ -155,6 +170,16 @@ fn material(m: &Material) -> Result<String, String> {
                 num(m.ior)
             ));
         }
+    }
+    if m.f0 == m.diffuse {
+        // Not every linear value is the sRGB decode of a double (the decode's slope is
+        // above 1 there): the linear value itself.
+        return Ok(format!(
+            "{{ base_color_linear = {}, metallic = {}, ior = {} }}",
+            vec3(m.f0),
+            num(m.metallic),
+            num(m.ior)
+        ));
     }
     let pow = |c: f64| srgb_to_linear([c; 3]).x;
     if m.metallic == 0.0 && m.f0 == DVec3::ZERO {

@@ -89,6 +89,7 @@ naga::valid::Validator::new(Default::default(), naga::valid::Capabilities::all()
 //! ```
 
 mod compose;
+pub mod export;
 mod modules;
 
 pub use compose::{ComposeError, Composed, Module};

@@ -721,7 +721,9 @@ fn the_viewer_survives_its_window_and_says_things_once() {
 }
 
 /// Finding 2: An `.hdr` of maximum-exponent texels (1.7e38, f32's range) rendered a flat 65504;
-/// now its radiance, finite, on every renderer.
+/// now its radiance, finite, on every renderer. Since issue 38 (finding 1) a map's brightest
+/// texel times its intensity is held to the scene's 1e12: the map at an intensity that
+/// brings it to 8.5e11 renders that, unclipped; at intensity 1 it is refused in one line.
 #[test]
 fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
     let dir = temp_dir("hostile-max-hdr");
@@ -730,13 +732,20 @@ fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
     let mut bytes = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
     bytes.extend(std::iter::repeat_n(255u8, 4 * w * h));
     std::fs::write(&map, bytes).unwrap();
+    let scene = dir.join("max.toml");
+    std::fs::write(
+        &scene,
+        "[environment]\nmap = \"max.hdr\"\nintensity = 5e-27\n[[ball]]\ngrid = [0, 0]\n\
+         radius = 35\nroughness = 0.5\nmaterial = { kind = \"metal\", f0 = [1, 1, 1] }\n",
+    )
+    .unwrap();
     for backend in ["vulkan", "gl", "cpu"] {
         let out = dir.join(format!("{backend}.exr"));
         let o = run(
             &[
                 "render",
-                "--environment",
-                s(&map),
+                "--scene",
+                s(&scene),
                 "--backend",
                 backend,
                 "--width",
@@ -754,9 +763,14 @@ fn a_maximum_exponent_hdr_renders_finite_and_unclipped() {
         let max = v.iter().copied().fold(0.0f32, f32::max);
         println!("{backend}: {bad} non-finite channels, max {max:e}");
         assert_eq!(bad, 0, "{backend}");
-        // RGBE (255, 255, 255, exponent 255) is 255/256 2^127 = 1.69e38.
-        assert!(max > 1e38, "{backend}: {max}");
+        // RGBE (255, 255, 255, exponent 255) is 255/256 2^127 = 1.69e38, times 5e-27.
+        assert!(max > 8e11 && max <= 1e12, "{backend}: {max}");
     }
+    let out = dir.join("refused.exr");
+    let o = run(&["render", "--environment", s(&map), "--out", s(&out)], &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("beyond the 1e12"), "{}", stderr(&o));
+    assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

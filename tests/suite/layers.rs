@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 17] = [
+const LIBRARY: [&str; 18] = [
     "crate",
     "render",
     "brdf",
@@ -20,6 +20,7 @@ const LIBRARY: [&str; 17] = [
     "walk",
     "environment",
     "scene",
+    "import",
     "gpu",
     "cpu",
     "display",
@@ -51,7 +52,9 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
         "lut" => below(&["walk", "environment", "scene", "gpu", "cpu"]),
         "walk" => below(&["environment", "scene", "gpu", "cpu"]),
         "environment" => below(&["scene", "gpu", "cpu"]),
-        "scene" => below(&["gpu", "cpu"]),
+        "scene" => below(&["import", "gpu", "cpu"]),
+        // glTF files read as scenes: on the scene, beside the renderers.
+        "import" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),
         "gpu" => below(&["cpu"]),
         // Labels are laid out from the scene alone and drawn into any RGBA8 image.

@@ -2,6 +2,7 @@
 
 mod antialias;
 mod bad_input;
+mod base_reading;
 mod boundary;
 mod bounds;
 mod clamp;
@@ -15,13 +16,16 @@ mod environment;
 mod example;
 mod extreme_scenes;
 mod fuzz;
+mod gltf_import;
 mod golden;
 mod gpu_eval;
 mod gpu_faults;
 mod gpu_stress;
 mod gpu_truth;
 mod hostile;
+mod hostile_round4;
 mod ibl;
+mod interop;
 mod ktx2;
 mod labels;
 mod layers;

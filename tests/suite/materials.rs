@@ -96,7 +96,11 @@ use shadeballs::scene::Preset;
 
 /// Balls on a `rows x cols` grid (step 80 across, 90 down, radius 35, y up), looked at
 /// head on through an 18 degree field of view from far enough to frame them at 16:9.
-fn chart(rows: usize, cols: usize, ball: impl Fn(usize, usize) -> (f64, Material, Model)) -> Scene {
+pub(crate) fn chart(
+    rows: usize,
+    cols: usize,
+    ball: impl Fn(usize, usize) -> (f64, Material, Model),
+) -> Scene {
     let mut balls = Vec::new();
     for r in 0..rows {
         for c in 0..cols {
@@ -130,7 +134,7 @@ fn chart(rows: usize, cols: usize, ball: impl Fn(usize, usize) -> (f64, Material
 }
 
 /// Pixels whose centre ray and its 4 neighbours' hit ball `k` (no silhouette).
-fn interior(scene: &Scene, k: usize, w: u32, h: u32) -> Vec<usize> {
+pub(crate) fn interior(scene: &Scene, k: usize, w: u32, h: u32) -> Vec<usize> {
     let basis = scene.camera.basis(w, h);
     let b = &scene.balls[k];
     let hit = |x: u32, y: u32| {
@@ -169,7 +173,7 @@ fn furnace_chart(ior: f64, term: IblTerm) -> Scene {
 
 /// The largest difference, in 1/255, of any interior pixel of any ball of `image` from
 /// the background (the corner pixel, which no ball covers), and the ball it is on.
-fn furnace_worst(scene: &Scene, image: &[u8], w: u32, h: u32) -> (u8, usize) {
+pub(crate) fn furnace_worst(scene: &Scene, image: &[u8], w: u32, h: u32) -> (u8, usize) {
     let bg = [image[0], image[1], image[2]];
     let mut worst = (0, 0);
     for k in 0..scene.balls.len() {
@@ -253,7 +257,7 @@ fn white_furnace_every_metallic_ior_and_roughness() {
 }
 
 /// Per ball, the mean of `image` over `pixels[k]`.
-fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
+pub(crate) fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
     pixels
         .iter()
         .map(|px| px.iter().map(|&p| image[p]).sum::<DVec3>() / px.len().max(1) as f64)

@@ -61,7 +61,7 @@ pub struct CompareArgs {
           value_parser = clap::value_parser!(u32).range(2..=i64::from(shadeballs::cpu::montecarlo::MAX_SPP)))]
     pub spp: Option<u32>,
     /// Random seed of the truth.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Smaller rows (64 pixels a ball instead of 160), 32 truth estimates a pixel, frame
     /// times at 640x360: seconds instead of a minute.
