@@ -172,7 +172,7 @@ fn no_adapter_hint(message: &str) -> &'static str {
     }
 }
 
-/// The words of [`crate::memory::short_for_driver`] that [`no_adapter_hint`] and the
+/// The words of [`crate::memory::short_for_driver`] that [`Error::NoAdapter`]'s message and the
 /// command line's advice look for.
 pub const SHORT_OF_MEMORY: &str = "for want of memory";
 
