@@ -438,6 +438,10 @@ pub struct ViewArgs {
     /// 16, 32 or 64) in a colour ramp with a colour bar, instead of the wipe.
     #[arg(long, requires = "compare", value_parser = parse_difference_scale)]
     pub difference: Option<u32>,
+    /// With --compare: A and B whole, each in its own half of the scene area, instead of
+    /// the wipe (a screenshot's .csv beside it holds each ball's mean on both sides).
+    #[arg(long, requires = "compare", conflicts_with_all = ["difference", "split"])]
+    pub side_by_side: bool,
     /// GPU backend (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto, value_parser = view_backend_parser())]
     pub backend: Backend,

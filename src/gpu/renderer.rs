@@ -436,8 +436,12 @@ impl Renderer {
         let plan = &frame.plan;
         let device = &self.gpu.device;
         let shows_map = frame.env_uniform.shows_map == 1.0;
-        let background = match plan.draws.first() {
-            Some((variant, _)) if shows_map => Some(
+        // A scene of truth balls alone has no per-ball draw: its background is drawn with
+        // the truth's variant (same map and display), not left the clear colour.
+        let first = plan.draws.first().map(|(v, _)| v);
+        let first = first.or((!plan.truth.is_empty()).then_some(&plan.truth_variant));
+        let background = match first {
+            Some(variant) if shows_map => Some(
                 self.pipelines
                     .background(
                         device,

@@ -123,6 +123,7 @@ fn chart(rows: usize, cols: usize, ball: impl Fn(usize, usize) -> (f64, Material
             position: DVec3::new(0.0, 0.0, z),
             target: DVec3::ZERO,
             vfov_deg: 18.0,
+            min_aspect: None,
         },
         labels: false,
         ..Scene::reference()
@@ -447,7 +448,7 @@ fn material_keys_parse_and_refuse_in_one_line() {
         .unwrap()
         .balls[0]
         .material;
-    assert_eq!(m, Material::metal_srgb([0.7216, 0.451, 0.2]));
+    assert_eq!(m, Material::metal_gamma22([0.7216, 0.451, 0.2]));
     for (material, says) in [
         (
             "{ base_color = [0.5, 0.5, 0.5], metallic = 1.5 }",

@@ -318,7 +318,7 @@ fn quadrature(scene: &Scene, e: &TableSet) -> DVec3 {
 
 #[test]
 fn estimate_is_unbiased_against_a_dense_quadrature() {
-    let copper = Material::metal_srgb(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
+    let copper = Material::metal_gamma22(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
     let plastic = Material::dielectric(DVec3::new(0.1, 0.4, 0.6), 1.5);
     for term in IblTerm::ALL {
         for material in [copper, plastic] {

@@ -155,9 +155,12 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
             .enumerate()
         {
             let (x, y) = ((i as u32 % area.0) as f32, (i as u32 / area.0) as f32);
+            // A label's room, or the room of one of its wrapped lines.
             let room = layout.iter().position(|l| {
-                let r = &l.room;
-                x + 1.0 > r.x0 && x < r.x1 && y + 1.0 > r.y0 && y < r.y1
+                std::iter::once(l).chain(&l.wrapped).any(|l| {
+                    let r = &l.room;
+                    x + 1.0 > r.x0 && x < r.x1 && y + 1.0 > r.y0 && y < r.y1
+                })
             });
             if let Some(k) = room {
                 changed[k] += (a != b) as usize;
@@ -170,8 +173,11 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
         let fits: Vec<bool> = layout
             .iter()
             .map(|l| {
-                l.place(labels::text_width(&l.text, l.size_px).unwrap())
-                    .is_some_and(|p| p.size_px >= readable_px(l.size_px))
+                let fitted = l.fit(|t, s| labels::text_width(t, s).unwrap());
+                !fitted.is_empty()
+                    && fitted
+                        .iter()
+                        .all(|(l, p)| p.size_px >= readable_px(l.size_px))
             })
             .collect();
         assert!(fits.iter().any(|&f| f), "{what}: no label fits");
@@ -215,6 +221,45 @@ fn window_scene_area_equals_the_headless_render() {
         let what = format!("window on {backend} vs headless on Vulkan");
         // The default scene: the showcase.
         assert_scene_matches(&shot, &stderr, &Scene::showcase(), &what);
+    }
+}
+
+/// The default chart in windows narrower than 16:9 (issue 39): the scene area beside the
+/// panel holds all ten balls whole, and its labels are drawn where the layout puts them,
+/// the rest equal to the headless render of the scene area.
+#[test]
+fn default_chart_fits_the_scene_area_beside_the_panel() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-aspect");
+    for (w, h) in [(1024u32, 768u32), (800, 800)] {
+        let shot = dir.join(format!("view-{w}x{h}.png"));
+        let (ws, hs) = (w.to_string(), h.to_string());
+        let args = [
+            "--frames",
+            "2",
+            "--backend",
+            "vulkan",
+            "--width",
+            &ws,
+            "--height",
+            &hs,
+            "--screenshot",
+        ];
+        let out = viewer(&x, &args).arg(&shot).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "viewer at {w}x{h} failed: {stderr}");
+        let (aw, ah) = scene_area(&stderr);
+        let scene = Scene::showcase();
+        for r in labels::ball_rects(&scene, aw, ah) {
+            let r = r.unwrap_or_else(|| panic!("{aw}x{ah}: a ball out of frame"));
+            assert!(
+                r.x0 > 0.0 && r.y0 > 0.0 && r.x1 < aw as f32 && r.y1 < ah as f32,
+                "{aw}x{ah}: ball {r:?} cut by the frame"
+            );
+        }
+        assert_eq!(labels::layout(&scene, aw, ah).rows.len(), 2);
+        let what = format!("window {w}x{h} (scene area {aw}x{ah})");
+        assert_scene_matches(&shot, &stderr, &scene, &what);
     }
 }
 
@@ -952,9 +997,26 @@ fn difference_view_is_the_scaled_difference_with_a_colour_bar() {
         scene_pixels(&shot, &stderr)
     };
     let (same, (w, h)) = run("scene,scene", "16", "same.png");
-    let (x0, y0, x1, y1) = colour_bar_rect(w, h);
+    // The bar goes where it and its legend meet no ball (the scene's labels are off).
+    let mut homework = Scene::reference();
+    homework.labels = false;
+    let balls: Vec<labels::Rect> = labels::ball_rects(&homework, w, h)
+        .into_iter()
+        .flatten()
+        .collect();
+    let (x0, y0, x1, y1) = colour_bar_rect(w, h, &balls);
     // The legend: the bar, its title above it and its numbers left of it (13 px text).
-    let legend = |xx: u32, yy: u32| xx + 80 >= x0 && xx < x1 + 8 && yy < y1 + 8;
+    let legend = |xx: u32, yy: u32| xx + 80 >= x0 && xx < x1 + 8 && yy + 40 >= y0 && yy < y1 + 8;
+    let zone = labels::Rect {
+        x0: x0.saturating_sub(80) as f32,
+        y0: y0.saturating_sub(40) as f32,
+        x1: (x1 + 8) as f32,
+        y1: (y1 + 8) as f32,
+    };
+    assert!(
+        !balls.iter().any(|b| b.overlaps(&zone)),
+        "the colour bar's legend {zone:?} over a ball"
+    );
     let mut not_zero = 0;
     for yy in 0..h {
         for xx in 0..w {
