@@ -157,8 +157,8 @@ pub struct BakeArgs {
 /// The scene to draw, and the command line's overrides of it (`render` and `view`).
 #[derive(clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); default: render's and view's showcase (assets/scenes/default.toml),
-    /// compare's homework scene (assets/scenes/homework.toml).
+    /// Scene file (TOML); default: the showcase (assets/scenes/default.toml; the homework's
+    /// scene is assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else

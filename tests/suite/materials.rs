@@ -262,16 +262,16 @@ fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
 }
 
 /// `plastic.toml` (antialiasing off: the truth traces pixel centres, like with like) under
-/// its own light or the studio map.
+/// its own studio map or the reference scene's light from the camera (no map).
 fn plastic_scene(studio: bool) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/plastic.toml");
     let mut scene = shadeballs::scene::load(&path).unwrap();
     scene.antialias = false;
-    if studio {
-        scene.lights.clear();
-        scene.environment_map = Some(shadeballs::environment::Environment::builtin(
-            shadeballs::environment::Builtin::Studio,
-        ));
+    assert!(scene.environment_map.is_some() && scene.lights.is_empty());
+    if !studio {
+        scene.environment_map = None;
+        scene.background = Scene::reference().background;
+        scene.lights = Scene::reference().lights;
     }
     scene
 }
