@@ -974,6 +974,84 @@ fn wipe_shows_each_side_at_its_own_pixels() {
     assert_eq!(pixel(&window, w, (split, 0)), [230, 230, 230, 255]);
 }
 
+/// Side by side (issue 39): A whole in the left half of the scene area and B in the right,
+/// each equal to the headless render of its side at its half's size outside its labels'
+/// rooms and tags; the screenshot's .csv holds every ball's mean on both sides, the term's
+/// side brighter on the roughest balls.
+#[test]
+fn side_by_side_shows_both_charts_whole_with_numbers_a_ball() {
+    use shadeballs::viewer::compare::{Compare, Side, View};
+    let x = Xvfb::start();
+    let dir = temp_dir("view-side-by-side");
+    let shot = dir.join("sides.png");
+    let args = [
+        "--compare",
+        "on,off",
+        "--side-by-side",
+        "--no-labels",
+        "--frames",
+        "3",
+        "--backend",
+        "vulkan",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (window, (w, h)) = scene_pixels(&shot, &stderr);
+    let mut scene = Scene::showcase();
+    scene.labels = false;
+    let c = Compare {
+        view: View::SideBySide,
+        ..Compare::new(Side::On, Side::Off)
+    };
+    let halves = c.halves(w);
+    for ((x0, hw), side) in halves.into_iter().zip([Side::On, Side::Off]) {
+        let s = side.apply(&scene);
+        // Every ball whole in its half.
+        for r in labels::ball_rects(&s, hw, h) {
+            let r = r.expect("a ball out of its half");
+            assert!(r.x0 > 0.0 && r.x1 < hw as f32, "{side:?}: {r:?} cut");
+        }
+        let want = vulkan().render_ldr(&s, hw, h).unwrap().rgba;
+        let mut differ = 0;
+        for yy in 0..h {
+            for xx in 0..hw {
+                // The divider (2 px) around the right half's first column.
+                if (x0 + xx).abs_diff(halves[1].0) <= 1 {
+                    continue;
+                }
+                differ += (pixel(&window, w, (x0 + xx, yy)) != pixel(&want, hw, (xx, yy))) as usize;
+            }
+        }
+        assert_eq!(
+            differ, 0,
+            "{side:?}'s half ({x0}, {hw} wide): {differ} pixels differ from its headless render"
+        );
+    }
+    let csv = std::fs::read_to_string(shot.with_extension("csv")).expect("the numbers' .csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "ball,x,y,roughness,a,b,mean_a,mean_b,ratio_a_over_b"
+    );
+    assert_eq!(lines.len(), 11, "{csv}");
+    for line in &lines[1..] {
+        let cells: Vec<&str> = line.split(',').collect();
+        let (a, b, ratio): (f64, f64, f64) = (
+            cells[6].parse().unwrap(),
+            cells[7].parse().unwrap(),
+            cells[8].parse().unwrap(),
+        );
+        assert!(a > 0.0 && b > 0.0 && (ratio - a / b).abs() < 1e-5, "{line}");
+        // The term adds energy: on the roughest balls A (on) is brighter than B (off).
+        if cells[3] == "0.95" {
+            assert!(ratio > 1.02, "{line}");
+        }
+    }
+    println!("{csv}");
+}
+
 /// The difference view: of two identical sides, the ramp's zero colour (black) wherever
 /// the colour bar's legend is not, the bar itself the ramp from 1 (top) to 0 (bottom); of
 /// the term on against off, the CPU mirror of the shader's pixel applied to the two
