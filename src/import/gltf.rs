@@ -1058,6 +1058,7 @@ fn file_camera(
         position,
         target: position + forward * depth,
         vfov_deg: yfov.to_degrees(),
+        min_aspect: None,
     };
     if let Some(problem) = camera.problem() {
         notices.push(format!(
@@ -1122,6 +1123,8 @@ pub(crate) fn frame(balls: &[Ball]) -> Camera {
             position: centroid + back * distance.max(extent * 1.01),
             target: centroid,
             vfov_deg: FRAMING_VFOV_DEG,
+            // Narrower images widen the field of view so the balls stay framed.
+            min_aspect: Some(FRAMING_ASPECT),
         };
         let hidden = hidden_centres(balls, camera.position);
         if best.as_ref().is_none_or(|(h, _)| hidden < *h) {
