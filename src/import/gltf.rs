@@ -202,6 +202,43 @@ pub fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Importe
     })
 }
 
+/// The files beside the glTF file at `path` that it names by a relative `uri`: its
+/// buffers (which [`load`] reads) and its images (which it does not draw, but which are
+/// part of the asset), each with what it is: the inputs an output must not replace
+/// (issue 38, finding 2). Empty where the file cannot be read or is not glTF ([`load`]
+/// says why then); `data:` URIs name no file.
+pub fn external_files(path: &Path) -> Vec<(&'static str, PathBuf)> {
+    let too_big = std::fs::metadata(path).map_or(true, |m| m.len() > MAX_GLTF_BYTES);
+    let Some(bytes) = (!too_big).then(|| std::fs::read(path).ok()).flatten() else {
+        return Vec::new();
+    };
+    let json = if super::glb::is_glb(&bytes) {
+        match super::glb::split(&bytes) {
+            Ok(glb) => glb.json,
+            Err(_) => return Vec::new(),
+        }
+    } else {
+        &bytes[..]
+    };
+    let Ok(Value::Object(root)) = serde_json::from_slice::<Value>(json) else {
+        return Vec::new();
+    };
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let mut files = Vec::new();
+    for (key, what) in [("buffers", "buffer"), ("images", "image")] {
+        let Some(Value::Array(items)) = root.get(key) else {
+            continue;
+        };
+        for item in items {
+            let uri = item.get("uri").and_then(Value::as_str);
+            if let Some(uri) = uri.filter(|u| !u.starts_with("data:")) {
+                files.push((what, folder.join(percent_decode(uri))));
+            }
+        }
+    }
+    files
+}
+
 /// Where a buffer's bytes are.
 enum BufferData {
     /// In memory (a `.glb`'s BIN chunk or a `data:` URI).
