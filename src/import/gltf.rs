@@ -208,8 +208,10 @@ pub fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Importe
 /// (issue 38, finding 2). Empty where the file cannot be read or is not glTF ([`load`]
 /// says why then); `data:` URIs name no file.
 pub fn external_files(path: &Path) -> Vec<(&'static str, PathBuf)> {
-    let too_big = std::fs::metadata(path).map_or(true, |m| m.len() > MAX_GLTF_BYTES);
-    let Some(bytes) = (!too_big).then(|| std::fs::read(path).ok()).flatten() else {
+    if !std::fs::metadata(path).is_ok_and(|m| m.len() <= MAX_GLTF_BYTES) {
+        return Vec::new();
+    }
+    let Ok(bytes) = std::fs::read(path) else {
         return Vec::new();
     };
     let json = if super::glb::is_glb(&bytes) {

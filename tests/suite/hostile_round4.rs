@@ -927,8 +927,14 @@ fn gltf_outputs_over_their_inputs_are_refused() {
     let before = snapshot(&files);
     let names = names_in(&dir);
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (vec!["import", "x.gltf", "--out", "gltf.toml"], "the glTF file"),
-        (vec!["import", "x.gltf", "--out", "hard.toml"], "the glTF file"),
+        (
+            vec!["import", "x.gltf", "--out", "gltf.toml"],
+            "the glTF file",
+        ),
+        (
+            vec!["import", "x.gltf", "--out", "hard.toml"],
+            "the glTF file",
+        ),
         (
             vec!["import", "x.gltf", "--out", "bin.toml"],
             "the glTF file's buffer",
@@ -947,7 +953,14 @@ fn gltf_outputs_over_their_inputs_are_refused() {
         ),
         (
             vec![
-                "render", "--scene", "x.gltf", "--backend", "truth", "--spp", "2", "--out",
+                "render",
+                "--scene",
+                "x.gltf",
+                "--backend",
+                "truth",
+                "--spp",
+                "2",
+                "--out",
                 "bin.exr",
             ],
             "the glTF file's buffer",
