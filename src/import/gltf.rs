@@ -1209,6 +1209,31 @@ mod tests {
     }
 
     #[test]
+    fn external_files_are_the_buffers_and_images_named_beside_the_file() {
+        let dir = std::env::temp_dir().join(format!("sb-external-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let json = br#"{"asset": {"version": "2.0"},
+            "buffers": [{"byteLength": 4, "uri": "a%20b.bin"},
+                        {"byteLength": 4, "uri": "data:application/octet-stream;base64,AAAAAA=="}],
+            "images": [{"uri": "t/c.png"}, {"bufferView": 0}]}"#;
+        let expected = vec![
+            ("buffer", dir.join("a b.bin")),
+            ("image", dir.join("t/c.png")),
+        ];
+        let gltf = dir.join("x.gltf");
+        std::fs::write(&gltf, json).unwrap();
+        assert_eq!(external_files(&gltf), expected);
+        let glb = dir.join("x.glb");
+        std::fs::write(&glb, super::super::glb::assemble(json, Some(&[0; 4]))).unwrap();
+        assert_eq!(external_files(&glb), expected);
+        // Not glTF, or absent: none (the load says why).
+        std::fs::write(&gltf, b"{ not json").unwrap();
+        assert!(external_files(&gltf).is_empty());
+        assert!(external_files(&dir.join("absent.gltf")).is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn percent_decoding_of_uris() {
         assert_eq!(percent_decode("My%20Model.bin"), "My Model.bin");
         assert_eq!(percent_decode("plain.bin"), "plain.bin");
