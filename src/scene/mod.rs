@@ -21,8 +21,7 @@ use glam::DVec3;
 
 pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
-    MIN_GPU_PIXEL_ANGLE,
-    MIN_ASPECT_RANGE,
+    MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
