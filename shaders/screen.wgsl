@@ -37,6 +37,18 @@ fn vs_main(@builtin(vertex_index) index: u32) -> VsOut {
     return out;
 }
 
+// The same triangle at the far plane (depth 1): the background, drawn after the balls with
+// a depth test, shades only the pixels no ball wrote (src/gpu/pipelines.rs).
+@vertex
+fn vs_far(@builtin(vertex_index) index: u32) -> VsOut {
+    let x = f32((index << 1u) & 2u) * 2.0 - 1.0;
+    let y = f32(index & 2u) * 2.0 - 1.0;
+    var out: VsOut;
+    out.position = vec4<f32>(x, y, 1.0, 1.0);
+    out.counts = loop_counts();
+    return out;
+}
+
 // Nearest positive distance along unit direction d from o to sphere (c, r), or -1.
 // The discriminant is r^2 - |oc - (oc.d) d|^2 (no cancellation of two large squares), and
 // the near root is c / q with q = -b + sqrt(disc) (Press et al., Numerical Recipes 5.6;

@@ -54,6 +54,13 @@ pub mod cli;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 
+/// The glam a [`Scene`]'s vectors are (`glam::DVec3`): a host builds scenes with it, no
+/// version of its own to match.
+pub use glam;
+/// The wgpu the renderer draws with: a host's device, textures and views are of this
+/// version.
+pub use wgpu;
+
 pub use brdf::Geometry;
 pub use error::{Error, Result};
 pub use gpu::{Gpu, GpuTables, Renderer, Target};

@@ -159,8 +159,8 @@ pub struct BakeArgs {
 #[derive(clap::Args)]
 pub struct SceneArgs {
     /// Scene file (TOML), or a glTF file (.gltf, .glb: its materials, as `shadeballs
-    /// import` reads them); default: render's and view's showcase
-    /// (assets/scenes/default.toml), compare's homework scene (assets/scenes/homework.toml).
+    /// import` reads them); default: the showcase (assets/scenes/default.toml; the
+    /// homework's scene is assets/scenes/homework.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Model preset: which Fresnel average and f_add form (default: the scene's, else
@@ -453,6 +453,10 @@ pub struct ViewArgs {
     #[arg(long, requires = "compare", value_parser = parse_difference_scale,
           allow_negative_numbers = true)]
     pub difference: Option<u32>,
+    /// With --compare: A and B whole, each in its own half of the scene area, instead of
+    /// the wipe (a screenshot's .csv beside it holds each ball's mean on both sides).
+    #[arg(long, requires = "compare", conflicts_with_all = ["difference", "split"])]
+    pub side_by_side: bool,
     /// GPU backend (the viewer needs a GPU).
     #[arg(long, default_value_t = Backend::Auto, value_parser = view_backend_parser())]
     pub backend: Backend,

@@ -34,6 +34,8 @@ pub const ENTRY_POINT: &str = "fs_ball";
 
 pub fn run(args: ExportShaderArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
+    // Issue 38: the file's folder takes a new file before the program is translated.
+    super::guard::check_out(&args.out, &[])?;
     let text = translate(args.lang).map_err(|message| crate::Error::Invalid {
         what: "exported shader",
         message,

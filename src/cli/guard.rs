@@ -1,6 +1,7 @@
-//! Checks of a command's outputs before any work, shared by `render` and `view` (issue 38,
-//! findings 2, 5 and 6): no output is, or links to, one of the command's inputs (the scene
-//! file, the environment map) or another of its outputs (the truth's sidecar and its
+//! Checks of a command's outputs before any work, shared by every command that writes a
+//! file (issue 38, findings 2, 5 and 6): no output is, or links to, one of the command's
+//! inputs (the scene file, a glTF file and the buffers and images it names, the environment
+//! map) or another of its outputs (the truth's sidecar and its
 //! image), and every output's folder takes a new file (the write is a temporary file
 //! there, renamed over the output: `crate::output`).
 
@@ -21,6 +22,9 @@ pub fn scene_inputs(args: &SceneArgs, scene: Option<&Scene>) -> Vec<Named> {
     let mut inputs = Vec::new();
     if let Some(path) = &args.scene {
         inputs.push(("the scene file --scene".to_string(), path.clone()));
+        if crate::import::is_gltf(path) {
+            inputs.extend(gltf_files(path));
+        }
     }
     if let Some(name) = &args.environment {
         let path = Path::new(name);
@@ -35,6 +39,15 @@ pub fn scene_inputs(args: &SceneArgs, scene: Option<&Scene>) -> Vec<Named> {
         inputs.push(("the scene's environment map".to_string(), path.clone()));
     }
     inputs
+}
+
+/// The files beside the glTF file `path` that it names (its buffers, which a read opens,
+/// and its images): inputs too ([`crate::import::external_files`]).
+pub fn gltf_files(path: &Path) -> Vec<Named> {
+    crate::import::external_files(path)
+        .into_iter()
+        .map(|(what, file)| (format!("the glTF file's {what}"), file))
+        .collect()
 }
 
 /// The outputs among `named` that are given.
@@ -68,7 +81,7 @@ pub fn refuse_overlaps(outputs: &[Named], inputs: &[Named]) -> Result<()> {
 }
 
 /// [`refuse_overlaps`] and [`probe_folders`] for a command of one output, `--out`, and
-/// `inputs` (`bake`, `environment`, `probe`).
+/// `inputs` (`bake`, `environment`, `probe`, `import`, `export-shader`).
 pub fn check_out(out: &Path, inputs: &[Named]) -> Result<()> {
     let outputs = outputs(&[("--out", Some(out))]);
     refuse_overlaps(&outputs, inputs)?;

@@ -29,6 +29,11 @@ pub fn run(args: ImportArgs) -> anyhow::Result<()> {
         .into());
     }
     crate::output::check_output_path(&args.out)?;
+    // Issue 38: the scene file replaces neither the glTF file nor a file it names, and its
+    // folder takes a new file, before the glTF is read.
+    let mut inputs = vec![("the glTF file".to_string(), args.file.clone())];
+    inputs.extend(super::guard::gltf_files(&args.file));
+    super::guard::check_out(&args.out, &inputs)?;
     let imported = import::load(&args.file)?;
     print_notices(&imported);
     let text = scene_text(&imported, &args.file).map_err(|message| crate::Error::Scene {

@@ -22,6 +22,9 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         if let Some(scale) = args.difference {
             c.view = View::Difference { scale };
         }
+        if args.side_by_side {
+            c.view = View::SideBySide;
+        }
         c
     });
     super::check_wgpu_backend_env(args.backend)?;

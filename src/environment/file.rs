@@ -147,13 +147,23 @@ pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
         )
     })?;
     let file = open_regular(path)?;
-    let mut reader = image::ImageReader::with_format(BufReader::new(file), format);
-    // The size is bounded above: the decoder's own allocation limit (512 MiB) would refuse
-    // an RGBA f32 EXR of the largest size.
-    reader.no_limits();
-    let decoder = reader
-        .into_decoder()
-        .map_err(|e| error(path, decode_error(e)))?;
+    let decoder: Box<dyn image::ImageDecoder> = if format == image::ImageFormat::Hdr {
+        let io = |e: std::io::Error| error(path, crate::error::one_line(&e.to_string()));
+        let reader = radiance_magic(BufReader::new(file)).map_err(io)?;
+        let decoder = image::codecs::hdr::HdrDecoder::new(reader)
+            .map_err(|e| error(path, decode_error(e)))?;
+        Box::new(decoder)
+    } else {
+        let mut reader = image::ImageReader::with_format(BufReader::new(file), format);
+        // The size is bounded above: the decoder's own allocation limit (512 MiB) would
+        // refuse an RGBA f32 EXR of the largest size.
+        reader.no_limits();
+        Box::new(
+            reader
+                .into_decoder()
+                .map_err(|e| error(path, decode_error(e)))?,
+        )
+    };
     let (width, height) = image::ImageDecoder::dimensions(&decoder);
     if let Some(problem) = size_problem(width, height) {
         return Err(error(path, problem));
@@ -191,6 +201,32 @@ pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     }
     let map = EnvMap::new(width, height, texels).map_err(|e| error(path, e.to_string()))?;
     Ok((map, stats))
+}
+
+#[cfg(feature = "image-files")]
+/// The longest first line of a Radiance file looked at: its magic, `#?` and a program name.
+const MAGIC_LINE_BYTES: u64 = 64;
+
+#[cfg(feature = "image-files")]
+/// A Radiance file's bytes with its magic line made `#?RADIANCE`, the only one the decoder
+/// takes: the format's magic is `#?` followed by the writing program's name, and other
+/// writers put theirs (Mitsuba and others write `#?RGBE`). Any other first line is left as
+/// it is, for the decoder to refuse.
+fn radiance_magic<R: std::io::BufRead>(mut file: R) -> std::io::Result<impl std::io::BufRead> {
+    use std::io::{BufRead as _, Read as _};
+    let mut first = Vec::new();
+    (&mut file)
+        .take(MAGIC_LINE_BYTES)
+        .read_until(b'\n', &mut first)?;
+    let named = first.starts_with(b"#?")
+        && first.ends_with(b"\n")
+        && first[2..first.len() - 1]
+            .iter()
+            .all(|c| c.is_ascii_alphanumeric() || b"_-. ".contains(c));
+    if named {
+        first = b"#?RADIANCE\n".to_vec();
+    }
+    Ok(std::io::Cursor::new(first).chain(file))
 }
 
 #[cfg(feature = "image-files")]

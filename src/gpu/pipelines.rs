@@ -111,11 +111,13 @@ impl Pipelines {
         self.backgrounds.entry(key).or_insert_with(|| {
             let shape = Shape {
                 label: "background",
-                vs: shaders::VS_MAIN,
+                // At the far plane, after the balls: only where no ball wrote its depth
+                // (a ball's antialiased edge mixes in the background itself).
+                vs: shaders::VS_FAR,
                 fs: shaders::FS_BACKGROUND,
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleList,
-                depth: Some((false, wgpu::CompareFunction::Always)),
+                depth: Some((false, wgpu::CompareFunction::LessEqual)),
             };
             create(device, layout, module, key, shape)
         })

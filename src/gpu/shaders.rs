@@ -13,6 +13,8 @@ use crate::wgsl::Program;
 /// Vertex entry point of the full-screen draws (one triangle over the viewport: the
 /// background, the truth's resolve).
 pub(crate) const VS_MAIN: &str = "vs_main";
+/// Entry point of the full-screen triangle at the far plane (the background).
+pub(crate) const VS_FAR: &str = "vs_far";
 /// Vertex entry point of the per-ball draw (one quad per ball over its screen-space
 /// bounds).
 pub(crate) const VS_BALL: &str = "vs_ball";
@@ -47,7 +49,7 @@ pub(crate) const CONVOLVED_MAIN: &str = "convolved_main";
 /// program imports serves one of them).
 pub fn entry_points(program: &Program) -> &'static [&'static str] {
     match program.root {
-        "shadeballs::balls" => &[VS_MAIN, VS_BALL, FS_BALL, FS_BACKGROUND],
+        "shadeballs::balls" => &[VS_MAIN, VS_FAR, VS_BALL, FS_BALL, FS_BACKGROUND],
         "shadeballs::walk" => &[
             VS_BALL,
             VS_MAIN,

@@ -202,6 +202,45 @@ pub fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Importe
     })
 }
 
+/// The files beside the glTF file at `path` that it names by a relative `uri`: its
+/// buffers (which [`load`] reads) and its images (which it does not draw, but which are
+/// part of the asset), each with what it is: the inputs an output must not replace
+/// (issue 38, finding 2). Empty where the file cannot be read or is not glTF ([`load`]
+/// says why then); `data:` URIs name no file.
+pub fn external_files(path: &Path) -> Vec<(&'static str, PathBuf)> {
+    if !std::fs::metadata(path).is_ok_and(|m| m.len() <= MAX_GLTF_BYTES) {
+        return Vec::new();
+    }
+    let Ok(bytes) = std::fs::read(path) else {
+        return Vec::new();
+    };
+    let json = if super::glb::is_glb(&bytes) {
+        match super::glb::split(&bytes) {
+            Ok(glb) => glb.json,
+            Err(_) => return Vec::new(),
+        }
+    } else {
+        &bytes[..]
+    };
+    let Ok(Value::Object(root)) = serde_json::from_slice::<Value>(json) else {
+        return Vec::new();
+    };
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let mut files = Vec::new();
+    for (key, what) in [("buffers", "buffer"), ("images", "image")] {
+        let Some(Value::Array(items)) = root.get(key) else {
+            continue;
+        };
+        for item in items {
+            let uri = item.get("uri").and_then(Value::as_str);
+            if let Some(uri) = uri.filter(|u| !u.starts_with("data:")) {
+                files.push((what, folder.join(percent_decode(uri))));
+            }
+        }
+    }
+    files
+}
+
 /// Where a buffer's bytes are.
 enum BufferData {
     /// In memory (a `.glb`'s BIN chunk or a `data:` URI).
@@ -1058,6 +1097,7 @@ fn file_camera(
         position,
         target: position + forward * depth,
         vfov_deg: yfov.to_degrees(),
+        min_aspect: None,
     };
     if let Some(problem) = camera.problem() {
         notices.push(format!(
@@ -1122,6 +1162,8 @@ pub(crate) fn frame(balls: &[Ball]) -> Camera {
             position: centroid + back * distance.max(extent * 1.01),
             target: centroid,
             vfov_deg: FRAMING_VFOV_DEG,
+            // Narrower images widen the field of view so the balls stay framed.
+            min_aspect: Some(FRAMING_ASPECT),
         };
         let hidden = hidden_centres(balls, camera.position);
         if best.as_ref().is_none_or(|(h, _)| hidden < *h) {
@@ -1167,6 +1209,31 @@ mod tests {
             let back = ior_from_f0(crate::brdf::f0_from_ior(ior));
             assert!((back - ior).abs() < 1e-12 * ior, "{ior} -> {back}");
         }
+    }
+
+    #[test]
+    fn external_files_are_the_buffers_and_images_named_beside_the_file() {
+        let dir = std::env::temp_dir().join(format!("sb-external-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let json = br#"{"asset": {"version": "2.0"},
+            "buffers": [{"byteLength": 4, "uri": "a%20b.bin"},
+                        {"byteLength": 4, "uri": "data:application/octet-stream;base64,AAAAAA=="}],
+            "images": [{"uri": "t/c.png"}, {"bufferView": 0}]}"#;
+        let expected = vec![
+            ("buffer", dir.join("a b.bin")),
+            ("image", dir.join("t/c.png")),
+        ];
+        let gltf = dir.join("x.gltf");
+        std::fs::write(&gltf, json).unwrap();
+        assert_eq!(external_files(&gltf), expected);
+        let glb = dir.join("x.glb");
+        std::fs::write(&glb, super::super::glb::assemble(json, Some(&[0; 4]))).unwrap();
+        assert_eq!(external_files(&glb), expected);
+        // Not glTF, or absent: none (the load says why).
+        std::fs::write(&gltf, b"{ not json").unwrap();
+        assert!(external_files(&gltf).is_empty());
+        assert!(external_files(&dir.join("absent.gltf")).is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -9,8 +9,8 @@ mod gltf;
 mod json;
 
 pub use gltf::{
-    ior_from_f0, load, parse, GltfMaterial, Imported, CUBE_TOLERANCE, MAX_GLTF_BYTES,
-    SUPPORTED_EXTENSIONS,
+    external_files, ior_from_f0, load, parse, GltfMaterial, Imported, CUBE_TOLERANCE,
+    MAX_GLTF_BYTES, SUPPORTED_EXTENSIONS,
 };
 
 use std::path::Path;

@@ -4,7 +4,7 @@
 
 use super::{
     caption, column_label, row_label, Align, Label, Labels, Rect, EDGE_PX, FONT_PX_PER_HEIGHT,
-    GAP_PER_FONT_PX, OUTLINE_PER_FONT_PX,
+    GAP_PER_FONT_PX, OUTLINE_PER_FONT_PX, ROW_LABEL_SEPARATOR,
 };
 use crate::scene::Scene;
 
@@ -13,6 +13,10 @@ use crate::scene::Scene;
 /// centre, which decides whether a ball covers it, and its edge. Every pixel a ball covers
 /// lies inside its padded bounds.
 const BALL_PAD_PX: f64 = 2.0 * crate::scene::BOUNDS_PAD_PX;
+
+/// The smallest preferred font size of a frame whose field of view is widened
+/// (`Camera::min_aspect`): the labels shrink with the chart down to this size.
+const ZOOMED_FONT_PX: f32 = 10.0;
 
 /// Each ball's screen bounds in pixels of a `width x height` image, padded so that every
 /// pixel the ball covers lies inside; `None` for a ball off screen; the whole image for a
@@ -82,11 +86,26 @@ fn groups(seen: &[Seen], centre: fn(&Seen) -> f32, half: fn(&Seen) -> f32) -> Ve
     out
 }
 
+/// Which side of the chart the row labels go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowSide {
+    /// At the left of each row's leftmost ball, right-aligned (every picture's).
+    Left,
+    /// At the right of its rightmost ball, left-aligned (a comparison's right side, whose
+    /// left part is the other side's).
+    Right,
+}
+
 /// The labels of `scene` in a `width x height` image (whether or not the scene asks for
 /// them: `scene.labels` is the caller's to check). Every room lies inside the image and
 /// overlaps no ball's padded bounds ([`ball_rects`]) and no other label's room; a label
-/// with no room is left out, so a tiny image has none.
+/// with no room is left out, so a tiny image has none. Row labels at the left.
 pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
+    layout_rows_at(scene, width, height, RowSide::Left)
+}
+
+/// As [`layout`], the row labels on the side `rows`.
+pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> Labels {
     let rects = ball_rects(scene, width, height);
     let seen: Vec<Seen> = rects
         .iter()
@@ -101,7 +120,13 @@ pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
         x1: w,
         y1: h,
     };
-    let size = h * FONT_PX_PER_HEIGHT;
+    // The font follows the chart: smaller where the camera widens its field of view for a
+    // narrow image (`Camera::min_aspect`), as the balls are.
+    // It keeps a readable size, though (the layout's own where that is smaller: a tiny
+    // image has no labels).
+    let zoom = scene.camera.zoom_out(width, height) as f32;
+    let zoom = if zoom.is_finite() { zoom.max(1.0) } else { 1.0 };
+    let size = (h * FONT_PX_PER_HEIGHT / zoom).max((h * FONT_PX_PER_HEIGHT).min(ZOOMED_FONT_PX));
     // One line of text with its outline and edge, and the gap to a ball.
     let line = size * (1.0 + 2.0 * OUTLINE_PER_FONT_PX) + 2.0 * EDGE_PX;
     let gap = size * GAP_PER_FONT_PX;
@@ -110,6 +135,7 @@ pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
         room,
         align,
         size_px: size,
+        wrapped: Vec::new(),
     };
     let mut labels = Labels::default();
 
@@ -172,31 +198,68 @@ pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
         }
         let cy = row.iter().map(Seen::cy).sum::<f32>() / row.len() as f32;
         let leftmost = row.iter().map(|s| s.rect.x0).fold(f32::MAX, f32::min);
-        let mut room = clip(
-            Rect {
-                x0: 0.0,
-                y0: cy - 0.5 * line,
-                x1: leftmost - gap,
-                y1: cy + 0.5 * line,
-            },
-            &image,
-        );
-        let others = labels.columns.iter().chain(&labels.rows).map(|l| &l.room);
-        for o in obstacles.iter().chain(others) {
-            if room.overlaps(o) {
-                room.x0 = room.x0.max(o.x1);
+        let rightmost = row.iter().map(|s| s.rect.x1).fold(f32::MIN, f32::max);
+        let (x0, x1) = match rows {
+            RowSide::Left => (0.0, leftmost - gap),
+            RowSide::Right => (rightmost + gap, w),
+        };
+        let align = match rows {
+            RowSide::Left => [Align::End, Align::Centre],
+            RowSide::Right => [Align::Start, Align::Centre],
+        };
+        // The room between the image's edge (or whatever is in the way) and the row, from
+        // y0 to y1.
+        let room = |labels: &Labels, y0: f32, y1: f32| {
+            let mut room = clip(Rect { x0, y0, x1, y1 }, &image);
+            let others = labels
+                .columns
+                .iter()
+                .chain(&labels.rows)
+                .flat_map(|l| std::iter::once(l).chain(&l.wrapped))
+                .map(|l| &l.room);
+            for o in obstacles.iter().chain(others) {
+                if room.overlaps(o) {
+                    match rows {
+                        RowSide::Left => room.x0 = room.x0.max(o.x1),
+                        RowSide::Right => room.x1 = room.x1.min(o.x0),
+                    }
+                }
+            }
+            room
+        };
+        let one = room(&labels, cy - 0.5 * line, cy + 0.5 * line);
+        let mut row_label = label(texts[0].clone(), one, align);
+        // Wrapped: the model under the material, the lines stacked on the row's centre.
+        let parts: Vec<&str> = texts[0].split(ROW_LABEL_SEPARATOR).collect();
+        if parts.len() > 1 {
+            let top = cy - 0.5 * line * parts.len() as f32;
+            row_label.wrapped = parts
+                .iter()
+                .enumerate()
+                .map(|(i, part)| {
+                    let y0 = top + line * i as f32;
+                    let r = room(&labels, y0, y0 + line);
+                    label(part.to_string(), r, align)
+                })
+                .collect();
+            let usable = |l: &Label| l.room.width() > 0.0 && l.room.height() > 0.0;
+            if !row_label.wrapped.iter().all(usable) {
+                row_label.wrapped.clear();
             }
         }
-        labels
-            .rows
-            .push(label(texts[0].clone(), room, [Align::End, Align::Centre]));
+        labels.rows.push(row_label);
     }
 
     // The caption: a line at the bottom, else at the top, wherever nothing else is.
     let margin = 0.5 * size;
     let taken: Vec<Rect> = obstacles
         .iter()
-        .chain(labels.iter().map(|l| &l.room))
+        .chain(
+            labels
+                .iter()
+                .flat_map(|l| std::iter::once(l).chain(&l.wrapped))
+                .map(|l| &l.room),
+        )
         .copied()
         .collect();
     for y0 in [h - margin - line, margin] {
@@ -217,7 +280,8 @@ pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
         }
     }
     // Rooms that lost their area to a ball or the image's edge hold no text.
-    let usable = |l: &Label| l.room.width() > 0.0 && l.room.height() > 0.0;
+    let usable =
+        |l: &Label| (l.room.width() > 0.0 && l.room.height() > 0.0) || !l.wrapped.is_empty();
     labels.columns.retain(usable);
     labels.rows.retain(usable);
     labels.caption.retain(usable);

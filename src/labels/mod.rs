@@ -18,7 +18,7 @@ mod layout;
 #[cfg(feature = "labels")]
 mod raster;
 
-pub use layout::{ball_rects, layout};
+pub use layout::{ball_rects, layout, layout_rows_at, RowSide};
 #[cfg(feature = "labels")]
 pub use raster::{draw_labels, text_width};
 
@@ -29,6 +29,10 @@ use crate::scene::{Ball, Model, Scene};
 pub(crate) const FONT_PX_PER_HEIGHT: f32 = 1.0 / 45.0;
 /// The smallest font drawn: a label that fits its room only smaller is left out.
 pub const MIN_FONT_PX: f32 = 8.0;
+/// The fraction of a label's preferred size below which its text is wrapped onto lines
+/// of their own where they fit larger ([`Label::fit`]); the viewer draws no label smaller
+/// than this fraction at all.
+pub const READABLE_FRACTION: f32 = 0.75;
 /// The dark outline's width around the glyphs, per pixel of font size.
 pub(crate) const OUTLINE_PER_FONT_PX: f32 = 0.07;
 /// Free pixels kept around a label's outline (for the glyphs' anti-aliased edges).
@@ -95,6 +99,11 @@ pub struct Label {
     /// The preferred font size in pixels (the height of a line); smaller if the text does
     /// not fit its room ([`Label::place`]).
     pub size_px: f32,
+    /// The same text wrapped, one label a line with its own room (a row's model under its
+    /// material): drawn instead of this label where the one line would shrink below
+    /// [`READABLE_FRACTION`] of its size and the lines fit larger ([`Label::fit`]). Empty
+    /// for a text that does not wrap.
+    pub wrapped: Vec<Label>,
 }
 
 /// Where a label's text goes once fitted to its room.
@@ -160,6 +169,38 @@ impl Label {
     }
 }
 
+impl Label {
+    /// What to draw of this label: its one line, or its [`Label::wrapped`] lines, each
+    /// with its placement; `width_at` gives a text's width in pixels at a font size. The
+    /// one line wins when it keeps [`READABLE_FRACTION`] of its size, or when the wrapped
+    /// lines do not all fit larger; nothing when neither fits.
+    pub fn fit(&self, width_at: impl Fn(&str, f32) -> f32) -> Vec<(&Label, Placement)> {
+        let one = self.place(width_at(&self.text, self.size_px));
+        if let Some(p) = one {
+            if p.size_px >= READABLE_FRACTION * self.size_px * (1.0 - 1e-4) {
+                return vec![(self, p)];
+            }
+        }
+        let lines: Option<Vec<(&Label, Placement)>> = self
+            .wrapped
+            .iter()
+            .map(|l| l.place(width_at(&l.text, l.size_px)).map(|p| (l, p)))
+            .collect();
+        match (one, lines) {
+            (one, Some(lines))
+                if !lines.is_empty()
+                    && lines
+                        .iter()
+                        .all(|(_, p)| one.is_none_or(|o| p.size_px > o.size_px)) =>
+            {
+                lines
+            }
+            (Some(p), _) => vec![(self, p)],
+            _ => Vec::new(),
+        }
+    }
+}
+
 /// A chart's labels, in pixels of one image size.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Labels {
@@ -183,6 +224,9 @@ impl Labels {
     }
 }
 
+/// Between a row label's material and its model: where a row label wraps.
+pub(crate) const ROW_LABEL_SEPARATOR: &str = " \u{b7} ";
+
 /// The text at the left of the row a ball heads: what the ball's model is, after its
 /// material where it is not all metal (`IOR 1.5 · Kulla-Conty`, `metallic 0.5 ·
 /// Kulla-Conty`). The one place that names a row's model.
@@ -198,9 +242,12 @@ pub fn row_label(ball: &Ball) -> String {
     if !m.has_dielectric() {
         model.to_string()
     } else if m.has_metal() {
-        format!("metallic {} \u{b7} {model}", number(m.metallic))
+        format!(
+            "metallic {}{ROW_LABEL_SEPARATOR}{model}",
+            number(m.metallic)
+        )
     } else {
-        format!("IOR {} \u{b7} {model}", number(m.ior))
+        format!("IOR {}{ROW_LABEL_SEPARATOR}{model}", number(m.ior))
     }
 }
 
@@ -217,8 +264,8 @@ pub fn column_label(roughness: &[f64]) -> String {
     format!("r = {}", values.join(" / "))
 }
 
-/// The caption: `accurate preset · smith-correlated G · environment`, where the
-/// environment is `no environment`, `uniform environment 1` (or `uniform environment
+/// The caption: `accurate preset · smith-correlated G · environment · tone mapper ·
+/// exposure 1.5` (the tone mapper the scene's display uses), where the environment is `no environment`, `uniform environment 1` (or `uniform environment
 /// (r, g, b)`) or the map's name with the term formed under it (`studio map, kulla-conty
 /// term`).
 pub fn caption(scene: &Scene) -> String {
@@ -253,10 +300,13 @@ pub fn caption(scene: &Scene) -> String {
     } else {
         String::new()
     };
+    let display = scene.display();
     format!(
-        "{} preset \u{b7} {} G{layering} \u{b7} {environment}",
+        "{} preset \u{b7} {} G{layering} \u{b7} {environment} \u{b7} {} \u{b7} exposure {}",
         scene.preset,
-        scene.effective_geometry()
+        scene.effective_geometry(),
+        display.tone_map.name(),
+        number(scene.exposure)
     )
 }
 

@@ -70,18 +70,27 @@ pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) ->
         });
     }
     let font = font()?;
-    Ok(labels
-        .iter()
-        .filter(|label| draw(&font, rgba, width, height, label))
-        .count())
+    let width_at = |text: &str, size: f32| line(&font, text, size).1;
+    let mut drawn = 0;
+    for label in labels.iter() {
+        for (line, place) in label.fit(width_at) {
+            if draw(&font, rgba, width, height, line, place) {
+                drawn += 1;
+            }
+        }
+    }
+    Ok(drawn)
 }
 
-/// Draws `label`; false when it does not fit.
-fn draw(font: &FontRef<'_>, rgba: &mut [u8], width: u32, height: u32, label: &Label) -> bool {
-    let (_, width_at_size) = line(font, &label.text, label.size_px);
-    let Some(place) = label.place(width_at_size) else {
-        return false;
-    };
+/// Draws `label` at `place` (its [`Label::place`]); false when no pixel is inside.
+fn draw(
+    font: &FontRef<'_>,
+    rgba: &mut [u8],
+    width: u32,
+    height: u32,
+    label: &Label,
+    place: super::Placement,
+) -> bool {
     // The pixels wholly inside the outer box (and the image): the mask covers them.
     let x0 = place.outer.x0.ceil().max(0.0) as i64;
     let y0 = place.outer.y0.ceil().max(0.0) as i64;

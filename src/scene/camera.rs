@@ -12,6 +12,12 @@ pub struct Camera {
     pub target: DVec3,
     /// Vertical field of view in degrees, in `(0, 180)`.
     pub vfov_deg: f64,
+    /// The narrowest aspect (width / height) at which `vfov_deg` holds: a narrower image
+    /// keeps the horizontal field of view an image of this aspect has and widens the
+    /// vertical one, so that what fits across the frame at this aspect fits at any
+    /// ([`Camera::tan_half_vfov`]). `None`: `vfov_deg` holds at every aspect (a narrow
+    /// image crops the sides). A chart's scenes set it; the homework's keep `None`.
+    pub min_aspect: Option<f64>,
 }
 
 /// The camera's frame for an image of a given aspect: the ray through pixel centre
@@ -38,6 +44,7 @@ impl Camera {
             position: DVec3::new(0.0, 80.0, 300.0),
             target: DVec3::ZERO,
             vfov_deg: 75.0,
+            min_aspect: None,
         }
     }
 
@@ -53,6 +60,11 @@ impl Camera {
         }
         if !(self.vfov_deg > 0.0 && self.vfov_deg < 180.0) {
             return Some("vfov_deg must be in (0, 180)");
+        }
+        if let Some(a) = self.min_aspect {
+            if !(a.is_finite() && (MIN_ASPECT_RANGE.0..=MIN_ASPECT_RANGE.1).contains(&a)) {
+                return Some("min_aspect must be in [0.1, 10]");
+            }
         }
         None
     }
@@ -82,8 +94,8 @@ impl Camera {
         let forward = (self.target - self.position).normalize();
         let right = forward.cross(DVec3::Y).normalize();
         let up = right.cross(forward);
-        let tan_half = (self.vfov_deg.to_radians() * 0.5).tan();
         let aspect = width as f64 / height.max(1) as f64;
+        let tan_half = self.tan_half_vfov(aspect);
         CameraBasis {
             origin: self.position,
             forward,
@@ -98,6 +110,30 @@ impl Camera {
 /// within 1/16 of a pixel of the CPU's f64 ones ([`Camera::gpu_problem`]). At 720 rows that
 /// is a vfov of 0.08 degrees; at 16384, 1.8 degrees.
 pub const MIN_GPU_PIXEL_ANGLE: f64 = 16.0 * f32::EPSILON as f64;
+/// The range a camera's [`Camera::min_aspect`] may take (10:1 either way).
+pub const MIN_ASPECT_RANGE: (f64, f64) = (0.1, 10.0);
+
+impl Camera {
+    /// `tan(vfov / 2)` of an image of `aspect` (width / height): `vfov_deg`'s, or, for an
+    /// image narrower than [`Camera::min_aspect`], the larger one that keeps that aspect's
+    /// horizontal field of view (`tan(hfov / 2) = tan(vfov / 2) * min_aspect`).
+    pub fn tan_half_vfov(&self, aspect: f64) -> f64 {
+        let tan_half = (self.vfov_deg.to_radians() * 0.5).tan();
+        match self.min_aspect {
+            Some(min) if aspect > 0.0 && aspect < min => tan_half * min / aspect,
+            _ => tan_half,
+        }
+    }
+
+    /// How many times smaller than at `height` pixels the chart stands in a `width x
+    /// height` image: 1, or `min_aspect / aspect` where [`Camera::min_aspect`] widens the
+    /// field of view. The labels' font follows it ([`crate::labels::layout`]).
+    pub fn zoom_out(&self, width: u32, height: u32) -> f64 {
+        let aspect = width as f64 / height.max(1) as f64;
+        let plain = (self.vfov_deg.to_radians() * 0.5).tan();
+        self.tan_half_vfov(aspect) / plain
+    }
+}
 
 /// Pixels added around each ball's exact bounds by both renderers (the GPU's quads,
 /// the CPU's screen bins): the shader's f32 ray may hit a pixel whose centre the f64

@@ -42,7 +42,8 @@
 //! model = "kulla-conty"       # optional: none | kulla-conty | turquin | fdez-aguera | truth
 //!                              # (default: the scene's ibl_term, kulla-conty unless set);
 //! # multiple_scattering = true #   shorthand: true = that default, false = "none"
-//! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # or f0 = [...] (linear)
+//! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # pow 2.2 (the homework's);
+//!                              # or f0 = [...] (linear)
 //! # material = { base_color = [0.8, 0.3, 0.1], metallic = 0.5, ior = 1.5 }
 //! #   the engines' material: base_color sRGB (the sRGB curve; or base_color_linear,
 //! #   linear), metallic in [0, 1]
@@ -107,6 +108,7 @@ struct CameraFile {
     position: Finite3,
     target: Finite3,
     vfov_deg: Fov,
+    min_aspect: Option<Finite>,
 }
 
 #[derive(Deserialize)]
@@ -313,6 +315,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
                 position: c.position.0,
                 target: c.target.0,
                 vfov_deg: c.vfov_deg.0,
+                min_aspect: c.min_aspect.map(|a| a.0),
             };
             if let Some(problem) = camera.problem() {
                 return Err((span, problem.to_string()));
@@ -501,9 +504,12 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
         }
         (Some(KindFile::Metal), None) => match (m.albedo, m.f0, ior) {
             (_, _, Some(_)) => fail("a metal takes no `ior` (its F0 is `albedo` or `f0`)"),
-            (Some(a), None, None) => Ok(Material::metal_srgb(a.0.to_array())),
+            (Some(a), None, None) => Ok(Material::metal_gamma22(a.0.to_array())),
             (None, Some(f0), None) => Ok(Material::metal(f0.0)),
-            _ => fail("a metal needs exactly one of `albedo` (sRGB) or `f0` (linear)"),
+            _ => fail(
+                "a metal needs exactly one of `albedo` (the homework's gamma 2.2) or `f0` \
+                 (linear)",
+            ),
         },
         (Some(KindFile::Dielectric), None) => {
             let ior = match (m.f0, ior) {
@@ -519,7 +525,7 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
                      base, a clear coat over nothing)",
                 );
             };
-            let diffuse = super::srgb_to_linear(albedo.0.to_array());
+            let diffuse = super::gamma22_decode(albedo.0.to_array());
             Ok(Material::dielectric(diffuse, ior))
         }
     }

@@ -42,11 +42,17 @@ impl Material {
         }
     }
 
-    /// A metal whose `F0` is the sRGB colour `albedo` decoded with `pow 2.2`
-    /// (docs/design/reference-scene.md, "The balls, the light and the camera": the
-    /// homework's decoding).
+    /// A metal whose `F0` is the sRGB colour `albedo` decoded with the sRGB curve
+    /// ([`srgb_decode`], as a `base_color` is).
     pub fn metal_srgb(albedo: [f64; 3]) -> Self {
-        Material::metal(srgb_to_linear(albedo))
+        Material::metal(srgb_decode(albedo))
+    }
+
+    /// A metal whose `F0` is the colour `albedo` decoded with `pow 2.2`, the homework's
+    /// decoding ([`gamma22_decode`]; docs/design/reference-scene.md, "The balls, the light
+    /// and the camera"): the reference scene's copper and a scene file's `albedo` key.
+    pub fn metal_gamma22(albedo: [f64; 3]) -> Self {
+        Material::metal(gamma22_decode(albedo))
     }
 
     /// A dielectric: a coating of index `ior` over a base of linear colour `diffuse`.
@@ -81,8 +87,10 @@ impl Material {
     }
 }
 
-/// `pow(c, 2.2)` per channel: the homework's sRGB decoding (`albedo` keys).
-pub fn srgb_to_linear(c: [f64; 3]) -> DVec3 {
+/// `pow(c, 2.2)` per channel: the homework's decoding of its colours (a scene file's
+/// `albedo` keys), close to but not the sRGB curve ([`srgb_decode`], which every colour
+/// called sRGB goes through).
+pub fn gamma22_decode(c: [f64; 3]) -> DVec3 {
     DVec3::from_array(c).powf(2.2)
 }
 

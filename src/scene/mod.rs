@@ -21,20 +21,20 @@ use glam::DVec3;
 
 pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
-    MIN_GPU_PIXEL_ANGLE,
+    MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
-    coating_spec_albedo, srgb_decode, srgb_to_linear, CoatingConstants, Layering, Material,
+    coating_spec_albedo, gamma22_decode, srgb_decode, CoatingConstants, Layering, Material,
     DEFAULT_IOR, IOR_RANGE,
 };
 pub use model::Model;
 pub use preset::Preset;
 pub use reading::{base_albedo, substrate_albedo, substrate_albedo_with, BaseReading};
 pub use showcase::{
-    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE, SHOWCASE_RADIUS,
-    SHOWCASE_ROW_HALF_GAP,
+    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE,
+    SHOWCASE_MIN_ASPECT, SHOWCASE_RADIUS, SHOWCASE_ROW_HALF_GAP,
 };
 
 use crate::brdf::Geometry;
@@ -149,8 +149,9 @@ pub struct Scene {
     pub ibl_samples: u32,
 }
 
-/// The reference scene's metal albedo (sRGB, docs/design/reference-scene.md, "The balls,
-/// the light and the camera").
+/// The reference scene's copper, a display colour the homework decodes with `pow 2.2`
+/// ([`Material::metal_gamma22`]; docs/design/reference-scene.md, "The balls, the light and
+/// the camera").
 pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
 /// Roughness per column of the reference scene (column 0 at x = 180).
 pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
@@ -163,7 +164,7 @@ impl Scene {
     /// multiple-scattering term, one white light from +z.
     pub fn reference() -> Self {
         Scene {
-            balls: two_rows(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),
+            balls: two_rows(Material::metal_gamma22(REFERENCE_ALBEDO_SRGB)),
             lights: vec![Light {
                 direction: DVec3::Z,
                 radiance: DVec3::ONE,

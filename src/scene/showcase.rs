@@ -23,6 +23,13 @@ pub const SHOWCASE_ROW_HALF_GAP: f64 = 50.0;
 /// the highlights still unclipped.
 pub const SHOWCASE_EXPOSURE: f64 = 1.5;
 
+/// The narrowest aspect at which the showcase's 18 degrees hold
+/// ([`Camera::min_aspect`]): the chart and its row labels fit a frame of this aspect
+/// (the viewer's scene area beside its panel at 1280x720 is 980x720, 1.36); a narrower
+/// frame (a square render, a tall window, the viewer at 1024x768) widens the field of view
+/// to keep the same width in sight. A 16:9 render is wider, so its picture is unchanged.
+pub const SHOWCASE_MIN_ASPECT: f64 = 1.4;
+
 /// The showcase's camera: level (no tilt, so the rows stay straight), 1040 units away,
 /// 18 degrees vertical field of view. The outermost ball's centre sits 9.8 degrees off
 /// the axis, where a pinhole stretches a sphere's outline radially by
@@ -38,6 +45,7 @@ pub fn showcase_camera() -> Camera {
         position: DVec3::new(-20.0, -6.0, 1040.0),
         target: DVec3::new(-20.0, -6.0, 0.0),
         vfov_deg: 18.0,
+        min_aspect: Some(SHOWCASE_MIN_ASPECT),
     }
 }
 
@@ -57,7 +65,7 @@ impl Scene {
     /// the Kulla-Conty term, bottom row without; lit only by the studio map, which is also
     /// the background; labels on. `assets/scenes/default.toml` is the same scene.
     pub fn showcase() -> Self {
-        let material = Material::metal_srgb(REFERENCE_ALBEDO_SRGB);
+        let material = Material::metal_gamma22(REFERENCE_ALBEDO_SRGB);
         let balls = super::term_rows(material, SHOWCASE_RADIUS, showcase_position);
         Scene {
             balls,

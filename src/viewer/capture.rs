@@ -75,13 +75,15 @@ fn write_exr(
         }
         Some(c) => {
             let (a, b) = c.scenes(scene);
-            let a = state.renderer.render_progressive_hdr(&a, width, height)?;
+            let [(_, wa), (xb, wb)] = c.halves(width);
+            let a = state.renderer.render_progressive_hdr(&a, wa, height)?;
             let b = state
                 .second_renderer()
-                .render_progressive_hdr(&b, width, height)?;
+                .render_progressive_hdr(&b, wb, height)?;
             let (a, b) = (a.rgba, b.rgba);
             match c.view {
                 View::Wipe => wipe(&a, &b, width, c.split_px(width)),
+                View::SideBySide => side_by_side((&a, wa), (&b, wb), xb, width),
                 View::Difference { .. } => a
                     .iter()
                     .zip(&b)
@@ -115,6 +117,22 @@ fn wipe(a: &[f32], b: &[f32], width: u32, split: u32) -> Vec<f32> {
         })
         .copied()
         .collect()
+}
+
+/// An RGBA image `width` wide of `a` (`wa` wide) at its left and `b` (`wb` wide) from
+/// column `xb`, rows of the same count.
+fn side_by_side((a, wa): (&[f32], u32), (b, wb): (&[f32], u32), xb: u32, width: u32) -> Vec<f32> {
+    let rows = a.len() / (4 * wa.max(1) as usize);
+    let mut out = vec![0.0f32; 4 * width as usize * rows];
+    for y in 0..rows {
+        for (src, w, x0) in [(a, wa, 0), (b, wb, xb)] {
+            let n = (w.min(width.saturating_sub(x0)) * 4) as usize;
+            let from = y * 4 * w as usize;
+            let to = 4 * (y * width as usize + x0 as usize);
+            out[to..to + n].copy_from_slice(&src[from..from + n]);
+        }
+    }
+    out
 }
 
 /// Writes `scene` as a scene file, checked to load back as the same scene (with the

@@ -81,6 +81,9 @@ pub const DIFFERENCE_SCALES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
 pub enum View {
     /// Left of the split the left side, right of it the right side.
     Wipe,
+    /// Each side whole, in its own half of the scene area: A in the left half, B in the
+    /// right ([`Compare::halves`]); the split is not used.
+    SideBySide,
     /// `|left - right|` of the displayed values (the largest channel's), times `scale`,
     /// in the colour ramp of `difference.rs`, with a colour bar.
     Difference {
@@ -130,6 +133,20 @@ impl Compare {
         (x / width.max(1) as f64).clamp(0.0, 1.0)
     }
 
+    /// Where each side is drawn across a scene area `width` wide, as `(x0, width)` in
+    /// pixels, and the width each side is rendered at: side by side, the left half
+    /// (`width / 2`) and the rest; otherwise both sides are rendered over the whole area
+    /// (the wipe and the difference take their pixels from both at the same places).
+    pub fn halves(&self, width: u32) -> [(u32, u32); 2] {
+        match self.view {
+            View::SideBySide => {
+                let left = (width / 2).max(1);
+                [(0, left), (left, width.saturating_sub(left).max(1))]
+            }
+            _ => [(0, width), (0, width)],
+        }
+    }
+
     /// Whether the comparison has truth balls on either side (they accumulate).
     pub fn has_truth(&self, scene: &Scene) -> bool {
         let (a, b) = self.scenes(scene);
@@ -149,4 +166,126 @@ pub fn parse_sides(s: &str) -> Result<(Side, Side), String> {
     let (a, b) = s.split_once(',').ok_or_else(fail)?;
     let side = |t: &str| t.trim().parse::<Side>().map_err(|_| fail());
     Ok((side(a)?, side(b)?))
+}
+
+/// One ball's numbers in a comparison: the mean displayed value of its pixels on each
+/// side (0 to 1, the average of the three channels after tone mapping and the transfer
+/// curve, as the window shows them) and their ratio `a / b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallNumbers {
+    /// The ball's index in the scene.
+    pub index: usize,
+    /// Its roughness.
+    pub roughness: f64,
+    /// Mean displayed value on side A, and on side B (`None` where the ball shows no
+    /// pixel on that side).
+    pub mean: [Option<f64>; 2],
+}
+
+impl BallNumbers {
+    /// `a / b`, where both are known and `b` is not 0.
+    pub fn ratio(&self) -> Option<f64> {
+        match self.mean {
+            [Some(a), Some(b)] if b > 0.0 => Some(a / b),
+            _ => None,
+        }
+    }
+}
+
+/// The mean displayed value of each ball's pixels in `rgba` (RGBA8, `width x height`,
+/// row 0 at the top) drawn from `scene`: a pixel counts for the ball its centre's primary
+/// ray meets first, so antialiased edges are left out only where the ray misses. `None`
+/// for a ball with no pixel.
+pub fn ball_means(scene: &Scene, rgba: &[u8], width: u32, height: u32) -> Vec<Option<f64>> {
+    let mut sums = vec![(0.0f64, 0u64); scene.balls.len()];
+    if scene.camera.problem().is_some() || rgba.len() != 4 * width as usize * height as usize {
+        return vec![None; scene.balls.len()];
+    }
+    let basis = scene.camera.basis(width, height);
+    let rects = crate::labels::ball_rects(scene, width, height);
+    for (i, ball) in scene.balls.iter().enumerate() {
+        let Some(r) = rects[i] else { continue };
+        let (x0, x1) = (r.x0.max(0.0) as u32, (r.x1.ceil() as u32).min(width));
+        let (y0, y1) = (r.y0.max(0.0) as u32, (r.y1.ceil() as u32).min(height));
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let d = basis.ray(x, y, width, height);
+                let Some(t) = hit(basis.origin, d, ball.center, ball.radius) else {
+                    continue;
+                };
+                // Another ball in front of this one takes the pixel.
+                let nearer = scene.balls.iter().enumerate().any(|(j, o)| {
+                    j != i && hit(basis.origin, d, o.center, o.radius).is_some_and(|u| u < t)
+                });
+                if nearer {
+                    continue;
+                }
+                let p = 4 * (y as usize * width as usize + x as usize);
+                let v = (rgba[p] as f64 + rgba[p + 1] as f64 + rgba[p + 2] as f64) / (3.0 * 255.0);
+                sums[i].0 += v;
+                sums[i].1 += 1;
+            }
+        }
+    }
+    sums.into_iter()
+        .map(|(s, n)| (n > 0).then(|| s / n as f64))
+        .collect()
+}
+
+/// The nearest positive distance along the unit ray `(o, d)` to the sphere `(c, r)`.
+fn hit(o: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<f64> {
+    let oc = o - c;
+    let b = oc.dot(d);
+    let disc = r * r - (oc - b * d).length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let root = disc.sqrt();
+    [-b - root, -b + root].into_iter().find(|t| *t > 0.0)
+}
+
+/// Each ball's numbers from the two sides' images (`a` and `b`, RGBA8 of `sizes[0]` and
+/// `sizes[1]`), drawn from the comparison `c` of `scene`.
+pub fn numbers(
+    c: &Compare,
+    scene: &Scene,
+    (a, b): (&[u8], &[u8]),
+    sizes: [(u32, u32); 2],
+) -> Vec<BallNumbers> {
+    let (sa, sb) = c.scenes(scene);
+    let ma = ball_means(&sa, a, sizes[0].0, sizes[0].1);
+    let mb = ball_means(&sb, b, sizes[1].0, sizes[1].1);
+    scene
+        .balls
+        .iter()
+        .enumerate()
+        .map(|(index, ball)| BallNumbers {
+            index,
+            roughness: ball.roughness,
+            mean: [ma[index], mb[index]],
+        })
+        .collect()
+}
+
+/// The numbers as CSV, a header and a line a ball: `ball,x,y,roughness,a,b,mean_a,mean_b,
+/// ratio` (the sides' names, empty cells where a value is unknown).
+pub fn numbers_csv(c: &Compare, scene: &Scene, numbers: &[BallNumbers]) -> String {
+    let mut out = String::from("ball,x,y,roughness,a,b,mean_a,mean_b,ratio_a_over_b\n");
+    let cell = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6}"));
+    for n in numbers {
+        let ball = &scene.balls[n.index];
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{}\n",
+            n.index + 1,
+            ball.center.x,
+            ball.center.y,
+            n.roughness,
+            c.left.name(),
+            c.right.name(),
+            cell(n.mean[0]),
+            cell(n.mean[1]),
+            cell(n.ratio()),
+        ));
+    }
+    out
 }

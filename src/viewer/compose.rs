@@ -27,6 +27,16 @@ use crate::scene::Scene;
 use super::compare::{Compare, View};
 use super::difference::Difference;
 
+/// Most lobe samples a pixel the viewer sums while nothing changes (`ibl_method = "lobe"`):
+/// past it, an unchanged scene is not drawn again and the idle viewer goes idle.
+pub const LOBE_SAMPLE_CAP: u32 = 4096;
+
+/// Whether `r`'s lobe image is under [`LOBE_SAMPLE_CAP`] (its latest scene uses the lobe):
+/// the scene image is drawn again while it is.
+pub fn lobe_open(r: &Renderer) -> bool {
+    r.lobe_samples().is_some_and(|n| n < LOBE_SAMPLE_CAP)
+}
+
 /// Whether `t` is an image of `size` in `format`.
 fn fits(t: &Option<wgpu::Texture>, size: (u32, u32), format: wgpu::TextureFormat) -> bool {
     t.as_ref()
@@ -116,6 +126,11 @@ pub struct Layers {
 }
 
 impl Layers {
+    /// A comparison's two side images as last drawn (`None` before the first comparison).
+    pub fn sides(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
+        self.sides.as_ref().map(|(a, b)| (a, b))
+    }
+
     /// Whether the next [`Layers::update`] at `size` in `format` draws the panel again:
     /// egui's output `changed`, reaches over the scene area (not `panel_only`), or the frame
     /// image does not hold the latest panel at that size.
@@ -169,7 +184,7 @@ impl Layers {
             let truth = s.has_truth()
                 && r.truth_samples()
                     .is_none_or(|n| n < crate::gpu::MAX_TRUTH_SPP);
-            truth || super::state::lobe_open(r)
+            truth || lobe_open(r)
         };
         let scene_changed = self.scene_key.as_ref() != Some(&key)
             || match &compare {
@@ -248,12 +263,14 @@ impl Layers {
             (side("left side"), side("right side"))
         });
         let (left, right) = c.scenes(scene);
-        for (r, s, t) in [(&mut *renderer, &left, &*a), (second, &right, &*b)] {
+        let halves = c.halves(width);
+        let sides = [(&mut *renderer, &left, &*a), (second, &right, &*b)];
+        for ((r, s, t), (_, side_width)) in sides.into_iter().zip(halves) {
             let view = t.create_view(&Default::default());
             let target = Target {
                 view: &view,
                 format,
-                width,
+                width: side_width,
                 height,
             };
             r.encode_progressive(s, target, encoder)?;
@@ -261,8 +278,13 @@ impl Layers {
         match c.view {
             View::Wipe => {
                 let split = c.split_px(width);
-                copy_columns(encoder, a, scene_image, 0..split, height);
-                copy_columns(encoder, b, scene_image, split..width, height);
+                copy_columns(encoder, a, scene_image, 0..split, 0, height);
+                copy_columns(encoder, b, scene_image, split..width, split, height);
+            }
+            View::SideBySide => {
+                for (t, (x0, w)) in [(&*a, halves[0]), (&*b, halves[1])] {
+                    copy_columns(encoder, t, scene_image, 0..w.min(width - x0), x0, height);
+                }
             }
             View::Difference { scale } => {
                 let pass = self
@@ -277,27 +299,28 @@ impl Layers {
     }
 }
 
-/// Copies the columns `columns` of the top `height` rows of `from` into the same pixels of
-/// `to` (nothing for an empty range).
+/// Copies the columns `columns` of the top `height` rows of `from` into `to`, the first
+/// at column `to_x` (nothing for an empty range).
 fn copy_columns(
     encoder: &mut wgpu::CommandEncoder,
     from: &wgpu::Texture,
     to: &wgpu::Texture,
     columns: std::ops::Range<u32>,
+    to_x: u32,
     height: u32,
 ) {
     if columns.is_empty() || height == 0 {
         return;
     }
-    let at = |t| wgpu::TexelCopyTextureInfo {
-        origin: wgpu::Origin3d {
-            x: columns.start,
-            y: 0,
-            z: 0,
-        },
+    let at = |t, x| wgpu::TexelCopyTextureInfo {
+        origin: wgpu::Origin3d { x, y: 0, z: 0 },
         ..wgpu::Texture::as_image_copy(t)
     };
-    encoder.copy_texture_to_texture(at(from), at(to), extent(columns.len() as u32, height));
+    encoder.copy_texture_to_texture(
+        at(from, columns.start),
+        at(to, to_x),
+        extent(columns.len() as u32, height),
+    );
 }
 
 /// egui's `primitives` at `pixels_per_point` over `texture`. Each list drawn in one

@@ -5,6 +5,8 @@
 
 use egui::epaint::ClippedShape;
 
+use crate::labels::Rect;
+
 /// The ramp's stops, display values (sRGB-coded), evenly spaced over `[0, 1]`: black (no
 /// difference) through purple, red and orange to pale yellow.
 const STOPS: [[f32; 3]; 5] = [
@@ -36,16 +38,67 @@ pub fn difference_pixel(a: [u8; 4], b: [u8; 4], scale: u32) -> [u8; 4] {
     [byte(colour[0]), byte(colour[1]), byte(colour[2]), 255]
 }
 
+/// Pixels the bar's legend takes around the bar: its numbers at the left, its title above,
+/// a margin right and below ([`colour_bar`]).
+const LEGEND_LEFT_PX: u32 = 80;
+const LEGEND_TOP_PX: u32 = 40;
+const LEGEND_MARGIN_PX: u32 = 8;
+/// The shortest bar drawn off the balls; where no strip has room for it, the bar goes at
+/// its first place, over whatever is there.
+const MIN_BAR_PX: u32 = 48;
+/// The tallest bar.
+const MAX_BAR_PX: u32 = 256;
+
 /// The colour bar's place in a scene area `width x height` pixels: `(x0, y0, x1, y1)`, its
-/// left, top, right and bottom edges in whole pixels, near the area's right edge.
-pub fn colour_bar_rect(width: u32, height: u32) -> (u32, u32, u32, u32) {
-    // 16 px wide, 24 px in from the right; up to 256 px tall, 40 px below the top (room
-    // for the title) and at least 24 px above the bottom.
-    let x1 = width.saturating_sub(24);
-    let x0 = x1.saturating_sub(16);
-    let y0 = 40.min(height / 4);
-    let y1 = (y0 + 256).min(height.saturating_sub(24)).max(y0 + 1);
-    (x0, y0, x1, y1)
+/// left, top, right and bottom edges in whole pixels. 16 px wide, near the area's right
+/// edge (24 px in), else near its left edge (its numbers' width in), over the tallest span
+/// of rows where the bar and its legend meet none of `obstacles` (the balls' bounds and the
+/// labels' rooms), up to 256 px; with no such span 48 px tall, the first place (40 px below
+/// the top at the right).
+pub fn colour_bar_rect(width: u32, height: u32, obstacles: &[Rect]) -> (u32, u32, u32, u32) {
+    let right = width.saturating_sub(24);
+    let left = (LEGEND_LEFT_PX + 8 + 16).min(right);
+    let mut best: Option<(u32, u32, u32, u32)> = None;
+    for x1 in [right, left] {
+        let x0 = x1.saturating_sub(16);
+        let (lx0, lx1) = (
+            x0.saturating_sub(LEGEND_LEFT_PX) as f32,
+            (x1 + LEGEND_MARGIN_PX) as f32,
+        );
+        // The rows the obstacles in this strip cover, sorted.
+        let mut taken: Vec<(f32, f32)> = obstacles
+            .iter()
+            .filter(|o| o.x0 < lx1 && o.x1 > lx0 && o.y1 > o.y0)
+            .map(|o| (o.y0.max(0.0), o.y1))
+            .collect();
+        taken.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let bottom = height.saturating_sub(24) as f32;
+        let mut free_from = 0.0f32;
+        let mut gaps = Vec::new();
+        for (t0, t1) in taken.into_iter().chain([(bottom, f32::MAX)]) {
+            if t0 > free_from {
+                gaps.push((free_from, t0.min(bottom)));
+            }
+            free_from = free_from.max(t1);
+        }
+        for (g0, g1) in gaps {
+            let y0 = (g0.ceil() as u32 + LEGEND_TOP_PX).max(LEGEND_TOP_PX.min(height / 4));
+            let end = (g1.floor() as u32).saturating_sub(LEGEND_MARGIN_PX);
+            let y1 = end.min(y0 + MAX_BAR_PX);
+            if y1 >= y0 + MIN_BAR_PX && best.is_none_or(|b| y1 - y0 > b.3 - b.1) {
+                best = Some((x0, y0, x1, y1));
+            }
+        }
+        if best.is_some_and(|b| b.3 - b.1 >= MAX_BAR_PX) {
+            break;
+        }
+    }
+    best.unwrap_or_else(|| {
+        let x0 = right.saturating_sub(16);
+        let y0 = LEGEND_TOP_PX.min(height / 4);
+        let y1 = (y0 + MAX_BAR_PX).min(height.saturating_sub(24)).max(y0 + 1);
+        (x0, y0, right, y1)
+    })
 }
 
 /// The colour of the bar's pixel row `row` of `rows` (top first): the ramp at the row's
@@ -57,14 +110,16 @@ pub fn colour_bar_row(row: u32, rows: u32) -> [u8; 3] {
 
 /// The colour bar and its legend (the title `|a - b| x scale`, `1/scale` at the top, `0`
 /// at the bottom) as egui shapes over a scene area `width x height` pixels at `ppp`
-/// pixels a point: one rectangle a pixel row, so that its colours are the ramp's exactly.
+/// pixels a point, off `obstacles` where there is room ([`colour_bar_rect`]): one
+/// rectangle a pixel row, so that its colours are the ramp's exactly.
 pub fn colour_bar(
     painter: &egui::Painter,
     (width, height): (u32, u32),
     ppp: f32,
     scale: u32,
+    obstacles: &[Rect],
 ) -> Vec<ClippedShape> {
-    let (x0, y0, x1, y1) = colour_bar_rect(width, height);
+    let (x0, y0, x1, y1) = colour_bar_rect(width, height, obstacles);
     let clip = egui::Rect::from_min_size(
         egui::Pos2::ZERO,
         egui::vec2(width as f32 / ppp, height as f32 / ppp),

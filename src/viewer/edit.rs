@@ -58,7 +58,7 @@ impl MaterialChoice {
             MaterialChoice::Silver,
             MaterialChoice::Aluminium,
             MaterialChoice::White,
-            MaterialChoice::Custom(Material::metal_srgb(REFERENCE_ALBEDO_SRGB).f0.to_array()),
+            MaterialChoice::Custom(Material::metal_gamma22(REFERENCE_ALBEDO_SRGB).f0.to_array()),
             MaterialChoice::Plastic,
             MaterialChoice::Rubber,
             MaterialChoice::MetallicRoughness {
@@ -91,7 +91,7 @@ impl MaterialChoice {
             |f0: [f64; 3]| Material::metal(DVec3::from_array(f0).clamp(DVec3::ZERO, DVec3::ONE));
         match self {
             MaterialChoice::AsScene => None,
-            MaterialChoice::Copper => Some(Material::metal_srgb(REFERENCE_ALBEDO_SRGB)),
+            MaterialChoice::Copper => Some(Material::metal_gamma22(REFERENCE_ALBEDO_SRGB)),
             MaterialChoice::Gold => Some(metal([1.000, 0.782, 0.344])),
             MaterialChoice::Silver => Some(metal([0.972, 0.960, 0.915])),
             MaterialChoice::Aluminium => Some(metal([0.913, 0.922, 0.924])),

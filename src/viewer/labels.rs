@@ -5,14 +5,14 @@
 //! (`compose.rs`), so that a frame that does not shade the balls again does not draw them
 //! either, and the panel is not redrawn for them.
 
-use crate::labels::{self, MIN_FONT_PX, OUTLINE_PER_FONT_PX};
+use crate::labels::{self, Labels, MIN_FONT_PX, OUTLINE_PER_FONT_PX};
 use crate::scene::Scene;
 
 /// The smallest font the viewer sets a label in, as a fraction of the layout's size for the
 /// image (its height over 45): a label that would have to shrink further to fit its room
 /// (columns squeezed together by an orbit, balls shrunk by zooming out) is left out rather
 /// than drawn too small to read. A PNG keeps the layout's own rule (down to 8 px).
-pub const READABLE_FRACTION: f32 = 0.75;
+pub const READABLE_FRACTION: f32 = labels::READABLE_FRACTION;
 
 /// The smallest font size in pixels the viewer draws a label of layout size `size_px` at.
 pub fn readable_px(size_px: f32) -> f32 {
@@ -35,25 +35,45 @@ pub fn shapes(
     }
     let width = ((free_width * ppp).floor() as u32).max(1);
     let layout = labels::layout(scene, width, window_height);
+    paint(ui, &layout, 0, (width, window_height))
+}
+
+/// `layout`'s labels (laid out for an image `width x height` pixels) as egui shapes, the
+/// image's left edge at pixel column `x0` of the scene area and nothing drawn outside it.
+pub fn paint(
+    ui: &egui::Ui,
+    layout: &Labels,
+    x0: u32,
+    (width, height): (u32, u32),
+) -> Vec<egui::epaint::ClippedShape> {
+    let ppp = ui.ctx().pixels_per_point();
+    if ppp.is_nan() || ppp <= 0.0 || width == 0 || height == 0 {
+        return Vec::new();
+    }
+    let shift = x0 as f32;
     let area = egui::Rect::from_min_max(
-        egui::Pos2::ZERO,
-        egui::pos2(width as f32 / ppp, window_height as f32 / ppp),
+        egui::pos2(shift / ppp, 0.0),
+        egui::pos2((shift + width as f32) / ppp, height as f32 / ppp),
     );
     let painter = ui.painter();
     let font = |px: f32| egui::FontId::proportional(px / ppp);
     let light = egui::Color32::from_gray(245);
     let dark = egui::Color32::from_black_alpha(200);
     let mut out = Vec::new();
-    for label in layout.iter() {
-        let galley = painter.layout_no_wrap(label.text.clone(), font(label.size_px), light);
-        let Some(place) = label.place(galley.size().x * ppp) else {
-            continue;
-        };
+    let width_at = |text: &str, size_px: f32| {
+        painter
+            .layout_no_wrap(text.to_string(), font(size_px), light)
+            .size()
+            .x
+            * ppp
+    };
+    let lines = layout.iter().flat_map(|label| label.fit(width_at));
+    for (label, place) in lines {
         if place.size_px < readable_px(label.size_px) * (1.0 - 1e-4) {
             continue;
         }
         let centre = egui::pos2(
-            0.5 * (place.text.x0 + place.text.x1) / ppp,
+            (shift + 0.5 * (place.text.x0 + place.text.x1)) / ppp,
             0.5 * (place.text.y0 + place.text.y1) / ppp,
         );
         // Whole pixel sizes: egui keeps each size's glyphs in its font atlas, and a size

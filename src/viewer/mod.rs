@@ -249,7 +249,7 @@ impl App {
             &mut self.stats,
             state,
             &mut self.clock,
-            &self.scene,
+            (&self.scene, self.controls.compare.as_ref()),
             self.scene_width,
             start,
         );
@@ -266,7 +266,7 @@ impl App {
         });
         egui_winit.handle_platform_output(&state.window, output.platform_output);
         take_requests(
-            &mut self.controls.requests,
+            &mut self.controls,
             &mut self.screenshot,
             &mut self.pending,
             self.options.save_scene.as_deref(),
@@ -304,6 +304,9 @@ impl App {
                 self.frames_drawn += 1;
                 if let (Some(path), Some(rgba)) = (self.screenshot.take(), pixels) {
                     if let Err(e) = self.write_screenshot(&path, (width, height), rgba) {
+                        return self.fail(event_loop, e);
+                    }
+                    if let Err(e) = self.write_numbers(&path) {
                         return self.fail(event_loop, e);
                     }
                 }
@@ -351,10 +354,36 @@ impl App {
         Ok(())
     }
 
+    /// Beside a screenshot taken while comparing, the comparison's numbers a ball as CSV
+    /// (`NAME.csv` beside `NAME.png`). A failure is the run's only in `--frames` mode.
+    fn write_numbers(&self, shot: &std::path::Path) -> Result<()> {
+        let (Some(state), Some(c)) = (&self.state, self.controls.compare.as_ref()) else {
+            return Ok(());
+        };
+        let written = state
+            .ball_numbers(&self.scene, c, self.scene_width)
+            .and_then(|numbers| {
+                let Some(numbers) = numbers else {
+                    return Ok(None);
+                };
+                let csv = compare::numbers_csv(c, &self.scene, &numbers);
+                let path = shot.with_extension("csv");
+                crate::output::write_atomic(&path, csv.as_bytes())?;
+                Ok(Some(path))
+            });
+        match written {
+            Ok(Some(path)) => eprintln!("ball numbers (A, B, A / B) -> {}", path.display()),
+            Ok(None) => {}
+            Err(e) if self.options.frames.is_some() => return Err(e),
+            Err(e) => eprintln!("error: {e}"),
+        }
+        Ok(())
+    }
+
     /// Interactive: a frame was drawn because something changed; egui may ask for another
     /// (an animation) after `delay`, and truth balls keep accumulating while nothing changes
     /// (each draw of an unchanged scene adds an estimate a pixel), up to the headless cap,
-    /// as the lobe's image does (`ibl_samples` a draw, up to [`state::LOBE_SAMPLE_CAP`]).
+    /// as the lobe's image does (`ibl_samples` a draw, up to [`compose::LOBE_SAMPLE_CAP`]).
     fn schedule_next(&mut self, event_loop: &ActiveEventLoop, delay: Duration) {
         let compare = self.controls.compare.as_ref();
         let accumulating = self.state.as_ref().is_some_and(|s| {
@@ -380,24 +409,28 @@ impl App {
 }
 
 /// The panel's buttons (screenshot, EXR, save scene) as the keys' requests: into the
-/// screenshot and the files the next frame writes (a scene file to `--save-scene`'s path,
-/// if given, else a time-stamped one).
+/// screenshot and the files the next frame writes, named by the panel's file name field
+/// (else time-stamped; a scene file to `--save-scene`'s path where given and the field is
+/// empty).
 fn take_requests(
-    requests: &mut panel::Requests,
+    controls: &mut Controls,
     screenshot: &mut Option<PathBuf>,
     pending: &mut capture::Pending,
     save_scene: Option<&std::path::Path>,
 ) {
-    let requests = std::mem::take(requests);
+    let requests = std::mem::take(&mut controls.requests);
     if requests.png {
-        *screenshot = Some(events::timestamped("png"));
+        *screenshot = Some(controls.file_for("png"));
     }
     if requests.exr {
-        pending.exr = Some(events::timestamped("exr"));
+        pending.exr = Some(controls.file_for("exr"));
     }
     if requests.save_scene {
-        let path = save_scene.map(std::path::Path::to_path_buf);
-        pending.scene = Some(path.unwrap_or_else(|| events::timestamped("toml")));
+        let path = match save_scene {
+            Some(p) if controls.file_name.trim().is_empty() => p.to_path_buf(),
+            _ => controls.file_for("toml"),
+        };
+        pending.scene = Some(path);
     }
 }
 
@@ -444,7 +477,7 @@ fn refresh_stats<'a>(
     held: &'a mut Option<(Instant, Stats)>,
     state: &State,
     clock: &mut FrameClock,
-    scene: &Scene,
+    (scene, compare): (&Scene, Option<&compare::Compare>),
     scene_width: u32,
     now: Instant,
 ) -> &'a Stats {
@@ -460,6 +493,7 @@ fn refresh_stats<'a>(
                 && s.scene_size == scene_size
                 && s.truth_samples.is_none()
                 && s.lobe_samples == state.renderer.lobe_samples()
+                && s.numbers.is_some() == compare.is_some()
         });
     if !fresh {
         let stats = Stats {
@@ -475,6 +509,8 @@ fn refresh_stats<'a>(
                 None
             },
             lobe_samples: state.renderer.lobe_samples(),
+            // Read back only while comparing; a failed read shows no numbers.
+            numbers: compare.and_then(|c| state.ball_numbers(scene, c, scene_width).ok().flatten()),
         };
         *held = Some((now, stats));
     }

@@ -48,6 +48,11 @@ pub struct Controls {
     pub compare: Option<Compare>,
     /// The comparison last shown, brought back when the box is ticked again.
     pub last_compare: Compare,
+    /// The name field of the screenshot, EXR and save buttons: the file's name without its
+    /// extension (empty: a time-stamped name).
+    pub file_name: String,
+    /// The camera at start, brought back by "reset camera".
+    pub home_camera: crate::scene::Camera,
 }
 
 impl Controls {
@@ -55,6 +60,8 @@ impl Controls {
         Controls {
             map_path: String::new(),
             map_status: None,
+            file_name: String::new(),
+            home_camera: scene.camera,
             requests: Requests::default(),
             compare,
             last_compare: compare.unwrap_or(Compare::new(Side::On, Side::Off)),
@@ -90,6 +97,18 @@ pub struct Requests {
     pub save_scene: bool,
 }
 
+impl Controls {
+    /// The file the buttons write with `extension`: the name field's (an extension typed
+    /// in it replaced), else a time-stamped name in the current folder.
+    pub fn file_for(&self, extension: &str) -> std::path::PathBuf {
+        let name = self.file_name.trim();
+        if name.is_empty() {
+            return super::events::timestamped(extension);
+        }
+        std::path::Path::new(name).with_extension(extension)
+    }
+}
+
 /// What the panel reports.
 pub struct Stats {
     /// Median wall time of recent frames, milliseconds.
@@ -107,6 +126,9 @@ pub struct Stats {
     pub truth_samples: Option<u32>,
     /// Lobe samples a pixel the image holds (`None` when no ball uses the lobe).
     pub lobe_samples: Option<u32>,
+    /// A comparison's numbers per ball (mean displayed value of each side, their ratio),
+    /// measured from the sides' images when the figures were taken.
+    pub numbers: Option<Vec<super::compare::BallNumbers>>,
 }
 
 /// Shows the panel on the right of `ui`.
@@ -130,8 +152,19 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
                 ui.separator();
                 environment(ui, scene, controls);
                 ui.separator();
-                comparison(ui, controls);
+                comparison(ui, controls, stats);
                 ui.separator();
+                if ui.button("reset camera").clicked() {
+                    scene.camera = controls.home_camera;
+                }
+                ui.horizontal(|ui| {
+                    ui.label("file name");
+                    ui.add(
+                        egui::TextEdit::singleline(&mut controls.file_name)
+                            .hint_text("time-stamped")
+                            .desired_width(120.0),
+                    );
+                });
                 ui.horizontal(|ui| {
                     controls.requests.png |= ui.button("screenshot").clicked();
                     controls.requests.exr |= ui.button("EXR").clicked();
@@ -160,7 +193,7 @@ fn report(ui: &mut egui::Ui, stats: &Stats) {
         ));
     }
     if let Some(n) = stats.lobe_samples {
-        let state = if n < super::state::LOBE_SAMPLE_CAP {
+        let state = if n < super::compose::LOBE_SAMPLE_CAP {
             "converging while nothing changes"
         } else {
             "done"
@@ -237,7 +270,7 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             .material
             .material()
             .or(scene.balls.first().map(|b| b.material))
-            .unwrap_or(crate::scene::Material::metal_srgb(
+            .unwrap_or(crate::scene::Material::metal_gamma22(
                 crate::scene::REFERENCE_ALBEDO_SRGB,
             ));
         scene.balls = grid.balls(material);
@@ -471,7 +504,7 @@ pub fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Pa
 
 /// The Compare section (collapsed unless a comparison was asked for at start): on/off,
 /// the two sides, wipe or difference, the split and the difference's scale.
-fn comparison(ui: &mut egui::Ui, controls: &mut Controls) {
+fn comparison(ui: &mut egui::Ui, controls: &mut Controls, stats: &Stats) {
     egui::CollapsingHeader::new("Compare")
         .default_open(controls.compare.is_some())
         .show(ui, |ui| {
@@ -481,19 +514,29 @@ fn comparison(ui: &mut egui::Ui, controls: &mut Controls) {
             ui.add_enabled_ui(on, |ui| {
                 combo(ui, "left (a)", &mut c.left, &Side::ALL, Side::name);
                 combo(ui, "right (b)", &mut c.right, &Side::ALL, Side::name);
-                let mut difference = matches!(c.view, View::Difference { .. });
-                ui.horizontal(|ui| {
-                    ui.radio_value(&mut difference, false, "wipe");
-                    ui.radio_value(&mut difference, true, "difference |a - b|");
-                });
-                let mut scale = match c.view {
-                    View::Difference { scale } => scale,
-                    View::Wipe => match controls.last_compare.view {
-                        View::Difference { scale } => scale,
-                        View::Wipe => 4,
-                    },
+                #[derive(PartialEq, Clone, Copy)]
+                enum Kind {
+                    Wipe,
+                    SideBySide,
+                    Difference,
+                }
+                let mut kind = match c.view {
+                    View::Wipe => Kind::Wipe,
+                    View::SideBySide => Kind::SideBySide,
+                    View::Difference { .. } => Kind::Difference,
                 };
-                if difference {
+                ui.horizontal(|ui| {
+                    ui.radio_value(&mut kind, Kind::Wipe, "wipe");
+                    ui.radio_value(&mut kind, Kind::SideBySide, "side by side");
+                    ui.radio_value(&mut kind, Kind::Difference, "|a - b|");
+                });
+                let mut scale = match (c.view, controls.last_compare.view) {
+                    (View::Difference { scale }, _) | (_, View::Difference { scale }) => scale,
+                    _ => 4,
+                };
+                if kind == Kind::SideBySide {
+                    c.view = View::SideBySide;
+                } else if kind == Kind::Difference {
                     egui::ComboBox::from_label("difference scale")
                         .selected_text(format!("x{scale}"))
                         .show_ui(ui, |ui| {
@@ -506,9 +549,36 @@ fn comparison(ui: &mut egui::Ui, controls: &mut Controls) {
                     c.view = View::Wipe;
                     ui.add(egui::Slider::new(&mut c.split, 0.0..=1.0).text("split"));
                 }
+                if let (true, Some(numbers)) = (on, &stats.numbers) {
+                    ball_numbers(ui, numbers);
+                }
             });
             controls.last_compare = c;
             controls.compare = on.then_some(c);
+        });
+}
+
+/// The comparison's numbers a ball: its roughness, the mean displayed value of A and of B
+/// (0 to 1), and A / B.
+fn ball_numbers(ui: &mut egui::Ui, numbers: &[super::compare::BallNumbers]) {
+    ui.label("mean displayed value a ball (also in a screenshot's .csv):");
+    egui::Grid::new("ball numbers")
+        .striped(true)
+        .show(ui, |ui| {
+            for head in ["ball", "r", "A", "B", "A / B"] {
+                ui.label(head);
+            }
+            ui.end_row();
+            let cell =
+                |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| format!("{v:.digits$}"));
+            for n in numbers {
+                ui.label(format!("{}", n.index + 1));
+                ui.label(format!("{}", n.roughness));
+                ui.label(cell(n.mean[0], 3));
+                ui.label(cell(n.mean[1], 3));
+                ui.label(cell(n.ratio(), 3));
+                ui.end_row();
+            }
         });
 }
 

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use glam::DVec3;
 
 use crate::environment::{Background, Source};
-use crate::scene::{srgb_decode, srgb_to_linear, Ball, Light, Material, Scene, DEFAULT_IOR};
+use crate::scene::{gamma22_decode, srgb_decode, Ball, Light, Material, Scene, DEFAULT_IOR};
 
 /// How many doubles either side of a curve's inverse the search for an exact input tries:
 /// the inverse (`powf` of the reciprocal exponent) is within a few ulps of an input that
@@ -39,6 +39,9 @@ pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
         vec3(c.target),
         num(c.vfov_deg)
     );
+    if let Some(a) = c.min_aspect {
+        let _ = writeln!(out, "min_aspect = {}", num(a));
+    }
     environment(&mut out, scene)?;
     for (i, light) in scene.lights.iter().enumerate() {
         self::light(&mut out, light).map_err(|e| format!("light {}: {e}", i + 1))?;
@@ -153,12 +156,18 @@ fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
     Ok(())
 }
 
-/// The material's inline table: a metal by its linear `f0`, the engines' material by an
-/// sRGB `base_color` that decodes to it exactly, or a dielectric by an `albedo` whose
-/// `pow 2.2` is its base exactly.
+/// The material's inline table, colours as they were written where an input with the
+/// fewest decimals decodes to them exactly: a metal by the `albedo` whose `pow 2.2` is its
+/// `f0` (the homework's copper: `[0.7216, 0.451, 0.2]`), else by its linear `f0`; the
+/// engines' material by an sRGB `base_color` that decodes to it exactly; a dielectric by an
+/// `albedo` whose `pow 2.2` is its base exactly.
 fn material(m: &Material) -> Result<String, String> {
+    let pow = |c: f64| gamma22_decode([c; 3]).x;
     if m.metallic == 1.0 && m.diffuse == DVec3::ZERO && m.ior == DEFAULT_IOR {
-        return Ok(format!("{{ kind = \"metal\", f0 = {} }}", vec3(m.f0)));
+        return Ok(match short3(m.f0, pow, |d| d.powf(1.0 / 2.2)) {
+            Some(albedo) => format!("{{ kind = \"metal\", albedo = {} }}", vec3(albedo)),
+            None => format!("{{ kind = \"metal\", f0 = {} }}", vec3(m.f0)),
+        });
     }
     let decode = |c: f64| srgb_decode([c; 3]).x;
     if m.f0 == m.diffuse {
@@ -181,7 +190,6 @@ fn material(m: &Material) -> Result<String, String> {
             num(m.ior)
         ));
     }
-    let pow = |c: f64| srgb_to_linear([c; 3]).x;
     if m.metallic == 0.0 && m.f0 == DVec3::ZERO {
         if let Some(albedo) = invert3(m.diffuse, pow, |d| d.powf(1.0 / 2.2)) {
             return Ok(format!(
@@ -218,10 +226,37 @@ fn invert3(
 ) -> Option<DVec3> {
     let one = |t: f64| {
         let g = guess(t).clamp(0.0, 1.0);
+        // The fewest decimals first: a colour typed as 0.7216 is written back as typed.
+        let short = (1..=17)
+            .filter_map(|digits| format!("{g:.digits$}").parse::<f64>().ok())
+            .find(|&c| (0.0..=1.0).contains(&c) && forward(c) == t);
+        if short.is_some() {
+            return short;
+        }
         (0..=SEARCH_ULPS)
             .flat_map(|k| [step(g, k as i64), step(g, -(k as i64))])
             .filter(|c| (0.0..=1.0).contains(c))
             .find(|&c| forward(c) == t)
+    };
+    Some(DVec3::new(one(target.x)?, one(target.y)?, one(target.z)?))
+}
+
+/// Most decimals of a colour written as typed ([`short3`]): more, and the linear value is
+/// the plainer form.
+const TYPED_DIGITS: usize = 6;
+
+/// Per channel, an input in `[0, 1]` of at most [`TYPED_DIGITS`] decimals that `forward`
+/// maps to `target`'s channel exactly (a colour as a person types it), near `guess` of it.
+fn short3(
+    target: DVec3,
+    forward: impl Fn(f64) -> f64,
+    guess: impl Fn(f64) -> f64,
+) -> Option<DVec3> {
+    let one = |t: f64| {
+        let g = guess(t).clamp(0.0, 1.0);
+        (1..=TYPED_DIGITS)
+            .filter_map(|digits| format!("{g:.digits$}").parse::<f64>().ok())
+            .find(|&c| (0.0..=1.0).contains(&c) && forward(c) == t)
     };
     Some(DVec3::new(one(target.x)?, one(target.y)?, one(target.z)?))
 }

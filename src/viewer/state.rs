@@ -14,7 +14,7 @@ use crate::scene::Scene;
 
 use super::blit::Blit;
 use super::compare::Compare;
-use super::compose::{self, Layers, Overlay};
+use super::compose::{self, lobe_open, Layers, Overlay, LOBE_SAMPLE_CAP};
 
 /// How a frame went.
 pub enum Frame {
@@ -273,6 +273,38 @@ impl State {
             || (compare.is_some() && self.second.as_ref().is_some_and(lobe_open))
     }
 
+    /// The comparison `c`'s numbers a ball ([`super::compare::numbers`]), measured from
+    /// its two side images as the latest frame drew them in a scene area `scene_width`
+    /// wide; `None` before a comparison was drawn.
+    pub fn ball_numbers(
+        &self,
+        scene: &Scene,
+        c: &Compare,
+        scene_width: u32,
+    ) -> Result<Option<Vec<super::compare::BallNumbers>>> {
+        let Some((a, b)) = self.layers.sides() else {
+            return Ok(None);
+        };
+        let (device, queue) = (&self.renderer.gpu().device, &self.renderer.gpu().queue);
+        let height = self.size().1.min(a.height());
+        let halves = c.halves(scene_width.min(a.width()));
+        let sizes = [(halves[0].1, height), (halves[1].1, height)];
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut readbacks = Vec::new();
+        for (t, size) in [(a, sizes[0]), (b, sizes[1])] {
+            let readback = Readback::new(device, t.format(), size)?;
+            readback.record(&mut encoder, t);
+            readbacks.push(readback);
+        }
+        queue.submit([encoder.finish()]);
+        let mut images = Vec::new();
+        for readback in readbacks {
+            images.push(to_rgba(readback.read(device)?, self.config.format));
+        }
+        let images = (&images[0][..], &images[1][..]);
+        Ok(Some(super::compare::numbers(c, scene, images, sizes)))
+    }
+
     /// How many times the balls were shaded, and the panel drawn (frames that change
     /// only one of them reuse the other).
     pub fn draws(&self) -> (u64, u64) {
@@ -280,19 +312,10 @@ impl State {
     }
 }
 
-/// Most lobe samples a pixel the viewer sums while nothing changes (`ibl_method = "lobe"`):
-/// past it, an unchanged scene is not drawn again and the idle viewer goes idle.
-pub const LOBE_SAMPLE_CAP: u32 = 4096;
-
 /// `renderer` with the viewer's cap on the lobe's samples.
 fn viewer_renderer(mut renderer: Renderer) -> Renderer {
     renderer.set_lobe_sample_cap(Some(LOBE_SAMPLE_CAP));
     renderer
-}
-
-/// Whether `r`'s lobe image is under [`LOBE_SAMPLE_CAP`] (its latest scene uses the lobe).
-pub fn lobe_open(r: &Renderer) -> bool {
-    r.lobe_samples().is_some_and(|n| n < LOBE_SAMPLE_CAP)
 }
 
 /// The surface's configuration: an 8-bit format, one without an sRGB suffix where the

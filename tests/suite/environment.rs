@@ -161,6 +161,35 @@ fn exr_round_trips_exactly_and_hdr_within_rgbe_precision() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A `.hdr` whose magic names another program (`#?RGBE`, what Mitsuba and others write)
+/// loads as the same map as with Radiance's own `#?RADIANCE`; a first line that is no
+/// magic at all is still refused.
+#[test]
+fn hdr_with_an_rgbe_magic_line_loads() {
+    let dir = temp_dir("env-rgbe");
+    let map = ramp(32, 16);
+    let radiance = dir.join("radiance.hdr");
+    environment::save(&map, &radiance).unwrap();
+    let bytes = std::fs::read(&radiance).unwrap();
+    assert!(bytes.starts_with(b"#?RADIANCE\n"), "the writer's magic");
+    let (want, _) = environment::load(&radiance).unwrap();
+    for magic in [&b"#?RGBE\n"[..], b"#?Mitsuba 3\n"] {
+        let other = dir.join("other.hdr");
+        let mut renamed = magic.to_vec();
+        renamed.extend_from_slice(&bytes[b"#?RADIANCE\n".len()..]);
+        std::fs::write(&other, renamed).unwrap();
+        let (got, _) = environment::load(&other)
+            .unwrap_or_else(|e| panic!("{}: {e}", String::from_utf8_lossy(magic)));
+        assert_eq!(got, want);
+    }
+    let bad = dir.join("bad.hdr");
+    let mut renamed = b"P6 RADIANCE\n".to_vec();
+    renamed.extend_from_slice(&bytes[b"#?RADIANCE\n".len()..]);
+    std::fs::write(&bad, renamed).unwrap();
+    assert!(environment::load(&bad).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The loader's error for `path`, checked to be one line naming the path.
 fn load_error(path: &Path) -> String {
     let e = environment::load(path).expect_err("the map should be refused");

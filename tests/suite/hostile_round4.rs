@@ -871,3 +871,166 @@ fn the_smaller_findings_say_what_they_mean() {
     assert!(!err.contains("1 samples"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A glTF file `x.gltf` in `dir` with two materials, a buffer file `buf.bin` and an image
+/// file `tex.png` it names (neither drawn): the three inputs.
+fn gltf_with_files(dir: &Path) -> [PathBuf; 3] {
+    let gltf = dir.join("x.gltf");
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "materials": [
+            {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.8, 0.3, 1.0],
+                "metallicFactor": 1.0, "roughnessFactor": 0.3}},
+            {"name": "clay", "pbrMetallicRoughness": {"metallicFactor": 0.0,
+                "roughnessFactor": 0.8}}
+        ],
+        "buffers": [{"byteLength": 8, "uri": "buf.bin"}],
+        "images": [{"uri": "tex.png"}]
+    });
+    std::fs::write(&gltf, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    let bin = dir.join("buf.bin");
+    std::fs::write(&bin, [7u8; 8]).unwrap();
+    let tex = dir.join("tex.png");
+    std::fs::write(&tex, b"not drawn, but the asset's").unwrap();
+    [gltf, bin, tex]
+}
+
+/// The names in `dir`, sorted: a refused command leaves no temporary file.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Finding 2 for the glTF commands of issue 35: `import FILE --out`, `render --scene
+/// FILE.gltf` and `view --scene FILE.gltf` wrote through an output that is (or links to)
+/// the glTF file, or the buffer or image file it names. Each is refused in one line before
+/// any work; every input is left byte for byte and no file is added.
+#[test]
+fn gltf_outputs_over_their_inputs_are_refused() {
+    let dir = temp_dir("round4-gltf-overwrite");
+    let inputs = gltf_with_files(&dir);
+    for (link, to) in [
+        ("gltf.toml", "x.gltf"),
+        ("bin.toml", "buf.bin"),
+        ("tex.toml", "tex.png"),
+        ("bin.png", "buf.bin"),
+        ("bin.exr", "buf.bin"),
+    ] {
+        std::os::unix::fs::symlink(to, dir.join(link)).unwrap();
+    }
+    std::fs::hard_link(&inputs[0], dir.join("hard.toml")).unwrap();
+    let files: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    let before = snapshot(&files);
+    let names = names_in(&dir);
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["import", "x.gltf", "--out", "gltf.toml"],
+            "the glTF file",
+        ),
+        (
+            vec!["import", "x.gltf", "--out", "hard.toml"],
+            "the glTF file",
+        ),
+        (
+            vec!["import", "x.gltf", "--out", "bin.toml"],
+            "the glTF file's buffer",
+        ),
+        (
+            vec!["import", "x.gltf", "--out", "tex.toml"],
+            "the glTF file's image",
+        ),
+        (
+            vec!["render", "--scene", "x.gltf", "--out", "bin.png"],
+            "the glTF file's buffer",
+        ),
+        (
+            vec!["render", "--scene", "x.gltf", "--out", "tex.png"],
+            "the glTF file's image",
+        ),
+        (
+            vec![
+                "render",
+                "--scene",
+                "x.gltf",
+                "--backend",
+                "truth",
+                "--spp",
+                "2",
+                "--out",
+                "bin.exr",
+            ],
+            "the glTF file's buffer",
+        ),
+        (
+            vec![
+                "view",
+                "--scene",
+                "x.gltf",
+                "--frames",
+                "1",
+                "--screenshot",
+                "bin.png",
+            ],
+            "the glTF file's buffer",
+        ),
+    ];
+    for (args, names_it) in cases {
+        let mut args = args;
+        if args[0] == "render" {
+            args.extend(["--width", "16", "--height", "9"]);
+        }
+        let started = Instant::now();
+        let o = run_in(Some(&dir), &args);
+        one_line_failure(&o, &[names_it, "choose another output path"]);
+        assert!(started.elapsed() < Duration::from_secs(5), "{args:?}");
+        assert_eq!(snapshot(&files), before, "{args:?} changed an input");
+        assert_eq!(names_in(&dir), names, "{args:?} left a file");
+    }
+    // The same glTF imports and renders where the output is its own file.
+    let o = run_in(Some(&dir), &["import", "x.gltf", "--out", "s.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read_to_string(dir.join("s.toml"))
+        .unwrap()
+        .contains("gold"));
+    assert_eq!(snapshot(&files), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Finding 5 for the commands of issue 35: `import` and `export-shader` found an
+/// unwritable folder only when writing. Now their folder takes a probe file first: as an
+/// unprivileged user the refusal names the folder and writes nothing (`bake` to a C or
+/// GLSL header already probed: held here too).
+#[test]
+fn gltf_and_shader_outputs_probe_their_folder_first() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = temp_dir("round4-gltf-readonly");
+    let copy = dir.join("shadeballs");
+    std::fs::copy(bin(), &copy).unwrap();
+    let [gltf, ..] = gltf_with_files(&dir);
+    let ro = dir.join("ro");
+    std::fs::create_dir_all(&ro).unwrap();
+    for (p, mode) in [(&dir, 0o755), (&copy, 0o755), (&gltf, 0o644), (&ro, 0o555)] {
+        std::fs::set_permissions(p, std::fs::Permissions::from_mode(mode)).unwrap();
+    }
+    let (toml, frag) = (ro.join("s.toml"), ro.join("ball.frag"));
+    let (h, glsl) = (ro.join("t.h"), ro.join("t.glsl"));
+    let cases: [Vec<&str>; 4] = [
+        vec!["import", s(&gltf), "--out", s(&toml)],
+        vec!["export-shader", "--lang", "glsl", "--out", s(&frag)],
+        vec!["bake", "--samples", "1000", "--out", s(&h)],
+        vec!["bake", "--samples", "1000", "--out", s(&glsl)],
+    ];
+    for args in cases {
+        let (out, took) = run_unprivileged(&copy, &args);
+        let line = one_line_failure(&out, &["takes no new file", "Permission denied"]);
+        assert!(line.contains(s(&ro)), "{line}");
+        assert!(took < Duration::from_millis(500), "{args:?}: {took:?}");
+        assert_eq!(std::fs::read_dir(&ro).unwrap().count(), 0, "{args:?}");
+    }
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -26,10 +26,22 @@ fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
         x1: w as f32,
         y1: h as f32,
     };
-    let all: Vec<&Label> = l.iter().collect();
-    for (i, label) in all.iter().enumerate() {
+    // Each label with its wrapped lines (alternatives to it, so they may share its room),
+    // tagged by the label they belong to.
+    let all: Vec<(usize, &Label)> = l
+        .iter()
+        .enumerate()
+        .flat_map(|(k, label)| {
+            std::iter::once((k, label)).chain(label.wrapped.iter().map(move |w| (k, w)))
+        })
+        .collect();
+    for (i, (k, label)) in all.iter().enumerate() {
         let r = &label.room;
-        if !(image.contains(r) && r.width() > 0.0 && r.height() > 0.0) {
+        // A label whose one line found no room may still be drawn wrapped.
+        let empty_but_wrapped =
+            (r.width() == 0.0 || r.height() == 0.0) && !label.wrapped.is_empty();
+        let fine = image.contains(r) && r.width() > 0.0 && r.height() > 0.0;
+        if !(fine || empty_but_wrapped) {
             return Err(format!("{w}x{h}: room {r:?} of {:?}", label.text));
         }
         if let Some(b) = balls.iter().find(|b| b.overlaps(r)) {
@@ -38,7 +50,10 @@ fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
                 label.text
             ));
         }
-        if let Some(o) = all[i + 1..].iter().find(|o| o.room.overlaps(r)) {
+        if let Some((_, o)) = all[i + 1..]
+            .iter()
+            .find(|(j, o)| j != k && o.room.overlaps(r))
+        {
             return Err(format!("{w}x{h}: {:?} over {:?}", label.text, o.text));
         }
     }
@@ -61,7 +76,8 @@ fn reference_layout_has_five_roughness_columns_two_rows_and_a_caption() {
     assert_eq!(l.caption.len(), 1);
     assert_eq!(
         l.caption[0].text,
-        "accurate preset \u{b7} smith-correlated G \u{b7} no environment"
+        "accurate preset \u{b7} smith-correlated G \u{b7} no environment \u{b7} reinhard \u{b7} \
+         exposure 1"
     );
     // Columns left to right, under the balls; rows top to bottom, left of them.
     let rects: Vec<Rect> = ball_rects(&scene, 1280, 720)
@@ -107,7 +123,9 @@ fn row_and_column_texts() {
     s.preset = scene::Preset::Games202;
     s.environment = glam::DVec3::ONE;
     assert!(labels::caption(&s).starts_with("games202 preset \u{b7} schlick G"));
-    assert!(labels::caption(&s).ends_with("uniform environment 1"));
+    assert!(
+        labels::caption(&s).ends_with("uniform environment 1 \u{b7} reinhard \u{b7} exposure 1")
+    );
 }
 
 /// A tight camera: the balls fill the picture. Labels that have no room are left out
@@ -119,6 +137,7 @@ fn tight_cameras_tiny_and_huge_images_keep_labels_off_the_balls() {
         position: glam::DVec3::new(20.0, 0.0, 160.0),
         target: glam::DVec3::new(20.0, 0.0, 0.0),
         vfov_deg: 75.0,
+        min_aspect: None,
     };
     let mut inside = Scene::reference();
     inside.camera.position = glam::DVec3::new(180.0, 60.0, 10.0);
@@ -166,6 +185,7 @@ fn place_shrinks_to_the_room_or_leaves_the_label_out() {
         },
         align: [Align::Centre, Align::Start],
         size_px: 16.0,
+        wrapped: Vec::new(),
     };
     let p = label(200.0).place(60.0).unwrap();
     assert_eq!(p.size_px, 16.0);
@@ -194,6 +214,7 @@ fn text_is_readable_on_black_and_on_white_and_stays_in_its_room() {
             room,
             align: [Align::Centre, Align::Centre],
             size_px: 18.0,
+            wrapped: Vec::new(),
         }],
         ..Labels::default()
     };

@@ -37,6 +37,7 @@ mod plan;
 mod planned;
 mod probe;
 mod props;
+mod readme_library;
 mod readme_pictures;
 mod render;
 mod scene_gen;

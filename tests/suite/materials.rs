@@ -127,6 +127,7 @@ pub(crate) fn chart(
             position: DVec3::new(0.0, 0.0, z),
             target: DVec3::ZERO,
             vfov_deg: 18.0,
+            min_aspect: None,
         },
         labels: false,
         ..Scene::reference()
@@ -265,16 +266,16 @@ pub(crate) fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
 }
 
 /// `plastic.toml` (antialiasing off: the truth traces pixel centres, like with like) under
-/// its own light or the studio map.
+/// its own studio map or the reference scene's light from the camera (no map).
 fn plastic_scene(studio: bool) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/plastic.toml");
     let mut scene = shadeballs::scene::load(&path).unwrap();
     scene.antialias = false;
-    if studio {
-        scene.lights.clear();
-        scene.environment_map = Some(shadeballs::environment::Environment::builtin(
-            shadeballs::environment::Builtin::Studio,
-        ));
+    assert!(scene.environment_map.is_some() && scene.lights.is_empty());
+    if !studio {
+        scene.environment_map = None;
+        scene.background = Scene::reference().background;
+        scene.lights = Scene::reference().lights;
     }
     scene
 }
@@ -451,7 +452,7 @@ fn material_keys_parse_and_refuse_in_one_line() {
         .unwrap()
         .balls[0]
         .material;
-    assert_eq!(m, Material::metal_srgb([0.7216, 0.451, 0.2]));
+    assert_eq!(m, Material::metal_gamma22([0.7216, 0.451, 0.2]));
     for (material, says) in [
         (
             "{ base_color = [0.5, 0.5, 0.5], metallic = 1.5 }",

@@ -318,7 +318,7 @@ fn quadrature(scene: &Scene, e: &TableSet) -> DVec3 {
 
 #[test]
 fn estimate_is_unbiased_against_a_dense_quadrature() {
-    let copper = Material::metal_srgb(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
+    let copper = Material::metal_gamma22(shadeballs::scene::REFERENCE_ALBEDO_SRGB);
     let plastic = Material::dielectric(DVec3::new(0.1, 0.4, 0.6), 1.5);
     for term in IblTerm::ALL {
         for material in [copper, plastic] {
@@ -505,8 +505,14 @@ fn scene_file(name: &str, edit: impl Fn(&str) -> String) -> Scene {
 fn gpu_montecarlo_scenes() -> Vec<(&'static str, Scene)> {
     let sky = |t: &str| t.replace("builtin = \"studio\"", "builtin = \"sky\"");
     let turquin = |t: &str| t.replace("ibl_term = \"kulla-conty\"", "ibl_term = \"turquin\"");
-    let plastic =
-        |map: &'static str| move |t: &str| format!("{t}\n[environment]\nbuiltin = \"{map}\"\n");
+    // plastic.toml is under the studio, with no light: the light from the camera added.
+    let light = "\n[[light]]\ndirection = [0, 0, 1]\nradiance = [1, 1, 1]\n";
+    let plastic = |map: &'static str| {
+        move |t: &str| {
+            let t = t.replace("builtin = \"studio\"", &format!("builtin = \"{map}\""));
+            format!("{t}{light}")
+        }
+    };
     vec![
         ("metal, studio", scene_file("studio.toml", str::to_string)),
         ("metal, sky", scene_file("studio.toml", sky)),

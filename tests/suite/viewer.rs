@@ -155,9 +155,12 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
             .enumerate()
         {
             let (x, y) = ((i as u32 % area.0) as f32, (i as u32 / area.0) as f32);
+            // A label's room, or the room of one of its wrapped lines.
             let room = layout.iter().position(|l| {
-                let r = &l.room;
-                x + 1.0 > r.x0 && x < r.x1 && y + 1.0 > r.y0 && y < r.y1
+                std::iter::once(l).chain(&l.wrapped).any(|l| {
+                    let r = &l.room;
+                    x + 1.0 > r.x0 && x < r.x1 && y + 1.0 > r.y0 && y < r.y1
+                })
             });
             if let Some(k) = room {
                 changed[k] += (a != b) as usize;
@@ -170,8 +173,11 @@ fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
         let fits: Vec<bool> = layout
             .iter()
             .map(|l| {
-                l.place(labels::text_width(&l.text, l.size_px).unwrap())
-                    .is_some_and(|p| p.size_px >= readable_px(l.size_px))
+                let fitted = l.fit(|t, s| labels::text_width(t, s).unwrap());
+                !fitted.is_empty()
+                    && fitted
+                        .iter()
+                        .all(|(l, p)| p.size_px >= readable_px(l.size_px))
             })
             .collect();
         assert!(fits.iter().any(|&f| f), "{what}: no label fits");
@@ -215,6 +221,45 @@ fn window_scene_area_equals_the_headless_render() {
         let what = format!("window on {backend} vs headless on Vulkan");
         // The default scene: the showcase.
         assert_scene_matches(&shot, &stderr, &Scene::showcase(), &what);
+    }
+}
+
+/// The default chart in windows narrower than 16:9 (issue 39): the scene area beside the
+/// panel holds all ten balls whole, and its labels are drawn where the layout puts them,
+/// the rest equal to the headless render of the scene area.
+#[test]
+fn default_chart_fits_the_scene_area_beside_the_panel() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-aspect");
+    for (w, h) in [(1024u32, 768u32), (800, 800)] {
+        let shot = dir.join(format!("view-{w}x{h}.png"));
+        let (ws, hs) = (w.to_string(), h.to_string());
+        let args = [
+            "--frames",
+            "2",
+            "--backend",
+            "vulkan",
+            "--width",
+            &ws,
+            "--height",
+            &hs,
+            "--screenshot",
+        ];
+        let out = viewer(&x, &args).arg(&shot).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "viewer at {w}x{h} failed: {stderr}");
+        let (aw, ah) = scene_area(&stderr);
+        let scene = Scene::showcase();
+        for r in labels::ball_rects(&scene, aw, ah) {
+            let r = r.unwrap_or_else(|| panic!("{aw}x{ah}: a ball out of frame"));
+            assert!(
+                r.x0 > 0.0 && r.y0 > 0.0 && r.x1 < aw as f32 && r.y1 < ah as f32,
+                "{aw}x{ah}: ball {r:?} cut by the frame"
+            );
+        }
+        assert_eq!(labels::layout(&scene, aw, ah).rows.len(), 2);
+        let what = format!("window {w}x{h} (scene area {aw}x{ah})");
+        assert_scene_matches(&shot, &stderr, &scene, &what);
     }
 }
 
@@ -929,6 +974,84 @@ fn wipe_shows_each_side_at_its_own_pixels() {
     assert_eq!(pixel(&window, w, (split, 0)), [230, 230, 230, 255]);
 }
 
+/// Side by side (issue 39): A whole in the left half of the scene area and B in the right,
+/// each equal to the headless render of its side at its half's size outside its labels'
+/// rooms and tags; the screenshot's .csv holds every ball's mean on both sides, the term's
+/// side brighter on the roughest balls.
+#[test]
+fn side_by_side_shows_both_charts_whole_with_numbers_a_ball() {
+    use shadeballs::viewer::compare::{Compare, Side, View};
+    let x = Xvfb::start();
+    let dir = temp_dir("view-side-by-side");
+    let shot = dir.join("sides.png");
+    let args = [
+        "--compare",
+        "on,off",
+        "--side-by-side",
+        "--no-labels",
+        "--frames",
+        "3",
+        "--backend",
+        "vulkan",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (window, (w, h)) = scene_pixels(&shot, &stderr);
+    let mut scene = Scene::showcase();
+    scene.labels = false;
+    let c = Compare {
+        view: View::SideBySide,
+        ..Compare::new(Side::On, Side::Off)
+    };
+    let halves = c.halves(w);
+    for ((x0, hw), side) in halves.into_iter().zip([Side::On, Side::Off]) {
+        let s = side.apply(&scene);
+        // Every ball whole in its half.
+        for r in labels::ball_rects(&s, hw, h) {
+            let r = r.expect("a ball out of its half");
+            assert!(r.x0 > 0.0 && r.x1 < hw as f32, "{side:?}: {r:?} cut");
+        }
+        let want = vulkan().render_ldr(&s, hw, h).unwrap().rgba;
+        let mut differ = 0;
+        for yy in 0..h {
+            for xx in 0..hw {
+                // The divider (2 px) around the right half's first column.
+                if (x0 + xx).abs_diff(halves[1].0) <= 1 {
+                    continue;
+                }
+                differ += (pixel(&window, w, (x0 + xx, yy)) != pixel(&want, hw, (xx, yy))) as usize;
+            }
+        }
+        assert_eq!(
+            differ, 0,
+            "{side:?}'s half ({x0}, {hw} wide): {differ} pixels differ from its headless render"
+        );
+    }
+    let csv = std::fs::read_to_string(shot.with_extension("csv")).expect("the numbers' .csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "ball,x,y,roughness,a,b,mean_a,mean_b,ratio_a_over_b"
+    );
+    assert_eq!(lines.len(), 11, "{csv}");
+    for line in &lines[1..] {
+        let cells: Vec<&str> = line.split(',').collect();
+        let (a, b, ratio): (f64, f64, f64) = (
+            cells[6].parse().unwrap(),
+            cells[7].parse().unwrap(),
+            cells[8].parse().unwrap(),
+        );
+        assert!(a > 0.0 && b > 0.0 && (ratio - a / b).abs() < 1e-5, "{line}");
+        // The term adds energy: on the roughest balls A (on) is brighter than B (off).
+        if cells[3] == "0.95" {
+            assert!(ratio > 1.02, "{line}");
+        }
+    }
+    println!("{csv}");
+}
+
 /// The difference view: of two identical sides, the ramp's zero colour (black) wherever
 /// the colour bar's legend is not, the bar itself the ramp from 1 (top) to 0 (bottom); of
 /// the term on against off, the CPU mirror of the shader's pixel applied to the two
@@ -952,9 +1075,26 @@ fn difference_view_is_the_scaled_difference_with_a_colour_bar() {
         scene_pixels(&shot, &stderr)
     };
     let (same, (w, h)) = run("scene,scene", "16", "same.png");
-    let (x0, y0, x1, y1) = colour_bar_rect(w, h);
+    // The bar goes where it and its legend meet no ball (the scene's labels are off).
+    let mut homework = Scene::reference();
+    homework.labels = false;
+    let balls: Vec<labels::Rect> = labels::ball_rects(&homework, w, h)
+        .into_iter()
+        .flatten()
+        .collect();
+    let (x0, y0, x1, y1) = colour_bar_rect(w, h, &balls);
     // The legend: the bar, its title above it and its numbers left of it (13 px text).
-    let legend = |xx: u32, yy: u32| xx + 80 >= x0 && xx < x1 + 8 && yy < y1 + 8;
+    let legend = |xx: u32, yy: u32| xx + 80 >= x0 && xx < x1 + 8 && yy + 40 >= y0 && yy < y1 + 8;
+    let zone = labels::Rect {
+        x0: x0.saturating_sub(80) as f32,
+        y0: y0.saturating_sub(40) as f32,
+        x1: (x1 + 8) as f32,
+        y1: (y1 + 8) as f32,
+    };
+    assert!(
+        !balls.iter().any(|b| b.overlaps(&zone)),
+        "the colour bar's legend {zone:?} over a ball"
+    );
     let mut not_zero = 0;
     for yy in 0..h {
         for xx in 0..w {

@@ -84,6 +84,7 @@ pub fn chart(n: u32, lights: usize, roughness_values: Option<u32>) -> Scene {
             position: DVec3::new(0.0, 0.0, 520.0),
             target: DVec3::ZERO,
             vfov_deg: 50.0,
+            min_aspect: None,
         },
         ..Scene::reference()
     }

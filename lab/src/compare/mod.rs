@@ -190,6 +190,7 @@ pub fn row_scene(scene: &Scene, roughness: &[f64], model: Model, preset: Preset)
             position: DVec3::new(0.0, 0.0, DISTANCE),
             target: DVec3::ZERO,
             vfov_deg,
+            min_aspect: None,
         },
         preset,
         // One ray through each pixel's centre, as the truth traces: pixel for pixel.
@@ -353,6 +354,7 @@ fn chart(
         room,
         align,
         size_px,
+        wrapped: Vec::new(),
     };
     let cell = w as f32 / roughness.len().max(1) as f32;
     let bottom = (MARGIN_PX + h * pictures.len() as u32) as f32;

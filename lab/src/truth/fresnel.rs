@@ -5,7 +5,7 @@
 
 use shadeballs::brdf::{f_avg_schlick, f_schlick, DIV_EPSILON, GAMES202_EDGE_TINT};
 use shadeballs::lut::adaptive;
-use shadeballs::scene::srgb_to_linear;
+use shadeballs::scene::gamma22_decode;
 
 /// Largest reflectivity the Gulbrandsen mapping accepts: its `k` divides by `1 - r`.
 pub const REFLECTIVITY_MAX: f64 = 0.999;
@@ -151,7 +151,7 @@ impl Metal {
     pub fn copper() -> Self {
         Metal {
             name: "copper",
-            r: srgb_to_linear([0.7216, 0.451, 0.2]).to_array(),
+            r: gamma22_decode([0.7216, 0.451, 0.2]).to_array(),
             g: GAMES202_EDGE_TINT,
         }
     }

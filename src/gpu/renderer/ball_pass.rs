@@ -30,8 +30,9 @@ impl Renderer {
         Ok(())
     }
 
-    /// Records the balls' pass of `frame` into `target`: the map behind the balls (a
-    /// full-screen draw before the quads), then each variant's quads with its pipeline.
+    /// Records the balls' pass of `frame` into `target`: each variant's quads with its
+    /// pipeline, then the map behind the balls (a full-screen draw at the far plane, where
+    /// no ball is).
     pub(super) fn encode_balls(
         &mut self,
         scene: &Scene,
@@ -79,10 +80,6 @@ impl Renderer {
         pass.set_scissor_rect(0, 0, w, h);
         pass.set_bind_group(0, &frame.group0, &[]);
         pass.set_bind_group(1, &frame.group1, &[]);
-        if let Some(pipeline) = background_pipeline {
-            pass.set_pipeline(&pipeline);
-            pass.draw(0..3, 0..1);
-        }
         let stride = std::mem::size_of::<BallInstance>() as u64;
         for (pipeline, range) in draws {
             if range.is_empty() {
@@ -92,6 +89,12 @@ impl Renderer {
             let bytes = range.start as u64 * stride..range.end as u64 * stride;
             pass.set_vertex_buffer(0, self.bindings.instances.slice(bytes));
             pass.draw(0..4, 0..range.len() as u32);
+        }
+        // The map behind the balls last, at the far plane: the depth test skips every pixel
+        // a ball wrote (a third of the showcase's frame), where it would be overdrawn.
+        if let Some(pipeline) = background_pipeline {
+            pass.set_pipeline(&pipeline);
+            pass.draw(0..3, 0..1);
         }
     }
 
@@ -110,8 +113,12 @@ impl Renderer {
         let plan = &frame.plan;
         let device = &self.gpu.device;
         let shows_map = frame.env_uniform.shows_map == 1.0;
-        let background = match plan.draws.first() {
-            Some((variant, _)) if shows_map => Some(
+        // A scene of truth balls alone has no per-ball draw: its background is drawn with
+        // the truth's variant (same map and display), not left the clear colour.
+        let first = plan.draws.first().map(|(v, _)| v);
+        let first = first.or((!plan.truth.is_empty()).then_some(&plan.truth_variant));
+        let background = match first {
+            Some(variant) if shows_map => Some(
                 self.pipelines
                     .background(
                         device,
