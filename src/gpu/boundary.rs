@@ -76,7 +76,7 @@ pub fn ball_wgsl() -> Vec<String> {
     super::ball::wgsl(BALL_MEMBERS)
 }
 
-/// The vertex attributes of a ball's quad ([`BallInstance::LAYOUT`], generated from
+/// The vertex attributes of a ball's quad (`BallInstance::LAYOUT`, generated from
 /// [`BALL_MEMBERS`]): what `vs_ball`'s input must declare, location for location.
 pub fn ball_attributes() -> &'static [wgpu::VertexAttribute] {
     BallInstance::LAYOUT.attributes

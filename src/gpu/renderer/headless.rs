@@ -70,7 +70,7 @@ impl Renderer {
     /// [`Renderer::render_hdr`] averaged over frames `0..frames` of the lobe's samples
     /// (`ibl_method = "lobe"`: the estimate of `frames * ibl_samples` samples a pixel;
     /// `render --ibl-frames`): the sums started again, `frames - 1` frames added on the GPU
-    /// ([`Renderer::accumulate_lobe`]), waiting for the device every [`FRAMES_IN_FLIGHT`],
+    /// ([`Renderer::accumulate_lobe`]), waiting for the device every `FRAMES_IN_FLIGHT` frames,
     /// then the last added and the mean resolved into a 32-bit target read back once. A
     /// scene whose balls use no lobe is drawn once. The renderer's lobe frame
     /// ([`Renderer::set_lobe_frame`], which the sums do not read) is 0 afterwards. Errors
@@ -277,7 +277,7 @@ impl Renderer {
         self.montecarlo_checked(scene, size, (spp, seed, part), |_| true)
     }
 
-    /// [`Renderer::render_montecarlo`] in passes of [`super::MC_PASS_SAMPLES`] estimates:
+    /// [`Renderer::render_montecarlo`] in passes of [`crate::gpu::MC_PASS_SAMPLES`] estimates:
     /// after each pass but the last, `keep_going(estimates so far)` may stop the render
     /// (the image then holds the passes done; its `spp` says how many).
     pub fn render_montecarlo_progressive(
