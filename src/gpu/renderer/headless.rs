@@ -214,20 +214,13 @@ impl Renderer {
         let device = self.gpu.device.clone();
         let readback = Readback::new(&device, format, (width, height))?;
         self.submit_scoped(|r, encoder| {
-            let texture = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("frame"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            let texture = crate::gpu::sums::texture(
+                &device,
+                "frame",
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+                (width, height),
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
             let view = texture.create_view(&Default::default());
             let target = Target {
                 view: &view,
