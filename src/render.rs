@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
 use crate::lut::{self, BakeConfig};
 use crate::memory;
+use crate::prepared::Prepared;
 use crate::scene::Scene;
 
 /// Samples per pixel of the Monte Carlo backends without `spp` (and of the truth without a
@@ -346,10 +347,12 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
     if request.verbose {
         progress.line("plan: the CPU reference renderer reads the 2-D table; no pipelines");
     }
+    // The tables, the coating rows and each ball's coating, prepared once for the render.
     let tables = lut::TableSet::from(lut::bake(&BakeConfig {
         geometry,
         ..Default::default()
     }));
+    let prepared = Prepared::new(scene, &tables);
     progress.phase("bake");
     let name = if truth {
         "CPU truth (random walk)"
@@ -359,7 +362,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
         "CPU reference renderer"
     };
     if truth {
-        let image = render_truth(scene, &tables, request, progress)?.image;
+        let image = render_truth(scene, &prepared, request, progress)?.image;
         progress.phase("render");
         let std_error = request.linear.then(|| cpu::to_rgba_f32(&image.std_error));
         // The radiance (24 bytes a pixel) is dropped before the encoder starts.
@@ -374,7 +377,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
     let radiance = if montecarlo {
         let started = Instant::now();
         let spp = request.spp.unwrap_or(DEFAULT_SPP);
-        let image = cpu::render_montecarlo(scene, &tables, w, h, spp, request.seed)?;
+        let image = cpu::render_montecarlo(scene, &prepared, w, h, spp, request.seed)?;
         progress.phase("render");
         progress.line(&montecarlo_summary(&image, request.seed, started));
         image.mean
@@ -385,11 +388,11 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
             seed: request.seed,
             ..Default::default()
         };
-        let radiance = cpu::render_radiance_with_truth(scene, &tables, w, h, settings)?;
+        let radiance = cpu::render_radiance_with_truth(scene, &prepared, w, h, settings)?;
         progress.phase("render");
         radiance
     } else {
-        let radiance = cpu::render_radiance(scene, &tables, w, h);
+        let radiance = cpu::render_radiance(scene, &prepared, w, h);
         progress.phase("render");
         radiance
     };
@@ -410,7 +413,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
 /// a summary of every ball's mean and its standard error.
 fn render_truth(
     scene: &Scene,
-    e: &lut::TableSet,
+    prepared: &Prepared,
     request: &Request,
     progress: &mut dyn Progress,
 ) -> Result<TruthImage> {
@@ -427,7 +430,7 @@ fn render_truth(
     };
     let (w, h) = request.size;
     progress.stoppable(true);
-    let image = cpu::render_truth(scene, e, w, h, settings, |p| {
+    let image = cpu::render_truth(scene, prepared, w, h, settings, |p| {
         progress.truth_pass(p, settings.spp, settings.stderr)
     });
     progress.stoppable(false);

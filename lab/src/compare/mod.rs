@@ -228,7 +228,7 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
     let started = Instant::now();
     let truth = cpu::render_truth(
         &truth_scene,
-        &truth_tables,
+        &shadeballs::prepared::Prepared::new(&truth_scene, &truth_tables),
         w,
         h,
         TruthSettings {
@@ -422,7 +422,12 @@ fn radiance(scene: &Scene, renderer: Option<&mut Renderer>, w: u32, h: u32) -> R
                 geometry: scene.effective_geometry(),
                 ..Default::default()
             }));
-            cpu::render_radiance(scene, &tables, w, h)
+            cpu::render_radiance(
+                scene,
+                &shadeballs::prepared::Prepared::new(scene, &tables),
+                w,
+                h,
+            )
         }
     })
 }
@@ -463,7 +468,12 @@ fn frame_ms(
             }));
             for _ in 0..3 {
                 let t = Instant::now();
-                std::hint::black_box(cpu::render_radiance(&scene, &tables, w, h));
+                std::hint::black_box(cpu::render_radiance(
+                    &scene,
+                    &shadeballs::prepared::Prepared::new(&scene, &tables),
+                    w,
+                    h,
+                ));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
             }
         }
