@@ -17,11 +17,12 @@ macro_rules! module {
 
 /// Every module, by import path. The library (no bindings, no override constants):
 /// `constants`, `brdf`, `lut`, `environment`, `sampling`. The renderer's: `types` (override constants,
-/// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
+/// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `model` (the whole
+/// model's BRDF for the sampling estimators), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
 /// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `accumulate` (the lobe's
 /// progressive image), `probe`, `prefilter`.
-pub const MODULES: [Module; 16] = [
+pub const MODULES: [Module; 17] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -30,6 +31,7 @@ pub const MODULES: [Module; 16] = [
     module!("types"),
     module!("bindings"),
     module!("coating"),
+    module!("model"),
     module!("lighting"),
     module!("screen"),
     module!("balls"),
