@@ -9,7 +9,7 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
-#import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_lod, strategy_scramble}
+#import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
@@ -181,10 +181,11 @@ fn shade_environment_map(
 // GGX's visible normals reflected (sample_vndf), the cosine hemisphere (sample_cosine; not
 // for an all-metal ball, whose model has no base) and the map's luminance (luminance_sample,
 // where the map has tables), combined by the balance heuristic (balance_estimate, Veach
-// 1997). Each sample reads the map's mip chain at the footprint of the strategies' summed
-// density among every sample so far (lobe_lod; filtered importance sampling, Colbert &
-// Krivanek 2007), so later frames read finer levels and the mean converges to the
-// integral. Mirrored by src/cpu/shade.rs shade_environment_mis.
+// 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does: reads
+// at the footprint's level (filtered importance sampling, as the lobe mode did before) blur
+// the bright texels the map's samples find on purpose into the dim ones the other
+// strategies weigh as rare, a bias that measured 34 % at 64 samples under studio
+// (docs/design/environment.md). Mirrored by src/cpu/shade.rs shade_environment_mis.
 fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) -> vec3<f32> {
     let p = shading_point(b, n, v);
     if p.mu_o <= 0.0 {
@@ -195,7 +196,6 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     let v_local = v * frame;
     let scramble = pixel_scramble(pixel);
     let first = u32(env.lobe.x);
-    let count = env.lobe.x + f32(IBL_SAMPLES);
     let size = luminance_size();
     let has_cosine = b.metallic < 1.0;
     let has_map = size.x > 0u;
@@ -205,17 +205,17 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     for (var j = 0u; j < IBL_SAMPLES; j++) {
         let u = lobe_frame_point(first, j, IBL_SAMPLES, scramble);
         let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
-        sum += mis_contribution(b, p, l, count, has_cosine, size);
+        sum += mis_contribution(b, p, l, has_cosine, size);
         if has_cosine {
             let c = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 1u));
-            sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), count, has_cosine, size);
+            sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), has_cosine, size);
         }
         if has_map {
             let t = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 2u));
             let x = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 3u));
             let s = luminance_sample(vec4<f32>(t, x), size);
             if s.w > 0.0 {
-                sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), count, has_cosine, size);
+                sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), has_cosine, size);
             }
         }
     }
@@ -223,9 +223,9 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
 }
 
 // One direction l's share of shade_environment_mis (without the map's intensity): the
-// model's BRDF times the map's radiance (at its footprint's level) and mu_i, over the sum of
+// model's BRDF times the map's radiance (base level) and mu_i, over the sum of
 // the drawn strategies' densities at l; 0 below the horizon.
-fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, count: f32, has_cosine: bool, size: vec2<u32>) -> vec3<f32> {
+fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, size: vec2<u32>) -> vec3<f32> {
     let mu_i = dot(p.n, l);
     if mu_i <= 0.0 {
         return vec3<f32>(0.0);
@@ -238,9 +238,7 @@ fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, count: f32, has_cosi
     if size.x > 0u {
         pdf += luminance_density(l_map, size);
     }
-    let max_level = f32(textureNumLevels(env_radiance) - 1u);
-    let lod = lobe_lod(pdf, count, l_map, env.lobe.zw, max_level);
-    let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), lod).rgb;
+    let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
     return balance_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf);
 }
 

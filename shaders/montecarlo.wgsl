@@ -20,7 +20,8 @@
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
-#import shadeballs::screen::{primary_ray, intersect_sphere, surface_normal, DEPTH_SCALE}
+#import shadeballs::screen::{primary_ray, surface_normal, DEPTH_SCALE}
+#import shadeballs::footprint::{ball_footprint, background_radiance}
 
 // Estimates a fragment draws a pass (src/gpu/montecarlo.rs PASS_SAMPLES, or the last
 // pass's rest): a pipeline-time constant, so no loop exit reads a uniform.
@@ -223,30 +224,41 @@ struct McFragment {
 
 // One pass at a ball's pixel: MC_SAMPLES estimates merged with the previous passes'
 // (Chan et al.: the means by their counts, the squared deviations plus delta^2 n_a n_b / n).
+// The pixel's footprint is the ball renderer's (footprint.wgsl ball_footprint, under the
+// pipeline's AA): near a silhouette the estimates are made along the ray through the covered
+// part's centroid and mixed with the background (along the rest's) by the coverage, so only
+// the ball's share carries noise (its squared deviations times the coverage squared), as
+// the CPU estimator's Bins::view (docs/design/antialiasing.md, "Monte Carlo").
 @fragment
 fn fs_montecarlo(in: BallOut) -> McFragment {
     let b = ball_of(in);
-    let ray = primary_ray(in.position.xy);
-    let t = intersect_sphere(ray[0], ray[1], b.center, b.radius);
-    if !(t > 0.0) {
+    let f = ball_footprint(in.position.xy, b.center, b.radius);
+    if !(f.t > 0.0) {
         discard;
     }
+    let ray = primary_ray(f.hit);
     let px = vec2<i32>(in.position.xy);
     let before = textureLoad(mc_mean, px, 0i);
     let m2_before = textureLoad(mc_m2, px, 0i).rgb;
     var rng = mc_seed(u32(px.x), u32(px.y));
-    let n = surface_normal(ray[0] + t * ray[1] - b.center, ray[1]);
+    let n = surface_normal(ray[0] + f.t * ray[1] - b.center, ray[1]);
     var p = shading_point(b, n, -ray[1]);
     p.part = mc.part;
     let drawn = estimate(b, p, &rng);
-    let mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    var mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    var m2_b = drawn.m2;
+    // A loop of 0 or 1 iterations, as in ball_footprint: the background only where needed.
+    for (var once = f.coverage < 1.0; once; once = false) {
+        mean_b = mix(background_radiance(primary_ray(f.miss)[1]), mean_b, f.coverage);
+        m2_b *= f.coverage * f.coverage;
+    }
     let n_a = before.w;
     let n_b = f32(MC_SAMPLES);
     let count = n_a + n_b;
     let delta = mean_b - before.rgb;
     var out: McFragment;
     out.mean = vec4<f32>(before.rgb + delta * (n_b / count), count);
-    out.m2 = vec4<f32>(m2_before + drawn.m2 + delta * delta * (n_a * n_b / count), 0.0);
-    out.depth = t * DEPTH_SCALE;
+    out.m2 = vec4<f32>(m2_before + m2_b + delta * delta * (n_a * n_b / count), 0.0);
+    out.depth = f.t * DEPTH_SCALE;
     return out;
 }

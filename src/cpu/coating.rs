@@ -11,7 +11,6 @@ use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
-
 };
 use crate::environment::IblTerm;
 use crate::lut::{coating_albedo, CoatingRows, TableSet, COATING_ROW_LEN};

@@ -112,7 +112,7 @@ impl CpuEnvironment {
         environment.intensity * f64::from(self.chain.scale)
     }
 
-    /// `background_radiance`'s map part in `balls.wgsl`: the map along world direction `d`
+    /// `background_radiance`'s map part in `footprint.wgsl`: the map along world direction `d`
     /// (level 0, bilinear), times the intensity.
     pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
         let uv = crate::environment::direction_to_uv(environment.to_map(d));

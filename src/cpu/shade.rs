@@ -12,8 +12,8 @@ use crate::brdf::{
     term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::lut::{CoatingRows, TableSet};
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -264,9 +264,8 @@ pub fn shade_environment_map(
 /// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`]) against
 /// the map by `lobe.count` samples of each strategy (visible normals, the cosine hemisphere
 /// but for an all-metal ball, the map's luminance where it has tables) combined by the
-/// balance heuristic ([`balance_estimate`]), each reading the f16 chain at the footprint of
-/// the strategies' summed density. The same points as the GPU (integer arithmetic), the
-/// same f32 tables.
+/// balance heuristic ([`balance_estimate`]), each reading the f16 chain's base level. The
+/// same points as the GPU (integer arithmetic), the same f32 tables.
 pub(super) fn shade_environment_mis(
     scene: &Scene,
     (b, coat): (&Ball, Option<&super::coating::Coat>),
@@ -287,11 +286,6 @@ pub(super) fn shade_environment_mis(
     let alpha = alpha_from_roughness(b.roughness);
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
-    let level0 = &ibl.chain.levels[0];
-    let size = (f64::from(level0.width), f64::from(level0.height));
-    let max_level = (ibl.chain.levels.len() - 1) as f64;
-    // As the GPU's uniform holds it: an f32 plus the count.
-    let count = f64::from(lobe.first as f32) + f64::from(lobe.count);
     let has_cosine = p.metallic < 1.0;
     let map = ibl.luminance.as_ref();
     let contribution = |l: DVec3| -> DVec3 {
@@ -307,8 +301,7 @@ pub(super) fn shade_environment_mis(
         if let Some(m) = map {
             pdf += m.luminance_density(l_map);
         }
-        let lod = lobe::lobe_lod(pdf, count, l_map, size, max_level);
-        let radiance = ibl.chain.sample(l_map, lod);
+        let radiance = ibl.chain.sample(l_map, 0.0);
         balance_estimate(model_brdf(&p, l, e) * radiance * mu_i, pdf)
     };
     let point = |j: u32, k: u32| {
