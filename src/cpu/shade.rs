@@ -13,6 +13,7 @@ use crate::brdf::{
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
+use crate::prepared::Coat;
 use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
@@ -55,7 +56,7 @@ pub fn shade(
     geometry: Geometry,
 ) -> DVec3 {
     let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
-    let coat = super::coating::Coat::of_ball(scene, b, e, &rows);
+    let coat = Coat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
@@ -72,7 +73,7 @@ pub fn shade(
 /// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
-    (b, coat): (&Ball, Option<&super::coating::Coat>),
+    (b, coat): (&Ball, Option<&Coat>),
     n: DVec3,
     v: DVec3,
     e: &TableSet,
@@ -268,7 +269,7 @@ pub fn shade_environment_map(
 /// same points as the GPU (integer arithmetic), the same f32 tables.
 pub(super) fn shade_environment_mis(
     scene: &Scene,
-    (b, coat): (&Ball, Option<&super::coating::Coat>),
+    (b, coat): (&Ball, Option<&Coat>),
     (n, v): (DVec3, DVec3),
     e: &TableSet,
     ibl: &CpuEnvironment,
