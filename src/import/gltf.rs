@@ -15,7 +15,8 @@
 //! translates and scales uniformly, is a sphere: a ball at the transformed centre of the
 //! bounds, of half their side times the scale. The file's first perspective camera is the
 //! scene's; without one a camera frames the balls. A file with no such sphere gives a chart
-//! of one ball per material. The balls are lit by the built-in studio map.
+//! of one ball per material. The balls are lit by the built-in studio map; each is labelled
+//! with its material's name ([`crate::scene::BallLabel::shortened`]), labels on.
 
 use std::path::{Path, PathBuf};
 
@@ -64,6 +65,9 @@ const FRAMING_MARGIN: f64 = 1.12;
 /// The chart's spacing when the file places no sphere: the showcase's radius and steps.
 const CHART_RADIUS: f64 = crate::scene::SHOWCASE_RADIUS;
 const CHART_STEP: f64 = crate::scene::SHOWCASE_COLUMN_STEP;
+/// The distance between a chart's rows: wider than its columns' by the room of the
+/// material's name under each ball (`crate::labels`).
+const CHART_ROW_STEP: f64 = CHART_STEP + 20.0;
 
 /// A glTF material's values as the file gives them (defaults filled in), linear.
 #[derive(Clone, Debug, PartialEq)]
@@ -333,7 +337,7 @@ fn read(bytes: &[u8], folder: Option<&Path>) -> std::result::Result<Imported, St
             let (row, col) = (k / columns, k % columns);
             let centre = DVec3::new(
                 CHART_STEP * (col as f64 - (columns - 1) as f64 / 2.0),
-                -CHART_STEP * (row as f64 - (rows - 1) as f64 / 2.0),
+                -CHART_ROW_STEP * (row as f64 - (rows - 1) as f64 / 2.0),
                 0.0,
             );
             balls.push(ball(m, centre, CHART_RADIUS));
@@ -389,7 +393,8 @@ fn read(bytes: &[u8], folder: Option<&Path>) -> std::result::Result<Imported, St
         background: Background::Environment,
         camera,
         exposure: 1.0,
-        labels: false,
+        // Each ball's label is its material's name (`Ball::label`).
+        labels: true,
         tone_map: None,
         transfer: None,
         ..Scene::reference()
@@ -427,6 +432,7 @@ fn ball(m: &GltfMaterial, centre: DVec3, radius: f64) -> Ball {
         roughness: m.roughness,
         material: m.material(),
         model: Model::KullaConty,
+        label: crate::scene::BallLabel::shortened(&m.name),
     }
 }
 

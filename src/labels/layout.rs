@@ -136,6 +136,7 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
         align,
         size_px: size,
         wrapped: Vec::new(),
+        ellipsis: false,
     };
     let mut labels = Labels::default();
 
@@ -150,6 +151,45 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
         let left = i.checked_sub(1).map_or(f32::INFINITY, |j| cx - centres[j]);
         let right = centres.get(i + 1).map_or(f32::INFINITY, |c| c - cx);
         let half = 0.5 * left.min(right);
+        // Balls with labels of their own: each its label under it, the column no
+        // roughness label.
+        if column.iter().any(|s| scene.balls[s.index].label.is_some()) {
+            for s in column {
+                let Some(text) = scene.balls[s.index].label else {
+                    continue;
+                };
+                let mut room = clip(
+                    Rect {
+                        x0: cx - half,
+                        y0: s.rect.y1 + gap,
+                        x1: cx + half,
+                        y1: s.rect.y1 + gap + line,
+                    },
+                    &image,
+                );
+                let others = labels.balls.iter().map(|l| &l.room);
+                for o in obstacles.iter().chain(others) {
+                    if room.overlaps(o) {
+                        if o.y0 > room.y0 {
+                            room.y1 = room.y1.min(o.y0);
+                        } else if 0.5 * (o.x0 + o.x1) < s.cx() {
+                            room.x0 = room.x0.max(o.x1);
+                        } else {
+                            room.x1 = room.x1.min(o.x0);
+                        }
+                    }
+                }
+                labels.balls.push(Label {
+                    ellipsis: true,
+                    ..label(
+                        text.as_str().to_string(),
+                        room,
+                        [Align::Centre, Align::Start],
+                    )
+                });
+            }
+            continue;
+        }
         let bottom = column.iter().map(|s| s.rect.y1).fold(f32::MIN, f32::max);
         let mut room = Rect {
             x0: cx - half,
@@ -215,6 +255,7 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
                 .columns
                 .iter()
                 .chain(&labels.rows)
+                .chain(&labels.balls)
                 .flat_map(|l| std::iter::once(l).chain(&l.wrapped))
                 .map(|l| &l.room);
             for o in obstacles.iter().chain(others) {
@@ -285,6 +326,7 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
     labels.columns.retain(usable);
     labels.rows.retain(usable);
     labels.caption.retain(usable);
+    labels.balls.retain(usable);
     labels
 }
 

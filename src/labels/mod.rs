@@ -22,6 +22,8 @@ pub use layout::{ball_rects, layout, layout_rows_at, RowSide};
 #[cfg(feature = "labels")]
 pub use raster::{draw_labels, text_width};
 
+use std::borrow::Cow;
+
 use crate::scene::{Ball, Model, Scene};
 
 /// The preferred font size per pixel of image height: 16 px at 720 (a line is the font's
@@ -104,6 +106,9 @@ pub struct Label {
     /// [`READABLE_FRACTION`] of its size and the lines fit larger ([`Label::fit`]). Empty
     /// for a text that does not wrap.
     pub wrapped: Vec<Label>,
+    /// Whether a text too long for its room at [`READABLE_FRACTION`] of its size is cut
+    /// short with [`crate::scene::ELLIPSIS`] rather than shrunk (a ball's own label).
+    pub ellipsis: bool,
 }
 
 /// Where a label's text goes once fitted to its room.
@@ -174,17 +179,28 @@ impl Label {
     /// with its placement; `width_at` gives a text's width in pixels at a font size. The
     /// one line wins when it keeps [`READABLE_FRACTION`] of its size, or when the wrapped
     /// lines do not all fit larger; nothing when neither fits.
-    pub fn fit(&self, width_at: impl Fn(&str, f32) -> f32) -> Vec<(&Label, Placement)> {
+    ///
+    /// A label with [`Label::ellipsis`] keeps the largest size its room's height allows
+    /// (at most its own, at least [`READABLE_FRACTION`] of it where the room is tall
+    /// enough) and drops characters from its end, adding the ellipsis, until it fits.
+    pub fn fit(&self, width_at: impl Fn(&str, f32) -> f32) -> Vec<(Cow<'_, Label>, Placement)> {
         let one = self.place(width_at(&self.text, self.size_px));
+        let readable = READABLE_FRACTION * self.size_px * (1.0 - 1e-4);
         if let Some(p) = one {
-            if p.size_px >= READABLE_FRACTION * self.size_px * (1.0 - 1e-4) {
-                return vec![(self, p)];
+            if p.size_px >= readable {
+                return vec![(Cow::Borrowed(self), p)];
             }
         }
-        let lines: Option<Vec<(&Label, Placement)>> = self
+        if self.ellipsis {
+            return self.shortened(&width_at, one, readable);
+        }
+        let lines: Option<Vec<(Cow<'_, Label>, Placement)>> = self
             .wrapped
             .iter()
-            .map(|l| l.place(width_at(&l.text, l.size_px)).map(|p| (l, p)))
+            .map(|l| {
+                l.place(width_at(&l.text, l.size_px))
+                    .map(|p| (Cow::Borrowed(l), p))
+            })
             .collect();
         match (one, lines) {
             (one, Some(lines))
@@ -195,9 +211,44 @@ impl Label {
             {
                 lines
             }
-            (Some(p), _) => vec![(self, p)],
+            (Some(p), _) => vec![(Cow::Borrowed(self), p)],
             _ => Vec::new(),
         }
+    }
+
+    /// [`Label::fit`] for a label with [`Label::ellipsis`] whose whole text (placed at
+    /// `one`) keeps less than `readable` pixels: the longest start of it that, ended with
+    /// the ellipsis, keeps the size the room's height allows (capped at `readable`); the
+    /// whole text shrunk where no start does.
+    fn shortened(
+        &self,
+        width_at: &impl Fn(&str, f32) -> f32,
+        one: Option<Placement>,
+        readable: f32,
+    ) -> Vec<(Cow<'_, Label>, Placement)> {
+        // The size the room's height alone allows: a text of no width.
+        let Some(tall) = self.place(f32::MIN_POSITIVE.sqrt()) else {
+            return Vec::new();
+        };
+        let wanted = readable.min(tall.size_px);
+        let ends: Vec<usize> = self.text.char_indices().map(|(i, _)| i).skip(1).collect();
+        for &end in ends.iter().rev() {
+            let start = self.text[..end].trim_end();
+            if start.is_empty() {
+                break;
+            }
+            let text = format!("{start}{}", crate::scene::ELLIPSIS);
+            if let Some(p) = self.place(width_at(&text, self.size_px)) {
+                if p.size_px >= wanted {
+                    let label = Label {
+                        text,
+                        ..self.clone()
+                    };
+                    return vec![(Cow::Owned(label), p)];
+                }
+            }
+        }
+        one.map(|p| (Cow::Borrowed(self), p)).into_iter().collect()
     }
 }
 
@@ -210,12 +261,20 @@ pub struct Labels {
     pub rows: Vec<Label>,
     /// The caption line(s): preset, geometry term and environment ([`caption`]).
     pub caption: Vec<Label>,
+    /// Under each ball with a label of its own ([`crate::scene::Ball::label`]): that
+    /// label, shortened to the ball's column ([`Label::ellipsis`]); such a ball's column
+    /// has no roughness label.
+    pub balls: Vec<Label>,
 }
 
 impl Labels {
-    /// Every label: columns, rows, then the caption.
+    /// Every label: columns, rows, the caption, then the balls' own.
     pub fn iter(&self) -> impl Iterator<Item = &Label> {
-        self.columns.iter().chain(&self.rows).chain(&self.caption)
+        self.columns
+            .iter()
+            .chain(&self.rows)
+            .chain(&self.caption)
+            .chain(&self.balls)
     }
 
     /// Whether there is no label at all.

@@ -74,7 +74,7 @@ pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) ->
     let mut drawn = 0;
     for label in labels.iter() {
         for (line, place) in label.fit(width_at) {
-            if draw(&font, rgba, width, height, line, place) {
+            if draw(&font, rgba, width, height, &line, place) {
                 drawn += 1;
             }
         }

@@ -45,6 +45,8 @@
 //! model = "kulla-conty"       # optional: none | kulla-conty | turquin | fdez-aguera | truth
 //!                              # (default: the scene's ibl_term, kulla-conty unless set);
 //! # multiple_scattering = true #   shorthand: true = that default, false = "none"
+//! label = "Gold"               # optional: one line, at most MAX_BALL_LABEL_BYTES bytes,
+//!                              # drawn under the ball where `labels` is on
 //! material = { kind = "metal", albedo = [0.7216, 0.451, 0.2] }   # pow 2.2 (the homework's);
 //!                              # or f0 = [...] (linear)
 //! # material = { base_color = [0.8, 0.3, 0.1], metallic = 0.5, ior = 1.5 }
@@ -141,6 +143,7 @@ struct BallFile {
     roughness: Roughness,
     multiple_scattering: Option<bool>,
     model: Option<Named<Model>>,
+    label: Option<Spanned<String>>,
     material: Spanned<MaterialFile>,
 }
 
@@ -466,6 +469,13 @@ fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
             ))
         }
     };
+    let label = match b.label {
+        Some(l) => {
+            let span = l.span();
+            Some(super::BallLabel::new(l.get_ref()).map_err(|e| (span, e))?)
+        }
+        None => None,
+    };
     let material = material(b.material)?;
     Ok(Ball {
         center,
@@ -473,6 +483,7 @@ fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
         roughness: b.roughness.0,
         material,
         model,
+        label,
     })
 }
 

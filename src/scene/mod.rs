@@ -6,6 +6,7 @@
 //! is up, colours are linear RGB unless a field says sRGB, light directions point from the
 //! surface towards the light.
 
+mod ball_label;
 mod camera;
 #[cfg(feature = "scene-files")]
 mod file;
@@ -19,6 +20,7 @@ mod values;
 
 use glam::DVec3;
 
+pub use ball_label::{BallLabel, ELLIPSIS, MAX_BALL_LABEL_BYTES};
 pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
     MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
@@ -80,6 +82,9 @@ pub struct Ball {
     pub material: Material,
     /// The BRDF model it is shaded with.
     pub model: Model,
+    /// Its own label, drawn under it where the scene's labels are on (an imported
+    /// material's name); `None` for the chart's labels alone.
+    pub label: Option<BallLabel>,
 }
 
 /// A directional light.
@@ -327,6 +332,7 @@ pub(crate) fn term_rows(
                     } else {
                         Model::None
                     },
+                    label: None,
                 })
         })
         .collect()

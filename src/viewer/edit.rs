@@ -245,6 +245,7 @@ impl Grid {
                         } else {
                             Model::None
                         },
+                        label: None,
                     }
                 })
             })

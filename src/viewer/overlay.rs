@@ -171,6 +171,7 @@ fn add_tags(
                     align: [align, Align::Centre],
                     size_px: size,
                     wrapped: Vec::new(),
+                    ellipsis: false,
                 });
                 break;
             }

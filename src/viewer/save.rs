@@ -149,9 +149,12 @@ fn light(out: &mut String, light: &Light) -> Result<(), String> {
 
 fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
     let material = material(&b.material)?;
+    let label = b.label.map_or(String::new(), |l| {
+        format!("label = {}\n", string(l.as_str()))
+    });
     let _ = writeln!(
         out,
-        "\n[[ball]]\nposition = {}\nradius = {}\nroughness = {}\nmodel = {}\nmaterial = {material}",
+        "\n[[ball]]\nposition = {}\nradius = {}\nroughness = {}\nmodel = {}\n{label}material = {material}",
         vec3(b.center),
         num(b.radius),
         num(b.roughness),

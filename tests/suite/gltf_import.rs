@@ -235,6 +235,88 @@ fn import_carries_every_value_over_exactly() {
     );
 }
 
+/// An RGBA8 PNG's pixels and width.
+fn png(path: &Path) -> (Vec<u8>, u32) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8();
+    (img.as_raw().clone(), img.width())
+}
+
+/// Each ball is labelled with its material's name: in the scene file `import` writes
+/// (`label = "..."`, labels on), and in the picture `render --scene FILE.gltf` draws, whose
+/// pixels change with `--no-labels` inside the names' rooms under the balls (each room
+/// some), nowhere else but the caption's.
+#[test]
+fn material_names_are_the_balls_labels() {
+    let dir = temp_dir("gltf-labels");
+    let file = write_json(&dir, "materials.gltf", &several_materials());
+    let names = ["orange plastic", "glass-like", "grey specular", "lamp"];
+    let out = dir.join("materials.toml");
+    let (ok, stderr) = shadeballs(&[
+        "import",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("\nlabels = true\n"), "{text}");
+    for name in names {
+        assert!(text.contains(&format!("\nlabel = \"{name}\"\n")), "{text}");
+    }
+    let scene = shadeballs::scene::load(&out).unwrap();
+    let labels: Vec<&str> = scene
+        .balls
+        .iter()
+        .map(|b| b.label.as_ref().map_or("", |l| l.as_str()))
+        .collect();
+    assert_eq!(labels, names);
+    // The smallest font drawn (8 px) at a 360-pixel height.
+    let (w, h) = (640u32, 360u32);
+    let layout = shadeballs::labels::layout(&scene, w, h);
+    let mut texts: Vec<&str> = layout.balls.iter().map(|l| l.text.as_str()).collect();
+    texts.sort();
+    let mut sorted = names.to_vec();
+    sorted.sort();
+    assert_eq!(texts, sorted, "one label under each ball");
+    assert!(layout.columns.is_empty(), "{:?}", layout.columns);
+    let size = ["--width", &w.to_string(), "--height", &h.to_string()].map(String::from);
+    let mut flags: Vec<&str> = vec!["render", "--scene", file.to_str().unwrap()];
+    flags.extend(["--backend", "cpu", "--spp", "1"]);
+    flags.extend(size.iter().map(String::as_str));
+    let on = dir.join("on.png");
+    let off = dir.join("off.png");
+    let (ok, stderr) = shadeballs(&[&flags[..], &["--out", on.to_str().unwrap()]].concat());
+    assert!(ok, "{stderr}");
+    let (ok, stderr) =
+        shadeballs(&[&flags[..], &["--no-labels", "--out", off.to_str().unwrap()]].concat());
+    assert!(ok, "{stderr}");
+    let ((a, aw), (b, _)) = (png(&on), png(&off));
+    assert_eq!(aw, w);
+    let mut per_ball = vec![0usize; layout.balls.len()];
+    let mut elsewhere = 0;
+    for (i, (p, q)) in a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate() {
+        if p == q {
+            continue;
+        }
+        let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
+        let at = |r: &shadeballs::labels::Rect| x > r.x0 && x < r.x1 && y > r.y0 && y < r.y1;
+        match layout.balls.iter().position(|l| at(&l.room)) {
+            Some(k) => per_ball[k] += 1,
+            None => {
+                assert!(
+                    layout.iter().any(|l| at(&l.room)),
+                    "({x}, {y}) changed outside the rooms"
+                );
+                elsewhere += 1;
+            }
+        }
+    }
+    println!("changed pixels per name {per_ball:?}, in other labels {elsewhere}");
+    assert!(per_ball.iter().all(|&n| n >= 20), "{per_ball:?}");
+}
+
 #[test]
 fn a_glb_places_its_spheres_from_positions_in_its_bin_chunk() {
     // One mesh of eight corners of a cube of side 2 (no min/max: read from the BIN chunk),

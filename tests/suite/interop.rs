@@ -256,6 +256,7 @@ fn the_exported_fragment_shades_as_the_renderer() {
                 roughness,
                 material,
                 model: Model::KullaConty,
+                label: None,
             };
             let scene = Scene {
                 balls: vec![ball],

@@ -186,6 +186,7 @@ fn place_shrinks_to_the_room_or_leaves_the_label_out() {
         align: [Align::Centre, Align::Start],
         size_px: 16.0,
         wrapped: Vec::new(),
+        ellipsis: false,
     };
     let p = label(200.0).place(60.0).unwrap();
     assert_eq!(p.size_px, 16.0);
@@ -215,6 +216,7 @@ fn text_is_readable_on_black_and_on_white_and_stays_in_its_room() {
             align: [Align::Centre, Align::Centre],
             size_px: 18.0,
             wrapped: Vec::new(),
+            ellipsis: false,
         }],
         ..Labels::default()
     };
@@ -262,6 +264,72 @@ fn scene_key_labels() {
     );
     assert!(!e.contains('\n'));
     assert!(Scene::reference().labels && Scene::furnace().labels);
+}
+
+/// A ball's `label` key: its text under the ball (the column's roughness label then
+/// gone), shortened with an ellipsis to the column where it is too long; blank, multi-line
+/// or over-long text is a one-line error with its line.
+#[test]
+fn ball_label_key_is_drawn_under_its_ball_and_shortened_to_its_column() {
+    let ball = |label: &str, col: u32| {
+        format!(
+            "[[ball]]\ngrid = [0, {col}]\nradius = 35\nroughness = 0.5\nlabel = {label}\n\
+             material = {{ kind = \"metal\", f0 = [1, 1, 1] }}\n"
+        )
+    };
+    let parse = |text: &str| scene::parse(text, Path::new("s.toml"));
+    let long = "a material name far too long for the column it stands in";
+    let text = format!(
+        "labels = true\n{}{}[[ball]]\ngrid = [0, 2]\nradius = 35\nroughness = 0.5\n\
+         material = {{ kind = \"metal\", f0 = [1, 1, 1] }}\n",
+        ball("\"gold\"", 0),
+        ball(&format!("\"{long}\""), 1)
+    );
+    let s = parse(&text).unwrap();
+    assert_eq!(s.balls[0].label.unwrap().as_str(), "gold");
+    assert!(s.balls[2].label.is_none());
+    let (w, h) = (1280, 720);
+    check_rooms(&s, w, h).unwrap();
+    let l = layout(&s, w, h);
+    assert_eq!(l.balls.len(), 2);
+    assert_eq!(
+        l.columns.len(),
+        1,
+        "the unlabelled ball's column keeps its own"
+    );
+    let width_at = |t: &str, size: f32| labels::text_width(t, size).unwrap();
+    let mut fitted: Vec<_> = l.balls.iter().flat_map(|b| b.fit(width_at)).collect();
+    assert_eq!(fitted.len(), 2);
+    // Grid column 0 is the rightmost: its label comes last, left to right.
+    fitted.reverse();
+    let (gold, gold_at) = &fitted[0];
+    assert_eq!(gold.text, "gold");
+    assert!(
+        gold_at.size_px >= gold.size_px * (1.0 - 1e-4),
+        "{gold_at:?}"
+    );
+    let (short, at) = &fitted[1];
+    println!("{:?} at {} px in {:?}", short.text, at.size_px, short.room);
+    assert!(short.text.ends_with(scene::ELLIPSIS), "{}", short.text);
+    assert!(long.starts_with(short.text.trim_end_matches(scene::ELLIPSIS)));
+    assert!(short.text.chars().count() > 3, "{}", short.text);
+    assert!(at.size_px >= labels::READABLE_FRACTION * short.size_px * (1.0 - 1e-4));
+    assert!(short.room.contains(&at.outer));
+    // Drawn: pixels change under each labelled ball.
+    let mut rgba = vec![0u8; (w * h * 4) as usize];
+    assert_eq!(draw_labels(&mut rgba, w, h, &l).unwrap(), l.iter().count());
+    for bad in [
+        "\"\"".to_string(),
+        "\"two\\nlines\"".to_string(),
+        format!("\"{}\"", "x".repeat(scene::MAX_BALL_LABEL_BYTES + 1)),
+        "3".to_string(),
+    ] {
+        let e = parse(&format!("labels = true\n{}", ball(&bad, 0)))
+            .unwrap_err()
+            .to_string();
+        println!("{e}");
+        assert!(!e.contains('\n') && e.contains("line 6"), "{e}");
+    }
 }
 
 /// Accepted fuzzed scene files lay out and draw at several sizes without panicking, and

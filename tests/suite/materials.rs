@@ -115,6 +115,7 @@ pub(crate) fn chart(
                 roughness,
                 material,
                 model,
+                label: None,
             });
         }
     }

@@ -343,6 +343,7 @@ fn one_pixel_scene(term: IblTerm, material: Material) -> Scene {
         roughness: 0.5,
         material,
         model: Model::KullaConty,
+        label: None,
     }];
     scene
 }

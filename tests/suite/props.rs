@@ -124,6 +124,7 @@ fn radiance(s: &Sample, v: DVec3, l: DVec3) -> DVec3 {
         roughness: s.roughness,
         material: Material::metal(DVec3::splat(s.f0)),
         model: Model::KullaConty,
+        label: None,
     };
     let scene = Scene {
         balls: Vec::new(),

@@ -61,6 +61,7 @@ pub fn chart(n: u32, lights: usize, roughness_values: Option<u32>) -> Scene {
                     ..Material::metal_srgb([0.0; 3])
                 },
                 model: Model::KullaConty,
+                label: None,
             });
         }
     }

@@ -182,6 +182,7 @@ pub fn row_scene(scene: &Scene, roughness: &[f64], model: Model, preset: Preset)
             roughness: r,
             material,
             model,
+            label: None,
         })
         .collect();
     // One ball's spacing fills the image height: tan(vfov / 2) = (SPACING / 2) / DISTANCE.
@@ -357,10 +358,12 @@ fn chart(
         align,
         size_px,
         wrapped: Vec::new(),
+        ellipsis: false,
     };
     let cell = w as f32 / roughness.len().max(1) as f32;
     let bottom = (MARGIN_PX + h * pictures.len() as u32) as f32;
     let layout = Labels {
+        balls: Vec::new(),
         columns: roughness
             .iter()
             .enumerate()

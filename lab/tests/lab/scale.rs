@@ -26,6 +26,7 @@ fn overlapping() -> Scene {
         roughness,
         material,
         model: if ms { Model::KullaConty } else { Model::None },
+        label: None,
     };
     scene.balls = vec![
         // Interpenetrating pair and a small ball half sunk into the big one.
