@@ -1701,9 +1701,10 @@ fn lobe_stops_at_its_cap_and_the_viewer_goes_idle() {
     ];
     let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
     let stderr = drive(&x, child, |_| {
-        // 16 frames of a 180x270 scene area at 256 samples: the whole test took 19 s with
-        // four other viewer tests beside it on lavapipe (2 loaded cores); then idle.
-        std::thread::sleep(Duration::from_secs(15));
+        // 16 frames of a 180x270 scene area at 256 samples of each strategy (the lobe
+        // mode's multiple importance sampling, issue 37): 2.5 s a frame on lavapipe (2
+        // loaded cores), about 40 s to the cap; then idle.
+        std::thread::sleep(Duration::from_secs(50));
     });
     assert_eq!(reported(&stderr, "lobe: "), 4096, "{stderr}");
     let frames = reported(&stderr, "viewed ");
