@@ -172,7 +172,7 @@ fn shade_environment_map(
         var n_spec = n;
         if b.anisotropy_alpha_t > b.anisotropy_alpha_b {
             let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
-            n_spec = anisotropic_bent_normal(n, v, frame[1], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+            n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
         }
         let r = 2.0 * dot(n_spec, v) * n_spec - v;
         // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).

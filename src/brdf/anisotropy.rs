@@ -113,19 +113,19 @@ pub fn ball_tangent(n: glam::DVec3, (cos_r, sin_r): (f64, f64)) -> (glam::DVec3,
 /// The normal an anisotropic lobe reflects the map about under the split sum (the glTF
 /// sample viewer's `KHR_materials_anisotropy` image-based lighting, after Revie 2011's
 /// bent reflection vector): `n` bent towards the normal of the plane through the
-/// bitangent `b` facing `v`, by `1 - (1 - s (1 - r))^4`, the strength `s` and roughness `r`
+/// lobe's rough direction (the tangent `t`, `alpha_t`) facing `v`, by `1 - (1 - s (1 - r))^4`, the strength `s` and roughness `r`
 /// recovered from the pair (`alpha_b = r^2`, `alpha_t = mix(alpha_b, 1, s^2)`).
 pub fn anisotropic_bent_normal(
     n: glam::DVec3,
     v: glam::DVec3,
-    b: glam::DVec3,
+    t: glam::DVec3,
     (alpha_t, alpha_b): (f64, f64),
 ) -> glam::DVec3 {
     let s = ((alpha_t - alpha_b) / (1.0 - alpha_b).max(DIV_EPSILON))
         .clamp(0.0, 1.0)
         .sqrt();
     let r = alpha_b.sqrt();
-    let facing = b.cross(v).cross(b);
+    let facing = t.cross(v).cross(t);
     let len = facing.length();
     if len <= DIV_EPSILON {
         return n;

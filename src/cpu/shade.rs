@@ -245,7 +245,7 @@ pub fn shade_environment_map(
     let intensity = ibl.intensity(environment);
     // An anisotropic lobe reflects about its bent normal.
     let n_spec = anisotropic_frame(b, n).map_or(n, |(frame, alphas)| {
-        anisotropic_bent_normal(n, v, frame.tangents().1, alphas)
+        anisotropic_bent_normal(n, v, frame.tangents().0, alphas)
     });
     let r = 2.0 * n_spec.dot(v) * n_spec - v;
     let n_map = environment.to_map(n);
