@@ -12,6 +12,7 @@ use crate::brdf::{
 };
 use crate::environment::{Environment, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
+use crate::prepared::Coat;
 use crate::sampling::Frame;
 use crate::scene::{Ball, Scene};
 
@@ -54,7 +55,7 @@ pub fn shade(
     geometry: Geometry,
 ) -> DVec3 {
     let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
-    let coat = super::coating::Coat::of_ball(scene, b, e, &rows);
+    let coat = Coat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
@@ -71,7 +72,7 @@ pub fn shade(
 /// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
-    (b, coat): (&Ball, Option<&super::coating::Coat>),
+    (b, coat): (&Ball, Option<&Coat>),
     n: DVec3,
     v: DVec3,
     e: &TableSet,

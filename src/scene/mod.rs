@@ -25,13 +25,10 @@ pub use camera::{
 };
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
-pub use material::{
-    coating_spec_albedo, gamma22_decode, srgb_decode, CoatingConstants, Layering, Material,
-    DEFAULT_IOR, IOR_RANGE,
-};
+pub use material::{gamma22_decode, srgb_decode, Layering, Material, DEFAULT_IOR, IOR_RANGE};
 pub use model::Model;
 pub use preset::Preset;
-pub use reading::{base_albedo, substrate_albedo, substrate_albedo_with, BaseReading};
+pub use reading::BaseReading;
 pub use showcase::{
     showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE,
     SHOWCASE_MIN_ASPECT, SHOWCASE_RADIUS, SHOWCASE_ROW_HALF_GAP,
@@ -279,24 +276,6 @@ impl Scene {
                 self.effective_geometry(),
             )
         })
-    }
-
-    /// The coating rows of every ball with a dielectric part, baked (or taken from
-    /// `cache`).
-    pub fn coating_rows(
-        &self,
-        cache: &mut std::collections::HashMap<
-            crate::lut::CoatingKey,
-            [f32; crate::lut::COATING_ROW_LEN],
-        >,
-    ) -> crate::lut::CoatingRows {
-        crate::lut::CoatingRows::bake(
-            self.balls
-                .iter()
-                .take(MAX_BALLS)
-                .filter_map(|b| self.coating_key(b)),
-            cache,
-        )
     }
 
     /// Whether any ball is the random-walk truth.

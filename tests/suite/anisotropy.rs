@@ -412,12 +412,13 @@ fn the_default_anisotropic_lobe_against_the_truth() {
         seed: 3,
         ..Default::default()
     };
-    let truth = shadeballs::cpu::render_truth(&scene, &e, w, h, settings, |_| true).unwrap();
+    let prepared = shadeballs::prepared::Prepared::new(&scene, &e);
+    let truth = shadeballs::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
     let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
         .map(|k| interior(&scene, k, w, h))
         .collect();
     let t_means = ball_means(&truth.image.mean, &pixels);
-    let model = shadeballs::cpu::render_radiance(&scene, &e, w, h);
+    let model = shadeballs::cpu::render_radiance(&scene, &prepared, w, h);
     let m_means = ball_means(&model, &pixels);
     let mut worst_aniso = 0.0f64;
     let mut worst_iso = 0.0f64;
