@@ -158,7 +158,7 @@ mod tests {
     #[test]
     fn equal_alphas_give_the_isotropic_terms() {
         for alpha in [0.01, 0.2, 0.7] {
-            for theta in [0.0, 0.3, 1.2] {
+            for theta in [0.0f64, 0.3, 1.2] {
                 let w = DVec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos());
                 let d = d_ggx_aniso(w, alpha, alpha);
                 assert!((d - d_ggx(w.z, alpha)).abs() <= 1e-9 * d, "{alpha} {theta}");
