@@ -411,7 +411,7 @@ impl<'a> Lighting<'a> {
 
     /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`.
     fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alphas: (f64, f64)) -> f64 {
-        let mut pdf = pdf_vndf(p, l, alphas) + mu_i / PI;
+        let mut pdf = pdf_vndf_lobe(p, l, alphas) + mu_i / PI;
         if let Some(s) = &self.sampler {
             pdf += s.pdf(l);
         }
@@ -419,10 +419,20 @@ impl<'a> Lighting<'a> {
     }
 }
 
+/// Density (solid angle) of [`sample_vndf`] at `l`: [`vndf_density`] at `l`'s half vector.
+pub(super) fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    vndf_density(p.mu_o, p.n.dot(sum / len), alpha)
+}
+
 /// Density (solid angle) of [`sample_vndf_aniso`] at `l`: [`vndf_density_aniso`] at `l`'s
 /// half vector (in the lobe's tangent frame where it is anisotropic; an isotropic lobe's
 /// is [`vndf_density`] of its alpha, the same density).
-fn pdf_vndf(p: &ShadingPoint, l: DVec3, alphas: (f64, f64)) -> f64 {
+fn pdf_vndf_lobe(p: &ShadingPoint, l: DVec3, alphas: (f64, f64)) -> f64 {
     let sum = p.v + l;
     let len = sum.length();
     if len <= DIV_EPSILON {
