@@ -5,7 +5,7 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::alpha_from_roughness
+#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
@@ -100,6 +100,14 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     if HAS_LIGHTS == 0u {
         return lo;
     }
+    // An anisotropic lobe (docs/design/anisotropy.md): the lights' single scattering in the
+    // ball's tangent frame; `roughness` is its isotropic equivalent for the rest.
+    let aniso = b.anisotropy_alpha_t > b.anisotropy_alpha_b;
+    var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
+    if aniso {
+        frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+    }
+    let v_local = v * frame;
     for (var k = 0u; k < n_lights; k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
@@ -108,7 +116,12 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, dot(v, h));
-        let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
+        var spec = vec3<f32>(0.0);
+        if aniso {
+            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, b.anisotropy_alpha_t, b.anisotropy_alpha_b, GEOMETRY);
+        } else {
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
+        }
         var lobe = vec3<f32>(0.0);
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
         // its E read; then a branch on the ball's own term.
@@ -152,7 +165,13 @@ fn shade_environment_map(
     let n_map = env_to_map(n, rotation);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
-    let r = 2.0 * dot(n, v) * n - v;
+    // An anisotropic lobe reflects about its bent normal (anisotropic_bent_normal).
+    var n_spec = n;
+    if b.anisotropy_alpha_t > b.anisotropy_alpha_b {
+        let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+        n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+    }
+    let r = 2.0 * dot(n_spec, v) * n_spec - v;
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
     let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);

@@ -145,6 +145,10 @@ struct Ball {
     coating_row: u32,
     layering: u32,
     fresnel: u32,
+    anisotropy_alpha_t: f32,
+    anisotropy_alpha_b: f32,
+    anisotropy_cos: f32,
+    anisotropy_sin: f32,
 }
 
 // The ball's members as a quad's instance attributes (BallInstance::LAYOUT).
@@ -159,6 +163,7 @@ struct BallIn {
     @location(7) ball_6: vec4<f32>,
     @location(8) ball_7: f32,
     @location(9) ball_8: vec3<u32>,
+    @location(10) ball_9: vec4<f32>,
 }
 
 // A quad's fragment: its ball as flat varyings (a fragment shades only its own
@@ -175,6 +180,7 @@ struct BallOut {
     @location(7) @interpolate(flat) ball_6: vec4<f32>,
     @location(8) @interpolate(flat) ball_7: f32,
     @location(9) @interpolate(flat) ball_8: vec3<u32>,
+    @location(10) @interpolate(flat) ball_9: vec4<f32>,
 }
 
 fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
@@ -190,6 +196,7 @@ fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
     out.ball_6 = in.ball_6;
     out.ball_7 = in.ball_7;
     out.ball_8 = in.ball_8;
+    out.ball_9 = in.ball_9;
     return out;
 }
 
@@ -213,6 +220,10 @@ fn ball_of(in: BallOut) -> Ball {
     b.coating_row = in.ball_8.x;
     b.layering = in.ball_8.y;
     b.fresnel = in.ball_8.z;
+    b.anisotropy_alpha_t = in.ball_9.x;
+    b.anisotropy_alpha_b = in.ball_9.y;
+    b.anisotropy_cos = in.ball_9.z;
+    b.anisotropy_sin = in.ball_9.w;
     b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);
     return b;
 }

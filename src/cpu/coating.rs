@@ -65,7 +65,7 @@ impl CoatingPoint {
             constants,
             albedo,
         } = *coat;
-        let roughness = b.roughness;
+        let roughness = b.shading_roughness();
         let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
         let loss_avg = super::light::loss_avg(e, roughness);
@@ -219,7 +219,7 @@ fn shade_coating_map(
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let intensity = map.intensity(environment);
     let n_map = environment.to_map(n);
     let irradiance = intensity * map.prefiltered.irradiance(n_map);

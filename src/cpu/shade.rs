@@ -8,13 +8,13 @@ use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::light::{CpuEnvironment, Forms, LobeSamples};
 use super::montecarlo::{model_brdf, pdf_vndf, ShadingPoint};
 use crate::brdf::{
-    alpha_from_roughness, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
-    term_turquin, FAvgForm, Geometry,
+    alpha_from_roughness, anisotropic_bent_normal, ball_tangent, f_avg_schlick, f_micro,
+    f_micro_aniso, f_ms, f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf, Frame};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -135,7 +135,7 @@ pub(super) fn shade_with_terms(
 ) -> (DVec3, PointTerms) {
     let Forms { form, geometry, .. } = *forms;
     let split = forms.map.map(|m| &m.split);
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let f0 = b.material.f0;
     let ms = if b.model.has_term() { 1.0 } else { 0.0 };
     let term = b.model.term().unwrap_or(IblTerm::KullaConty);
@@ -172,6 +172,8 @@ pub(super) fn shade_with_terms(
         IblTerm::FdezAguera => fms_ems,
     };
     let mut lo = scene.environment * (single + ms * added);
+    // An anisotropic lobe: the lights' single scattering in the ball's tangent frame.
+    let aniso = anisotropic_frame(b, n);
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -182,14 +184,18 @@ pub(super) fn shade_with_terms(
         let v_dot_h = v.dot(h);
         let n_dot_h = n.dot(h);
         let spec = per_channel(f0, |f| {
-            f_micro(
-                f_schlick(f, v_dot_h),
-                mu_o,
-                mu_i,
-                n_dot_h,
-                roughness,
-                geometry,
-            )
+            let fresnel = f_schlick(f, v_dot_h);
+            match aniso {
+                Some((frame, alphas)) => f_micro_aniso(
+                    fresnel,
+                    frame.to_local(v),
+                    frame.to_local(l),
+                    frame.to_local(h),
+                    alphas,
+                    geometry,
+                ),
+                None => f_micro(fresnel, mu_o, mu_i, n_dot_h, roughness, geometry),
+            }
         });
         let lobe = match term {
             IblTerm::KullaConty => f_add * f_ms(loss_o, loss(e, mu_i, roughness), norm),
@@ -225,7 +231,7 @@ pub fn shade_environment_map(
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let f0 = b.material.f0;
     let PointTerms {
         loss_o,
@@ -238,7 +244,11 @@ pub fn shade_environment_map(
     } = *terms;
     let e_o = 1.0 - loss_o;
     let intensity = ibl.intensity(environment);
-    let r = 2.0 * n.dot(v) * n - v;
+    // An anisotropic lobe reflects about its bent normal.
+    let n_spec = anisotropic_frame(b, n).map_or(n, |(frame, alphas)| {
+        anisotropic_bent_normal(n, v, frame.tangents().0, alphas)
+    });
+    let r = 2.0 * n_spec.dot(v) * n_spec - v;
     let n_map = environment.to_map(n);
     let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
     let prefiltered = intensity
@@ -284,7 +294,7 @@ pub(super) fn shade_environment_mis(
     if p.mu_o <= 0.0 {
         return DVec3::ZERO;
     }
-    let alpha = alpha_from_roughness(b.roughness);
+    let alpha = alpha_from_roughness(b.shading_roughness());
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
     let has_cosine = p.metallic < 1.0;
@@ -326,6 +336,18 @@ pub(super) fn shade_environment_mis(
         }
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
+}
+
+/// Ball `b`'s tangent frame at unit normal `n` and its lobe's `(alpha_t, alpha_b)` where
+/// the lobe is anisotropic (`ball_tangent_frame` of `brdf.wgsl`, `brdf::ball_tangent`).
+pub(crate) fn anisotropic_frame(b: &Ball, n: DVec3) -> Option<(Frame, (f64, f64))> {
+    b.material.is_anisotropic().then(|| {
+        let (t, bt) = ball_tangent(n, b.material.anisotropy_turn());
+        (
+            Frame::from_axes(t, bt, n),
+            b.material.anisotropic_alphas(b.roughness),
+        )
+    })
 }
 
 /// [`term_turquin`] per channel.

@@ -454,7 +454,8 @@ impl SingleAlbedos {
 fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> ShadingPoint {
     let metal = Ball {
         model: Model::None,
-        material: crate::scene::Material::metal(b.material.f0),
+        material: crate::scene::Material::metal(b.material.f0)
+            .with_anisotropy(b.material.anisotropy, b.material.anisotropy_rotation),
         ..*b
     };
     let mut point = ShadingPoint::new(scene, &metal, n, v, e);
@@ -483,7 +484,8 @@ fn single_fixed(
             lo += super::montecarlo::model_brdf(&point, light.direction, e) * light.radiance * mu_i;
         }
     }
-    if scene.environment != DVec3::ZERO && point.mu_o > 0.0 {
+    // An anisotropic lobe's is walked (its first escapes: `PixelWalk::estimate_metal`).
+    if scene.environment != DVec3::ZERO && point.mu_o > 0.0 && !b.material.is_anisotropic() {
         lo += scene.environment * singles.at(b, point.mu_o);
     }
     b.material.metallic * lo
@@ -502,6 +504,8 @@ struct PixelWalk {
     count: usize,
     point: Option<ShadingPoint>,
     metallic: f64,
+    /// Whether the metal's lobe is anisotropic.
+    anisotropic: bool,
     /// The dielectric part: its walk, its base's albedo, the lights' local directions.
     coating: Option<(Coating, [f64; 3], [DVec3; crate::scene::MAX_LIGHTS])>,
 }
@@ -512,14 +516,18 @@ impl PixelWalk {
         if p.n.dot(p.v) <= 0.0 {
             return None;
         }
-        let frame = Frame::new(p.n);
-        let surface = Microsurface::new(b.roughness);
+        // An anisotropic metal walks its stretched surface in the ball's tangent frame
+        // (docs/design/anisotropy.md); its coating stays isotropic.
+        let (frame, surface) = match super::shade::anisotropic_frame(b, p.n) {
+            Some((frame, (t, bt))) => (frame, Microsurface::anisotropic(t, bt)),
+            None => (Frame::new(p.n), Microsurface::new(b.roughness)),
+        };
         let mut lights = [(DVec3::ZERO, DVec3::ZERO, 0.0); crate::scene::MAX_LIGHTS];
         let mut count = 0;
         for light in &scene.lights {
             let l = frame.to_local(light.direction);
             if l.z > 0.0 {
-                lights[count] = (l, light.radiance, surface.lambda(l.z));
+                lights[count] = (l, light.radiance, surface.lambda(l));
                 count += 1;
             }
         }
@@ -532,8 +540,9 @@ impl PixelWalk {
             count,
             point: (map && b.material.has_metal()).then(|| single_point(scene, b, p.n, p.v, e)),
             metallic: b.material.metallic,
+            anisotropic: b.material.is_anisotropic(),
             coating: b.material.has_dielectric().then(|| {
-                let coating = Coating::new(b.roughness, b.material.ior);
+                let coating = Coating::new(b.shading_roughness(), b.material.ior);
                 (coating, b.material.diffuse.to_array(), lights.map(|l| l.0))
             }),
         })
@@ -617,6 +626,10 @@ impl PixelWalk {
                     let world = frame.to_world(dir);
                     let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
                     escaped += mass * DVec3::from_slice(w) * arriving;
+                } else if order == 1 && self.anisotropic {
+                    // The uniform environment's single scattering, which `single_fixed`
+                    // tabulates over mu only for an isotropic lobe.
+                    escaped += mass * DVec3::from_slice(w) * env;
                 }
             },
             |order, wi_k, c, carry, w| {

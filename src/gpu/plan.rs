@@ -155,7 +155,7 @@ impl Plan {
         let mut roughness: Vec<f32> = balls
             .iter()
             .filter(|b| !is_truth(b) && (uses_term(b) || environment || ibl != 0))
-            .map(|b| roughness_coord(b.roughness as f32))
+            .map(|b| roughness_coord(b.shading_roughness() as f32))
             .collect();
         roughness.sort_by(f32::total_cmp);
         roughness.dedup();

@@ -76,6 +76,15 @@ super::ball::gpu_ball! {
         layering: u32,
         /// The coating's Fresnel (`FRESNEL_*`, [`crate::gpu::shaders::fresnel_id`]).
         fresnel: u32,
+        /// The anisotropic lobe's `alpha_t` ([`crate::brdf::anisotropic_alphas`]; 0 for an
+        /// isotropic ball, whose `roughness` is then its own).
+        anisotropy_alpha_t: f32,
+        /// The anisotropic lobe's `alpha_b` (0 for an isotropic ball).
+        anisotropy_alpha_b: f32,
+        /// The cosine of the anisotropy's rotation.
+        anisotropy_cos: f32,
+        /// The sine of the anisotropy's rotation.
+        anisotropy_sin: f32,
     }
 }
 
@@ -139,7 +148,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
         .take(MAX_BALLS)
         .enumerate()
         .map(|(k, b)| {
-            let loss_avg = tables.lut_loss_avg(b.roughness as f32);
+            let loss_avg = tables.lut_loss_avg(b.shading_roughness() as f32);
             let e_avg = 1.0 - loss_avg as f64;
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
@@ -153,6 +162,14 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 ([0.0; 3], 0.0)
             };
             let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+            // The anisotropic lobe (`roughness` above is then its isotropic equivalent).
+            let anisotropy = if b.material.is_anisotropic() {
+                let (t, bt) = b.material.anisotropic_alphas(b.roughness);
+                let (c, s) = b.material.anisotropy_turn();
+                (t, bt, c, s)
+            } else {
+                (0.0, 0.0, 1.0, 0.0)
+            };
             let coat = prepared.coat(k);
             let coating_constants = coat.map_or(CoatingConstants::default(), |c| c.constants);
             let coating_row = scene
@@ -162,7 +179,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 center: v3(b.center - scene.camera.position),
                 radius: b.radius as f32,
                 f0: v3(b.material.f0),
-                roughness: b.roughness as f32,
+                roughness: b.shading_roughness() as f32,
                 // The substrate the base reading implies (prepared::base_albedo).
                 diffuse: coat
                     .map_or(b.material.diffuse, |c| c.albedo)
@@ -171,7 +188,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 ms: ms as f32,
                 f_add,
                 ms_norm,
-                lut_row: tables.lut_row(b.roughness as f32),
+                lut_row: tables.lut_row(b.shading_roughness() as f32),
                 term: term_code(b.model),
                 metallic: b.material.metallic as f32,
                 eta: coating_constants.eta as f32,
@@ -181,6 +198,10 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 coating_row,
                 layering: layering_code(scene.layering),
                 fresnel: crate::gpu::shaders::fresnel_id(scene.preset.dielectric_fresnel()),
+                anisotropy_alpha_t: anisotropy.0 as f32,
+                anisotropy_alpha_b: anisotropy.1 as f32,
+                anisotropy_cos: anisotropy.2 as f32,
+                anisotropy_sin: anisotropy.3 as f32,
             }
         })
         .collect()

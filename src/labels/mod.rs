@@ -239,6 +239,27 @@ pub fn row_label(ball: &Ball) -> String {
         Model::Truth => "truth",
     };
     let m = &ball.material;
+    let label = row_label_isotropic(m, model);
+    if !m.is_anisotropic() {
+        return label;
+    }
+    // An anisotropic lobe says so first, with its rotation where it has one.
+    let turned = if m.anisotropy_rotation != 0.0 {
+        format!(
+            " at {} deg",
+            number(m.anisotropy_rotation.to_degrees().round())
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "anisotropy {}{turned}{ROW_LABEL_SEPARATOR}{label}",
+        number(m.anisotropy)
+    )
+}
+
+/// [`row_label`] without the anisotropy.
+fn row_label_isotropic(m: &crate::scene::Material, model: &str) -> String {
     if !m.has_dielectric() {
         model.to_string()
     } else if m.has_metal() {

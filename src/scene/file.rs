@@ -53,6 +53,10 @@
 //! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
 //! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (albedo required, as a
 //! #   metal's; a grey f0 for the ior)
+//! # material = { base_color = [...], metallic = 1, anisotropy = 0.8, anisotropy_rotation = 0 }
+//! #   any material with metal: its lobe's anisotropy in [0, 1] (glTF's
+//! #   KHR_materials_anisotropy), turned by anisotropy_rotation radians from the tangent
+//! #   around +y (docs/design/anisotropy.md)
 //! ```
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
@@ -68,8 +72,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{
-    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, IblSamples, ImageSize, Ior,
-    Metallic, Named, NonNegative, Positive, Radiance, Roughness,
+    Anisotropy, AnisotropyRotation, BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid,
+    IblSamples, ImageSize, Ior, Metallic, Named, NonNegative, Positive, Radiance, Roughness,
 };
 use super::{
     grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
@@ -172,6 +176,10 @@ struct MaterialFile {
     metallic: Option<Metallic>,
     /// The dielectric's index of refraction (default 1.5).
     ior: Option<Ior>,
+    /// The metal lobe's anisotropy in [0, 1] (default 0; docs/design/anisotropy.md).
+    anisotropy: Option<Anisotropy>,
+    /// Its rotation from the ball's tangent, radians (default 0).
+    anisotropy_rotation: Option<AnisotropyRotation>,
 }
 
 /// Reads and parses the scene file at `path`.
@@ -477,6 +485,22 @@ fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
 }
 
 fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
+    let span = m.span();
+    let anisotropy = m.get_ref().anisotropy.map_or(0.0, |a| a.0);
+    let rotation = m.get_ref().anisotropy_rotation.map_or(0.0, |r| r.0);
+    let material = material_isotropic(m)?;
+    if anisotropy > 0.0 && !material.has_metal() {
+        return Err((
+            span,
+            "`anisotropy` is the metal lobe's: a material without metal (metallic 0) takes \
+             none"
+                .to_string(),
+        ));
+    }
+    Ok(material.with_anisotropy(anisotropy, rotation))
+}
+
+fn material_isotropic(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let span = m.span();
     let m = m.into_inner();
     let fail = |message: &str| Err((span.clone(), message.to_string()));

@@ -82,6 +82,15 @@ pub struct Ball {
     pub model: Model,
 }
 
+impl Ball {
+    /// The roughness every isotropic part of the ball's shading reads
+    /// ([`Material::shading_roughness`]): `roughness`, or an anisotropic lobe's isotropic
+    /// equivalent.
+    pub fn shading_roughness(&self) -> f64 {
+        self.material.shading_roughness(self.roughness)
+    }
+}
+
 /// A directional light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
@@ -271,7 +280,7 @@ impl Scene {
     pub fn coating_key(&self, b: &Ball) -> Option<crate::lut::CoatingKey> {
         b.material.has_dielectric().then(|| {
             crate::lut::CoatingKey::new(
-                b.roughness,
+                b.shading_roughness(),
                 b.material.ior,
                 self.preset.dielectric_fresnel(),
                 self.effective_geometry(),

@@ -148,7 +148,7 @@ fn light(out: &mut String, light: &Light) -> Result<(), String> {
 }
 
 fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
-    let material = material(&b.material)?;
+    let material = anisotropic(material(&b.material)?, &b.material);
     let _ = writeln!(
         out,
         "\n[[ball]]\nposition = {}\nradius = {}\nroughness = {}\nmodel = {}\nmaterial = {material}",
@@ -158,6 +158,23 @@ fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
         string(b.model.name())
     );
     Ok(())
+}
+
+/// The inline table `table` with the material's anisotropy keys where its lobe is
+/// anisotropic.
+fn anisotropic(table: String, m: &Material) -> String {
+    if !m.is_anisotropic() {
+        return table;
+    }
+    let keys = format!(
+        ", anisotropy = {}, anisotropy_rotation = {} }}",
+        num(m.anisotropy),
+        num(m.anisotropy_rotation)
+    );
+    match table.strip_suffix(" }") {
+        Some(head) => head.to_string() + &keys,
+        None => table,
+    }
 }
 
 /// The material's inline table, colours as they were written where an input with the

@@ -1,5 +1,6 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
+mod anisotropy;
 mod antialias;
 mod bad_input;
 mod base_reading;
