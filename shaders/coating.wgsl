@@ -14,6 +14,7 @@
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
+#import shadeballs::clearcoat::{clearcoat_through, clearcoat_environment}
 
 // With IBL = 2, the mean radiance of the coating's own lobe under the map at the pixel
 // being shaded (lighting.wgsl lobe_mean_radiance with the coating's Fresnel), set by
@@ -130,6 +131,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     if IBL != 0u {
         lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o);
     }
+    // The share of uniform light and the map that a clear coat lets through (1 without).
+    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -158,7 +161,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
             e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
         }
         let f_r = vec3<f32>(spec + ms * lobe) + coating_base(b, e_spec_o, e_spec_i, fresnel);
-        lo += f_r * lights[k].radiance.xyz * mu_i;
+        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }

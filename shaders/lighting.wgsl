@@ -14,6 +14,8 @@
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, coating_lobe}
+#import shadeballs::clearcoat::{has_clearcoat, clearcoat_begin, clearcoat_through, clearcoat_environment}
+#import shadeballs::clearcoat::{shade_clearcoat, clearcoat_lobe}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
 
@@ -24,7 +26,22 @@
 // `pixel` (column, row) picks the pixel's sequence of lobe samples (IBL = 2).
 // With IBL = 2 the coating's specular lobe is sampled here too (lobe_mean_radiance with
 // the coating's Fresnel) and handed to shade_coating through coating_lobe.
+// A clear coat (clearcoat.wgsl) adds its own lobe and weights the base's light by what it
+// lets through.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
+    if has_clearcoat(b) {
+        clearcoat_begin(b, n, v, term_weight(b));
+        if IBL == 2u {
+            clearcoat_lobe = lobe_mean_radiance(n, v, b.clearcoat_roughness, vec3<f32>(0.0), b.clearcoat_eta, b.clearcoat_fresnel, pixel);
+        }
+        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights);
+    }
+    return shade_base(b, n, v, n_lights, pixel);
+}
+
+// The ball under its clear coat (all of it without one): the metal's and the coating's
+// parts mixed by metallic.
+fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     let metallic = b.metallic;
     if metallic >= 1.0 {
         return shade_metal(b, n, v, n_lights, pixel);
@@ -94,6 +111,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
     if IBL != 0u {
         lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add, pixel);
     }
+    // The share of uniform light and the map that a clear coat lets through (1 without).
+    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -119,7 +138,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
             );
         }
         let f_r = spec + lobe;
-        lo += f_r * lights[k].radiance.xyz * mu_i;
+        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }

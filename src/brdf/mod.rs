@@ -2,10 +2,12 @@
 //!
 //! Every function here is mirrored name for name in `shaders/brdf.wgsl`; the WGSL copy
 //! evaluates the same formula in `f32`. The exceptions are bake-time averages, which the
-//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`. Conventions: the surface normal is +z,
+//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`, and
+//! the per-ball `clearcoat_inside_scale`. Conventions: the surface normal is +z,
 //! `mu_o = n.v`, `mu_i = n.l`, `alpha = roughness^2`. Nothing in this layer knows of
 //! tables, files or the GPU.
 
+mod clearcoat;
 mod compensation;
 mod fresnel;
 mod geometry;
@@ -13,6 +15,9 @@ mod kulla_conty;
 mod layering;
 mod ndf;
 
+pub use clearcoat::{
+    clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical,
+};
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
     f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,

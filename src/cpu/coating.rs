@@ -237,6 +237,10 @@ pub(super) fn shade_coating(
         let lobe = forms.lobe.map(|l| (l, forms.geometry));
         lo += shade_coating_map(scene, (b, &point), (n, v), map, lobe);
     }
+    // The share of uniform light and the map that a clear coat lets through.
+    if let Some(coat) = &forms.coat {
+        lo *= coat.environment();
+    }
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
         if mu_i <= 0.0 || point.mu_o <= 0.0 {
@@ -244,7 +248,10 @@ pub(super) fn shade_coating(
         }
         let f = point.brdf((v, light.direction), n, e);
         let f_r = DVec3::splat(f.spec + f.multiple) + f.base;
-        lo += f_r * light.radiance * mu_i;
+        let through = forms.coat.map_or(DVec3::ONE, |c| {
+            c.through(e, mu_i, v.dot((v + light.direction).normalize()))
+        });
+        lo += through * f_r * light.radiance * mu_i;
     }
     lo
 }

@@ -4,6 +4,7 @@
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
 pub mod coating;
+pub mod clearcoat;
 mod light;
 pub mod montecarlo;
 mod shade;
@@ -70,7 +71,9 @@ pub fn render_radiance_at_lobe_frame(
     });
     let ibl = &ibl;
     // Each ball's coating formed once, as the GPU's uniforms are.
-    let coats = &coating::Coat::of_scene(scene, e, &scene.coating_rows(&mut Default::default()));
+    let rows = scene.coating_rows(&mut Default::default());
+    let coats = &coating::Coat::of_scene(scene, e, &rows);
+    let clearcoats = &clearcoat::Clearcoat::of_scene(scene, e, &rows);
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
     // What a ray in unit direction d that hits no ball sees (`background_radiance`).
@@ -87,8 +90,10 @@ pub fn render_radiance_at_lobe_frame(
             geometry,
             map: ibl.as_ref().map(|(_, map)| map),
             lobe: LobeSamples::of(scene, pixel, lobe_frame),
+            coat: None,
         };
-        shade_point(scene, (b, coats[k].as_ref()), n, -d, e, &forms)
+        let coats = (coats[k].as_ref(), clearcoats[k].as_ref());
+        shade_point(scene, (b, coats), n, -d, e, &forms)
     };
     let o = basis.origin;
     let size = (width, height);

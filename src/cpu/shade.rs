@@ -52,23 +52,55 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
-    let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+    let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
     let coat = super::coating::Coat::of_ball(scene, b, e, &rows);
+    let clearcoat = super::clearcoat::Clearcoat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
         map: None,
         lobe: LobeSamples::of(scene, (0, 0), 0),
+        coat: None,
     };
-    shade_point(scene, (b, coat.as_ref()), n, v, e, &forms)
+    shade_point(scene, (b, (coat.as_ref(), clearcoat.as_ref())), n, v, e, &forms)
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
 /// lit by the scene's lights, its uniform environment and its map (`forms.map`): the
 /// metal's and the coating's parts, each with its own term, mixed by `metallic` (an
 /// all-metal or all-dielectric ball shades one). `coat` is the ball's coating, formed once
-/// per ball (`None` for an all-metal ball).
+/// per ball (`None` for an all-metal ball), `clearcoat` its clear coat (`None` without one):
+/// its lobe is added and the rest weighted by what it lets through (`clearcoat.wgsl`).
 pub(super) fn shade_point(
+    scene: &Scene,
+    (b, (coat, clearcoat)): (&Ball, Coats<'_>),
+    n: DVec3,
+    v: DVec3,
+    e: &TableSet,
+    forms: &Forms<'_>,
+) -> DVec3 {
+    let Some(clearcoat) = clearcoat else {
+        return shade_base(scene, (b, coat), n, v, e, forms);
+    };
+    let point = super::clearcoat::ClearcoatPoint::new(scene, b, clearcoat, (n, v), e);
+    let forms = Forms {
+        coat: Some(point),
+        lobe: forms.lobe,
+        ..*forms
+    };
+    shade_base(scene, (b, coat), n, v, e, &forms)
+        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, &forms)
+}
+
+/// A ball's coating and clear coat, each formed once per ball (`None` without one).
+pub(super) type Coats<'a> = (
+    Option<&'a super::coating::Coat>,
+    Option<&'a super::clearcoat::Clearcoat>,
+);
+
+/// `shade_base` of `lighting.wgsl`: the ball under its clear coat (all of it without one),
+/// the base's light weighted by `forms.coat`.
+fn shade_base(
     scene: &Scene,
     (b, coat): (&Ball, Option<&super::coating::Coat>),
     n: DVec3,
@@ -78,17 +110,20 @@ pub(super) fn shade_point(
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
     let metal = || {
-        let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
-        match forms.map {
+        let (lo, terms, lights) = shade_with_terms(scene, b, n, v, e, forms);
+        let map = match forms.map {
             Some(map) => match forms.lobe {
                 Some(lobe) => {
                     let lobe = (lobe, forms.geometry);
-                    lo + shade_environment_lobe_map(scene, b, (n, v), &terms, map, lobe)
+                    shade_environment_lobe_map(scene, b, (n, v), &terms, map, lobe)
                 }
-                None => lo + shade_environment_map(scene, b, n, v, &terms, map),
+                None => shade_environment_map(scene, b, n, v, &terms, map),
             },
-            None => lo,
-        }
+            None => DVec3::ZERO,
+        };
+        // A clear coat weights the environment's part (the uniform's and the map's).
+        let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
+        (lo + map) * through + lights
     };
     let Some(coat) = coat.filter(|_| metallic < 1.0) else {
         return metal();
@@ -122,7 +157,8 @@ pub struct PointTerms {
 }
 
 /// The metal's part of [`shade_point`] without the map's (`shade_metal` of
-/// `lighting.wgsl`), and the terms it formed.
+/// `lighting.wgsl`): the uniform environment's part, the terms it formed, and the lights'
+/// part (each light's weighted by what a clear coat lets through, `forms.coat`).
 pub(super) fn shade_with_terms(
     scene: &Scene,
     b: &Ball,
@@ -130,7 +166,7 @@ pub(super) fn shade_with_terms(
     v: DVec3,
     e: &TableSet,
     forms: &Forms<'_>,
-) -> (DVec3, PointTerms) {
+) -> (DVec3, PointTerms, DVec3) {
     let Forms { form, geometry, .. } = *forms;
     let split = forms.map.map(|m| &m.split);
     let roughness = b.roughness;
@@ -169,7 +205,8 @@ pub(super) fn shade_with_terms(
         IblTerm::Turquin => turquin_rgb(single, f0, e_o),
         IblTerm::FdezAguera => fms_ems,
     };
-    let mut lo = scene.environment * (single + ms * added);
+    let lo = scene.environment * (single + ms * added);
+    let mut lights = DVec3::ZERO;
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -195,7 +232,8 @@ pub(super) fn shade_with_terms(
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
         let f_r = spec + ms * lobe;
-        lo += f_r * light.radiance * mu_i;
+        let through = forms.coat.map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
+        lights += through * f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {
         mu_o,
@@ -206,7 +244,7 @@ pub(super) fn shade_with_terms(
         fms_ems,
         f_add,
     };
-    (lo, terms)
+    (lo, terms, lights)
 }
 
 /// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b`'s metal at normal

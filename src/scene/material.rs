@@ -29,6 +29,8 @@ pub struct Material {
     pub diffuse: DVec3,
     /// The dielectric coating's index of refraction (relative to the outside).
     pub ior: f64,
+    /// The clear coat over the whole material ([`super::ClearCoat::NONE`]: none).
+    pub clearcoat: super::ClearCoat,
 }
 
 impl Material {
@@ -39,6 +41,7 @@ impl Material {
             f0,
             diffuse: DVec3::ZERO,
             ior: DEFAULT_IOR,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -62,6 +65,7 @@ impl Material {
             f0: DVec3::ZERO,
             diffuse,
             ior,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -73,12 +77,18 @@ impl Material {
             f0: base_color,
             diffuse: base_color,
             ior,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
     /// Whether any part is metal.
     pub fn has_metal(&self) -> bool {
         self.metallic > 0.0
+    }
+
+    /// This material under the clear coat `clearcoat`.
+    pub fn with_clearcoat(self, clearcoat: super::ClearCoat) -> Self {
+        Material { clearcoat, ..self }
     }
 
     /// Whether any part is dielectric.

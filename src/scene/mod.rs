@@ -7,6 +7,7 @@
 //! surface towards the light.
 
 mod camera;
+mod clearcoat;
 #[cfg(feature = "scene-files")]
 mod file;
 mod material;
@@ -28,6 +29,9 @@ pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
     coating_spec_albedo, gamma22_decode, srgb_decode, CoatingConstants, Layering, Material,
     DEFAULT_IOR, IOR_RANGE,
+};
+pub use clearcoat::{
+    base_average_albedo, ClearCoat, ClearcoatConstants, CoatForm, DEFAULT_CLEARCOAT_IOR,
 };
 pub use model::Model;
 pub use preset::Preset;
@@ -121,6 +125,8 @@ pub struct Scene {
     pub geometry: Geometry,
     /// How every dielectric's base is weighted under its coating.
     pub layering: Layering,
+    /// How every clear coat weights the ball under it (`coat_form`, `--coat-form`).
+    pub coat_form: CoatForm,
     /// What every dielectric's `base_color` means: the colour a viewer sees (default) or
     /// the substrate's albedo under the coating (`base_reading`, `--base-reading`).
     pub base_reading: BaseReading,
@@ -178,6 +184,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             layering: Layering::default(),
+            coat_form: CoatForm::default(),
             base_reading: BaseReading::default(),
             labels: true,
             antialias: true,
@@ -285,7 +292,7 @@ impl Scene {
             self.balls
                 .iter()
                 .take(MAX_BALLS)
-                .filter_map(|b| self.coating_key(b)),
+                .flat_map(|b| self.ball_coating_keys(b)),
             cache,
         )
     }

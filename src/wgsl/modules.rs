@@ -17,11 +17,11 @@ macro_rules! module {
 
 /// Every module, by import path. The library (no bindings, no override constants):
 /// `constants`, `brdf`, `lut`, `environment`, `sampling`. The renderer's: `types` (override constants,
-/// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
+/// the boundary structs), `bindings` (groups 0 and 1), `clearcoat` (a clear coat over a ball), `coating` (the dielectric's shading), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), and the roots `balls`,
 /// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `accumulate` (the lobe's
 /// progressive image), `probe`, `prefilter`.
-pub const MODULES: [Module; 16] = [
+pub const MODULES: [Module; 17] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -29,6 +29,7 @@ pub const MODULES: [Module; 16] = [
     module!("sampling"),
     module!("types"),
     module!("bindings"),
+    module!("clearcoat"),
     module!("coating"),
     module!("lighting"),
     module!("screen"),
