@@ -15,9 +15,7 @@ mod kulla_conty;
 mod layering;
 mod ndf;
 
-pub use clearcoat::{
-    clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical,
-};
+pub use clearcoat::{clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical};
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
     f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,

@@ -113,7 +113,11 @@ impl ClearcoatPoint {
                 let e_o = e_f_o + ms * c.f_add * loss_o;
                 let out = (1.0 - e_o) * c.inside;
                 let through = |o: f64| clearcoat_through_physical(w, o, c.e_avg);
-                (e_o, out, DVec3::new(through(out.x), through(out.y), through(out.z)))
+                (
+                    e_o,
+                    out,
+                    DVec3::new(through(out.x), through(out.y), through(out.z)),
+                )
             }
         };
         ClearcoatPoint {

@@ -3,8 +3,8 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
-pub mod coating;
 pub mod clearcoat;
+pub mod coating;
 mod light;
 pub mod montecarlo;
 mod shade;

@@ -62,7 +62,14 @@ pub fn shade(
         lobe: LobeSamples::of(scene, (0, 0), 0),
         coat: None,
     };
-    shade_point(scene, (b, (coat.as_ref(), clearcoat.as_ref())), n, v, e, &forms)
+    shade_point(
+        scene,
+        (b, (coat.as_ref(), clearcoat.as_ref())),
+        n,
+        v,
+        e,
+        &forms,
+    )
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
@@ -232,7 +239,9 @@ pub(super) fn shade_with_terms(
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
         let f_r = spec + ms * lobe;
-        let through = forms.coat.map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
+        let through = forms
+            .coat
+            .map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
         lights += through * f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {

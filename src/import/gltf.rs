@@ -32,8 +32,9 @@ use crate::scene::{Ball, Camera, Material, Model, Scene, DEFAULT_IOR, IOR_RANGE,
 pub const MAX_GLTF_BYTES: u64 = 256 << 20;
 
 /// The extensions read (a file may require these).
-pub const SUPPORTED_EXTENSIONS: [&str; 3] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
     "KHR_materials_ior",
+    "KHR_materials_clearcoat",
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
 ];
@@ -91,6 +92,9 @@ pub struct GltfMaterial {
     pub emissive: DVec3,
     /// `KHR_materials_emissive_strength`'s `emissiveStrength` (1 without it).
     pub emissive_strength: f64,
+    /// `KHR_materials_clearcoat`'s `clearcoatFactor` and `clearcoatRoughnessFactor` (index
+    /// 1.5, the extension's; no coat without it).
+    pub clearcoat: crate::scene::ClearCoat,
 }
 
 impl GltfMaterial {
@@ -108,6 +112,7 @@ impl GltfMaterial {
             specular_colour: DVec3::ONE,
             emissive: DVec3::ZERO,
             emissive_strength: 1.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         }
     }
 
@@ -145,6 +150,7 @@ impl GltfMaterial {
     /// `metallic` and [`GltfMaterial::coating_ior`].
     pub fn material(&self) -> Material {
         Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
+            .with_clearcoat(self.clearcoat)
     }
 }
 
@@ -631,7 +637,7 @@ fn check_buffer_views(doc: &Doc) -> std::result::Result<(), String> {
 }
 
 /// The textures a material's (or an extension's) object names.
-const TEXTURE_KEYS: [&str; 7] = [
+const TEXTURE_KEYS: [&str; 10] = [
     "baseColorTexture",
     "metallicRoughnessTexture",
     "normalTexture",
@@ -639,6 +645,9 @@ const TEXTURE_KEYS: [&str; 7] = [
     "emissiveTexture",
     "specularTexture",
     "specularColorTexture",
+    "clearcoatTexture",
+    "clearcoatRoughnessTexture",
+    "clearcoatNormalTexture",
 ];
 
 fn materials(
@@ -676,6 +685,7 @@ fn materials(
             specular_colour: DVec3::ONE,
             emissive: DVec3::from_array(emissive),
             emissive_strength: 1.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         };
         let mut textures: Vec<&str> = TEXTURE_KEYS
             .iter()
@@ -705,6 +715,11 @@ fn materials(
                             [1.0; 3],
                             (0.0, f64::MAX),
                         )?);
+                    }
+                    "KHR_materials_clearcoat" => {
+                        material.clearcoat.weight = number(e, "clearcoatFactor", &e_at, 0.0, unit)?;
+                        material.clearcoat.roughness =
+                            number(e, "clearcoatRoughnessFactor", &e_at, 0.0, unit)?;
                     }
                     "KHR_materials_emissive_strength" => {
                         material.emissive_strength =

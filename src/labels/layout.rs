@@ -192,11 +192,9 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
         } else {
             super::column_label_with_coat(&values, &coats)
         };
-        labels.columns.push(label(
-            text,
-            room,
-            [Align::Centre, Align::Start],
-        ));
+        labels
+            .columns
+            .push(label(text, room, [Align::Centre, Align::Start]));
     }
 
     // Rows: at the left of the leftmost ball, right-aligned, centred on the row.

@@ -241,7 +241,10 @@ pub fn row_label(ball: &Ball) -> String {
     let m = &ball.material;
     let base = base_label(ball, model);
     if m.clearcoat.is_on() {
-        format!("coat {}{ROW_LABEL_SEPARATOR}{base}", number(m.clearcoat.weight))
+        format!(
+            "coat {}{ROW_LABEL_SEPARATOR}{base}",
+            number(m.clearcoat.weight)
+        )
     } else {
         base
     }

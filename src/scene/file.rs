@@ -489,7 +489,9 @@ fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let clearcoat = super::ClearCoat {
         weight: m.clearcoat.map_or(0.0, |w| w.0),
         roughness: m.clearcoat_roughness.map_or(0.0, |r| r.0),
-        ior: m.clearcoat_ior.map_or(super::DEFAULT_CLEARCOAT_IOR, |i| i.0),
+        ior: m
+            .clearcoat_ior
+            .map_or(super::DEFAULT_CLEARCOAT_IOR, |i| i.0),
     };
     let material = material_base(Spanned::new(span.clone(), m))?;
     Ok(Material {

@@ -24,14 +24,14 @@ pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
     MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
+pub use clearcoat::{
+    base_average_albedo, ClearCoat, ClearcoatConstants, CoatForm, DEFAULT_CLEARCOAT_IOR,
+};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{
     coating_spec_albedo, gamma22_decode, srgb_decode, CoatingConstants, Layering, Material,
     DEFAULT_IOR, IOR_RANGE,
-};
-pub use clearcoat::{
-    base_average_albedo, ClearCoat, ClearcoatConstants, CoatForm, DEFAULT_CLEARCOAT_IOR,
 };
 pub use model::Model;
 pub use preset::Preset;
