@@ -42,6 +42,7 @@ pub mod labels;
 pub mod lut;
 pub mod memory;
 pub mod output;
+pub mod prepared;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Backend, Gpu, Renderer};
 use crate::lut::{self, BakeConfig};
 use crate::memory;
+use crate::prepared::Prepared;
 use crate::scene::Scene;
 
 /// Samples per pixel of the Monte Carlo backends without `spp` (and of the truth without a
@@ -64,8 +65,8 @@ pub struct Request {
     pub backend: Backend,
     /// Width and height in pixels.
     pub size: (u32, u32),
-    /// Linear radiance (an `.exr`) rather than display pixels (a `.png`).
-    pub linear: bool,
+    /// Display pixels (a `.png`), linear radiance in f32 (an `.exr`) or in full.
+    pub output: Output,
     /// Samples a pixel of the Monte Carlo, the truth and the truth balls (default
     /// [`DEFAULT_SPP`]).
     pub spp: Option<u32>,
@@ -79,12 +80,33 @@ pub struct Request {
     pub verbose: bool,
 }
 
+/// What a render returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// Display pixels ([`Pixels::Display`]).
+    Display,
+    /// Linear radiance in f32 ([`Pixels::Linear`]).
+    Linear,
+    /// Linear radiance as the renderer has it ([`Pixels::Radiance`]: the CPU's f64, the
+    /// GPU's f32 widened), for a measurement.
+    Radiance,
+}
+
+impl Request {
+    /// Whether the pixels are linear radiance.
+    fn linear(&self) -> bool {
+        self.output != Output::Display
+    }
+}
+
 /// The picture's pixels, row-major from the top.
 pub enum Pixels {
     /// RGBA8 display values (tone-mapped and encoded).
     Display(Vec<u8>),
     /// RGBA f32 linear radiance.
     Linear(Vec<f32>),
+    /// Linear radiance ([`Output::Radiance`]).
+    Radiance(Vec<DVec3>),
 }
 
 /// A rendered picture: its pixels, where it was drawn, and for a render a stop may cut
@@ -194,10 +216,10 @@ fn on_gpu(
         // The mean is read back as f32 whatever the file, besides the lobe's sums.
         gpu_bytes_per_pixel(true) + LOBE_BYTES_PER_PIXEL
     } else {
-        gpu_bytes_per_pixel(request.linear)
+        gpu_bytes_per_pixel(request.linear())
     };
     memory::check(
-        &format!("a {w}x{h} {} on the GPU", kind_name(request.linear)),
+        &format!("a {w}x{h} {} on the GPU", kind_name(request.linear())),
         pixels * per_pixel,
     )?;
     let plan = renderer.plan_for(scene);
@@ -227,8 +249,8 @@ fn on_gpu(
             t.elapsed().as_secs_f64() * 1e3
         ));
         progress.phase("render");
-        if request.linear {
-            Pixels::Linear(image.rgba)
+        if request.linear() {
+            linear_pixels(request.output, image.rgba)
         } else {
             let display = scene.display();
             Pixels::Display(
@@ -242,12 +264,12 @@ fn on_gpu(
                     .collect(),
             )
         }
-    } else if request.linear {
+    } else if request.linear() {
         // The pipeline is created at the first draw (its float format is chosen there):
         // "render" includes it.
         let image = renderer.render_hdr(scene, w, h)?;
         progress.phase("render");
-        Pixels::Linear(image.rgba)
+        linear_pixels(request.output, image.rgba)
     } else {
         renderer.prepare(scene, wgpu::TextureFormat::Rgba8Unorm);
         progress.phase("pipeline");
@@ -279,7 +301,7 @@ fn montecarlo_on_gpu(
     memory::check(
         &format!(
             "a {w}x{h} {} by the GPU's Monte Carlo",
-            kind_name(request.linear)
+            kind_name(request.linear())
         ),
         u64::from(w) * u64::from(h) * (6 * 16 + MONTECARLO_BYTES_PER_PIXEL + 24),
     )?;
@@ -305,7 +327,7 @@ fn montecarlo_on_gpu(
     progress.phase("render");
     progress.line(&montecarlo_summary(&image, request.seed, started));
     Ok(Rendered {
-        pixels: pixels_of(scene, request.linear, image.mean),
+        pixels: pixels_of(scene, request.output, image.mean),
         device: format!("GPU Monte Carlo, {}", renderer.gpu().describe()),
         spp: Some(image.spp),
         std_error: None,
@@ -314,15 +336,27 @@ fn montecarlo_on_gpu(
 }
 
 /// `radiance` as the request's pixels.
-fn pixels_of(scene: &Scene, linear: bool, radiance: Vec<DVec3>) -> Pixels {
-    if linear {
-        Pixels::Linear(cpu::to_rgba_f32(&radiance))
-    } else {
-        Pixels::Display(cpu::to_display_rgba8(
+fn pixels_of(scene: &Scene, output: Output, radiance: Vec<DVec3>) -> Pixels {
+    match output {
+        Output::Radiance => Pixels::Radiance(radiance),
+        Output::Linear => Pixels::Linear(cpu::to_rgba_f32(&radiance)),
+        Output::Display => Pixels::Display(cpu::to_display_rgba8(
             &radiance,
             scene.exposure,
             scene.display(),
-        ))
+        )),
+    }
+}
+
+/// The GPU's RGBA f32 radiance as the request's linear pixels.
+fn linear_pixels(output: Output, rgba: Vec<f32>) -> Pixels {
+    match output {
+        Output::Radiance => Pixels::Radiance(
+            rgba.chunks_exact(4)
+                .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
+                .collect(),
+        ),
+        _ => Pixels::Linear(rgba),
     }
 }
 
@@ -361,8 +395,8 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
         0
     };
     memory::check_on_cpu(
-        &format!("a {w}x{h} {} on the CPU", kind_name(request.linear)),
-        pixels * (cpu_bytes_per_pixel(request.linear) + extra),
+        &format!("a {w}x{h} {} on the CPU", kind_name(request.linear())),
+        pixels * (cpu_bytes_per_pixel(request.linear()) + extra),
     )?;
     if let Some(environment) = scene
         .environment_map
@@ -375,10 +409,12 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
     if request.verbose {
         progress.line("plan: the CPU reference renderer reads the 2-D table; no pipelines");
     }
+    // The tables, the coating rows and each ball's coating, prepared once for the render.
     let tables = lut::TableSet::from(lut::bake(&BakeConfig {
         geometry,
         ..Default::default()
     }));
+    let prepared = Prepared::new(scene, &tables);
     progress.phase("bake");
     let name = if truth {
         "CPU truth (random walk)"
@@ -388,12 +424,12 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
         "CPU reference renderer"
     };
     if truth {
-        let image = render_truth(scene, &tables, request, progress)?.image;
+        let image = render_truth(scene, &prepared, request, progress)?.image;
         progress.phase("render");
-        let std_error = request.linear.then(|| cpu::to_rgba_f32(&image.std_error));
+        let std_error = request.linear().then(|| cpu::to_rgba_f32(&image.std_error));
         // The radiance (24 bytes a pixel) is dropped before the encoder starts.
         return Ok(Rendered {
-            pixels: pixels_of(scene, request.linear, image.mean),
+            pixels: pixels_of(scene, request.output, image.mean),
             device: name.to_string(),
             spp: Some(image.spp),
             std_error,
@@ -403,7 +439,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
     let radiance = if montecarlo {
         let started = Instant::now();
         let spp = request.spp.unwrap_or(DEFAULT_SPP);
-        let image = cpu::render_montecarlo(scene, &tables, w, h, spp, request.seed)?;
+        let image = cpu::render_montecarlo(scene, &prepared, w, h, spp, request.seed)?;
         progress.phase("render");
         progress.line(&montecarlo_summary(&image, request.seed, started));
         image.mean
@@ -414,11 +450,11 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
             seed: request.seed,
             ..Default::default()
         };
-        let radiance = cpu::render_radiance_with_truth(scene, &tables, w, h, settings)?;
+        let radiance = cpu::render_radiance_with_truth(scene, &prepared, w, h, settings)?;
         progress.phase("render");
         radiance
     } else {
-        let radiance = cpu::render_radiance(scene, &tables, w, h);
+        let radiance = cpu::render_radiance(scene, &prepared, w, h);
         progress.phase("render");
         radiance
     };
@@ -427,7 +463,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
         ("Monte Carlo on the CPU", spp)
     });
     Ok(Rendered {
-        pixels: pixels_of(scene, request.linear, radiance),
+        pixels: pixels_of(scene, request.output, radiance),
         device: name.to_string(),
         spp: None,
         std_error: None,
@@ -439,7 +475,7 @@ fn on_cpu(scene: &Scene, request: &Request, progress: &mut dyn Progress) -> Resu
 /// a summary of every ball's mean and its standard error.
 fn render_truth(
     scene: &Scene,
-    e: &lut::TableSet,
+    prepared: &Prepared,
     request: &Request,
     progress: &mut dyn Progress,
 ) -> Result<TruthImage> {
@@ -456,7 +492,7 @@ fn render_truth(
     };
     let (w, h) = request.size;
     progress.stoppable(true);
-    let image = cpu::render_truth(scene, e, w, h, settings, |p| {
+    let image = cpu::render_truth(scene, prepared, w, h, settings, |p| {
         progress.truth_pass(p, settings.spp, settings.stderr)
     });
     progress.stoppable(false);

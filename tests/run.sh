@@ -33,16 +33,25 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "$XDG_RUNTIME_DIR" ]; then
     chmod 700 "$XDG_RUNTIME_DIR"
 fi
 
-cargo fmt --all -- --check
-cargo clippy --release --workspace --all-targets -- -D warnings
+# Each step prints the seconds the run has taken so far, to see where CI's time goes.
+step() {
+    echo "== ${SECONDS}s: $*" >&2
+    "$@"
+}
+
+step cargo fmt --all -- --check
+step cargo clippy --release --workspace --all-targets -- -D warnings
 # The library as another program links it: no winit, egui, clap or plotting crate, and
 # not the lab (this builds the root package alone).
-cargo build --release --no-default-features --lib
+step cargo build --release --no-default-features --lib
 # Its unit tests in that build (a map or picture file there is one error naming the feature).
-cargo test --release --no-default-features --lib -p shadeballs
-RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
-RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --no-default-features -p shadeballs
+step cargo test --release --no-default-features --lib -p shadeballs
+export RUSTDOCFLAGS="-D warnings"
+step cargo doc --release --no-deps --workspace
+step cargo doc --release --no-deps --no-default-features -p shadeballs
+unset RUSTDOCFLAGS
 # Both crates: the library's unit tests (the maths, beside its code) and its integration
 # test binary, the lab's test binary, the examples (built, and run by their tests) and the
 # doctests of the facade.
-cargo test --release --workspace
+step cargo test --release --workspace
+echo "== ${SECONDS}s: done" >&2

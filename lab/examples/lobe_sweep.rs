@@ -198,7 +198,14 @@ fn reference(
             });
         }
     }
-    let mc = cpu::render_montecarlo(scene, e, w, h, spp, 7)?;
+    let mc = cpu::render_montecarlo(
+        scene,
+        &shadeballs::prepared::Prepared::new(scene, e),
+        w,
+        h,
+        spp,
+        7,
+    )?;
     let mut bytes = Vec::with_capacity(pixels * 48);
     for (m, s) in mc.mean.iter().zip(&mc.std_error) {
         for x in m.to_array().into_iter().chain(s.to_array()) {

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Backend, Renderer};
 use crate::labels;
 use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
-use crate::render::{self as dispatch, Pixels, Request};
+use crate::render::{self as dispatch, Output, Pixels, Request};
 use crate::scene::Scene;
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
@@ -155,7 +155,11 @@ fn render_and_write(
     let request = Request {
         backend: args.backend,
         size: (w, h),
-        linear: kind == ImageKind::Exr,
+        output: if kind == ImageKind::Exr {
+            Output::Linear
+        } else {
+            Output::Display
+        },
         spp: args.spp,
         seed: args.seed,
         stderr: args.stderr,
@@ -176,15 +180,21 @@ fn render_and_write(
     let truth = args.backend == Backend::Truth;
     // The samples a pixel of a progressive backend, in the file (issue 38, 7).
     let note = rendered.sampled.map(|(what, spp)| samples_note(what, spp));
-    match rendered.pixels {
+    let linear = match rendered.pixels {
         Pixels::Display(mut rgba) => {
             draw_labels(scene, args, &mut rgba, phases)?;
             match &note {
                 Some(note) => output::write_png_noted(&args.out, w, h, rgba, note)?,
                 None => write_png(&args.out, w, h, rgba)?,
             }
+            None
         }
-        Pixels::Linear(rgba) => match (sidecar, rendered.std_error, rendered.spp, &note) {
+        Pixels::Linear(rgba) => Some(rgba),
+        // Not asked for here: written as the f32 an `.exr` holds.
+        Pixels::Radiance(radiance) => Some(crate::cpu::to_rgba_f32(&radiance)),
+    };
+    if let Some(rgba) = linear {
+        match (sidecar, rendered.std_error, rendered.spp, &note) {
             (Some(path), Some(side), Some(spp), Some(note)) if spp >= 2 => {
                 // Both written, then both renamed: a failed write leaves the old pair
                 // (issue 28, 4).
@@ -205,7 +215,7 @@ fn render_and_write(
                 output::stage_exr_noted(&args.out, w, h, rgba, note)?.commit()?
             }
             _ => write_exr(&args.out, w, h, rgba)?,
-        },
+        }
     }
     let stopped = rendered
         .spp

@@ -8,49 +8,9 @@ use super::light::{lobe_mean_radiance, loss, CpuEnvironment, Forms, LobeSamples}
 use crate::brdf::{
     clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
 };
-use crate::lut::{coating_albedo, CoatingRows, TableSet, COATING_ROW_LEN};
-use crate::scene::{Ball, ClearcoatConstants, CoatForm, Scene};
-
-/// A ball's clear coat as the CPU's shading reads it, formed once per ball (as the GPU's
-/// uniforms are): its row and its constants, in f32 as the GPU holds them.
-#[derive(Clone, Copy, Debug)]
-pub struct Clearcoat {
-    row: [f32; COATING_ROW_LEN],
-    constants: ClearcoatConstants,
-}
-
-impl Clearcoat {
-    /// Ball `b`'s clear coat, from its row of `rows` and E read from `e`; `None` without
-    /// one.
-    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
-        let c = ClearcoatConstants::of_ball(scene, b, e, rows)?;
-        let key = scene.clearcoat_key(b)?;
-        let f32_of = |x: f64| x as f32 as f64;
-        Some(Clearcoat {
-            row: *rows.row(&key)?,
-            constants: ClearcoatConstants {
-                weight: f32_of(c.weight),
-                roughness: f32_of(c.roughness),
-                eta: f32_of(c.eta),
-                f_add: f32_of(c.f_add),
-                ms_norm: f32_of(c.ms_norm),
-                e_avg: f32_of(c.e_avg),
-                inside: c.inside.as_vec3().as_dvec3(),
-                ..c
-            },
-        })
-    }
-
-    /// Every ball's clear coat, index for index with `scene.balls` (up to `MAX_BALLS`).
-    pub fn of_scene(scene: &Scene, e: &TableSet, rows: &CoatingRows) -> Vec<Option<Self>> {
-        scene
-            .balls
-            .iter()
-            .take(crate::scene::MAX_BALLS)
-            .map(|b| Clearcoat::of_ball(scene, b, e, rows))
-            .collect()
-    }
-}
+use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::prepared::{Clearcoat, ClearcoatConstants};
+use crate::scene::{Ball, CoatForm, Scene};
 
 /// What `clearcoat_begin` forms once per pixel (`ClearcoatPoint` of `clearcoat.wgsl`).
 #[derive(Clone, Copy, Debug)]

@@ -14,49 +14,9 @@ use crate::brdf::{
     Geometry,
 };
 use crate::environment::IblTerm;
-use crate::lut::{coating_albedo, CoatingRows, TableSet, COATING_ROW_LEN};
-use crate::scene::{coating_spec_albedo, Ball, CoatingConstants, Layering, Scene};
-
-/// A ball's coating as the CPU's shading reads it, formed once per ball (as the GPU's
-/// uniforms are, `gpu::uniforms::balls`): its row and its constants, in f32 as the GPU
-/// holds them.
-#[derive(Clone, Copy, Debug)]
-pub struct Coat {
-    row: [f32; COATING_ROW_LEN],
-    constants: CoatingConstants,
-    /// The base's albedo as the shading takes it (`scene::base_albedo`).
-    albedo: DVec3,
-}
-
-impl Coat {
-    /// Ball `b`'s coat, from its row of `rows` and E read from `e`; `None` for an all-metal
-    /// ball.
-    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
-        let c = CoatingConstants::of_ball(scene, b, e, rows)?;
-        let key = scene.coating_key(b)?;
-        let f32_of = |x: f64| x as f32 as f64;
-        Some(Coat {
-            row: *rows.row(&key)?,
-            albedo: crate::scene::base_albedo(scene, b, e, rows.row(&key), Some(&c)),
-            constants: CoatingConstants {
-                eta: f32_of(c.eta),
-                f_add: f32_of(c.f_add),
-                f_avg: f32_of(c.f_avg),
-                e_spec_avg: f32_of(c.e_spec_avg),
-            },
-        })
-    }
-
-    /// Every ball's coat, index for index with `scene.balls` (up to `MAX_BALLS`).
-    pub fn of_scene(scene: &Scene, e: &TableSet, rows: &CoatingRows) -> Vec<Option<Self>> {
-        scene
-            .balls
-            .iter()
-            .take(crate::scene::MAX_BALLS)
-            .map(|b| Coat::of_ball(scene, b, e, rows))
-            .collect()
-    }
-}
+use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::prepared::{coating_spec_albedo, Coat, CoatingConstants};
+use crate::scene::{Ball, Layering, Scene};
 
 /// A point of a ball's coating: what `shade_coating` forms once per pixel (the GPU's
 /// per-ball members and its per-pixel reads at the view), for its light loop and the

@@ -25,10 +25,12 @@ use shade::shade_point;
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::lut::TableSet;
+use crate::prepared::Prepared;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALLS};
 
 /// Linear radiance of every pixel, row-major, row 0 at the top; rows on rayon's pool. E
-/// and E_avg are read from `e` as the shader reads the same tables.
+/// and E_avg are read from the tables `prepared` for `scene` as the shader reads them, each
+/// ball's coating is the one prepared.
 ///
 /// Each pixel intersects only the balls whose screen-space bounds cover it (the bounds the
 /// GPU's quads use, [`CameraBasis::sphere_bounds`], widened by the same
@@ -36,8 +38,8 @@ use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALL
 /// follows the pixels the balls cover, not their number. Candidates are tried in index
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
-pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> Vec<DVec3> {
-    render_radiance_at_lobe_frame(scene, e, width, height, 0)
+pub fn render_radiance(scene: &Scene, prepared: &Prepared, width: u32, height: u32) -> Vec<DVec3> {
+    render_radiance_at_lobe_frame(scene, prepared, width, height, 0)
 }
 
 /// [`render_radiance`] at frame `lobe_frame` of the lobe's samples (`ibl_method = "lobe"`:
@@ -46,11 +48,12 @@ pub fn render_radiance(scene: &Scene, e: &TableSet, width: u32, height: u32) -> 
 /// sum.
 pub fn render_radiance_at_lobe_frame(
     scene: &Scene,
-    e: &TableSet,
+    prepared: &Prepared,
     width: u32,
     height: u32,
     lobe_frame: u32,
 ) -> Vec<DVec3> {
+    let e = prepared.tables();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
     let form = scene.preset.f_avg_form();
@@ -70,10 +73,6 @@ pub fn render_radiance_at_lobe_frame(
         (environment, CpuEnvironment::new(environment, &tables))
     });
     let ibl = &ibl;
-    // Each ball's coating formed once, as the GPU's uniforms are.
-    let rows = scene.coating_rows(&mut Default::default());
-    let coats = &coating::Coat::of_scene(scene, e, &rows);
-    let clearcoats = &clearcoat::Clearcoat::of_scene(scene, e, &rows);
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
     // What a ray in unit direction d that hits no ball sees (`background_radiance`).
@@ -92,7 +91,7 @@ pub fn render_radiance_at_lobe_frame(
             lobe: LobeSamples::of(scene, pixel, lobe_frame),
             coat: None,
         };
-        let coats = (coats[k].as_ref(), clearcoats[k].as_ref());
+        let coats = (prepared.coat(k), prepared.clearcoat(k));
         shade_point(scene, (b, coats), n, -d, e, &forms)
     };
     let o = basis.origin;

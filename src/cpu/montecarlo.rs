@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::coating::{Coat, CoatingPoint};
+use super::coating::CoatingPoint;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::{surface_normal, Bins, PixelView};
 use crate::brdf::{
@@ -27,6 +27,7 @@ use crate::environment::sampler::EnvSampler;
 use crate::environment::IblTerm;
 use crate::error::Result;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
+use crate::prepared::{Coat, Prepared};
 use crate::sampling::{arriving, sample_cosine, sample_vndf, vndf_density, Frame};
 use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
@@ -44,26 +45,27 @@ pub use crate::stats::{MonteCarloImage, Part};
 /// rotation or intensity that is not finite (or a negative intensity).
 pub fn render_montecarlo(
     scene: &Scene,
-    e: &TableSet,
+    prepared: &Prepared,
     width: u32,
     height: u32,
     spp: u32,
     seed: u64,
 ) -> Result<MonteCarloImage> {
-    render_montecarlo_part(scene, e, width, height, spp, seed, Part::Whole)
+    render_montecarlo_part(scene, prepared, width, height, spp, seed, Part::Whole)
 }
 
 /// [`render_montecarlo`] of one [`Part`] of the model: `Part::Multiple` integrates only
 /// the lobe the term adds, the reference for a real-time method's term alone.
 pub fn render_montecarlo_part(
     scene: &Scene,
-    e: &TableSet,
+    prepared: &Prepared,
     width: u32,
     height: u32,
     spp: u32,
     seed: u64,
     part: Part,
 ) -> Result<MonteCarloImage> {
+    let e = prepared.tables();
     crate::stats::check_montecarlo_inputs(scene, spp)?;
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
@@ -80,8 +82,6 @@ pub fn render_montecarlo_part(
         && scene.balls.iter().any(|b| b.model == Model::FdezAguera))
     .then(|| SplitSum::shipped(scene.effective_geometry()));
     let split = &split;
-    // Each ball's coating formed once, as the GPU's uniforms are.
-    let coats = &Coat::of_scene(scene, e, &scene.coating_rows(&mut Default::default()));
     let pixels: Vec<(DVec3, DVec3, bool)> = (0..height)
         .into_par_iter()
         .flat_map_iter(|py| {
@@ -95,7 +95,7 @@ pub fn render_montecarlo_part(
                 let b = &balls[view.k];
                 let n = surface_normal(o + t * d - b.center, d);
                 let mut point =
-                    ShadingPoint::with_coat(scene, (b, coats[view.k].as_ref()), (n, -d), e);
+                    ShadingPoint::with_coat(scene, (b, prepared.coat(view.k)), (n, -d), e);
                 point.part = part;
                 if let Some(split) = split {
                     point = point.with_split_sum(split);

@@ -12,6 +12,7 @@ use crate::brdf::{
 };
 use crate::environment::{Environment, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
+use crate::prepared::Coat;
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -53,8 +54,8 @@ pub fn shade(
     geometry: Geometry,
 ) -> DVec3 {
     let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
-    let coat = super::coating::Coat::of_ball(scene, b, e, &rows);
-    let clearcoat = super::clearcoat::Clearcoat::of_ball(scene, b, e, &rows);
+    let coat = Coat::of_ball(scene, b, e, &rows);
+    let clearcoat = crate::prepared::Clearcoat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
@@ -100,16 +101,13 @@ pub(super) fn shade_point(
 }
 
 /// A ball's coating and clear coat, each formed once per ball (`None` without one).
-pub(super) type Coats<'a> = (
-    Option<&'a super::coating::Coat>,
-    Option<&'a super::clearcoat::Clearcoat>,
-);
+pub(super) type Coats<'a> = (Option<&'a Coat>, Option<&'a crate::prepared::Clearcoat>);
 
 /// `shade_base` of `lighting.wgsl`: the ball under its clear coat (all of it without one),
 /// the base's light weighted by `forms.coat`.
 fn shade_base(
     scene: &Scene,
-    (b, coat): (&Ball, Option<&super::coating::Coat>),
+    (b, coat): (&Ball, Option<&Coat>),
     n: DVec3,
     v: DVec3,
     e: &TableSet,

@@ -39,6 +39,7 @@ use super::{surface_normal, Bins};
 use crate::brdf::{Geometry, DIV_EPSILON};
 use crate::error::{Error, Result};
 use crate::lut::TableSet;
+use crate::prepared::{with_substrates, Prepared};
 use crate::sampling::Frame;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Model, Scene, MAX_BALLS};
 use crate::walk::clearcoat::Layered;
@@ -156,7 +157,7 @@ struct Pixel {
 /// `max_order` is 0.
 pub fn render_truth(
     scene: &Scene,
-    e: &TableSet,
+    prepared: &Prepared,
     width: u32,
     height: u32,
     settings: TruthSettings,
@@ -165,7 +166,8 @@ pub fn render_truth(
     settings.check()?;
     check_clearcoat_lights(scene, settings.every_ball)?;
     // The walk goes through the substrate the base reading implies.
-    let substrates = scene.with_substrates(e);
+    let substrates = with_substrates(scene, prepared);
+    let e = prepared.tables();
     let scene = &substrates;
     let started = Instant::now();
     let basis = scene.camera.basis(width, height);
@@ -698,18 +700,18 @@ fn check_clearcoat_lights(scene: &Scene, every_ball: bool) -> Result<()> {
 /// (`every_ball` is ignored).
 pub fn render_radiance_with_truth(
     scene: &Scene,
-    e: &TableSet,
+    prepared: &Prepared,
     width: u32,
     height: u32,
     settings: TruthSettings,
 ) -> Result<Vec<DVec3>> {
-    let mut radiance = super::render_radiance(scene, e, width, height);
+    let mut radiance = super::render_radiance(scene, prepared, width, height);
     if scene.has_truth() {
         let settings = TruthSettings {
             every_ball: false,
             ..settings
         };
-        let truth = render_truth(scene, e, width, height, settings, |_| true)?;
+        let truth = render_truth(scene, prepared, width, height, settings, |_| true)?;
         for ((r, t), covered) in radiance
             .iter_mut()
             .zip(&truth.image.mean)

@@ -5,7 +5,6 @@
 //! [`Renderer::render`] with its surface view; a host program hands its own device
 //! ([`Renderer::from_device`]).
 
-use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -22,7 +21,8 @@ use super::table_cache::TableCache;
 use super::truth::TruthPass;
 use crate::brdf::Geometry;
 use crate::error::{Error, Result};
-use crate::lut::{BakeConfig, CoatingKey, CoatingRows, TableSet, Tables, COATING_ROW_LEN};
+use crate::lut::{BakeConfig, TableSet, Tables};
+use crate::prepared::{CoatingCache, Prepared};
 use crate::scene::Scene;
 
 // The renderer's rooms, each an `impl Renderer` block: a frame's preparation, the balls'
@@ -74,9 +74,10 @@ pub struct Renderer {
     truth: TruthPass,
     /// The Monte Carlo of the model (`montecarlo.wgsl`, `montecarlo.rs`), made on first use.
     montecarlo: Option<MonteCarloPass>,
-    /// Every coating row baked so far, by key (`lut::coating`), and the latest scene's.
-    coating_cache: HashMap<CoatingKey, [f32; COATING_ROW_LEN]>,
-    coating: CoatingRows,
+    /// Every coating row baked so far, by key (`lut::coating`), and the latest scene
+    /// prepared with the tables bound for it.
+    coating_cache: CoatingCache,
+    prepared: Prepared,
     /// The frame of the lobe's samples the next draw takes ([`Renderer::set_lobe_frame`]).
     lobe_frame: u32,
     /// The lobe's progressive image (`accumulate.wgsl`, `accumulate.rs`).
@@ -106,8 +107,8 @@ impl Renderer {
             bake_config: BakeConfig::default(),
             plan: None,
             depth: DepthTarget::default(),
-            coating_cache: HashMap::new(),
-            coating: CoatingRows::default(),
+            coating_cache: CoatingCache::new(),
+            prepared: Prepared::default(),
             environment,
             truth,
             lobe_frame: 0,
@@ -206,9 +207,11 @@ impl Renderer {
             .as_ref()
             .is_none_or(|p| p.tables != plan.tables || p.bake != plan.bake);
         let mut baked = self.tables.ensure(&plan.tables);
-        // The coating rows the scene's dielectrics read, baked where not yet cached.
+        // The scene prepared with the tables bound: the coating rows its dielectrics read,
+        // baked where not yet cached, and each ball's coating.
         let (rows_before, start) = (self.coating_cache.len(), Instant::now());
-        self.coating = scene.coating_rows(&mut self.coating_cache);
+        let tables = self.bound_tables();
+        self.prepared = Prepared::with_cache(scene, &tables, &mut self.coating_cache);
         if self.coating_cache.len() > rows_before {
             baked += start.elapsed();
         }

@@ -7,10 +7,9 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
 use crate::environment::IblTerm;
-use crate::lut::{CoatingRows, LutParams, TableSet};
-use crate::scene::{
-    ClearcoatConstants, CoatForm, CoatingConstants, Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS,
-};
+use crate::lut::{LutParams, TableSet};
+use crate::prepared::{ClearcoatConstants, CoatingConstants, Prepared};
+use crate::scene::{CoatForm, Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
 #[repr(C)]
@@ -155,13 +154,15 @@ pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Glo
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
 /// on lavapipe (docs/benchmarks.md, "Measured results").
-pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<GpuBall> {
+pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
+    let (tables, coating) = (prepared.tables(), prepared.coating_rows());
     scene
         .balls
         .iter()
         .take(MAX_BALLS)
-        .map(|b| {
+        .enumerate()
+        .map(|(k, b)| {
             let loss_avg = tables.lut_loss_avg(b.roughness as f32);
             let e_avg = 1.0 - loss_avg as f64;
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
@@ -176,12 +177,12 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 ([0.0; 3], 0.0)
             };
             let ms = if b.model.has_term() { 1.0 } else { 0.0 };
-            let coating_constants =
-                CoatingConstants::of_ball(scene, b, tables, coating).unwrap_or_default();
+            let coat = prepared.coat(k);
+            let coating_constants = coat.map_or(CoatingConstants::default(), |c| c.constants);
             let coating_row = scene
                 .coating_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
-            let clearcoat = ClearcoatConstants::of_ball(scene, b, tables, coating);
+            let clearcoat = prepared.clearcoat(k).map(|c| c.constants);
             let clearcoat_row = scene
                 .clearcoat_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
@@ -192,16 +193,11 @@ pub fn balls(scene: &Scene, tables: &TableSet, coating: &CoatingRows) -> Vec<Gpu
                 radius: b.radius as f32,
                 f0: v3(b.material.f0),
                 roughness: b.roughness as f32,
-                // The substrate the base reading implies (scene::base_albedo).
-                diffuse: crate::scene::base_albedo(
-                    scene,
-                    b,
-                    tables,
-                    scene.coating_key(b).and_then(|k| coating.row(&k)),
-                    Some(&coating_constants),
-                )
-                .as_vec3()
-                .to_array(),
+                // The substrate the base reading implies (prepared::base_albedo).
+                diffuse: coat
+                    .map_or(b.material.diffuse, |c| c.albedo)
+                    .as_vec3()
+                    .to_array(),
                 ms: ms as f32,
                 f_add,
                 ms_norm,

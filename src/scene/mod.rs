@@ -24,18 +24,13 @@ pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
     MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
-pub use clearcoat::{
-    base_average_albedo, ClearCoat, ClearcoatConstants, CoatForm, DEFAULT_CLEARCOAT_IOR,
-};
+pub use clearcoat::{ClearCoat, CoatForm, DEFAULT_CLEARCOAT_IOR};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
-pub use material::{
-    coating_spec_albedo, gamma22_decode, srgb_decode, CoatingConstants, Layering, Material,
-    DEFAULT_IOR, IOR_RANGE,
-};
+pub use material::{gamma22_decode, srgb_decode, Layering, Material, DEFAULT_IOR, IOR_RANGE};
 pub use model::Model;
 pub use preset::Preset;
-pub use reading::{base_albedo, substrate_albedo, substrate_albedo_with, BaseReading};
+pub use reading::BaseReading;
 pub use showcase::{
     showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE,
     SHOWCASE_MIN_ASPECT, SHOWCASE_RADIUS, SHOWCASE_ROW_HALF_GAP,
@@ -277,24 +272,6 @@ impl Scene {
                 self.effective_geometry(),
             )
         })
-    }
-
-    /// The coating rows of every ball with a dielectric part, baked (or taken from
-    /// `cache`).
-    pub fn coating_rows(
-        &self,
-        cache: &mut std::collections::HashMap<
-            crate::lut::CoatingKey,
-            [f32; crate::lut::COATING_ROW_LEN],
-        >,
-    ) -> crate::lut::CoatingRows {
-        crate::lut::CoatingRows::bake(
-            self.balls
-                .iter()
-                .take(MAX_BALLS)
-                .flat_map(|b| self.ball_coating_keys(b)),
-            cache,
-        )
     }
 
     /// Whether any ball is the random-walk truth.

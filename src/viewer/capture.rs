@@ -1,4 +1,5 @@
-//! What the viewer writes besides its PNG screenshots: the scene area's linear radiance
+//! What the viewer writes besides its PNG screenshots (their time-stamped names,
+//! [`timestamped`], are here too): the scene area's linear radiance
 //! as an EXR (key E, the panel, `--screenshot FILE.exr`), and the scene as a scene file
 //! (the panel, `--save-scene`) that `shadeballs render` draws as the viewer does.
 
@@ -187,4 +188,12 @@ fn save_scene(
         eprintln!("note: the file holds the scene itself, not the comparison");
     }
     Ok(())
+}
+
+/// `shadeballs-<seconds since 1970>.<extension>` in the working folder.
+pub fn timestamped(extension: &str) -> PathBuf {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    PathBuf::from(format!("shadeballs-{secs}.{extension}"))
 }

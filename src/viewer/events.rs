@@ -1,13 +1,12 @@
 //! winit's events: the window's lifecycle, keys, and the mouse's orbit and zoom.
 
-use std::path::PathBuf;
-
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, StartCause, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
+use super::capture::timestamped;
 use super::compare::{Compare, View};
 use super::{edit, orbit, App};
 
@@ -207,12 +206,4 @@ impl ApplicationHandler for App {
             self.request_redraw();
         }
     }
-}
-
-/// `shadeballs-<seconds since 1970>.<extension>` in the working folder.
-pub fn timestamped(extension: &str) -> PathBuf {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    PathBuf::from(format!("shadeballs-{secs}.{extension}"))
 }

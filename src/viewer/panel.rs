@@ -103,7 +103,7 @@ impl Controls {
     pub fn file_for(&self, extension: &str) -> std::path::PathBuf {
         let name = self.file_name.trim();
         if name.is_empty() {
-            return super::events::timestamped(extension);
+            return super::capture::timestamped(extension);
         }
         std::path::Path::new(name).with_extension(extension)
     }

@@ -13,7 +13,7 @@
 /// - `lut`: the tables' `LutParams` (`Tables::layout().lut_params()`);
 /// - `base_color_metallic`: linear base colour, metallic in `w`;
 /// - `roughness_ior`: roughness, the coating's index, its average Fresnel `F_avg`
-///   (`brdf::f_avg_dielectric`), the coating's `E_spec_avg` (`scene::CoatingConstants`);
+///   (`brdf::f_avg_dielectric`), the coating's `E_spec_avg` (`prepared::CoatingConstants`);
 /// - `light_direction`: towards the light (unit), `light_radiance` its radiance, and
 ///   `environment` the uniform environment's radiance (the base read as the apparent
 ///   colour when `environment.w` is 1: the substrate solved in the shader, else taken as

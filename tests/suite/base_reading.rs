@@ -56,7 +56,12 @@ fn model_and_truth(
         shaded.ibl_samples = 256;
     }
     let model = ball_means(
-        &shadeballs::cpu::render_radiance(&shaded, &e, w, h),
+        &shadeballs::cpu::render_radiance(
+            &shaded,
+            &shadeballs::prepared::Prepared::new(&shaded, &e),
+            w,
+            h,
+        ),
         &pixels,
     );
     let settings = shadeballs::cpu::TruthSettings {
@@ -64,7 +69,15 @@ fn model_and_truth(
         seed: 35,
         ..Default::default()
     };
-    let truth = shadeballs::cpu::render_truth(scene, &e, w, h, settings, |_| true).unwrap();
+    let truth = shadeballs::cpu::render_truth(
+        scene,
+        &shadeballs::prepared::Prepared::new(scene, &e),
+        w,
+        h,
+        settings,
+        |_| true,
+    )
+    .unwrap();
     let t = ball_means(&truth.image.mean, &pixels);
     pixels
         .iter()
@@ -128,8 +141,14 @@ fn each_reading_matches_its_own_truth() {
     let a = orange(BaseReading::Apparent, false);
     let s = orange(BaseReading::Substrate, false);
     let pixels: Vec<Vec<usize>> = (0..5).map(|k| interior(&a, k, w, h)).collect();
-    let ma = ball_means(&shadeballs::cpu::render_radiance(&a, &e, w, h), &pixels);
-    let ms = ball_means(&shadeballs::cpu::render_radiance(&s, &e, w, h), &pixels);
+    let ma = ball_means(
+        &shadeballs::cpu::render_radiance(&a, &shadeballs::prepared::Prepared::new(&a, &e), w, h),
+        &pixels,
+    );
+    let ms = ball_means(
+        &shadeballs::cpu::render_radiance(&s, &shadeballs::prepared::Prepared::new(&s, &e), w, h),
+        &pixels,
+    );
     assert!(ma
         .iter()
         .zip(&ms)
@@ -163,11 +182,21 @@ fn the_apparent_reading_is_brighter_under_the_studio() {
     let e = tables(&apparent);
     let pixels: Vec<Vec<usize>> = (0..5).map(|k| interior(&apparent, k, w, h)).collect();
     let a = ball_means(
-        &shadeballs::cpu::render_radiance(&apparent, &e, w, h),
+        &shadeballs::cpu::render_radiance(
+            &apparent,
+            &shadeballs::prepared::Prepared::new(&apparent, &e),
+            w,
+            h,
+        ),
         &pixels,
     );
     let s = ball_means(
-        &shadeballs::cpu::render_radiance(&substrate, &e, w, h),
+        &shadeballs::cpu::render_radiance(
+            &substrate,
+            &shadeballs::prepared::Prepared::new(&substrate, &e),
+            w,
+            h,
+        ),
         &pixels,
     );
     let mut gpu = crate::pixels::vulkan();
@@ -252,11 +281,21 @@ fn the_metallic_roughness_chart_before_and_after() {
         .map(|k| interior(&apparent, k, w, h))
         .collect();
     let a = ball_means(
-        &shadeballs::cpu::render_radiance(&apparent, &e, w, h),
+        &shadeballs::cpu::render_radiance(
+            &apparent,
+            &shadeballs::prepared::Prepared::new(&apparent, &e),
+            w,
+            h,
+        ),
         &pixels,
     );
     let s = ball_means(
-        &shadeballs::cpu::render_radiance(&substrate, &e, w, h),
+        &shadeballs::cpu::render_radiance(
+            &substrate,
+            &shadeballs::prepared::Prepared::new(&substrate, &e),
+            w,
+            h,
+        ),
         &pixels,
     );
     let mut rows: Vec<(f64, Vec<usize>)> = Vec::new();

@@ -149,7 +149,12 @@ fn fuzzed_scene_files_never_panic_and_are_accepted_only_when_valid() {
             .iter()
             .position(|&x| x == g)
             .unwrap();
-        let radiance = shadeballs::cpu::render_radiance(s, &tables[k].clone().into(), 8, 8);
+        let radiance = shadeballs::cpu::render_radiance(
+            s,
+            &shadeballs::prepared::Prepared::new(s, &tables[k].clone().into()),
+            8,
+            8,
+        );
         t.bad_pixels += radiance
             .iter()
             .filter(|c| !(c.is_finite() && c.min_element() >= 0.0))

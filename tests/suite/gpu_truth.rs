@@ -150,7 +150,7 @@ fn cpu_truth(scene: &Scene, owner: &[Option<usize>], spp: u32) -> Vec<Estimate> 
     };
     let image = cpu::render_truth(
         scene,
-        &TableSet::full(tables.clone()),
+        &shadeballs::prepared::Prepared::new(scene, &TableSet::full(tables.clone())),
         W,
         H,
         settings,

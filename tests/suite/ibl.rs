@@ -145,7 +145,10 @@ fn furnace_through_the_map_path_holds_for_every_term() {
         let cpu = cpu::to_rgba8(
             &cpu::render_radiance(
                 &scene,
-                &TableSet::full(r.tables_for(scene.effective_geometry())),
+                &shadeballs::prepared::Prepared::new(
+                    &scene,
+                    &TableSet::full(r.tables_for(scene.effective_geometry())),
+                ),
                 w,
                 h,
             ),
@@ -430,7 +433,13 @@ fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTe
                 let gpu = r.render_ldr(&scene, w, h).unwrap().rgba;
                 r.set_lobe_frame(0);
                 let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-                let radiance = cpu::render_radiance_at_lobe_frame(&scene, &tables, w, h, frame);
+                let radiance = cpu::render_radiance_at_lobe_frame(
+                    &scene,
+                    &shadeballs::prepared::Prepared::new(&scene, &tables),
+                    w,
+                    h,
+                    frame,
+                );
                 let cpu = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
                 assert_close(
                     &compare(&gpu, &cpu, w),
@@ -568,7 +577,15 @@ fn lobe_converges_to_the_monte_carlo_of_the_model() {
     for (builtin, frames, bound) in [(Builtin::Sky, 16, 0.03), (Builtin::Studio, 64, 0.04)] {
         let scene = lobe_scene(builtin, 16);
         let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-        let mc = cpu::render_montecarlo(&scene, &tables, w, h, 2048, 7).unwrap();
+        let mc = cpu::render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &tables),
+            w,
+            h,
+            2048,
+            7,
+        )
+        .unwrap();
         let lobe = r.render_lobe_hdr(&scene, w, h, frames).unwrap().rgba;
         let split = Scene {
             ibl_method: IblMethod::SplitSum,
@@ -639,7 +656,13 @@ fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
         let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
         let mut mean = vec![DVec3::ZERO; (w * h) as usize];
         for k in 0..frames {
-            let frame = cpu::render_radiance_at_lobe_frame(&scene, &tables, w, h, k);
+            let frame = cpu::render_radiance_at_lobe_frame(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+                k,
+            );
             for (m, x) in mean.iter_mut().zip(frame) {
                 *m += x / f64::from(frames);
             }

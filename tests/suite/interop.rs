@@ -178,7 +178,8 @@ fn the_glsl_tables_validate() {
 #[test]
 fn the_exported_fragment_shades_as_the_renderer() {
     use glam::DVec3;
-    use shadeballs::scene::{Ball, BaseReading, CoatingConstants, Light, Material, Model, Scene};
+    use shadeballs::prepared::{CoatingConstants, Prepared};
+    use shadeballs::scene::{Ball, BaseReading, Light, Material, Model, Scene};
     const SIZE: u32 = 32;
     let gpu = match shadeballs::gpu::Gpu::new(wgpu::Backends::VULKAN) {
         Ok(gpu) => gpu,
@@ -266,7 +267,8 @@ fn the_exported_fragment_shades_as_the_renderer() {
                 base_reading: reading,
                 ..Scene::reference()
             };
-            let rows = scene.coating_rows(&mut Default::default());
+            let prepared = Prepared::new(&scene, &e);
+            let rows = prepared.coating_rows();
             let key = shadeballs::lut::CoatingKey::new(
                 roughness,
                 material.ior,
@@ -278,7 +280,7 @@ fn the_exported_fragment_shades_as_the_renderer() {
                 .row(&key)
                 .copied()
                 .unwrap_or_else(|| shadeballs::lut::coating_row(&Default::default(), &key));
-            let c = CoatingConstants::of_ball(&scene, &ball, &e, &rows).unwrap_or_default();
+            let c = CoatingConstants::of_ball(&scene, &ball, &e, rows).unwrap_or_default();
             // BallUniforms: LutParams, then six vec4s.
             let mut uniforms: Vec<u8> = bytemuck::bytes_of(&gpu_tables.params).to_vec();
             let apparent = if reading == BaseReading::Apparent {

@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's modules, and lib.rs (`crate`).
-const LIBRARY: [&str; 18] = [
+const LIBRARY: [&str; 19] = [
     "crate",
     "render",
     "brdf",
@@ -20,6 +20,7 @@ const LIBRARY: [&str; 18] = [
     "walk",
     "environment",
     "scene",
+    "prepared",
     "import",
     "gpu",
     "cpu",
@@ -44,15 +45,27 @@ fn forbidden(module: &str) -> Option<Vec<&'static str>> {
             "walk",
             "environment",
             "scene",
+            "prepared",
             "gpu",
             "cpu",
         ]),
         // The sampling maths sit on the maths alone.
-        "sampling" => below(&["lut", "walk", "environment", "scene", "gpu", "cpu"]),
-        "lut" => below(&["walk", "environment", "scene", "gpu", "cpu"]),
-        "walk" => below(&["environment", "scene", "gpu", "cpu"]),
-        "environment" => below(&["scene", "gpu", "cpu"]),
-        "scene" => below(&["import", "gpu", "cpu"]),
+        "sampling" => below(&[
+            "lut",
+            "walk",
+            "environment",
+            "scene",
+            "prepared",
+            "gpu",
+            "cpu",
+        ]),
+        "lut" => below(&["walk", "environment", "scene", "prepared", "gpu", "cpu"]),
+        "walk" => below(&["environment", "scene", "prepared", "gpu", "cpu"]),
+        "environment" => below(&["scene", "prepared", "gpu", "cpu"]),
+        "scene" => below(&["import", "prepared", "gpu", "cpu"]),
+        // A scene prepared for a frame (tables, coating rows, each ball's coating): on the
+        // scene, below both renderers, which take it.
+        "prepared" => below(&["import", "gpu", "cpu"]),
         // glTF files read as scenes: on the scene, beside the renderers.
         "import" => below(&["gpu", "cpu"]),
         "cpu" => below(&["gpu"]),

@@ -306,7 +306,15 @@ fn layering_forms_against_the_truth_on_plastic_toml() {
             seed: 11,
             ..Default::default()
         };
-        let truth = shadeballs::cpu::render_truth(&scene, &e, w, h, settings, |_| true).unwrap();
+        let truth = shadeballs::cpu::render_truth(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            w,
+            h,
+            settings,
+            |_| true,
+        )
+        .unwrap();
         let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
             .map(|k| interior(&scene, k, w, h))
             .collect();
@@ -324,7 +332,12 @@ fn layering_forms_against_the_truth_on_plastic_toml() {
                 layering,
                 ..scene.clone()
             };
-            let model = shadeballs::cpu::render_radiance(&scene, &e, w, h);
+            let model = shadeballs::cpu::render_radiance(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &e),
+                w,
+                h,
+            );
             let m_means = ball_means(&model, &pixels);
             let mut line = format!("{light}, {layering:>10}:");
             let (mut worst, mut worst_term) = (0.0f64, 0.0f64);

@@ -82,8 +82,15 @@ fn furnace_converges_to_one_for_every_ibl_term() {
     let tables = tables_for(&base);
     for term in IblTerm::ALL {
         let scene = base.clone().with_term(term);
-        let image =
-            render_montecarlo(&scene, &TableSet::full(tables.clone()), w, h, 32, 7).unwrap();
+        let image = render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &TableSet::full(tables.clone())),
+            w,
+            h,
+            32,
+            7,
+        )
+        .unwrap();
         for (k, ball) in scene.balls.iter().enumerate() {
             let pixels = ball_pixels(&scene, k, w, h);
             assert!(pixels.len() > 50, "ball {k}: {} pixels", pixels.len());
@@ -138,8 +145,21 @@ fn lights_alone_match_the_cpu_reference_exactly() {
                 ..scene.clone()
             };
             let tables = TableSet::full(tables_for(&scene));
-            let want = cpu::render_radiance(&scene, &tables, w, h);
-            let got = render_montecarlo(&scene, &tables, w, h, 3, 1).unwrap();
+            let want = cpu::render_radiance(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+            );
+            let got = render_montecarlo(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+                3,
+                1,
+            )
+            .unwrap();
             assert_eq!(got.antialias, antialias, "{name}");
             assert!(got.compares_with(antialias).is_ok(), "{name}");
             assert!(got.compares_with(!antialias).is_err(), "{name}");
@@ -160,7 +180,13 @@ fn lights_alone_match_the_cpu_reference_exactly() {
                         antialias: false,
                         ..scene.clone()
                     },
-                    &tables,
+                    &shadeballs::prepared::Prepared::new(
+                        &Scene {
+                            antialias: false,
+                            ..scene.clone()
+                        },
+                        &tables,
+                    ),
                     w,
                     h,
                 );
@@ -184,8 +210,24 @@ fn uniform_environment_as_radiance_or_as_map_agree() {
     let as_radiance = Scene::furnace();
     let tables = tables_for(&as_map);
     let e = TableSet::full(tables.clone());
-    let a = render_montecarlo(&as_map, &e, w, h, 16, 3).unwrap();
-    let b = render_montecarlo(&as_radiance, &e, w, h, 16, 3).unwrap();
+    let a = render_montecarlo(
+        &as_map,
+        &shadeballs::prepared::Prepared::new(&as_map, &e),
+        w,
+        h,
+        16,
+        3,
+    )
+    .unwrap();
+    let b = render_montecarlo(
+        &as_radiance,
+        &shadeballs::prepared::Prepared::new(&as_radiance, &e),
+        w,
+        h,
+        16,
+        3,
+    )
+    .unwrap();
     for p in 0..a.mean.len() {
         let noise = (a.std_error[p].x.powi(2) + b.std_error[p].x.powi(2)).sqrt();
         let diff = (a.mean[p] - b.mean[p]).abs().max_element();
@@ -238,7 +280,17 @@ fn same_seed_same_image_on_any_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| render_montecarlo(&scene, &e, 128, 72, 4, seed).unwrap())
+            .install(|| {
+                render_montecarlo(
+                    &scene,
+                    &shadeballs::prepared::Prepared::new(&scene, &e),
+                    128,
+                    72,
+                    4,
+                    seed,
+                )
+                .unwrap()
+            })
     };
     let one = run(1, 11);
     assert_eq!(one, run(2, 11));
@@ -252,7 +304,15 @@ fn standard_error_halves_with_four_times_the_samples() {
     let tables = tables_for(&scene);
     let e = TableSet::full(tables.clone());
     let mean_error = |spp| {
-        let image = render_montecarlo(&scene, &e, 128, 72, spp, 5).unwrap();
+        let image = render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            128,
+            72,
+            spp,
+            5,
+        )
+        .unwrap();
         let covered: Vec<_> = (0..image.mean.len())
             .filter(|&p| image.covered[p])
             .collect();
@@ -325,7 +385,15 @@ fn estimate_is_unbiased_against_a_dense_quadrature() {
             let scene = one_pixel_scene(term, material);
             let tables = tables_for(&scene);
             let e = TableSet::full(tables.clone());
-            let image = render_montecarlo(&scene, &e, 1, 1, 16384, 9).unwrap();
+            let image = render_montecarlo(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &e),
+                1,
+                1,
+                16384,
+                9,
+            )
+            .unwrap();
             assert!(image.covered[0]);
             let (mc, err) = (image.mean[0], image.std_error[0]);
             let want = quadrature(&scene, &e);
@@ -355,7 +423,15 @@ fn bad_sample_counts_and_environments_are_errors() {
     let tables = tables_for(&scene);
     let e = TableSet::full(tables.clone());
     for spp in [0, cpu::montecarlo::MAX_SPP + 1] {
-        let err = render_montecarlo(&scene, &e, 8, 8, spp, 1).unwrap_err();
+        let err = render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            8,
+            8,
+            spp,
+            1,
+        )
+        .unwrap_err();
         // The library states the fact; the command line names the flag (the CLI test below).
         let want = format!("samples per pixel: {spp}: must be in 1..=");
         assert!(err.to_string().contains(&want), "{err}");
@@ -368,7 +444,15 @@ fn bad_sample_counts_and_environments_are_errors() {
             environment_map: Some(env),
             ..Scene::reference()
         };
-        let err = render_montecarlo(&bad, &e, 8, 8, 4, 1).unwrap_err();
+        let err = render_montecarlo(
+            &bad,
+            &shadeballs::prepared::Prepared::new(&bad, &e),
+            8,
+            8,
+            4,
+            1,
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("environment"), "{err}");
     }
 }
@@ -395,7 +479,15 @@ fn sampler_of_a_large_map_is_built_quickly() {
     let mut times = Vec::new();
     for _ in 0..5 {
         let start = std::time::Instant::now();
-        render_montecarlo(&scene, &e, 1, 1, 1, 1).unwrap();
+        render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            1,
+            1,
+            1,
+            1,
+        )
+        .unwrap();
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
@@ -478,7 +570,15 @@ fn montecarlo_timing() {
         let mut noise = 0.0;
         for _ in 0..3 {
             let start = std::time::Instant::now();
-            let image = render_montecarlo(&scene, &e, 1280, 720, 64, 1).unwrap();
+            let image = render_montecarlo(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &e),
+                1280,
+                720,
+                64,
+                1,
+            )
+            .unwrap();
             times.push(start.elapsed().as_secs_f64());
             noise = image.mean_relative_std_error().unwrap();
         }
@@ -566,7 +666,15 @@ fn gpu_montecarlo_equals_the_cpu_within_noise() {
         // Seed 5: its worst ball and channel is 2.3 standard errors. With seed 3 one of the
         // 225 comparisons (studio, ball 3, blue, under both terms: the same samples) was
         // 3.45, gone at another seed: the studio map's bright lights give heavy tails.
-        let cpu = render_montecarlo(&scene, &e, w, h, spp, 5).unwrap();
+        let cpu = render_montecarlo(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            w,
+            h,
+            spp,
+            5,
+        )
+        .unwrap();
         let gpu = renderer.render_montecarlo(&scene, (w, h), spp, 5).unwrap();
         cpu.compares_with(gpu.antialias).unwrap();
         assert_eq!(gpu.spp, spp);
@@ -614,7 +722,16 @@ fn gpu_montecarlo_of_the_term_alone_equals_the_cpu_within_noise() {
             ..scene
         };
         let e = TableSet::from(tables_for(&scene));
-        let cpu = render_montecarlo_part(&scene, &e, w, h, spp, 5, Part::Multiple).unwrap();
+        let cpu = render_montecarlo_part(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            w,
+            h,
+            spp,
+            5,
+            Part::Multiple,
+        )
+        .unwrap();
         let gpu = renderer
             .render_montecarlo_part(&scene, (w, h), (spp, 5), Part::Multiple)
             .unwrap();
@@ -711,7 +828,17 @@ fn gpu_montecarlo_timing() {
             (times[1], noise)
         };
         let (g, gn) = median(&mut || renderer.render_montecarlo(&scene, (w, h), spp, 1).unwrap());
-        let (c, cn) = median(&mut || render_montecarlo(&scene, &e, w, h, spp, 1).unwrap());
+        let (c, cn) = median(&mut || {
+            render_montecarlo(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &e),
+                w,
+                h,
+                spp,
+                1,
+            )
+            .unwrap()
+        });
         println!(
             "studio {w}x{h}, {spp} spp: gpu {g:.3} s ({:.2} %), cpu {c:.3} s ({:.2} %), {:.1}x",
             100.0 * gn,

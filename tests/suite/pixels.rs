@@ -117,10 +117,20 @@ pub fn output_dir() -> PathBuf {
 pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
     let gpu = r.render_ldr(scene, w, h).unwrap().rgba;
     let radiance = match r.bound_tables() {
-        rows @ TableSet::Rows(_) => cpu::render_radiance(scene, &rows, w, h),
+        rows @ TableSet::Rows(_) => cpu::render_radiance(
+            scene,
+            &shadeballs::prepared::Prepared::new(scene, &rows),
+            w,
+            h,
+        ),
         _ => {
             let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-            cpu::render_radiance(scene, &tables, w, h)
+            cpu::render_radiance(
+                scene,
+                &shadeballs::prepared::Prepared::new(scene, &tables),
+                w,
+                h,
+            )
         }
     };
     (

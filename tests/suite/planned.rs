@@ -22,7 +22,12 @@ fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     let bound = r.bound_tables();
     let rows = match &bound {
         TableSet::Rows(_) => Some(cpu::to_display_rgba8(
-            &cpu::render_radiance(scene, &bound, W, H),
+            &cpu::render_radiance(
+                scene,
+                &shadeballs::prepared::Prepared::new(scene, &bound),
+                W,
+                H,
+            ),
             scene.exposure,
             scene.display(),
         )),
@@ -30,7 +35,12 @@ fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     };
     let full = TableSet::full(r.tables_for(scene.effective_geometry()));
     let full = cpu::to_display_rgba8(
-        &cpu::render_radiance(scene, &full, W, H),
+        &cpu::render_radiance(
+            scene,
+            &shadeballs::prepared::Prepared::new(scene, &full),
+            W,
+            H,
+        ),
         scene.exposure,
         scene.display(),
     );

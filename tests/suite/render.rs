@@ -78,7 +78,12 @@ fn hdr_output_is_linear_radiance() {
     let (w, h) = (160, 90);
     let hdr = r.render_hdr(&scene, w, h).unwrap();
     let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-    let cpu = cpu::to_rgba_f32(&cpu::render_radiance(&scene, &tables, w, h));
+    let cpu = cpu::to_rgba_f32(&cpu::render_radiance(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &tables),
+        w,
+        h,
+    ));
     let close = hdr
         .rgba
         .iter()
@@ -217,7 +222,12 @@ fn furnace_balls_vanish_with_the_term_and_darken_without() {
 fn furnace_radiance_is_one_on_the_cpu_with_the_term() {
     let scene = Scene::furnace();
     let tables = TableSet::from(shadeballs::lut::bake(&Default::default()));
-    let radiance = cpu::render_radiance(&scene, &tables, 320, 180);
+    let radiance = cpu::render_radiance(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &tables),
+        320,
+        180,
+    );
     let worst = radiance
         .iter()
         .map(|c| (*c - DVec3::ONE).abs().max_element())

@@ -78,13 +78,29 @@ fn one_event_walk_is_the_single_scattering_model() {
     let scene = lit_scene();
     let t = tables(&scene);
     let e = TableSet::full(t.clone());
-    let truth = render_truth(&scene, &e, W, H, settings(4, 1), |_| true).unwrap();
+    let truth = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        W,
+        H,
+        settings(4, 1),
+        |_| true,
+    )
+    .unwrap();
     // The none model with the walk's own G, integrated by the Monte Carlo backend.
     let none = Scene {
         geometry: Geometry::SmithCorrelated,
         ..with_model(scene.clone(), Model::None)
     };
-    let mc = render_montecarlo(&none, &e, W, H, 256, 11).unwrap();
+    let mc = render_montecarlo(
+        &none,
+        &shadeballs::prepared::Prepared::new(&none, &e),
+        W,
+        H,
+        256,
+        11,
+    )
+    .unwrap();
     let a = ball_means(&scene, &truth.image);
     let b = ball_means(&scene, &mc);
     for (k, ((ma, sa), (mb, sb))) in a.iter().zip(&b).enumerate() {
@@ -106,7 +122,7 @@ fn white_furnace_truth_ball_is_the_background() {
     let t = tables(&scene);
     let truth = render_truth(
         &scene,
-        &TableSet::full(t.clone()),
+        &shadeballs::prepared::Prepared::new(&scene, &TableSet::full(t.clone())),
         W,
         H,
         settings(32, u32::MAX),
@@ -128,7 +144,7 @@ fn white_furnace_truth_ball_is_the_background() {
     // 0.95 (E about 0.6), so the check above can fail.
     let single = render_truth(
         &scene,
-        &TableSet::full(t.clone()),
+        &shadeballs::prepared::Prepared::new(&scene, &TableSet::full(t.clone())),
         W,
         H,
         settings(2, 1),
@@ -143,14 +159,30 @@ fn truth_is_brighter_than_none_on_every_rough_ball() {
     let scene = lit_scene();
     let t = tables(&scene);
     let e = TableSet::full(t.clone());
-    let truth = render_truth(&scene, &e, W, H, settings(64, u32::MAX), |_| true).unwrap();
+    let truth = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        W,
+        H,
+        settings(64, u32::MAX),
+        |_| true,
+    )
+    .unwrap();
     let none = Scene {
         geometry: Geometry::SmithCorrelated,
         ..with_model(scene.clone(), Model::None)
     };
     // Integrated exactly (the real-time renderers approximate the uniform environment's
     // single scattering by F_avg E, which can exceed the exact value).
-    let image = render_montecarlo(&none, &e, W, H, 256, 5).unwrap();
+    let image = render_montecarlo(
+        &none,
+        &shadeballs::prepared::Prepared::new(&none, &e),
+        W,
+        H,
+        256,
+        5,
+    )
+    .unwrap();
     let none_means = ball_means(&scene, &image);
     for (k, (b, (m_none, s_none))) in truth.balls.iter().zip(&none_means).enumerate() {
         let r = scene.balls[k].roughness;
@@ -174,12 +206,28 @@ fn a_seed_gives_one_image_and_the_stopping_rule_stops() {
     let scene = with_model(Scene::reference(), Model::Truth);
     let t = tables(&scene);
     let e = TableSet::full(t.clone());
-    let a = render_truth(&scene, &e, 64, 36, settings(4, u32::MAX), |_| true).unwrap();
-    let b = render_truth(&scene, &e, 64, 36, settings(4, u32::MAX), |_| true).unwrap();
+    let a = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        64,
+        36,
+        settings(4, u32::MAX),
+        |_| true,
+    )
+    .unwrap();
+    let b = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        64,
+        36,
+        settings(4, u32::MAX),
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(a.image, b.image);
     let c = render_truth(
         &scene,
-        &e,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
         64,
         36,
         TruthSettings {
@@ -195,12 +243,28 @@ fn a_seed_gives_one_image_and_the_stopping_rule_stops() {
         stderr: Some(0.05),
         ..settings(4096, u32::MAX)
     };
-    let d = render_truth(&scene, &e, 64, 36, loose, |_| true).unwrap();
+    let d = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        64,
+        36,
+        loose,
+        |_| true,
+    )
+    .unwrap();
     assert!(d.image.spp < 64, "{} spp", d.image.spp);
     let last = d.passes.last().unwrap();
     assert!(last.worst_stderr.unwrap() <= 0.05, "{last:?}");
     // The callback stops it: one pass only.
-    let e2 = render_truth(&scene, &e, 64, 36, settings(64, u32::MAX), |_| false).unwrap();
+    let e2 = render_truth(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        64,
+        36,
+        settings(64, u32::MAX),
+        |_| false,
+    )
+    .unwrap();
     assert_eq!(e2.image.spp, 1);
 }
 
@@ -229,9 +293,16 @@ fn bad_truth_settings_are_refused() {
             "standard error: 0: must be in",
         ),
     ] {
-        let err = render_truth(&scene, &e, 8, 8, s, |_| true)
-            .unwrap_err()
-            .to_string();
+        let err = render_truth(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            8,
+            8,
+            s,
+            |_| true,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains(needle), "{s:?}: {err}");
     }
 }

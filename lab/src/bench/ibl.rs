@@ -126,7 +126,15 @@ fn montecarlo(
     if renderer.truth_supported() {
         renderer.render_montecarlo_part(scene, (w, h), (spp, seed), part)
     } else {
-        cpu::render_montecarlo_part(scene, e, w, h, spp, seed, part)
+        cpu::render_montecarlo_part(
+            scene,
+            &shadeballs::prepared::Prepared::new(scene, e),
+            w,
+            h,
+            spp,
+            seed,
+            part,
+        )
     }
 }
 

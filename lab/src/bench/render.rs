@@ -53,7 +53,12 @@ pub fn display_error(gpu: &[f32], exact: &[DVec3], exposure: f64) -> (f64, f64) 
 
 /// The exact model's radiance of `scene` at 1280 x 720 (CPU, f64).
 pub fn exact_radiance(scene: &Scene, exact: &TableSet) -> Vec<DVec3> {
-    cpu::render_radiance(scene, exact, WIDTH, HEIGHT)
+    cpu::render_radiance(
+        scene,
+        &shadeballs::prepared::Prepared::new(scene, exact),
+        WIDTH,
+        HEIGHT,
+    )
 }
 
 /// Renders `scene` as `setup` says, the term compiled in and out, frames alternating between

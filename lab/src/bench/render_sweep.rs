@@ -330,7 +330,10 @@ fn materials_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
         let rows = shadeballs::lut::bake_rows(&keys);
         e_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let start = std::time::Instant::now();
-        let coating = scene.coating_rows(&mut Default::default());
+        let coating = shadeballs::lut::CoatingRows::bake(
+            scene.balls.iter().filter_map(|b| scene.coating_key(b)),
+            &mut Default::default(),
+        );
         coating_ms.push(start.elapsed().as_secs_f64() * 1e3);
         assert_eq!((rows.len(), coating.rows.len()), (5, 15));
     }
@@ -430,7 +433,10 @@ fn clearcoat_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
         let rows = shadeballs::lut::bake_rows(&keys);
         e_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let start = std::time::Instant::now();
-        let coating = scene.coating_rows(&mut Default::default());
+        let coating = shadeballs::lut::CoatingRows::bake(
+            scene.balls.iter().flat_map(|b| scene.ball_coating_keys(b)),
+            &mut Default::default(),
+        );
         coating_ms.push(start.elapsed().as_secs_f64() * 1e3);
         count = rows.len() + coating.rows.len();
     }

@@ -382,7 +382,12 @@ pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             ..BakeConfig::default()
         }));
         let (ms, _) = super::median_ms(cpu_repeats, || {
-            shadeballs::cpu::render_radiance(&scene, &tables, w, h)
+            shadeballs::cpu::render_radiance(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+            )
         });
         cpu_at.insert(n * n, ms);
         by_balls_cpu.points.push(((n * n) as f64, ms));

@@ -21,12 +21,14 @@ use glam::DVec3;
 
 use crate::plot::{write_plot, Plot, Series, Style};
 use image_error::{ball_errors, flip_map, heatmap, BallError};
-use shadeballs::cpu::{self, TruthSettings};
+use shadeballs::cpu::{self, TruthProgress, TruthSettings};
 use shadeballs::error::{Error, Result};
-use shadeballs::gpu::Renderer;
+use shadeballs::gpu::{Backend, Renderer};
 use shadeballs::labels::{self, Align, Label, Labels, Rect};
 use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs::output::{write_atomic, write_png};
+use shadeballs::prepared::Prepared;
+use shadeballs::render::{self, Output, Pixels, Request};
 use shadeballs::scene::{Ball, Camera, Layering, Model, Preset, Scene};
 
 /// Most columns (distinct roughness values) a comparison draws.
@@ -228,7 +230,7 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
     let started = Instant::now();
     let truth = cpu::render_truth(
         &truth_scene,
-        &truth_tables,
+        &Prepared::new(&truth_scene, &truth_tables),
         w,
         h,
         TruthSettings {
@@ -408,23 +410,46 @@ fn chart(
     Ok((width, height, canvas))
 }
 
-/// Linear radiance of `scene` on the GPU (its float target) or the CPU reference renderer.
+/// Linear radiance of `scene` on the GPU (its float target) or the CPU reference renderer,
+/// by the library's render of any backend (`shadeballs::render`, as `shadeballs render`).
 fn radiance(scene: &Scene, renderer: Option<&mut Renderer>, w: u32, h: u32) -> Result<Vec<DVec3>> {
-    Ok(match renderer {
-        Some(r) => r
-            .render_hdr(scene, w, h)?
-            .rgba
-            .chunks_exact(4)
-            .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
-            .collect(),
-        None => {
-            let tables = TableSet::from(lut::bake(&BakeConfig {
-                geometry: scene.effective_geometry(),
-                ..Default::default()
-            }));
-            cpu::render_radiance(scene, &tables, w, h)
-        }
-    })
+    let request = Request {
+        backend: if renderer.is_some() {
+            Backend::Auto
+        } else {
+            Backend::Cpu
+        },
+        size: (w, h),
+        output: Output::Radiance,
+        spp: None,
+        seed: 0,
+        stderr: None,
+        ibl_frames: None,
+        verbose: false,
+    };
+    match render::render(renderer, scene, &request, &mut Quiet)?.pixels {
+        Pixels::Radiance(radiance) => Ok(radiance),
+        _ => Err(Error::Invalid {
+            what: "render",
+            message: "returned no radiance".to_string(),
+        }),
+    }
+}
+
+/// A render's progress, told to no one (the comparison prints its own summary).
+struct Quiet;
+
+impl render::Progress for Quiet {
+    fn phase(&mut self, _: &str) {}
+    fn line(&mut self, _: &str) {}
+    fn stoppable(&mut self, _: bool) {}
+    fn keep_going(&mut self) -> bool {
+        true
+    }
+    fn truth_pass(&mut self, _: &TruthProgress, _: u32, _: Option<f64>) -> bool {
+        true
+    }
+    fn truth_done(&mut self, _: &TruthProgress, _: Option<f64>, _: u64) {}
 }
 
 /// Frames timed per model (the median is reported).
@@ -461,9 +486,10 @@ fn frame_ms(
                 geometry: scene.effective_geometry(),
                 ..Default::default()
             }));
+            let prepared = Prepared::new(&scene, &tables);
             for _ in 0..3 {
                 let t = Instant::now();
-                std::hint::black_box(cpu::render_radiance(&scene, &tables, w, h));
+                std::hint::black_box(cpu::render_radiance(&scene, &prepared, w, h));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
             }
         }

@@ -452,7 +452,15 @@ fn ibl_errors_compare_like_with_like() {
         ..BakeConfig::default()
     }));
     let (w, h) = (48, 27);
-    let reference = render_montecarlo(&scene, &e, w, h, 2, 1).unwrap();
+    let reference = render_montecarlo(
+        &scene,
+        &shadeballs::prepared::Prepared::new(&scene, &e),
+        w,
+        h,
+        2,
+        1,
+    )
+    .unwrap();
     assert_eq!(
         reference.antialias, scene.antialias,
         "the bench's two sides"
@@ -471,7 +479,15 @@ fn ibl_errors_compare_like_with_like() {
         .to_string();
     assert!(err.contains("unlike pixel filters"), "{err}");
     // And the other way round: an antialiased reference against centre rays.
-    let aa_reference =
-        shadeballs::cpu::render_montecarlo_part(&antialiased, &e, w, h, 2, 1, Part::Whole).unwrap();
+    let aa_reference = shadeballs::cpu::render_montecarlo_part(
+        &antialiased,
+        &shadeballs::prepared::Prepared::new(&antialiased, &e),
+        w,
+        h,
+        2,
+        1,
+        Part::Whole,
+    )
+    .unwrap();
     assert!(errors_by_roughness(&scene, w, h, &reference.mean, &aa_reference, all).is_err());
 }

@@ -165,7 +165,16 @@ fn light_split_sum_error_is_the_ibl_benchs() {
             geometry: scene.effective_geometry(),
             ..BakeConfig::default()
         }));
-        let cpu_mc = render_montecarlo_part(&scene, &e, w, h, 2048, 7, Part::Whole).unwrap();
+        let cpu_mc = render_montecarlo_part(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &e),
+            w,
+            h,
+            2048,
+            7,
+            Part::Whole,
+        )
+        .unwrap();
         let light = errors_by_roughness(&scene, w, h, &image, &gpu_mc, all).unwrap();
         // Per ball: each row's balls alone; the pooled error of a roughness is a mean over
         // the pixels of its two balls, so it lies between theirs.

@@ -102,10 +102,20 @@ fn overlapping_balls_hdr_match_cpu() {
     let (w, h) = (320, 180);
     let hdr = r.render_hdr(&scene, w, h).unwrap();
     let radiance = match r.bound_tables() {
-        rows @ TableSet::Rows(_) => cpu::render_radiance(&scene, &rows, w, h),
+        rows @ TableSet::Rows(_) => cpu::render_radiance(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &rows),
+            w,
+            h,
+        ),
         _ => {
             let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-            cpu::render_radiance(&scene, &tables, w, h)
+            cpu::render_radiance(
+                &scene,
+                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+            )
         }
     };
     let cpu = cpu::to_rgba_f32(&radiance);
@@ -171,7 +181,12 @@ fn cpu_bins_equal_the_loop_over_every_ball() {
             ..BakeConfig::default()
         });
         let tables = TableSet::from(tables);
-        let binned = cpu::render_radiance(&scene, &tables, w, h);
+        let binned = cpu::render_radiance(
+            &scene,
+            &shadeballs::prepared::Prepared::new(&scene, &tables),
+            w,
+            h,
+        );
         let basis = scene.camera.basis(w, h);
         let read = &tables;
         let mut k = 0;

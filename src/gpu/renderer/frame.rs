@@ -36,8 +36,8 @@ impl Renderer {
         let globals = uniforms::globals(scene, &tables, w, h);
         queue.write_buffer(&self.bindings.globals, 0, bytemuck::bytes_of(&globals));
         // The quads carry their ball (the balls' storage buffer is no longer read).
-        let balls = uniforms::balls(scene, &tables, &self.coating);
-        let rows = self.coating.flat();
+        let balls = uniforms::balls(scene, &self.prepared);
+        let rows = self.prepared.coating_rows().flat();
         queue.write_buffer(&self.bindings.coating_rows, 0, bytemuck::cast_slice(&rows));
         let env_uniform = EnvUniform::of(scene).at_lobe_frame(scene, lobe_frame);
         queue.write_buffer(
