@@ -390,7 +390,8 @@ fn clearcoat_forms_against_the_truth() {
         seed: 36,
         ..Default::default()
     };
-    let truth = shadeballs::cpu::render_truth(&scene, &e, w, h, settings, |_| true).unwrap();
+    let prepared = shadeballs::prepared::Prepared::new(&scene, &e);
+    let truth = shadeballs::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
     let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
         .map(|k| interior(&scene, k, w, h))
         .collect();
@@ -409,7 +410,8 @@ fn clearcoat_forms_against_the_truth() {
             coat_form: form,
             ..scene.clone()
         };
-        let model = shadeballs::cpu::render_radiance(&scene, &e, w, h);
+        let prepared = shadeballs::prepared::Prepared::new(&scene, &e);
+        let model = shadeballs::cpu::render_radiance(&scene, &prepared, w, h);
         let m_means = ball_means(&model, &pixels);
         let (mut worst, mut beyond) = (0.0f64, 0.0f64);
         let mut line = format!("{form:>9}:");
