@@ -13,9 +13,8 @@
 #import shadeballs::sampling::{duff_frame, sample_vndf, vndf_density}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::{shade_coating, coating_lobe}
-#import shadeballs::clearcoat::{has_clearcoat, clearcoat_begin, clearcoat_through, clearcoat_environment}
-#import shadeballs::clearcoat::{shade_clearcoat, clearcoat_lobe}
+#import shadeballs::coating::{shade_coating, coating_lobe, has_clearcoat, clearcoat_through, clearcoat_environment}
+#import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat, clearcoat_lobe}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
 
