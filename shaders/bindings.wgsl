@@ -33,6 +33,11 @@
 // The split sum's bias B (R32Float, split_sum_bias).
 @group(1) @binding(4) var env_split_sum: texture_2d<f32>;
 @group(1) @binding(5) var env_sampler: sampler;
+// The map's luminance tables for the lobe mode's map samples (lighting.wgsl
+// luminance_sample; src/environment/sampler.rs LuminanceCdf::gpu_words): texels across and
+// down (0 and 0 where the map has none, or the scene does not use the lobe), then the
+// marginal (H values), each row's CDF (W H), each texel's probability (W H).
+@group(1) @binding(6) var<storage, read> env_cdf: array<f32>;
 
 // The bound tables' read parameters, with the pipeline's MU_AXIS for the axis: a constant,
 // so the compiler keeps only that axis's arithmetic (a select over all three cost about 1 %

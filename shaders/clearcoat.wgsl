@@ -14,10 +14,6 @@
 #import shadeballs::bindings::{env_specular_layers, env_convolved}
 #import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point}
 
-// With IBL = 2, the mean radiance of the coat's own lobe under the map (set by
-// lighting.wgsl shade).
-var<private> clearcoat_lobe: vec3<f32>;
-
 // Forms ball b's coat at unit normal n towards v (ms: the ball's term weight) into
 // clearcoat_point. Called once per pixel before the base is shaded.
 fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
@@ -93,19 +89,17 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
 }
 
 // The map's part of shade_clearcoat: the prefiltered radiance at the coat's roughness
-// along its dominant direction (or, with IBL = 2, its own lobe's mean, clearcoat_lobe)
+// along its dominant direction (the lobe mode's too)
 // times the coat's albedo at the view, and the physical form's term as the coating's.
 fn shade_clearcoat_map(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let p = clearcoat_point;
     let roughness = b.clearcoat_roughness;
     let rotation = env.rotation;
     let intensity = env.intensity;
-    var radiance = clearcoat_lobe;
-    if IBL != 2u {
-        let r = 2.0 * dot(n, v) * n - v;
-        let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
-        radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
-    }
+    // The prefiltered layers in the lobe mode too (its samples are the base's).
+    let r = 2.0 * dot(n, v) * n - v;
+    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
+    let radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     var lo = radiance * p.albedo_o;
     if b.clearcoat_form != COAT_FORM_FILAMENT && b.clearcoat_form != COAT_FORM_GLTF && p.ms > 0.0 {
         // albedo_o holds the term's part too: the single scattering alone takes the

@@ -17,13 +17,6 @@
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
-// With IBL = 2, the mean radiance of the coating's own lobe under the map at the pixel
-// being shaded (lighting.wgsl lobe_mean_radiance with the coating's Fresnel), set by
-// lighting.wgsl shade before shade_coating: the coating's map part reads it in place of the
-// prefiltered layers. (A private, so that shade_coating's signature and the split sum's
-// code stay as they are.)
-var<private> coating_lobe: vec3<f32>;
-
 // The coating's single-scattering albedo E_F(mu) from the ball's row of coating_rows
 // (src/lut/coating.rs): values at sqrt(mu) = k / (COATING_ROW_LEN - 1), linear between.
 fn coating_albedo(row: u32, mu: f32) -> f32 {
@@ -202,7 +195,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     if ms > 0.0 && term == TERM_FDEZ_AGUERA {
         fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss_o).x;
     }
-    if IBL != 0u {
+    // IBL = 2: the map's part is the whole model's (lighting.wgsl shade_environment_mis).
+    if IBL == 1u {
         lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o);
     }
     // The share of uniform light and the map that a clear coat lets through (1 without).
@@ -243,9 +237,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
 // The map's part of shade_coating (docs/design/environment.md, "Shading under a map"): the
 // prefiltered radiance along the dominant direction times the row's E_F(mu_o) (the split
 // sum's second factor is the directional albedo), the coating's term as the metal's, and
-// the base's albedo times the irradiance. With IBL = 2 the specular's radiance is the mean
-// of its own lobe's samples instead, coating_lobe (docs/design/environment.md, "Lighting
-// that follows the lobe").
+// the base's albedo times the irradiance (IBL = 1 only: the lobe mode samples the whole
+// model instead, lighting.wgsl shade_environment_mis).
 fn shade_coating_map(
     b: Ball,
     n: vec3<f32>,
@@ -265,10 +258,7 @@ fn shade_coating_map(
     let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
-    var single = prefiltered * e_f_o;
-    if IBL == 2u {
-        single = coating_lobe * e_f_o;
-    }
+    let single = prefiltered * e_f_o;
     var lo = single + base_o * irradiance;
     if ms > 0.0 {
         let term = b.term;

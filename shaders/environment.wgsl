@@ -137,6 +137,17 @@ fn pixel_scramble(pixel: vec2<u32>) -> vec2<u32> {
     return vec2<u32>(a, lobe_hash(a ^ 0x9e3779b9u));
 }
 
+// The scramble of strategy k's points in a pixel (the lobe mode's multiple importance
+// sampling: 0 the visible normals', 1 the cosine's, 2 and 3 the map's texel and its
+// position in it): `scramble` itself for k = 0, else each coordinate plus k times an odd
+// constant, hashed, so the strategies' point sets are shifted independently.
+fn strategy_scramble(scramble: vec2<u32>, k: u32) -> vec2<u32> {
+    if k == 0u {
+        return scramble;
+    }
+    return vec2<u32>(lobe_hash(scramble.x + k * 0x68bc21ebu), lobe_hash(scramble.y + k * 0x02e5be93u));
+}
+
 // Point i of the R2 sequence (Roberts 2018) rotated by `scramble`, in [0, 1)^2: integer
 // arithmetic, then the 24 high bits of each coordinate (exact in f32).
 fn lobe_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {

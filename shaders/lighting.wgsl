@@ -3,56 +3,55 @@
 // Mirrored in f64 by src/cpu/shade.rs (same model, same order of terms).
 
 #define_import_path shadeballs::lighting
-#import shadeballs::constants::{PI, DIV_EPSILON}
+#import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::{alpha_from_roughness, f_dielectric}
+#import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
-#import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv}
-#import shadeballs::environment::{pixel_scramble, lobe_frame_point, lobe_lod}
-#import shadeballs::sampling::{duff_frame, sample_vndf, vndf_density}
+#import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
+#import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::{shade_coating, coating_lobe, has_clearcoat, clearcoat_through, clearcoat_environment}
-#import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat, clearcoat_lobe}
+#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_through, clearcoat_environment}
+#import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
-#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance}
+#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
 // buffer: screen.wgsl loop_counts says why): the metal's and the coating's, each with its
 // own term, mixed by the ball's metallic (an all-metal or all-dielectric ball shades one).
-// `pixel` (column, row) picks the pixel's sequence of lobe samples (IBL = 2).
-// With IBL = 2 the coating's specular lobe is sampled here too (lobe_mean_radiance with
-// the coating's Fresnel) and handed to shade_coating through coating_lobe.
+// `pixel` (column, row) picks the pixel's sequence of samples in the lobe mode (IBL = 2),
+// where the map's part is the whole model's, sampled once (shade_environment_mis), and the
+// metal's and the coating's shading leave it out.
 // A clear coat (clearcoat.wgsl) adds its own lobe and weights the base's light by what it
 // lets through.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     if has_clearcoat(b) {
         clearcoat_begin(b, n, v, term_weight(b));
-        if IBL == 2u {
-            clearcoat_lobe = lobe_mean_radiance(n, v, b.clearcoat_roughness, vec3<f32>(0.0), b.clearcoat_eta, b.clearcoat_fresnel, pixel);
-        }
         return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights);
     }
     return shade_base(b, n, v, n_lights, pixel);
 }
 
 // The ball under its clear coat (all of it without one): the metal's and the coating's
-// parts mixed by metallic.
+// parts mixed by metallic, the lobe mode's map part weighted by what a coat lets through.
 fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
+    var map_part = vec3<f32>(0.0);
+    if IBL == 2u {
+        map_part = shade_environment_mis(b, n, v, pixel) * clearcoat_environment(b);
+    }
     let metallic = b.metallic;
     if metallic >= 1.0 {
-        return shade_metal(b, n, v, n_lights, pixel);
-    }
-    if IBL == 2u {
-        coating_lobe = lobe_mean_radiance(n, v, b.roughness, vec3<f32>(0.0), b.eta, b.fresnel, pixel);
+        return shade_metal(b, n, v, n_lights) + map_part;
     }
     let coating = shade_coating(b, n, v, n_lights, term_weight(b));
     if metallic <= 0.0 {
-        return coating;
+        return coating + map_part;
     }
-    return metallic * shade_metal(b, n, v, n_lights, pixel) + (1.0 - metallic) * coating;
+    return metallic * shade_metal(b, n, v, n_lights) + (1.0 - metallic) * coating + map_part;
 }
 
 // The metal's part of `shade`.
@@ -69,7 +68,7 @@ fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u3
 // when F is constant (F0 = 1, the furnace, where it gives E(mu_o) and Lo = L_env exactly
 // with the term on) and otherwise an approximation of the split-sum kind; with a map bound
 // FssEss is the split sum's F0 A + B (Karis 2013's second table).
-fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
+fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let roughness = b.roughness;
     let f0 = b.f0;
     let ms = term_weight(b);
@@ -107,8 +106,9 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
         let added = by_term(term, f_add * loss_o, term_turquin(single, f0, e_o), fms_ems);
         lo = globals.environment.xyz * (single + ms * added);
     }
-    if IBL != 0u {
-        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add, pixel);
+    // IBL = 2: the map's part is the whole model's (shade_environment_mis, in shade).
+    if IBL == 1u {
+        lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
     }
     // The share of uniform light and the map that a clear coat lets through (1 without).
     lo *= clearcoat_environment(b);
@@ -148,9 +148,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u
 // specular_direction, times F0 A + B) and the ball's multiple-scattering term, weighted by
 // `ms`. `loss_o` is 1 - E(mu_o) as read from
 // the E table; `fss_ess` the split sum's F0 A + B; `fms_ems` Fdez-Aguera's energy (zero for
-// the other terms); f_add the ball's (zero with the term compiled out). With IBL = 2 the
-// single scattering is the lobe's samples instead (shade_environment_lobe; the terms as
-// under the split sum). Mirrored by src/cpu/shade.rs shade_environment_map.
+// the other terms); f_add the ball's (zero with the term compiled out). IBL = 1 only (the
+// lobe mode: shade_environment_mis). Mirrored by src/cpu/shade.rs shade_environment_map.
 fn shade_environment_map(
     b: Ball,
     n: vec3<f32>,
@@ -160,7 +159,6 @@ fn shade_environment_map(
     fms_ems: vec3<f32>,
     ms: f32,
     f_add: vec3<f32>,
-    pixel: vec2<u32>,
 ) -> vec3<f32> {
     let roughness = b.roughness;
     let f0 = b.f0;
@@ -169,16 +167,11 @@ fn shade_environment_map(
     let n_map = env_to_map(n, rotation);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
-    var single = vec3<f32>(0.0);
-    if IBL == 2u {
-        single = shade_environment_lobe(n, v, f0, roughness, fss_ess, pixel);
-    } else {
-        let r = 2.0 * dot(n, v) * n - v;
-        // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
-        let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
-        let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
-        single = prefiltered * fss_ess;
-    }
+    let r = 2.0 * dot(n, v) * n - v;
+    // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
+    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    let single = prefiltered * fss_ess;
     var lo = single;
     if ms > 0.0 {
         let term = b.term;
@@ -194,77 +187,122 @@ fn shade_environment_map(
     return lo;
 }
 
-// The metal's single scattering at normal n towards v lit by the map, from IBL_SAMPLES
-// directions of its own lobe (docs/design/environment.md, "Lighting that follows the
-// lobe"): the lobe's mean radiance (lobe_mean_radiance, Schlick's F of f0) times the split
-// sum's exactly tabulated fss_ess = F0 A + B, the lobe's albedo.
-// Mirrored by src/cpu/shade.rs shade_environment_lobe.
-fn shade_environment_lobe(
-    n: vec3<f32>,
-    v: vec3<f32>,
-    f0: vec3<f32>,
-    roughness: f32,
-    fss_ess: vec3<f32>,
-    pixel: vec2<u32>,
-) -> vec3<f32> {
-    return lobe_mean_radiance(n, v, roughness, f0, 0.0, 0u, pixel) * fss_ess;
-}
-
-// The self-normalised mean radiance of a microfacet lobe at normal n towards v, lit by the
-// map: sum w L / sum w over the pixel's samples env.lobe.x .. + IBL_SAMPLES
-// (lobe_frame_point: a net in the first frame, the R2 sequence after), each a GGX visible
-// normal reflected (sample_vndf), dropped below the horizon, weighted by
-// w = f_micro mu_i / pdf (F G2 / G1(v), the estimator of Heitz 2018) and reading the map's
-// mip chain at its footprint (lobe_lod, among all the samples so far); 0 where no sample
-// lies above the horizon. Times the lobe's albedo it estimates the lobe's single
-// scattering, the weights' noise cancelled. F: Schlick's of f0 per channel where eta is
-// 0 (a metal), else the dielectric's of index eta in form `fresnel` (a coating).
-// Mirrored by src/cpu/shade.rs lobe_mean_radiance.
-fn lobe_mean_radiance(
-    n: vec3<f32>,
-    v: vec3<f32>,
-    roughness: f32,
-    f0: vec3<f32>,
-    eta: f32,
-    fresnel: u32,
-    pixel: vec2<u32>,
-) -> vec3<f32> {
-    let mu_o = max(dot(n, v), 0.0);
-    let alpha = alpha_from_roughness(roughness);
+// The map's part of ball b's shading at normal n towards v in the lobe mode (IBL = 2;
+// docs/design/environment.md, "Lighting that follows the lobe"): the integral of the whole
+// model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
+// the coating's base, mixed by metallic) times the map's radiance and mu_i, estimated from
+// IBL_SAMPLES samples of each strategy, the samples env.lobe.x .. + IBL_SAMPLES of the
+// pixel's sequence (lobe_frame_point: a net in the first frame, the R2 sequence after):
+// GGX's visible normals reflected (sample_vndf), the cosine hemisphere (sample_cosine; not
+// for an all-metal ball, whose model has no base) and the map's luminance (luminance_sample,
+// where the map has tables), combined by the balance heuristic (balance_estimate, Veach
+// 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does: reads
+// at the footprint's level (filtered importance sampling, as the lobe mode did before) blur
+// the bright texels the map's samples find on purpose into the dim ones the other
+// strategies weigh as rare, a bias that measured 34 % at 64 samples under studio
+// (docs/design/environment.md). Mirrored by src/cpu/shade.rs shade_environment_mis.
+fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) -> vec3<f32> {
+    let p = shading_point(b, n, v);
+    if p.mu_o <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let alpha = alpha_from_roughness(b.roughness);
     let frame = duff_frame(n);
     let v_local = v * frame;
     let scramble = pixel_scramble(pixel);
     let first = u32(env.lobe.x);
-    let count = env.lobe.x + f32(IBL_SAMPLES);
-    let max_level = f32(textureNumLevels(env_radiance) - 1u);
+    let size = luminance_size();
+    let has_cosine = b.metallic < 1.0;
+    let has_map = size.x > 0u;
+    // The map's frame to the world's: the rotation's inverse (Environment::from_map).
+    let from_map = vec2<f32>(env.rotation.x, -env.rotation.y);
     var sum = vec3<f32>(0.0);
-    var weights = vec3<f32>(0.0);
     for (var j = 0u; j < IBL_SAMPLES; j++) {
         let u = lobe_frame_point(first, j, IBL_SAMPLES, scramble);
         let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
-        let mu_i = dot(n, l);
-        if mu_i <= 0.0 || mu_o <= 0.0 {
-            continue;
+        sum += mis_contribution(b, p, l, has_cosine, size);
+        if has_cosine {
+            let c = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 1u));
+            sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), has_cosine, size);
         }
-        let h = normalize(v + l);
-        let n_dot_h = dot(n, h);
-        let pdf = vndf_density(mu_o, n_dot_h, alpha);
-        if pdf <= DIV_EPSILON {
-            continue;
+        if has_map {
+            let t = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 2u));
+            let x = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 3u));
+            let s = luminance_sample(vec4<f32>(t, x), size);
+            if s.w > 0.0 {
+                sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), has_cosine, size);
+            }
         }
-        var f = f_schlick(f0, dot(v, h));
-        if eta > 0.0 {
-            f = vec3<f32>(f_dielectric(dot(v, h), eta, fresnel));
-        }
-        let w = f_micro(f, mu_o, mu_i, n_dot_h, roughness, GEOMETRY) * (mu_i / pdf);
-        let l_map = env_to_map(l, env.rotation);
-        let lod = lobe_lod(pdf, count, l_map, env.lobe.zw, max_level);
-        let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), lod).rgb;
-        sum += w * radiance;
-        weights += w;
     }
-    let mean = select(sum / max(weights, vec3<f32>(DIV_EPSILON)), vec3<f32>(0.0), weights <= vec3<f32>(DIV_EPSILON));
-    return env.intensity * mean;
+    return env.intensity * sum / f32(IBL_SAMPLES);
+}
+
+// One direction l's share of shade_environment_mis (without the map's intensity): the
+// model's BRDF times the map's radiance (base level) and mu_i, over the sum of
+// the drawn strategies' densities at l; 0 below the horizon.
+fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, size: vec2<u32>) -> vec3<f32> {
+    let mu_i = dot(p.n, l);
+    if mu_i <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let l_map = env_to_map(l, env.rotation);
+    var pdf = pdf_vndf(p, l, alpha_from_roughness(p.roughness));
+    if has_cosine {
+        pdf += mu_i / PI;
+    }
+    if size.x > 0u {
+        pdf += luminance_density(l_map, size);
+    }
+    let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
+    return balance_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf);
+}
+
+// The map's luminance tables' size (env_cdf's first two values): (0, 0) where it has none.
+fn luminance_size() -> vec2<u32> {
+    return vec2<u32>(u32(env_cdf[0]), u32(env_cdf[1]));
+}
+
+// The first index in [first, first + count) of env_cdf whose value exceeds x (count if none).
+fn luminance_partition(first: u32, count: u32, x: f32) -> u32 {
+    var lo = 0u;
+    var hi = count;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if env_cdf[first + mid] <= x {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// A map-frame direction drawn from the map's luminance tables of `size` with four uniform
+// numbers (LuminanceCdf::luminance_sample; the Monte Carlo's env_sample): a row by the
+// marginal, a texel by the row's CDF, a point uniformly in its (u, v) rectangle; w = 0 where
+// rounding lands on a texel of zero weight.
+fn luminance_sample(u: vec4<f32>, size: vec2<u32>) -> vec4<f32> {
+    let w = size.x;
+    let h = size.y;
+    let j = min(luminance_partition(2u, h, u.x), h - 1u);
+    let i = min(luminance_partition(2u + h + j * w, w, u.y), w - 1u);
+    if env_cdf[2u + h + w * h + j * w + i] <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let uv = vec2<f32>((f32(i) + u.z) / f32(w), (f32(j) + u.w) / f32(h));
+    return vec4<f32>(uv_to_direction(uv), 1.0);
+}
+
+// The density per solid angle of luminance_sample at map-frame direction d
+// (LuminanceCdf::luminance_density).
+fn luminance_density(d: vec3<f32>, size: vec2<u32>) -> f32 {
+    let w = size.x;
+    let h = size.y;
+    let uv = direction_to_uv(d);
+    let fi = floor(uv.x * f32(w));
+    let i = u32(fi - f32(w) * floor(fi / f32(w))) % w;
+    let j = min(u32(max(floor(uv.y * f32(h)), 0.0)), h - 1u);
+    return equirect_density(env_cdf[2u + h + w * h + j * w + i], d, vec2<f32>(f32(w), f32(h)));
 }
 
 // The weight of ball b's multiple-scattering term under MS_TERM: 1 compiled in, the ball's

@@ -14,15 +14,14 @@
 
 #define_import_path shadeballs::montecarlo
 #import shadeballs::constants::{PI, DIV_EPSILON}
-#import shadeballs::brdf::{alpha_from_roughness, d_ggx, f_schlick, f_avg_schlick, f_micro, f_ms}
-#import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
-#import shadeballs::lut::lut_loss_row
-#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map, split_sum_bias, split_sum_scale}
-#import shadeballs::sampling::{duff_frame, sample_vndf, vndf_density, sample_cosine, arriving}
-#import shadeballs::types::{Ball, BallOut, ball_of, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, TERM_FDEZ_AGUERA, by_term, by_term_f32}
-#import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
-#import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_radiance, env_sampler, env_split_sum}
-#import shadeballs::screen::{primary_ray, intersect_sphere, surface_normal, DEPTH_SCALE}
+#import shadeballs::brdf::alpha_from_roughness
+#import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
+#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
+#import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
+#import shadeballs::screen::{primary_ray, surface_normal, DEPTH_SCALE}
+#import shadeballs::footprint::{ball_footprint, background_radiance}
 
 // Estimates a fragment draws a pass (src/gpu/montecarlo.rs PASS_SAMPLES, or the last
 // pass's rest): a pipeline-time constant, so no loop exit reads a uniform.
@@ -48,10 +47,6 @@ struct McParams {
     part: u32,
     padding: u32,
 }
-
-// Values of McParams.part.
-const PART_WHOLE: u32 = 0u;
-const PART_MULTIPLE: u32 = 1u;
 
 // Bits of McParams.strategies.
 const STRATEGY_VNDF: u32 = 1u;
@@ -89,139 +84,9 @@ fn mc_uniform(state: ptr<function, u32>) -> f32 {
     return f32(((word >> 22u) ^ word) >> 8u) * (1.0 / 16777216.0);
 }
 
-// One visible surface point (src/cpu/montecarlo.rs ShadingPoint): what does not depend on
-// the incident direction, formed once per fragment.
-struct ShadingPoint {
-    n: vec3<f32>,
-    v: vec3<f32>,
-    mu_o: f32,
-    roughness: f32,
-    f0: vec3<f32>,
-    // The term's weight: 1 with it, 0 without.
-    ms: f32,
-    // 1 - E(mu_o).
-    loss_o: f32,
-    // Fdez-Aguera's FssEss of the metal (the split sum's with a map).
-    fss_ess: vec3<f32>,
-    // The coating's E_spec(mu_o) and Fdez-Aguera energy.
-    e_spec_o: f32,
-    coat_fms_ems: f32,
-}
-
-fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
-    var p: ShadingPoint;
-    p.n = n;
-    p.v = v;
-    p.mu_o = max(dot(n, v), 0.0);
-    p.roughness = b.roughness;
-    p.f0 = b.f0;
-    p.ms = b.ms;
-    p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
-    let e_o = 1.0 - p.loss_o;
-    p.fss_ess = f_avg_schlick(p.f0) * e_o;
-    if IBL != 0u {
-        p.fss_ess = split_sum_scale(p.f0, e_o, split_sum_bias(env_split_sum, p.mu_o, p.roughness));
-    }
-    if b.metallic < 1.0 {
-        let f0 = f0_from_ior(b.eta);
-        let loss = p.loss_o * p.ms;
-        let e_f_o = coating_albedo(b.coating_row, p.mu_o);
-        p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coat_f_add, p.ms, b.term);
-        if p.ms > 0.0 && b.term == TERM_FDEZ_AGUERA {
-            p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
-        }
-    }
-    return p;
-}
-
-// The BRDF f_r(v, l) of the ball's model per channel, 0 below either horizon
-// (src/cpu/montecarlo.rs model_brdf; the light loops of shade_metal in lighting.wgsl and
-// shade_coating in coating.wgsl): the metal's and the coating's mixed by metallic.
-fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
-    let mu_i = dot(p.n, l);
-    if mu_i <= 0.0 || p.mu_o <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    let sum = p.v + l;
-    let len = length(sum);
-    if len <= DIV_EPSILON {
-        return vec3<f32>(0.0);
-    }
-    let h = sum / len;
-    var loss_i = 0.0;
-    if p.ms > 0.0 {
-        loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
-    }
-    let metallic = b.metallic;
-    var f = vec3<f32>(0.0);
-    if metallic > 0.0 {
-        f = metallic * metal_brdf(b, p, mu_i, h, loss_i);
-    }
-    if metallic < 1.0 {
-        f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i);
-    }
-    return f;
-}
-
-// The metal's part of model_brdf: f_micro with Schlick F per channel and the ball's term.
-fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
-    let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
-    var multiple = vec3<f32>(0.0);
-    if p.ms > 0.0 {
-        multiple = by_term(
-            b.term,
-            p.ms * b.f_add * f_ms(p.loss_o, loss_i, b.ms_norm),
-            p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o),
-            p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI,
-        );
-    }
-    if mc.part == PART_MULTIPLE {
-        return multiple;
-    }
-    return spec + multiple;
-}
-
-// The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
-fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
-    let eta = b.eta;
-    let f_add = b.coat_f_add;
-    let f0 = f0_from_ior(eta);
-    let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
-    let spec = f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY).x;
-    let loss_o = p.loss_o * p.ms;
-    var lobe = 0.0;
-    if p.ms > 0.0 {
-        lobe = by_term_f32(
-            b.term,
-            f_add * f_ms(loss_o, loss_i, b.ms_norm),
-            term_turquin(vec3<f32>(spec), vec3<f32>(f0), 1.0 - loss_o).x,
-            p.coat_fms_ems / PI,
-        );
-    }
-    var e_spec_i = 0.0;
-    if two_sided(b) {
-        e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
-    }
-    if mc.part == PART_MULTIPLE {
-        return vec3<f32>(p.ms * lobe);
-    }
-    return vec3<f32>(spec + p.ms * lobe) + coating_base(b, p.e_spec_o, e_spec_i, fresnel);
-}
-
 // Radiance arriving from world direction w: the uniform environment plus the map.
 fn incident(w: vec3<f32>) -> vec3<f32> {
     return arriving(w, HAS_ENVIRONMENT == 1u, globals.environment.xyz, IBL != 0u, env_radiance, env_sampler, env.rotation, env.intensity);
-}
-
-// Density (solid angle) of sample_vndf at l (vndf_density at l's half vector).
-fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
-    let sum = p.v + l;
-    let len = length(sum);
-    if len <= DIV_EPSILON {
-        return 0.0;
-    }
-    let h = sum / len;
-    return vndf_density(p.mu_o, dot(p.n, h), alpha);
 }
 
 // The first index in [first, first + count) whose value exceeds x (count if none): the
@@ -265,9 +130,7 @@ fn env_pdf(l: vec3<f32>) -> f32 {
     let fi = floor(uv.x * f32(w));
     let i = u32(fi - f32(w) * floor(fi / f32(w))) % w;
     let j = min(u32(max(floor(uv.y * f32(h)), 0.0)), h - 1u);
-    let p_texel = mc_cdf[h + w * h + j * w + i];
-    let sin_theta = sqrt(max(1.0 - d.y * d.y, 0.0));
-    return p_texel * f32(w) * f32(h) / (2.0 * PI * PI * max(sin_theta, DIV_EPSILON));
+    return equirect_density(mc_cdf[h + w * h + j * w + i], d, vec2<f32>(f32(w), f32(h)));
 }
 
 // One sample's share of the multi-sample balance-heuristic estimator:
@@ -361,29 +224,41 @@ struct McFragment {
 
 // One pass at a ball's pixel: MC_SAMPLES estimates merged with the previous passes'
 // (Chan et al.: the means by their counts, the squared deviations plus delta^2 n_a n_b / n).
+// The pixel's footprint is the ball renderer's (footprint.wgsl ball_footprint, under the
+// pipeline's AA): near a silhouette the estimates are made along the ray through the covered
+// part's centroid and mixed with the background (along the rest's) by the coverage, so only
+// the ball's share carries noise (its squared deviations times the coverage squared), as
+// the CPU estimator's Bins::view (docs/design/antialiasing.md, "Monte Carlo").
 @fragment
 fn fs_montecarlo(in: BallOut) -> McFragment {
     let b = ball_of(in);
-    let ray = primary_ray(in.position.xy);
-    let t = intersect_sphere(ray[0], ray[1], b.center, b.radius);
-    if !(t > 0.0) {
+    let f = ball_footprint(in.position.xy, b.center, b.radius);
+    if !(f.t > 0.0) {
         discard;
     }
+    let ray = primary_ray(f.hit);
     let px = vec2<i32>(in.position.xy);
     let before = textureLoad(mc_mean, px, 0i);
     let m2_before = textureLoad(mc_m2, px, 0i).rgb;
     var rng = mc_seed(u32(px.x), u32(px.y));
-    let n = surface_normal(ray[0] + t * ray[1] - b.center, ray[1]);
-    let p = shading_point(b, n, -ray[1]);
+    let n = surface_normal(ray[0] + f.t * ray[1] - b.center, ray[1]);
+    var p = shading_point(b, n, -ray[1]);
+    p.part = mc.part;
     let drawn = estimate(b, p, &rng);
-    let mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    var mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    var m2_b = drawn.m2;
+    // A loop of 0 or 1 iterations, as in ball_footprint: the background only where needed.
+    for (var once = f.coverage < 1.0; once; once = false) {
+        mean_b = mix(background_radiance(primary_ray(f.miss)[1]), mean_b, f.coverage);
+        m2_b *= f.coverage * f.coverage;
+    }
     let n_a = before.w;
     let n_b = f32(MC_SAMPLES);
     let count = n_a + n_b;
     let delta = mean_b - before.rgb;
     var out: McFragment;
     out.mean = vec4<f32>(before.rgb + delta * (n_b / count), count);
-    out.m2 = vec4<f32>(m2_before + drawn.m2 + delta * delta * (n_a * n_b / count), 0.0);
-    out.depth = t * DEPTH_SCALE;
+    out.m2 = vec4<f32>(m2_before + m2_b + delta * delta * (n_a * n_b / count), 0.0);
+    out.depth = f.t * DEPTH_SCALE;
     return out;
 }

@@ -61,6 +61,23 @@ fn sample_cosine(u1: f32, u2: f32) -> vec3<f32> {
     return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
 }
 
+// The density per solid angle of a direction d (the map's frame) drawn by picking texel
+// (i, j) of a w x h equirectangular map with probability p_texel, then uniformly in its
+// (u, v) rectangle: p_texel w h / (2 pi^2 sin theta), the mapping's Jacobian (Pharr, Jakob &
+// Humphreys, "Physically Based Rendering", 3rd ed., 2016, section 14.2.4).
+fn equirect_density(p_texel: f32, d: vec3<f32>, size: vec2<f32>) -> f32 {
+    let sin_theta = sqrt(max(1.0 - d.y * d.y, 0.0));
+    return p_texel * size.x * size.y / (2.0 * PI * PI * max(sin_theta, DIV_EPSILON));
+}
+
+// The balance heuristic's estimate of one sample of one of several strategies (Veach 1997,
+// "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis, Stanford, section
+// 9.2.2, one sample a strategy): f L mu_i / sum_k pdf_k(l), the integrand over the sum of
+// every strategy's density at l; 0 where that sum is not positive.
+fn balance_estimate(integrand: vec3<f32>, pdf_sum: f32) -> vec3<f32> {
+    return select(vec3<f32>(0.0), integrand / max(pdf_sum, DIV_EPSILON), pdf_sum > DIV_EPSILON);
+}
+
 // Radiance arriving from world direction d: the uniform environment `environment` where
 // `has_uniform`, plus the map (its base level, turned by `rotation`, times `intensity`)
 // where `has_map`.

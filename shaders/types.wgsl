@@ -63,7 +63,7 @@ override HAS_LIGHTS: u32 = 1u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
 // 1: the map under the split sum; 2: the map by the lobe's samples.
 override IBL: u32 = 0u;
-// With IBL = 2: the lobe's samples a pixel a frame (lighting.wgsl shade_environment_lobe): a pipeline-time count, never a loop bound read from a uniform
+// With IBL = 2: each strategy's samples a pixel a frame (lighting.wgsl shade_environment_mis): a pipeline-time count, never a loop bound read from a uniform
 // (screen.wgsl loop_counts says why).
 override IBL_SAMPLES: u32 = 1u;
 // 1 (default): antialiased silhouettes (balls.wgsl ball_footprint: a pixel the silhouette

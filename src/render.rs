@@ -309,13 +309,6 @@ fn montecarlo_on_gpu(
         renderer.prepare_environment(scene)?;
         progress.phase("prefilter");
     }
-    if scene.antialias {
-        progress.line(
-            "notice: montecarlo on the GPU traces one ray through each pixel's centre (no \
-             antialiasing); --backend montecarlo-cpu antialiases silhouettes as the real-time \
-             renderers do",
-        );
-    }
     let spp = request.spp.unwrap_or(DEFAULT_SPP);
     let started = Instant::now();
     progress.stoppable(true);

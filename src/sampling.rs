@@ -1,7 +1,8 @@
 //! The sampling maths once, the f64 twin of `shaders/sampling.wgsl` name for name: the
 //! orthonormal frame about a normal ([`duff_frame`]), GGX's visible normals reflected
 //! ([`sample_vndf`]) and their density ([`vndf_density`]), the cosine hemisphere
-//! ([`sample_cosine`]) and the radiance arriving along a direction ([`arriving`]). The
+//! ([`sample_cosine`]), the equirectangular map's density ([`equirect_density`]), the balance
+//! heuristic ([`balance_estimate`]) and the radiance arriving along a direction ([`arriving`]). The
 //! lobe (`cpu::shade`), the Monte Carlo (`cpu::montecarlo`), the truth (`cpu::truth`) and
 //! the prefilter's twin (`environment::prefilter`) take them from here. Above the maths
 //! (`brdf`) alone.
@@ -97,6 +98,27 @@ pub fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
     let r = u1.sqrt();
     let phi = 2.0 * PI * u2;
     DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
+}
+
+/// The density per solid angle of a direction `d` (the map's frame) drawn by picking a texel
+/// of a `w x h` equirectangular map with probability `p_texel`, then uniformly in its
+/// `(u, v)` rectangle: `p_texel w h / (2 pi^2 sin theta)`, the mapping's Jacobian (Pharr,
+/// Jakob & Humphreys, *Physically Based Rendering*, 3rd ed., 2016, section 14.2.4).
+pub fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f64 {
+    let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
+    p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
+}
+
+/// The balance heuristic's estimate of one sample of one of several strategies (Veach 1997,
+/// *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford,
+/// section 9.2.2, one sample a strategy): `f L mu_i / sum_k pdf_k(l)`, the integrand over the
+/// sum of every strategy's density at `l`; 0 where that sum is not positive.
+pub fn balance_estimate(integrand: DVec3, pdf_sum: f64) -> DVec3 {
+    if pdf_sum > DIV_EPSILON {
+        integrand / pdf_sum
+    } else {
+        DVec3::ZERO
+    }
 }
 
 /// Radiance arriving from world direction `d`: the uniform `environment` plus the `map`'s

@@ -316,12 +316,12 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Image width in pixels, 1..=16384 (a device with a smaller largest texture refuses
-    /// more).
-    #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
-    pub width: u32,
-    /// Image height in pixels, 1..=16384.
-    #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
-    pub height: u32,
+    /// more). Default: the scene's `size`, else 1280.
+    #[arg(long, value_parser = parse_side, allow_negative_numbers = true)]
+    pub width: Option<u32>,
+    /// Image height in pixels, 1..=16384. Default: the scene's `size`, else 720.
+    #[arg(long, value_parser = parse_side, allow_negative_numbers = true)]
+    pub height: Option<u32>,
     /// .png (tone-mapped, 8 bit: --tone-map) or .exr (linear radiance: no exposure, tone
     /// map or transfer curve).
     #[arg(long, default_value = "shading_balls.png")]
@@ -426,12 +426,12 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Window width in pixels, 1..=16384, as for `render` (the panel takes 300 points on the
-    /// right).
-    #[arg(long, default_value_t = 1280, value_parser = parse_side, allow_negative_numbers = true)]
-    pub width: u32,
-    /// Window height in pixels, 1..=16384.
-    #[arg(long, default_value_t = 720, value_parser = parse_side, allow_negative_numbers = true)]
-    pub height: u32,
+    /// right). Default: the scene's `size` (its scene area) and the panel, else 1280.
+    #[arg(long, value_parser = parse_side, allow_negative_numbers = true)]
+    pub width: Option<u32>,
+    /// Window height in pixels, 1..=16384. Default: the scene's `size`, else 720.
+    #[arg(long, value_parser = parse_side, allow_negative_numbers = true)]
+    pub height: Option<u32>,
     /// Draw this many frames back to back, print their median times and exit.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000), allow_negative_numbers = true)]
     pub frames: Option<u32>,
@@ -518,8 +518,22 @@ pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
 }
 
 /// Largest image or window side `render` and `view` accept: lavapipe's and most GPUs'
-/// largest 2-D texture. A device with a smaller limit refuses more when it is open.
-pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// largest 2-D texture (the scene file's `size` keeps to the same).
+pub use crate::scene::MAX_IMAGE_SIDE;
+
+/// The size `render` draws (or `view`'s window, `panel` pixels added to the width of a
+/// scene's `size`): each of `--width`/`--height` given, else the scene's `size`, else
+/// 1280 x 720.
+pub fn picture_size(
+    (width, height): (Option<u32>, Option<u32>),
+    scene: Option<(u32, u32)>,
+    panel: u32,
+) -> (u32, u32) {
+    let (w, h) = scene.map_or((1280, 720), |(w, h)| {
+        (w.saturating_add(panel).min(MAX_IMAGE_SIDE), h)
+    });
+    (width.unwrap_or(w), height.unwrap_or(h))
+}
 
 /// `--width` / `--height` of `render` and `view`: a whole number in
 /// `1..=MAX_IMAGE_SIDE` (one rule for both; the device's own limit is checked when it is

@@ -33,7 +33,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         eprintln!("{notice}");
     }
     let geometry = scene.effective_geometry();
-    let (w, h) = (args.width, args.height);
+    let (w, h) = image_size(&args, &scene);
     let (device, truth_spp) =
         render_and_write(renderer, &scene, &args, kind, sidecar, &mut phases)?;
     phases.mark("encode");
@@ -151,7 +151,7 @@ fn render_and_write(
     sidecar: Option<std::path::PathBuf>,
     phases: &mut Phases,
 ) -> Result<(String, Option<u32>)> {
-    let (w, h) = (args.width, args.height);
+    let (w, h) = image_size(args, scene);
     let request = Request {
         backend: args.backend,
         size: (w, h),
@@ -297,7 +297,7 @@ fn draw_labels(
     rgba: &mut [u8],
     phases: &mut Phases,
 ) -> Result<()> {
-    let (w, h) = (args.width, args.height);
+    let (w, h) = image_size(args, scene);
     if scene.labels {
         let drawn = labels::draw_labels(rgba, w, h, &labels::layout(scene, w, h))?;
         phases.mark("labels");
@@ -326,4 +326,10 @@ impl Phases {
         );
         self.0 = now;
     }
+}
+
+/// The image's size: `--width` and `--height` where given, else the scene's `size`, else
+/// 1280 x 720 (`args::picture_size`).
+fn image_size(args: &RenderArgs, scene: &Scene) -> (u32, u32) {
+    super::args::picture_size((args.width, args.height), scene.size, 0)
 }

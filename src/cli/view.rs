@@ -37,11 +37,15 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
     guard::probe_folders(&outputs)?;
     let scene = args.scene.load()?;
     guard::refuse_overlaps(&outputs, &guard::scene_inputs(&args.scene, Some(&scene)))?;
-    guard::check_f32_camera(&scene, args.width, args.height)?;
+    // The window: the flags, else the scene's `size` as the scene area beside the panel
+    // (its points taken at one pixel a point), else 1280 x 720.
+    let panel = crate::viewer::PANEL_WIDTH as u32;
+    let (width, height) = super::args::picture_size((args.width, args.height), scene.size, panel);
+    guard::check_f32_camera(&scene, width, height)?;
     let report = crate::viewer::run(crate::viewer::ViewOptions {
         scene,
         backend: args.backend,
-        size: (args.width, args.height),
+        size: (width, height),
         frames: args.frames,
         screenshot: args.screenshot,
         save_scene: args.save_scene,

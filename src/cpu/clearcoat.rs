@@ -4,9 +4,9 @@
 
 use glam::DVec3;
 
-use super::light::{lobe_mean_radiance, loss, CpuEnvironment, Forms, LobeSamples};
+use super::light::{loss, CpuEnvironment, Forms};
 use crate::brdf::{
-    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
+    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms,
 };
 use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
@@ -141,8 +141,7 @@ pub(super) fn shade_clearcoat(
     let c = &p.c;
     let mut lo = scene.environment * p.albedo_o;
     if let Some(map) = forms.map {
-        let lobe = forms.lobe.map(|l| (l, forms.geometry));
-        lo += shade_clearcoat_map(scene, p, (n, v), map, lobe);
+        lo += shade_clearcoat_map(scene, p, (n, v), map);
     }
     let mu_o = p.mu_o;
     for light in &scene.lights {
@@ -175,7 +174,6 @@ fn shade_clearcoat_map(
     p: &ClearcoatPoint,
     (n, v): (DVec3, DVec3),
     map: &CpuEnvironment,
-    lobe: Option<(LobeSamples, Geometry)>,
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
@@ -183,21 +181,13 @@ fn shade_clearcoat_map(
     let c = &p.c;
     let roughness = c.roughness;
     let intensity = map.intensity(environment);
-    let radiance = match lobe {
-        Some(lobe) => {
-            let (eta, form) = (c.eta, p.fresnel_form);
-            let fresnel = |v_dot_h: f64| DVec3::splat(f_dielectric(v_dot_h, eta, form));
-            lobe_mean_radiance(environment, map, (n, v), roughness, &fresnel, lobe)
-        }
-        None => {
-            let r = 2.0 * n.dot(v) * n - v;
-            let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
-            intensity
-                * map
-                    .prefiltered
-                    .specular(environment.to_map(dominant), roughness)
-        }
-    };
+    // The prefiltered layers in the lobe mode too (its samples are the base's).
+    let r = 2.0 * n.dot(v) * n - v;
+    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let radiance = intensity
+        * map
+            .prefiltered
+            .specular(environment.to_map(dominant), roughness);
     if c.form == CoatForm::Physical && p.ms > 0.0 {
         let multiple = intensity * map.prefiltered.multiple(environment.to_map(n), roughness);
         return radiance * p.e_f_o + p.ms * c.f_add * p.loss_o * multiple;

@@ -6,12 +6,11 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::light::{lobe_mean_radiance, loss, CpuEnvironment, Forms, LobeSamples};
+use super::light::{loss, CpuEnvironment, Forms};
 use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
-    Geometry,
 };
 use crate::environment::IblTerm;
 use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
@@ -193,9 +192,9 @@ pub(super) fn shade_coating(
 ) -> DVec3 {
     let point = CoatingPoint::new(scene, b, coat, (n, v), e);
     let mut lo = scene.environment * point.albedo();
-    if let Some(map) = forms.map {
-        let lobe = forms.lobe.map(|l| (l, forms.geometry));
-        lo += shade_coating_map(scene, (b, &point), (n, v), map, lobe);
+    // The lobe mode: the map's part is the whole model's (`shade::shade_environment_mis`).
+    if let (Some(map), None) = (forms.map, forms.lobe) {
+        lo += shade_coating_map(scene, (b, &point), (n, v), map);
     }
     // The share of uniform light and the map that a clear coat lets through.
     if let Some(coat) = &forms.coat {
@@ -216,15 +215,13 @@ pub(super) fn shade_coating(
     lo
 }
 
-/// `shade_coating_map` of `coating.wgsl`: under the lobe's method (`lobe`, the pixel's
-/// samples) the specular's radiance is its own lobe's mean ([`lobe_mean_radiance`] with the
-/// coating's Fresnel), else the prefiltered layers'.
+/// `shade_coating_map` of `coating.wgsl` (the split sum's): the prefiltered layers along the
+/// dominant direction times `E_F(mu_o)`, the base's albedo times the irradiance, the term.
 fn shade_coating_map(
     scene: &Scene,
     (b, p): (&Ball, &CoatingPoint),
     (n, v): (DVec3, DVec3),
     map: &CpuEnvironment,
-    lobe: Option<(LobeSamples, Geometry)>,
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
@@ -233,21 +230,12 @@ fn shade_coating_map(
     let intensity = map.intensity(environment);
     let n_map = environment.to_map(n);
     let irradiance = intensity * map.prefiltered.irradiance(n_map);
-    let radiance = match lobe {
-        Some(lobe) => {
-            let (eta, form) = (p.constants.eta, p.fresnel_form);
-            let fresnel = |v_dot_h: f64| DVec3::splat(f_dielectric(v_dot_h, eta, form));
-            lobe_mean_radiance(environment, map, (n, v), roughness, &fresnel, lobe)
-        }
-        None => {
-            let r = 2.0 * n.dot(v) * n - v;
-            let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
-            intensity
-                * map
-                    .prefiltered
-                    .specular(environment.to_map(dominant), roughness)
-        }
-    };
+    let r = 2.0 * n.dot(v) * n - v;
+    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let radiance = intensity
+        * map
+            .prefiltered
+            .specular(environment.to_map(dominant), roughness);
     let single = radiance * p.e_f_o;
     let mut lo = single + p.base_o * irradiance;
     if p.ms > 0.0 {

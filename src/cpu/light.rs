@@ -1,12 +1,13 @@
 //! What a CPU point's shading reads besides the ball, shared by the metal's (`shade.rs`),
 //! the coating's (`coating.rs`) and the Monte Carlo's (`montecarlo.rs`): the E reads as the
 //! shader reads them, per-channel helpers, the map prepared for shading ([`CpuEnvironment`]),
-//! the scene-wide forms ([`Forms`]) and the lobe's samples with their mean radiance.
+//! the scene-wide forms ([`Forms`]) and which of a pixel's samples the lobe mode takes.
 
 use glam::DVec3;
 
 use crate::brdf::GAMES202_EDGE_TINT;
-use crate::brdf::{alpha_from_roughness, f_add_preset, f_micro, FAvgForm, Geometry, DIV_EPSILON};
+use crate::brdf::{f_add_preset, FAvgForm, Geometry};
+use crate::environment::sampler::LuminanceCdf;
 use crate::environment::{lobe, Environment, IblMethod, MipChain, Prefiltered};
 use crate::lut::{SplitSum, TableSet, Tables};
 use crate::scene::Scene;
@@ -48,7 +49,7 @@ pub(crate) struct Forms<'a> {
     pub coat: Option<super::clearcoat::ClearcoatPoint>,
 }
 
-/// Which of a pixel's lobe samples a draw takes (`shade_environment_lobe`): the pixel's
+/// Which of a pixel's lobe samples a draw takes (`shade_environment_mis`): the pixel's
 /// sequence rotation, the index of the first sample and the count (the GPU's `env.lobe.x`
 /// and `IBL_SAMPLES`).
 #[derive(Clone, Copy, Debug)]
@@ -85,6 +86,9 @@ pub struct CpuEnvironment {
     pub prefiltered: Prefiltered,
     /// The split sum's bias table.
     pub split: SplitSum,
+    /// The map's luminance tables, as the GPU binds them for the lobe mode (`None` for a
+    /// map without: a constant one).
+    pub luminance: Option<LuminanceCdf>,
 }
 
 impl CpuEnvironment {
@@ -93,10 +97,15 @@ impl CpuEnvironment {
         let chain = MipChain::new(&environment.map);
         let kernels = crate::environment::prefilter::kernels(tables);
         let prefiltered = Prefiltered::new(&chain, &kernels, tables.config.geometry);
+        let unit = Environment {
+            intensity: 1.0,
+            ..environment.clone()
+        };
         CpuEnvironment {
             chain,
             prefiltered,
             split: SplitSum::shipped(tables.config.geometry),
+            luminance: LuminanceCdf::of(&unit),
         }
     }
 
@@ -106,63 +115,10 @@ impl CpuEnvironment {
         environment.intensity * f64::from(self.chain.scale)
     }
 
-    /// `background_radiance`'s map part in `balls.wgsl`: the map along world direction `d`
+    /// `background_radiance`'s map part in `footprint.wgsl`: the map along world direction `d`
     /// (level 0, bilinear), times the intensity.
     pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
         let uv = crate::environment::direction_to_uv(environment.to_map(d));
         self.intensity(environment) * self.chain.levels[0].bilinear(uv)
     }
-}
-
-/// `lobe_mean_radiance` of `lighting.wgsl`: the self-normalised mean radiance `sum w L /
-/// sum w` of the lobe of `roughness` at normal `n` towards `v` over `lobe.count` samples of
-/// its GGX visible normals, each weighted by `w = f_micro mu_i / pdf` with the scene's G and
-/// `fresnel(v.h)` per channel, read at its footprint's mip level; 0 where no sample lies
-/// above the horizon.
-pub(crate) fn lobe_mean_radiance(
-    environment: &Environment,
-    ibl: &CpuEnvironment,
-    (n, v): (DVec3, DVec3),
-    roughness: f64,
-    fresnel: &dyn Fn(f64) -> DVec3,
-    (lobe, geometry): (LobeSamples, Geometry),
-) -> DVec3 {
-    let mu_o = n.dot(v).max(0.0);
-    let alpha = alpha_from_roughness(roughness);
-    let frame = crate::sampling::duff_frame(n);
-    let v_local = frame.to_local(v);
-    let level0 = &ibl.chain.levels[0];
-    let size = (f64::from(level0.width), f64::from(level0.height));
-    let max_level = (ibl.chain.levels.len() - 1) as f64;
-    let count = f64::from(lobe.first) + f64::from(lobe.count);
-    let (mut sum, mut weights) = (DVec3::ZERO, DVec3::ZERO);
-    for j in 0..lobe.count {
-        let (u1, u2) = lobe::lobe_frame_point(lobe.first, j, lobe.count, lobe.scramble);
-        let l = frame.to_world(crate::sampling::sample_vndf(v_local, alpha, u1, u2));
-        let mu_i = n.dot(l);
-        if mu_i <= 0.0 || mu_o <= 0.0 {
-            continue;
-        }
-        let h = (v + l).normalize();
-        let n_dot_h = n.dot(h);
-        let pdf = crate::sampling::vndf_density(mu_o, n_dot_h, alpha);
-        if pdf <= DIV_EPSILON {
-            continue;
-        }
-        let w = per_channel(fresnel(v.dot(h)), |f| {
-            f_micro(f, mu_o, mu_i, n_dot_h, roughness, geometry) * (mu_i / pdf)
-        });
-        let l_map = environment.to_map(l);
-        let lod = lobe::lobe_lod(pdf, count, l_map, size, max_level);
-        sum += w * ibl.chain.sample(l_map, lod);
-        weights += w;
-    }
-    let mean = DVec3::from_array(std::array::from_fn(|c| {
-        if weights[c] <= DIV_EPSILON {
-            0.0
-        } else {
-            sum[c] / weights[c]
-        }
-    }));
-    ibl.intensity(environment) * mean
 }

@@ -142,7 +142,7 @@ impl BallView {
     }
 }
 
-/// What a pixel sees of one ball (`Footprint` in `balls.wgsl`): the distance of the hit it
+/// What a pixel sees of one ball (`Footprint` in `footprint.wgsl`): the distance of the hit it
 /// is shaded at (not `> 0`: the ball covers none of the pixel), the image positions (pixels)
 /// of the ray the ball is shaded along and of the ray the background is seen along, and
 /// the fraction of the pixel the ball covers (1: the centre ray alone).
@@ -191,7 +191,7 @@ pub fn ray_distance(
     )
 }
 
-/// `box_coverage` of `balls.wgsl`: the area of the unit pixel square centred on the origin
+/// `box_coverage` of `footprint.wgsl`: the area of the unit pixel square centred on the origin
 /// where `n . q <= s` (`n` a unit vector or 0), the integral of the square's chord across
 /// `n` (a trapezoid; Gupta and Sproull, "Filtering edges for gray-scale displays",
 /// SIGGRAPH 1981, for a box filter).
@@ -216,7 +216,7 @@ pub fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
     area.clamp(0.0, 1.0)
 }
 
-/// `straddles_silhouette` of `balls.wgsl`: whether the footprint of a pixel whose centre
+/// `straddles_silhouette` of `footprint.wgsl`: whether the footprint of a pixel whose centre
 /// ray passes `distance` from the centre of the sphere `(c, r)` may straddle its
 /// silhouette: within [`AA_EDGE_PX`] footprints of `r`, a footprint being `|o - c|` times
 /// [`CameraBasis::pixel_angle`] (what the distance moves at most per pixel). A ball whose
@@ -235,7 +235,7 @@ pub fn straddles_silhouette(
     r >= 0.5 * footprint && (distance - r).abs() <= AA_EDGE_PX * footprint
 }
 
-/// `ball_footprint` of `balls.wgsl`: the footprint of image position `frag` (a pixel's
+/// `ball_footprint` of `footprint.wgsl`: the footprint of image position `frag` (a pixel's
 /// centre) of a `size` image on the sphere `(c, r)`, `antialias` as the scene's. Near the
 /// silhouette ([`straddles_silhouette`]), the silhouette linearised at the centre (the
 /// level set `r` of [`ray_distance`] and its gradient per pixel) gives the covered fraction

@@ -406,7 +406,7 @@ impl<'a> Lighting<'a> {
 }
 
 /// Density (solid angle) of [`sample_vndf`] at `l`: [`vndf_density`] at `l`'s half vector.
-fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
+pub(super) fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
     let sum = p.v + l;
     let len = sum.length();
     if len <= DIV_EPSILON {

@@ -4,15 +4,17 @@
 
 use glam::DVec3;
 
-use super::light::{f_add_rgb, lobe_mean_radiance, loss, loss_avg, per_channel};
+use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::light::{CpuEnvironment, Forms, LobeSamples};
+use super::montecarlo::{model_brdf, pdf_vndf, ShadingPoint};
 use crate::brdf::{
-    f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm,
-    Geometry,
+    alpha_from_roughness, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
+    term_turquin, FAvgForm, Geometry,
 };
-use crate::environment::{Environment, IblTerm};
+use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -77,8 +79,7 @@ pub fn shade(
 /// lit by the scene's lights, its uniform environment and its map (`forms.map`): the
 /// metal's and the coating's parts, each with its own term, mixed by `metallic` (an
 /// all-metal or all-dielectric ball shades one). `coat` is the ball's coating, formed once
-/// per ball (`None` for an all-metal ball), `clearcoat` its clear coat (`None` without one):
-/// its lobe is added and the rest weighted by what it lets through (`clearcoat.wgsl`).
+/// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
     (b, (coat, clearcoat)): (&Ball, Coats<'_>),
@@ -114,30 +115,31 @@ fn shade_base(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
+    // A clear coat weights the environment's part (the uniform's and the map's).
+    let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
+    // The lobe mode: the map's part is the whole model's, sampled once.
+    let map_part = match (forms.map, forms.lobe) {
+        (Some(map), Some(lobe)) => {
+            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * through
+        }
+        _ => DVec3::ZERO,
+    };
     let metal = || {
         let (lo, terms, lights) = shade_with_terms(scene, b, n, v, e, forms);
-        let map = match forms.map {
-            Some(map) => match forms.lobe {
-                Some(lobe) => {
-                    let lobe = (lobe, forms.geometry);
-                    shade_environment_lobe_map(scene, b, (n, v), &terms, map, lobe)
-                }
-                None => shade_environment_map(scene, b, n, v, &terms, map),
-            },
-            None => DVec3::ZERO,
+        let map = match (forms.map, forms.lobe) {
+            (Some(map), None) => shade_environment_map(scene, b, n, v, &terms, map),
+            _ => DVec3::ZERO,
         };
-        // A clear coat weights the environment's part (the uniform's and the map's).
-        let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
         (lo + map) * through + lights
     };
     let Some(coat) = coat.filter(|_| metallic < 1.0) else {
-        return metal();
+        return metal() + map_part;
     };
     let coating = super::coating::shade_coating(scene, (b, coat), n, v, e, forms);
     if metallic <= 0.0 {
-        return coating;
+        return coating + map_part;
     }
-    metallic * metal() + (1.0 - metallic) * coating
+    metallic * metal() + (1.0 - metallic) * coating + map_part
 }
 
 /// What `shade` forms once per pixel and the environment map's part takes from it, as
@@ -162,8 +164,7 @@ pub struct PointTerms {
 }
 
 /// The metal's part of [`shade_point`] without the map's (`shade_metal` of
-/// `lighting.wgsl`): the uniform environment's part, the terms it formed, and the lights'
-/// part (each light's weighted by what a clear coat lets through, `forms.coat`).
+/// `lighting.wgsl`), and the terms it formed.
 pub(super) fn shade_with_terms(
     scene: &Scene,
     b: &Ball,
@@ -304,57 +305,71 @@ pub fn shade_environment_map(
     lo
 }
 
-/// `shade_environment_map` of `lighting.wgsl` with `IBL = 2`: the single scattering by
-/// the lobe's samples ([`shade_environment_lobe`]), the term as under the split sum.
-pub(super) fn shade_environment_lobe_map(
+/// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
+/// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`]) against
+/// the map by `lobe.count` samples of each strategy (visible normals, the cosine hemisphere
+/// but for an all-metal ball, the map's luminance where it has tables) combined by the
+/// balance heuristic ([`balance_estimate`]), each reading the f16 chain's base level. The
+/// same points as the GPU (integer arithmetic), the same f32 tables.
+pub(super) fn shade_environment_mis(
     scene: &Scene,
-    b: &Ball,
+    (b, coat): (&Ball, Option<&Coat>),
     (n, v): (DVec3, DVec3),
-    terms: &PointTerms,
+    e: &TableSet,
     ibl: &CpuEnvironment,
-    lobe: (LobeSamples, Geometry),
+    lobe: LobeSamples,
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
-    let PointTerms {
-        loss_o,
-        ms,
-        term,
-        fms_ems,
-        f_add,
-        ..
-    } = *terms;
-    let intensity = ibl.intensity(environment);
-    let n_map = environment.to_map(n);
-    let single = shade_environment_lobe(environment, ibl, b, (n, v), terms.fss_ess, lobe);
-    if ms <= 0.0 {
-        return single;
+    let mut p = ShadingPoint::with_coat(scene, (b, coat), (n, v), e).with_split_sum(&ibl.split);
+    // The GPU's ball holds metallic in f32.
+    p.metallic = b.material.metallic as f32 as f64;
+    if p.mu_o <= 0.0 {
+        return DVec3::ZERO;
     }
-    single
-        + ms * match term {
-            IblTerm::Turquin => turquin_rgb(single, b.material.f0, 1.0 - loss_o),
-            IblTerm::FdezAguera => fms_ems * intensity * ibl.prefiltered.irradiance(n_map),
-            IblTerm::KullaConty => {
-                f_add * loss_o * intensity * ibl.prefiltered.multiple(n_map, b.roughness)
+    let alpha = alpha_from_roughness(b.roughness);
+    let frame = crate::sampling::duff_frame(n);
+    let v_local = frame.to_local(v);
+    let has_cosine = p.metallic < 1.0;
+    let map = ibl.luminance.as_ref();
+    let contribution = |l: DVec3| -> DVec3 {
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let l_map = environment.to_map(l);
+        let mut pdf = pdf_vndf(&p, l, alpha);
+        if has_cosine {
+            pdf += mu_i / std::f64::consts::PI;
+        }
+        if let Some(m) = map {
+            pdf += m.luminance_density(l_map);
+        }
+        let radiance = ibl.chain.sample(l_map, 0.0);
+        balance_estimate(model_brdf(&p, l, e) * radiance * mu_i, pdf)
+    };
+    let point = |j: u32, k: u32| {
+        let s = lobe::strategy_scramble(lobe.scramble, k);
+        lobe::lobe_frame_point(lobe.first, j, lobe.count, s)
+    };
+    let mut sum = DVec3::ZERO;
+    for j in 0..lobe.count {
+        let (u1, u2) = point(j, 0);
+        sum += contribution(frame.to_world(sample_vndf(v_local, alpha, u1, u2)));
+        if has_cosine {
+            let (c1, c2) = point(j, 1);
+            sum += contribution(frame.to_world(sample_cosine(c1, c2)));
+        }
+        if let Some(m) = map {
+            let (t1, t2) = point(j, 2);
+            let (x1, x2) = point(j, 3);
+            if let Some(d) = m.luminance_sample([t1, t2, x1, x2]) {
+                sum += contribution(environment.from_map(d));
             }
         }
-}
-
-/// `shade_environment_lobe` of `lighting.wgsl`: the metal's single scattering at normal `n`
-/// towards `v` lit by the map, the lobe's mean radiance ([`lobe_mean_radiance`], Schlick's
-/// F of the ball's F0) times the split sum's `fss_ess` (`F0 A + B`).
-pub(super) fn shade_environment_lobe(
-    environment: &Environment,
-    ibl: &CpuEnvironment,
-    b: &Ball,
-    (n, v): (DVec3, DVec3),
-    fss_ess: DVec3,
-    lobe: (LobeSamples, Geometry),
-) -> DVec3 {
-    let f0 = b.material.f0;
-    let fresnel = |v_dot_h: f64| per_channel(f0, |f| f_schlick(f, v_dot_h));
-    lobe_mean_radiance(environment, ibl, (n, v), b.roughness, &fresnel, lobe) * fss_ess
+    }
+    ibl.intensity(environment) * sum / f64::from(lobe.count)
 }
 
 /// [`term_turquin`] per channel.

@@ -7,7 +7,7 @@
 //!
 //! The sequence's functions here are the CPU twins of `shaders/environment.wgsl`'s (same
 //! names, the same integer arithmetic, so the CPU and the GPU draw the same points); the
-//! shading that uses them is `cpu::shade`'s `shade_environment_lobe`.
+//! shading that uses them is `cpu::shade`'s `shade_environment_mis`.
 
 use std::f64::consts::PI;
 
@@ -84,6 +84,20 @@ pub fn lobe_hash(v: u32) -> u32 {
 pub fn pixel_scramble(px: u32, py: u32) -> [u32; 2] {
     let a = lobe_hash(px ^ lobe_hash(py));
     [a, lobe_hash(a ^ 0x9e37_79b9)]
+}
+
+/// The scramble of strategy `k`'s points in a pixel (the lobe mode's multiple importance
+/// sampling: 0 the visible normals', 1 the cosine's, 2 and 3 the map's texel and its
+/// position in it): `scramble` itself for `k = 0`, else each coordinate plus `k` times an
+/// odd constant, hashed, so the strategies' point sets are shifted independently.
+pub fn strategy_scramble(scramble: [u32; 2], k: u32) -> [u32; 2] {
+    if k == 0 {
+        return scramble;
+    }
+    [
+        lobe_hash(scramble[0].wrapping_add(k.wrapping_mul(0x68bc_21eb))),
+        lobe_hash(scramble[1].wrapping_add(k.wrapping_mul(0x02e5_be93))),
+    ]
 }
 
 /// Point `i` of the R2 sequence rotated by `scramble`, in `[0, 1)^2`: the 24 high bits of

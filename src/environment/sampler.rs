@@ -2,8 +2,6 @@
 //! Monte Carlo backends (`crate::cpu::montecarlo` in f64, and its tables in f32 for
 //! `shaders/montecarlo.wgsl`; docs/design/environment.md, "The Monte Carlo backend").
 
-use std::f64::consts::PI;
-
 use glam::{DVec2, DVec3};
 
 use super::{direction_to_uv, uv_to_direction, Environment};
@@ -121,8 +119,7 @@ impl<'a> EnvSampler<'a> {
         let i = ((uv.x * w).floor() as i64).rem_euclid(self.width as i64) as usize;
         let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height - 1);
         let p_texel = self.weight[j * self.width + i] / self.total;
-        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
-        p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
+        crate::sampling::equirect_density(p_texel, d, (w, h))
     }
 }
 
@@ -170,5 +167,52 @@ impl LuminanceCdf {
             row_cdf,
             texel,
         })
+    }
+}
+
+impl LuminanceCdf {
+    /// The tables as group 1's `env_cdf` holds them (`bindings.wgsl`): the width and the
+    /// height, then the marginal, the rows' CDFs and the texels' probabilities.
+    pub fn gpu_words(&self) -> Vec<f32> {
+        let mut words = Vec::with_capacity(2 + self.marginal.len() + 2 * self.texel.len());
+        words.push(self.width as f32);
+        words.push(self.height as f32);
+        words.extend_from_slice(&self.marginal);
+        words.extend_from_slice(&self.row_cdf);
+        words.extend_from_slice(&self.texel);
+        words
+    }
+
+    /// `luminance_sample` of `lighting.wgsl`, in the same f32 arithmetic: a map-frame
+    /// direction from four uniform numbers (each exact in f32: the lobe's 24-bit points), a
+    /// row by the marginal, a texel by its row's CDF, a point uniformly in the texel's
+    /// `(u, v)` rectangle; `None` where rounding lands on a texel of zero weight.
+    pub fn luminance_sample(&self, u: [f64; 4]) -> Option<DVec3> {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let j = self
+            .marginal
+            .partition_point(|&c| c <= u[0] as f32)
+            .min(h - 1);
+        let row = &self.row_cdf[j * w..(j + 1) * w];
+        let i = row.partition_point(|&c| c <= u[1] as f32).min(w - 1);
+        if self.texel[j * w + i] <= 0.0 {
+            return None;
+        }
+        let uv = DVec2::new(
+            f64::from((i as f32 + u[2] as f32) / w as f32),
+            f64::from((j as f32 + u[3] as f32) / h as f32),
+        );
+        Some(uv_to_direction(uv))
+    }
+
+    /// `luminance_density` of `lighting.wgsl`: the density per solid angle of
+    /// [`LuminanceCdf::luminance_sample`] at map-frame direction `d`.
+    pub fn luminance_density(&self, d: DVec3) -> f64 {
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let uv = direction_to_uv(d);
+        let i = ((uv.x * w).floor() as i64).rem_euclid(i64::from(self.width)) as usize;
+        let j = ((uv.y * h).floor().max(0.0) as usize).min(self.height as usize - 1);
+        let p_texel = f64::from(self.texel[j * self.width as usize + i]);
+        crate::sampling::equirect_density(p_texel, d, (w, h))
     }
 }

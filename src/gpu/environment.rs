@@ -70,7 +70,7 @@ impl EnvUniform {
 }
 
 /// Group 1's layout: the uniform, the map, the specular and convolved layers, the
-/// split-sum table, the sampler.
+/// split-sum table, the sampler, the map's luminance tables (the lobe mode's map samples).
 pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let stages = wgpu::ShaderStages::FRAGMENT;
     let texture = |binding, dim, filterable| wgpu::BindGroupLayoutEntry {
@@ -106,9 +106,34 @@ pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 count: None,
             },
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: stages,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
         ],
     })
 }
+
+/// The luminance tables' buffer of group 1 (`env_cdf` in `bindings.wgsl`): `words`
+/// ([`crate::environment::sampler::LuminanceCdf::gpu_words`], or [`NO_LUMINANCE`]).
+pub fn luminance_buffer(device: &wgpu::Device, words: &[f32]) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("luminance tables"),
+        contents: bytemuck::cast_slice(words),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// The luminance tables of a map without them (size 0 by 0: the lobe mode draws no map
+/// samples).
+pub const NO_LUMINANCE: [f32; 4] = [0.0; 4];
 
 /// The sampler every environment read uses: linear within and between levels, `u`
 /// repeating (the map wraps in azimuth), `v` clamped.
@@ -342,13 +367,14 @@ impl EnvironmentTextures {
         }
     }
 
-    /// Group 1 of these textures with `uniform` and `sampler`.
+    /// Group 1 of these textures with `uniform`, `sampler` and the luminance tables'
+    /// buffer `luminance` ([`luminance_buffer`]).
     pub fn bind(
         &self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
-        uniform: &wgpu::Buffer,
-        sampler: &wgpu::Sampler,
+        (uniform, sampler): (&wgpu::Buffer, &wgpu::Sampler),
+        luminance: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("group 1 (environment)"),
@@ -377,6 +403,10 @@ impl EnvironmentTextures {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: wgpu::BindingResource::Sampler(sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: luminance.as_entire_binding(),
                 },
             ],
         })

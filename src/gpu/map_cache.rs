@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 
 use super::context::Gpu;
 use super::environment::{self as env_gpu, EnvUniform, EnvironmentKey, EnvironmentTextures};
-use crate::environment::{prefilter, ChainOn, EnvMap, Environment, MipChain};
+use crate::environment::sampler::LuminanceCdf;
+use crate::environment::{prefilter, ChainOn, EnvMap, Environment, IblMethod, MipChain};
 use crate::error::Result;
 use crate::lut::{self, BakeConfig, SplitSum};
 use crate::scene::Scene;
@@ -17,6 +18,16 @@ use crate::scene::Scene;
 /// Prefiltered maps a renderer keeps: a few megabytes each at 1024 x 512 (the map's f16 mip
 /// chain and the prefiltered layers).
 pub const MAX_PREFILTERED_MAPS: usize = 4;
+
+/// A prepared map: its key, textures, luminance tables (`None` until a scene in the lobe
+/// mode draws with it: the split sum never reads them; then `Some(None)` where the map has
+/// none) and bind group.
+struct Loaded {
+    key: EnvironmentKey,
+    textures: EnvironmentTextures,
+    luminance: Option<Option<wgpu::Buffer>>,
+    group: wgpu::BindGroup,
+}
 
 /// Group 1's layout, uniform and sampler, the stand-in bind group for scenes without a
 /// map, and the latest maps' prefiltered textures with their bind groups, most recently
@@ -26,8 +37,10 @@ pub(crate) struct PrefilteredMaps {
     /// The map's uniform ([`EnvUniform`]), written every frame.
     pub uniform: wgpu::Buffer,
     sampler: wgpu::Sampler,
+    /// The luminance tables' stand-in ([`env_gpu::NO_LUMINANCE`]).
+    no_luminance: wgpu::Buffer,
     empty: wgpu::BindGroup,
-    loaded: Vec<(EnvironmentKey, EnvironmentTextures, wgpu::BindGroup)>,
+    loaded: Vec<Loaded>,
     /// Wall time of the latest preparation.
     last_prepared: Option<Duration>,
     /// A mip chain built ahead for the map it holds (compared by identity), used by that
@@ -45,11 +58,18 @@ impl PrefilteredMaps {
             mapped_at_creation: false,
         });
         let sampler = env_gpu::sampler(device);
-        let empty = EnvironmentTextures::empty(device).bind(device, &layout, &uniform, &sampler);
+        let no_luminance = env_gpu::luminance_buffer(device, &env_gpu::NO_LUMINANCE);
+        let empty = EnvironmentTextures::empty(device).bind(
+            device,
+            &layout,
+            (&uniform, &sampler),
+            &no_luminance,
+        );
         PrefilteredMaps {
             layout,
             uniform,
             sampler,
+            no_luminance,
             empty,
             loaded: Vec::new(),
             last_prepared: None,
@@ -77,7 +97,15 @@ impl PrefilteredMaps {
         };
         let geometry = scene.effective_geometry();
         let key = EnvironmentKey::new(environment, geometry);
-        if let Some(group) = self.most_recent(&key) {
+        let lobe = scene.ibl_method == IblMethod::Lobe;
+        if let Some(i) = self.loaded.iter().position(|l| l.key == key) {
+            let mut entry = self.loaded.remove(i);
+            if lobe && entry.luminance.is_none() {
+                entry.luminance = Some(luminance_tables(gpu, environment));
+                entry.group = self.bind(gpu, &entry.textures, entry.luminance.as_ref());
+            }
+            let group = entry.group.clone();
+            self.loaded.insert(0, entry);
             return Ok(group);
         }
         environment.map.check_chain_memory(ChainOn::Gpu)?;
@@ -90,24 +118,65 @@ impl PrefilteredMaps {
         let config = BakeConfig { geometry, ..config };
         let textures = prepare_map(gpu, environment, config, ahead);
         self.last_prepared = Some(textures.prefilter_time);
-        let group = textures.bind(&gpu.device, &self.layout, &self.uniform, &self.sampler);
-        self.loaded.insert(0, (key, textures, group.clone()));
+        let luminance = lobe.then(|| luminance_tables(gpu, environment));
+        let group = self.bind(gpu, &textures, luminance.as_ref());
+        self.loaded.insert(
+            0,
+            Loaded {
+                key,
+                textures,
+                luminance,
+                group: group.clone(),
+            },
+        );
         Ok(group)
     }
 
-    /// The bind group of `key` if it is kept, made the most recently drawn.
-    fn most_recent(&mut self, key: &EnvironmentKey) -> Option<wgpu::BindGroup> {
-        let i = self.loaded.iter().position(|(k, _, _)| k == key)?;
-        let entry = self.loaded.remove(i);
-        let group = entry.2.clone();
-        self.loaded.insert(0, entry);
-        Some(group)
+    /// Group 1 of `textures` with `luminance`'s tables (the stand-in where there are none).
+    fn bind(
+        &self,
+        gpu: &Gpu,
+        textures: &EnvironmentTextures,
+        luminance: Option<&Option<wgpu::Buffer>>,
+    ) -> wgpu::BindGroup {
+        let buffer = luminance
+            .and_then(Option::as_ref)
+            .unwrap_or(&self.no_luminance);
+        textures.bind(
+            &gpu.device,
+            &self.layout,
+            (&self.uniform, &self.sampler),
+            buffer,
+        )
     }
 
     /// Wall time of the latest preparation (see `Renderer::last_prefilter_time`).
     pub(crate) fn last_prepared(&self) -> Option<Duration> {
         self.last_prepared
     }
+}
+
+/// The luminance tables of `environment`'s map on the GPU (those of the Monte Carlo's
+/// sampler, whatever the intensity: they depend on the texels alone), or `None` where the
+/// map has none (a constant map) or they exceed the device's storage binding (then the lobe
+/// mode draws no map samples, and says so).
+fn luminance_tables(gpu: &Gpu, environment: &Environment) -> Option<wgpu::Buffer> {
+    let unit = Environment {
+        intensity: 1.0,
+        ..environment.clone()
+    };
+    let words = LuminanceCdf::of(&unit)?.gpu_words();
+    let bytes = std::mem::size_of_val(words.as_slice()) as u64;
+    let max = gpu.device.limits().max_storage_buffer_binding_size;
+    if bytes > max {
+        log::warn!(
+            "environment {}: its luminance tables need {bytes} bytes, this device binds {max}: \
+             the lobe mode samples its lobe and cosine alone",
+            environment.source
+        );
+        return None;
+    }
+    Some(env_gpu::luminance_buffer(&gpu.device, &words))
 }
 
 /// Prepares `environment` for shading with tables baked with `config` (its G the scene's):

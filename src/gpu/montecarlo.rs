@@ -20,7 +20,7 @@ use super::pipelines::DEPTH_FORMAT;
 use super::plan::Variant;
 use super::readback::Readback;
 use super::shaders;
-use super::sums::{self, Sums, SumsSpec, QUAD_PAD_PX, SUM_FORMAT};
+use super::sums::{self, Sums, SumsSpec, SUM_FORMAT};
 use super::uniforms::GpuBall;
 use super::Gpu;
 use crate::brdf::Geometry;
@@ -165,6 +165,7 @@ impl MonteCarloPass {
             }
         }
         let mut image = read_state(gpu, &state, frame.size, done)?;
+        image.antialias = frame.variant.aa;
         fill_background(scene, &mut image);
         Ok(image)
     }
@@ -253,7 +254,7 @@ fn quads(scene: &Scene, frame: &McFrame<'_>) -> Vec<BallInstance> {
         scene,
         (frame.balls, frame.hidden),
         frame.size,
-        QUAD_PAD_PX,
+        crate::scene::bounds_pad_px(frame.variant.aa),
         all,
     )
 }
@@ -337,8 +338,7 @@ fn read_state(
         mean: Vec::with_capacity(pixels),
         std_error: Vec::with_capacity(pixels),
         covered: Vec::with_capacity(pixels),
-        // One ray through each pixel's centre: the GPU estimator does not antialias
-        // silhouettes yet (the CPU's does, `cpu::montecarlo`); the image says so.
+        // Set by the caller: the pipeline's AA.
         antialias: false,
     };
     for (m, s) in mean.chunks_exact(4).zip(m2.chunks_exact(4)) {

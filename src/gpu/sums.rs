@@ -47,6 +47,7 @@ pub(crate) fn same_scene(a: &Scene, b: &Scene) -> bool {
         exposure: 1.0,
         tone_map: None,
         transfer: None,
+        size: None,
         ..s.clone()
     };
     let maps = match (&a.environment_map, &b.environment_map) {

@@ -152,7 +152,7 @@ pub const AA_BOUNDS_PAD_PX: f64 = BOUNDS_PAD_PX + 0.75;
 
 /// How near a silhouette, in pixel footprints ([`CameraBasis::pixel_angle`] times the
 /// distance from the eye), a pixel's centre ray must pass for the pixel to be partly
-/// covered (`AA_EDGE_PX` in `balls.wgsl`): half a pixel's diagonal (0.71) and a margin for
+/// covered (`AA_EDGE_PX` in `footprint.wgsl`): half a pixel's diagonal (0.71) and a margin for
 /// the f32 rounding of the shader against this f64 test.
 pub const AA_EDGE_PX: f64 = 1.0;
 

@@ -19,6 +19,9 @@
 //! labels = true                # optional, default false: roughness, row model and a
 //!                              #   caption drawn into PNG pictures and the viewer
 //! antialias = true             # optional: antialiased silhouettes (default true)
+//! size = [980, 720]            # optional: the picture's width and height in pixels, each
+//!                              #   1..=16384: render's image, the viewer's scene area (the
+//!                              #   window is that and the panel); --width/--height win
 //! tone_map = "khronos-neutral" # optional: reinhard | aces | agx | khronos-neutral | none
 //!                              #   (default: the preset's: accurate khronos-neutral,
 //!                              #   games202 reinhard); PNGs and the window, not EXR
@@ -69,8 +72,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{
-    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, IblSamples, Ior, Metallic,
-    Named, NonNegative, Positive, Radiance, Roughness, Unit,
+    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, IblSamples, ImageSize, Ior,
+    Metallic, Named, NonNegative, Positive, Radiance, Roughness, Unit,
 };
 use super::{
     grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
@@ -99,6 +102,7 @@ struct SceneFile {
     transfer: Option<Named<Transfer>>,
     #[serde(default)]
     labels: bool,
+    size: Option<ImageSize>,
     camera: Option<Spanned<CameraFile>>,
     environment: Option<Spanned<EnvironmentFile>>,
     #[serde(default)]
@@ -385,6 +389,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         transfer,
         ibl_method: file.ibl_method.map_or(reference.ibl_method, |m| m.0),
         ibl_samples: file.ibl_samples.map_or(reference.ibl_samples, |n| n.0),
+        size: file.size.map(|s| s.0),
     })
 }
 
@@ -649,6 +654,26 @@ mod tests {
             scene::load(&asset("default.toml")).unwrap(),
             Scene::showcase()
         );
+    }
+
+    /// `size = [width, height]` is the picture's size; a side out of `1..=16384`, a
+    /// fraction or a third number is a one-line error at the value.
+    #[test]
+    fn size_key_is_the_pictures_size() {
+        let scene = scene::parse(&format!("size = [980, 720]\n{BALL}"), Path::new("s.toml"));
+        assert_eq!(scene.unwrap().size, Some((980, 720)));
+        let scene = scene::parse(BALL, Path::new("s.toml")).unwrap();
+        assert_eq!(scene.size, None);
+        for (bad, says) in [
+            ("[0, 720]", "1..=16384"),
+            ("[16385, 720]", "1..=16384"),
+            ("[-5, 720]", "1..=16384"),
+            ("[980, 720, 1]", "[width, height]"),
+            ("[980.5, 720]", ""),
+        ] {
+            let msg = error_of(&format!("size = {bad}\n{BALL}"));
+            assert!(msg.contains(says) && !msg.contains('\n'), "{bad}: {msg}");
+        }
     }
 
     #[test]

@@ -148,7 +148,16 @@ pub struct Scene {
     /// Lobe samples a pixel a frame under [`IblMethod::Lobe`] (`ibl_samples`,
     /// `--ibl-samples`), in `1..=MAX_IBL_SAMPLES`.
     pub ibl_samples: u32,
+    /// The picture's size in pixels the scene asks for (`size = [width, height]` in a scene
+    /// file; a saved viewer scene writes its scene area's): `render`'s image and the
+    /// viewer's scene area where `--width` and `--height` are not given. `None`: the
+    /// commands' defaults. The renderers draw at the target's size, whatever this says.
+    pub size: Option<(u32, u32)>,
 }
+
+/// The largest width or height of a picture in pixels (`--width`, `--height`, a scene
+/// file's `size`): a device with a smaller largest texture refuses more.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
 
 /// The reference scene's copper, a display colour the homework decodes with `pow 2.2`
 /// ([`Material::metal_gamma22`]; docs/design/reference-scene.md, "The balls, the light and
@@ -188,6 +197,7 @@ impl Scene {
             transfer: Some(DisplayTransform::HOMEWORK.transfer),
             ibl_method: IblMethod::SplitSum,
             ibl_samples: DEFAULT_IBL_SAMPLES,
+            size: None,
         }
     }
 

@@ -219,6 +219,29 @@ impl TryFrom<f64> for Fov {
     }
 }
 
+/// A picture's size in pixels, `[width, height]`, each in `1..=MAX_IMAGE_SIDE` (`size`).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "Vec<i64>")]
+pub(crate) struct ImageSize(pub (u32, u32));
+
+impl TryFrom<Vec<i64>> for ImageSize {
+    type Error = String;
+    fn try_from(v: Vec<i64>) -> Result<Self, String> {
+        let max = super::MAX_IMAGE_SIDE;
+        let side = |n: i64| u32::try_from(n).ok().filter(|n| (1..=max).contains(n));
+        match v[..] {
+            [w, h] => match (side(w), side(h)) {
+                (Some(w), Some(h)) => Ok(ImageSize((w, h))),
+                _ => Err(format!("size [{w}, {h}]: each side must be in 1..={max}")),
+            },
+            _ => Err(format!(
+                "size has {} numbers: it is [width, height]",
+                v.len()
+            )),
+        }
+    }
+}
+
 /// A lobe sample count, `1..=MAX_IBL_SAMPLES` (`ibl_samples`).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "i64")]

@@ -154,7 +154,7 @@ fn save_scene(
     #[cfg(feature = "scene-files")]
     {
         let back = crate::scene::parse(&text, path)?;
-        if back != save::as_written(scene) {
+        if back != save::as_written(scene, size) {
             return Err(invalid(
                 "the scene file written would load as another scene (a bug: please report it)"
                     .into(),

@@ -20,6 +20,8 @@ pub mod labels;
 pub mod orbit;
 mod overlay;
 mod panel;
+
+pub use panel::PANEL_WIDTH;
 pub mod save;
 mod state;
 pub use state::surface_format;

@@ -8,7 +8,7 @@ use crate::brdf::Geometry;
 use crate::display::ToneMap;
 use crate::environment::{Background, IblMethod, IblTerm, MAX_IBL_SAMPLES};
 use crate::lut::{Layout, LayoutKind};
-use crate::scene::{Layering, Material, Preset, Scene, MAX_MAGNITUDE};
+use crate::scene::{BaseReading, Layering, Material, Preset, Scene, MAX_MAGNITUDE};
 
 use super::compare::{Compare, Side, View, DIFFERENCE_SCALES};
 use super::edit::{
@@ -245,7 +245,29 @@ fn model(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             &Layering::ALL,
             |l| l.name(),
         );
+        base_reading(ui, scene);
     }
+}
+
+/// The base reading's combo box's id salt.
+const BASE_READING_ID: &str = "base reading";
+
+/// What a dielectric's base colour means (`base_reading`, as `--base-reading`): the colour
+/// a viewer sees or the substrate's albedo under the coating (issue 35). Returns its combo
+/// box (its test clicks it).
+fn base_reading(ui: &mut egui::Ui, scene: &mut Scene) -> egui::Response {
+    let name = |r: BaseReading| match r {
+        BaseReading::Apparent => "apparent (as glTF)",
+        BaseReading::Substrate => "substrate (under the coating)",
+    };
+    egui::ComboBox::new(BASE_READING_ID, "base colour reading")
+        .selected_text(name(scene.base_reading))
+        .show_ui(ui, |ui| {
+            for r in BaseReading::ALL {
+                ui.selectable_value(&mut scene.base_reading, r, name(r));
+            }
+        })
+        .response
 }
 
 fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
@@ -643,6 +665,17 @@ mod tests {
         scene: &mut Scene,
         events: Vec<egui::Event>,
     ) -> (egui::Id, egui::Rect) {
+        pass_of(ctx, scene, events, ibl_method)
+    }
+
+    /// One pass of `control` over `scene` with `events` in a 400x300 window; returns its
+    /// combo box's id and rectangle.
+    fn pass_of(
+        ctx: &egui::Context,
+        scene: &mut Scene,
+        events: Vec<egui::Event>,
+        control: fn(&mut egui::Ui, &mut Scene) -> egui::Response,
+    ) -> (egui::Id, egui::Rect) {
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(
                 egui::Pos2::ZERO,
@@ -652,7 +685,7 @@ mod tests {
             ..Default::default()
         };
         let mut method = None;
-        let _ = ctx.run_ui(input, |ui| method = Some(ibl_method(ui, scene)));
+        let _ = ctx.run_ui(input, |ui| method = Some(control(ui, scene)));
         let method = method.expect("the pass ran the control");
         (method.id, method.rect)
     }
@@ -691,5 +724,35 @@ mod tests {
         assert_eq!(scene.ibl_method, IblMethod::Lobe);
         pick(&mut scene, 0.0);
         assert_eq!(scene.ibl_method, IblMethod::SplitSum);
+    }
+
+    /// The panel's base reading control (issue 35): a click on its box opens the list, a
+    /// click on its second entry reads base colours as the substrate's, on the first back
+    /// to the apparent colour.
+    #[test]
+    fn the_base_reading_control_switches_between_apparent_and_substrate() {
+        let ctx = egui::Context::default();
+        let mut scene = Scene::reference();
+        let (id, button) = pass_of(&ctx, &mut scene, Vec::new(), base_reading);
+        let pick = |scene: &mut Scene, entry: f32| {
+            pass_of(&ctx, scene, click(button.center()), base_reading);
+            pass_of(&ctx, scene, Vec::new(), base_reading);
+            let list = ctx
+                .memory(|m| m.area_rect(id.with("popup")))
+                .expect("the list opens");
+            let y = list.min.y + (0.25 + 0.5 * entry) * list.height();
+            pass_of(
+                &ctx,
+                scene,
+                click(egui::pos2(list.center().x, y)),
+                base_reading,
+            );
+            pass_of(&ctx, scene, Vec::new(), base_reading);
+        };
+        assert_eq!(scene.base_reading, BaseReading::Apparent);
+        pick(&mut scene, 1.0);
+        assert_eq!(scene.base_reading, BaseReading::Substrate);
+        pick(&mut scene, 0.0);
+        assert_eq!(scene.base_reading, BaseReading::Apparent);
     }
 }

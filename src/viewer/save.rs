@@ -20,17 +20,19 @@ use crate::scene::{gamma22_decode, srgb_decode, Ball, Light, Material, Scene, DE
 const SEARCH_ULPS: u64 = 64;
 
 /// The scene file text of `scene`: a header comment (what saved it, and the `render`
-/// command that draws the viewer's scene area of `size`), then every key.
+/// command that draws the viewer's scene area), then every key, `size` the scene area's
+/// (which `render` draws and `view` opens beside its panel when no flag sets a size).
 pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     let mut out = String::new();
     let (w, h) = size;
     // `write!` into a String cannot fail.
     let _ = writeln!(
         out,
-        "# Saved by `shadeballs view`: `shadeballs render --scene <this file> --width {w} \
-         --height {h}` draws the viewer's scene area."
+        "# Saved by `shadeballs view`: `shadeballs render --scene <this file>` draws the \
+         viewer's scene area ({w} x {h}, the `size` key)."
     );
     top_level(&mut out, scene);
+    let _ = writeln!(out, "size = [{w}, {h}]");
     let c = &scene.camera;
     let _ = writeln!(
         out,
@@ -52,10 +54,12 @@ pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     Ok(out)
 }
 
-/// `scene` as its file loads back: a map file's path made absolute, as the file names it
-/// (issue 38, 3: a relative path from `--environment` or a relative scene's `map`).
-pub fn as_written(scene: &Scene) -> Scene {
+/// `scene` as its file, saved at scene area `size`, loads back: a map file's path made
+/// absolute, as the file names it (issue 38, 3: a relative path from `--environment` or a
+/// relative scene's `map`), and `size` its size (the `size` key, issue 39).
+pub fn as_written(scene: &Scene, size: (u32, u32)) -> Scene {
     let mut scene = scene.clone();
+    scene.size = Some(size);
     if let Some(e) = &mut scene.environment_map {
         if let Source::File(path) = &e.source {
             if let Ok(absolute) = std::path::absolute(path) {

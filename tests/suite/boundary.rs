@@ -275,7 +275,7 @@ fn blocks() -> Vec<(&'static str, Vec<String>)> {
         ("environment.wgsl", lines(environment_constants())),
         ("prefilter.wgsl", lines(prefilter_constants())),
         (
-            "balls.wgsl",
+            "footprint.wgsl",
             lines(vec![float(
                 "AA_EDGE_PX",
                 shadeballs::scene::AA_EDGE_PX,

@@ -1191,7 +1191,12 @@ fn saved_scene_text_loads_back_as_the_same_scene() {
         let text = scene_toml(scene, (640, 360)).unwrap_or_else(|e| panic!("scene {i}: {e}"));
         let back = shadeballs::scene::parse(&text, Path::new("saved.toml"))
             .unwrap_or_else(|e| panic!("scene {i}: {e}\n{text}"));
-        assert!(back == *scene, "scene {i} came back another:\n{text}");
+        // The scene area's size travels as the `size` key (issue 39), not only a comment.
+        let sized = Scene {
+            size: Some((640, 360)),
+            ..scene.clone()
+        };
+        assert!(back == sized, "scene {i} came back another:\n{text}");
     }
     let mut both = Scene::reference();
     both.environment = DVec3::splat(0.5);
@@ -1233,17 +1238,12 @@ fn saved_scene_renders_the_viewers_picture() {
         assert!(out.status.success(), "{stderr}");
         (toml, shot, stderr)
     };
-    let render = |toml: &Path, (w, h): (u32, u32), out: &Path| {
+    // No --width/--height: the saved `size` key gives the scene area's size (issue 39).
+    let render = |toml: &Path, _area: (u32, u32), out: &Path| {
         let out = Command::new(env!("CARGO_BIN_EXE_shadeballs"))
             .args(["render", "--backend", "vulkan", "--scene"])
             .arg(toml)
-            .args([
-                "--width",
-                &w.to_string(),
-                "--height",
-                &h.to_string(),
-                "--out",
-            ])
+            .arg("--out")
             .arg(out)
             .output()
             .unwrap();
@@ -1257,12 +1257,28 @@ fn saved_scene_renders_the_viewers_picture() {
     let (window, area) = scene_pixels(&shot, &stderr);
     let rendered = dir.join("bare-render.png");
     render(&toml, area, &rendered);
-    let rendered = image::open(&rendered).unwrap().to_rgba8().into_raw();
+    let rendered = image::open(&rendered).unwrap().to_rgba8();
+    assert_eq!(
+        rendered.dimensions(),
+        area,
+        "render drew another size than `size`"
+    );
+    let rendered = rendered.into_raw();
     assert!(
         rendered == window,
         "render of the saved scene differs: {}",
         { compare(&window, &rendered, area.0).report("saved scene") }
     );
+    // `view` of the saved scene opens a window of that scene area beside the panel.
+    let again = dir.join("again.png");
+    let out = viewer(&x, &["--scene", toml.to_str().unwrap(), "--frames", "1"])
+        .arg("--screenshot")
+        .arg(&again)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{stderr}");
+    assert_eq!(scene_pixels(&again, &stderr).1, area, "{stderr}");
 
     let (_, exr, stderr) = run("--no-labels", "bare2.toml", "bare.exr");
     assert!(stderr.contains("linear radiance"), "{stderr}");

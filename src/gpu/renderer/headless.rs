@@ -327,7 +327,12 @@ impl Renderer {
             hidden: &frame.hidden,
             geometry: frame.plan.geometry,
             mu_axis: frame.plan.bake.layout.mu_axis,
-            variant: frame.plan.truth_variant,
+            // The scene's pixel filter: antialiased silhouettes as the real-time renderers
+            // draw them (docs/design/antialiasing.md, "Monte Carlo").
+            variant: crate::gpu::plan::Variant {
+                aa: scene.antialias,
+                ..frame.plan.truth_variant
+            },
             size,
             part,
         };

@@ -1,0 +1,154 @@
+// model.wgsl: the model's BRDF at a shading point, whole, for the estimators that integrate it
+// against the map by sampling: the Monte Carlo (montecarlo.wgsl) and the lobe mode's multiple
+// importance sampling (lighting.wgsl shade_environment_mis). The f32 twin of
+// src/cpu/montecarlo.rs ShadingPoint and model_brdf, name for name.
+
+#define_import_path shadeballs::model
+#import shadeballs::constants::{PI, DIV_EPSILON}
+#import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms}
+#import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
+#import shadeballs::lut::lut_loss_row
+#import shadeballs::environment::{split_sum_bias, split_sum_scale}
+#import shadeballs::sampling::vndf_density
+#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, by_term, by_term_f32}
+#import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
+#import shadeballs::bindings::{e_table, lut_params, env_split_sum}
+
+// Values of ShadingPoint.part (and of montecarlo.wgsl's McParams.part): the whole model, or
+// the term's lobe alone (the reference for a real-time term; src/cpu/montecarlo.rs Part).
+const PART_WHOLE: u32 = 0u;
+const PART_MULTIPLE: u32 = 1u;
+
+// One visible surface point (src/cpu/montecarlo.rs ShadingPoint): what does not depend on
+// the incident direction, formed once per fragment.
+struct ShadingPoint {
+    n: vec3<f32>,
+    v: vec3<f32>,
+    mu_o: f32,
+    roughness: f32,
+    f0: vec3<f32>,
+    // The term's weight: 1 with it, 0 without.
+    ms: f32,
+    // 1 - E(mu_o).
+    loss_o: f32,
+    // Fdez-Aguera's FssEss of the metal (the split sum's with a map).
+    fss_ess: vec3<f32>,
+    // The coating's E_spec(mu_o) and Fdez-Aguera energy.
+    e_spec_o: f32,
+    coat_fms_ems: f32,
+    // PART_WHOLE or PART_MULTIPLE: what model_brdf returns (the Monte Carlo's McParams.part;
+    // the lobe's estimator takes the whole).
+    part: u32,
+}
+
+fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
+    var p: ShadingPoint;
+    p.n = n;
+    p.v = v;
+    p.mu_o = max(dot(n, v), 0.0);
+    p.roughness = b.roughness;
+    p.f0 = b.f0;
+    p.ms = b.ms;
+    p.part = PART_WHOLE;
+    p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
+    let e_o = 1.0 - p.loss_o;
+    p.fss_ess = f_avg_schlick(p.f0) * e_o;
+    if IBL != 0u {
+        p.fss_ess = split_sum_scale(p.f0, e_o, split_sum_bias(env_split_sum, p.mu_o, p.roughness));
+    }
+    if b.metallic < 1.0 {
+        let f0 = f0_from_ior(b.eta);
+        let loss = p.loss_o * p.ms;
+        let e_f_o = coating_albedo(b.coating_row, p.mu_o);
+        p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coat_f_add, p.ms, b.term);
+        if p.ms > 0.0 && b.term == TERM_FDEZ_AGUERA {
+            p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
+        }
+    }
+    return p;
+}
+
+// The BRDF f_r(v, l) of the ball's model per channel, 0 below either horizon
+// (src/cpu/montecarlo.rs model_brdf; the light loops of shade_metal in lighting.wgsl and
+// shade_coating in coating.wgsl): the metal's and the coating's mixed by metallic.
+fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
+    let mu_i = dot(p.n, l);
+    if mu_i <= 0.0 || p.mu_o <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let sum = p.v + l;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return vec3<f32>(0.0);
+    }
+    let h = sum / len;
+    var loss_i = 0.0;
+    if p.ms > 0.0 {
+        loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
+    }
+    let metallic = b.metallic;
+    var f = vec3<f32>(0.0);
+    if metallic > 0.0 {
+        f = metallic * metal_brdf(b, p, mu_i, h, loss_i);
+    }
+    if metallic < 1.0 {
+        f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i);
+    }
+    return f;
+}
+
+// The metal's part of model_brdf: f_micro with Schlick F per channel and the ball's term.
+fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+    let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
+    var multiple = vec3<f32>(0.0);
+    if p.ms > 0.0 {
+        multiple = by_term(
+            b.term,
+            p.ms * b.f_add * f_ms(p.loss_o, loss_i, b.ms_norm),
+            p.ms * term_turquin(spec, p.f0, 1.0 - p.loss_o),
+            p.ms * term_fdez_aguera(p.fss_ess, p.f0, p.loss_o) / PI,
+        );
+    }
+    if p.part == PART_MULTIPLE {
+        return multiple;
+    }
+    return spec + multiple;
+}
+
+// The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
+fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+    let eta = b.eta;
+    let f_add = b.coat_f_add;
+    let f0 = f0_from_ior(eta);
+    let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
+    let spec = f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY).x;
+    let loss_o = p.loss_o * p.ms;
+    var lobe = 0.0;
+    if p.ms > 0.0 {
+        lobe = by_term_f32(
+            b.term,
+            f_add * f_ms(loss_o, loss_i, b.ms_norm),
+            term_turquin(vec3<f32>(spec), vec3<f32>(f0), 1.0 - loss_o).x,
+            p.coat_fms_ems / PI,
+        );
+    }
+    var e_spec_i = 0.0;
+    if two_sided(b) {
+        e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
+    }
+    if p.part == PART_MULTIPLE {
+        return vec3<f32>(p.ms * lobe);
+    }
+    return vec3<f32>(spec + p.ms * lobe) + coating_base(b, p.e_spec_o, e_spec_i, fresnel);
+}
+
+// Density (solid angle) of sample_vndf at l (vndf_density at l's half vector).
+fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
+    let sum = p.v + l;
+    let len = length(sum);
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    let h = sum / len;
+    return vndf_density(p.mu_o, dot(p.n, h), alpha);
+}
