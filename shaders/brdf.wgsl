@@ -366,3 +366,15 @@ fn f_dielectric(cos_theta: f32, eta: f32, form: u32) -> f32 {
     }
     return fresnel_dielectric(cos_theta, eta);
 }
+
+// The share of the base's light under the physical clear coat of weight `weight`, light
+// arriving with the coat's transmission 1 - e_coat_i: (1 - weight) + weight out (1 -
+// e_coat_i), out per channel the view's part (src/brdf/clearcoat.rs).
+fn clearcoat_through_physical(weight: f32, out: vec3<f32>, e_coat_i: f32) -> vec3<f32> {
+    return vec3<f32>(1.0 - weight) + weight * out * (1.0 - e_coat_i);
+}
+
+// The share of the base's light under an engine's clear coat: 1 - weight F.
+fn clearcoat_through_engine(weight: f32, fresnel: f32) -> f32 {
+    return 1.0 - weight * fresnel;
+}

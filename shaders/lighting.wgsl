@@ -14,7 +14,8 @@
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::shade_coating
+#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_through, clearcoat_environment}
+#import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
 
@@ -25,10 +26,22 @@
 // `pixel` (column, row) picks the pixel's sequence of samples in the lobe mode (IBL = 2),
 // where the map's part is the whole model's, sampled once (shade_environment_mis), and the
 // metal's and the coating's shading leave it out.
+// A clear coat (clearcoat.wgsl) adds its own lobe and weights the base's light by what it
+// lets through.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
+    if has_clearcoat(b) {
+        clearcoat_begin(b, n, v, term_weight(b));
+        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights);
+    }
+    return shade_base(b, n, v, n_lights, pixel);
+}
+
+// The ball under its clear coat (all of it without one): the metal's and the coating's
+// parts mixed by metallic, the lobe mode's map part weighted by what a coat lets through.
+fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     var map_part = vec3<f32>(0.0);
     if IBL == 2u {
-        map_part = shade_environment_mis(b, n, v, pixel);
+        map_part = shade_environment_mis(b, n, v, pixel) * clearcoat_environment(b);
     }
     let metallic = b.metallic;
     if metallic >= 1.0 {
@@ -97,6 +110,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     if IBL == 1u {
         lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
     }
+    // The share of uniform light and the map that a clear coat lets through (1 without).
+    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -135,7 +150,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
             );
         }
         let f_r = spec + lobe;
-        lo += f_r * lights[k].radiance.xyz * mu_i;
+        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }

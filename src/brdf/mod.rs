@@ -2,11 +2,13 @@
 //!
 //! Every function here is mirrored name for name in `shaders/brdf.wgsl`; the WGSL copy
 //! evaluates the same formula in `f32`. The exceptions are bake-time averages, which the
-//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`. Conventions: the surface normal is +z,
+//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`, and
+//! the per-ball `clearcoat_inside_scale`. Conventions: the surface normal is +z,
 //! `mu_o = n.v`, `mu_i = n.l`, `alpha = roughness^2`. Nothing in this layer knows of
 //! tables, files or the GPU.
 
 mod anisotropy;
+mod clearcoat;
 mod compensation;
 mod fresnel;
 mod geometry;
@@ -18,6 +20,7 @@ pub use anisotropy::{
     anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso, g_aniso,
     isotropic_roughness, lambda_smith_aniso,
 };
+pub use clearcoat::{clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical};
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
     f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,

@@ -172,7 +172,7 @@ impl ShadingPoint {
     /// and geometry and the ball's model, with E and E_avg from `e` (its coating formed
     /// for the call: [`ShadingPoint::with_coat`] takes one formed once per ball).
     pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
-        let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+        let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
         let coat = Coat::of_ball(scene, b, e, &rows);
         Self::with_coat(scene, (b, coat.as_ref()), (n, v), e)
     }

@@ -55,15 +55,24 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
-    let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+    let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
     let coat = Coat::of_ball(scene, b, e, &rows);
+    let clearcoat = crate::prepared::Clearcoat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
         map: None,
         lobe: LobeSamples::of(scene, (0, 0), 0),
+        coat: None,
     };
-    shade_point(scene, (b, coat.as_ref()), n, v, e, &forms)
+    shade_point(
+        scene,
+        (b, (coat.as_ref(), clearcoat.as_ref())),
+        n,
+        v,
+        e,
+        &forms,
+    )
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
@@ -73,6 +82,32 @@ pub fn shade(
 /// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
+    (b, (coat, clearcoat)): (&Ball, Coats<'_>),
+    n: DVec3,
+    v: DVec3,
+    e: &TableSet,
+    forms: &Forms<'_>,
+) -> DVec3 {
+    let Some(clearcoat) = clearcoat else {
+        return shade_base(scene, (b, coat), n, v, e, forms);
+    };
+    let point = super::clearcoat::ClearcoatPoint::new(scene, b, clearcoat, (n, v), e);
+    let forms = Forms {
+        coat: Some(point),
+        lobe: forms.lobe,
+        ..*forms
+    };
+    shade_base(scene, (b, coat), n, v, e, &forms)
+        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, &forms)
+}
+
+/// A ball's coating and clear coat, each formed once per ball (`None` without one).
+pub(super) type Coats<'a> = (Option<&'a Coat>, Option<&'a crate::prepared::Clearcoat>);
+
+/// `shade_base` of `lighting.wgsl`: the ball under its clear coat (all of it without one),
+/// the base's light weighted by `forms.coat`.
+fn shade_base(
+    scene: &Scene,
     (b, coat): (&Ball, Option<&Coat>),
     n: DVec3,
     v: DVec3,
@@ -80,17 +115,22 @@ pub(super) fn shade_point(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
+    // A clear coat weights the environment's part (the uniform's and the map's).
+    let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
     // The lobe mode: the map's part is the whole model's, sampled once.
     let map_part = match (forms.map, forms.lobe) {
-        (Some(map), Some(lobe)) => shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe),
+        (Some(map), Some(lobe)) => {
+            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * through
+        }
         _ => DVec3::ZERO,
     };
     let metal = || {
-        let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
-        match (forms.map, forms.lobe) {
-            (Some(map), None) => lo + shade_environment_map(scene, b, n, v, &terms, map),
-            _ => lo,
-        }
+        let (lo, terms, lights) = shade_with_terms(scene, b, n, v, e, forms);
+        let map = match (forms.map, forms.lobe) {
+            (Some(map), None) => shade_environment_map(scene, b, n, v, &terms, map),
+            _ => DVec3::ZERO,
+        };
+        (lo + map) * through + lights
     };
     let Some(coat) = coat.filter(|_| metallic < 1.0) else {
         return metal() + map_part;
@@ -132,7 +172,7 @@ pub(super) fn shade_with_terms(
     v: DVec3,
     e: &TableSet,
     forms: &Forms<'_>,
-) -> (DVec3, PointTerms) {
+) -> (DVec3, PointTerms, DVec3) {
     let Forms { form, geometry, .. } = *forms;
     let split = forms.map.map(|m| &m.split);
     let roughness = b.shading_roughness();
@@ -171,7 +211,8 @@ pub(super) fn shade_with_terms(
         IblTerm::Turquin => turquin_rgb(single, f0, e_o),
         IblTerm::FdezAguera => fms_ems,
     };
-    let mut lo = scene.environment * (single + ms * added);
+    let lo = scene.environment * (single + ms * added);
+    let mut lights = DVec3::ZERO;
     // An anisotropic lobe: the lights' single scattering in the ball's tangent frame.
     let aniso = anisotropic_frame(b, n);
     for light in &scene.lights {
@@ -203,7 +244,10 @@ pub(super) fn shade_with_terms(
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
         let f_r = spec + ms * lobe;
-        lo += f_r * light.radiance * mu_i;
+        let through = forms
+            .coat
+            .map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
+        lights += through * f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {
         mu_o,
@@ -214,7 +258,7 @@ pub(super) fn shade_with_terms(
         fms_ems,
         f_add,
     };
-    (lo, terms)
+    (lo, terms, lights)
 }
 
 /// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b`'s metal at normal

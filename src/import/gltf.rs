@@ -32,8 +32,9 @@ use crate::scene::{Ball, Camera, Material, Model, Scene, DEFAULT_IOR, IOR_RANGE,
 pub const MAX_GLTF_BYTES: u64 = 256 << 20;
 
 /// The extensions read (a file may require these).
-pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
     "KHR_materials_ior",
+    "KHR_materials_clearcoat",
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
@@ -96,6 +97,9 @@ pub struct GltfMaterial {
     pub anisotropy_strength: f64,
     /// `KHR_materials_anisotropy`'s `anisotropyRotation`, radians (0 without it).
     pub anisotropy_rotation: f64,
+    /// `KHR_materials_clearcoat`'s `clearcoatFactor` and `clearcoatRoughnessFactor` (index
+    /// 1.5, the extension's; no coat without it).
+    pub clearcoat: crate::scene::ClearCoat,
 }
 
 impl GltfMaterial {
@@ -115,6 +119,7 @@ impl GltfMaterial {
             emissive_strength: 1.0,
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         }
     }
 
@@ -153,7 +158,8 @@ impl GltfMaterial {
     /// `KHR_materials_anisotropy` asks (the rotation brought into `(-pi, pi]`; a material
     /// without metal keeps an isotropic lobe: the import's notice says so).
     pub fn material(&self) -> Material {
-        let m = Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior());
+        let m = Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
+            .with_clearcoat(self.clearcoat);
         if self.anisotropy_strength > 0.0 && m.has_metal() {
             let pi = std::f64::consts::PI;
             let turn = pi - (pi - self.anisotropy_rotation).rem_euclid(2.0 * pi);
@@ -647,7 +653,7 @@ fn check_buffer_views(doc: &Doc) -> std::result::Result<(), String> {
 }
 
 /// The textures a material's (or an extension's) object names.
-const TEXTURE_KEYS: [&str; 8] = [
+const TEXTURE_KEYS: [&str; 11] = [
     "baseColorTexture",
     "metallicRoughnessTexture",
     "normalTexture",
@@ -656,6 +662,9 @@ const TEXTURE_KEYS: [&str; 8] = [
     "specularTexture",
     "specularColorTexture",
     "anisotropyTexture",
+    "clearcoatTexture",
+    "clearcoatRoughnessTexture",
+    "clearcoatNormalTexture",
 ];
 
 fn materials(
@@ -695,6 +704,7 @@ fn materials(
             emissive_strength: 1.0,
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         };
         let mut textures: Vec<&str> = TEXTURE_KEYS
             .iter()
@@ -724,6 +734,11 @@ fn materials(
                             [1.0; 3],
                             (0.0, f64::MAX),
                         )?);
+                    }
+                    "KHR_materials_clearcoat" => {
+                        material.clearcoat.weight = number(e, "clearcoatFactor", &e_at, 0.0, unit)?;
+                        material.clearcoat.roughness =
+                            number(e, "clearcoatRoughnessFactor", &e_at, 0.0, unit)?;
                     }
                     "KHR_materials_emissive_strength" => {
                         material.emissive_strength =

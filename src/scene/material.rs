@@ -32,6 +32,8 @@ pub struct Material {
     /// The anisotropy's direction, radians counter-clockwise from the ball's tangent
     /// (`brdf::ball_tangent`; glTF's `anisotropyRotation`).
     pub anisotropy_rotation: f64,
+    /// The clear coat over the whole material ([`super::ClearCoat::NONE`]: none).
+    pub clearcoat: super::ClearCoat,
 }
 
 impl Material {
@@ -44,6 +46,7 @@ impl Material {
             ior: DEFAULT_IOR,
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -69,6 +72,7 @@ impl Material {
             ior,
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -82,6 +86,7 @@ impl Material {
             ior,
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -130,6 +135,11 @@ impl Material {
     /// Whether any part is metal.
     pub fn has_metal(&self) -> bool {
         self.metallic > 0.0
+    }
+
+    /// This material under the clear coat `clearcoat`.
+    pub fn with_clearcoat(self, clearcoat: super::ClearCoat) -> Self {
+        Material { clearcoat, ..self }
     }
 
     /// Whether any part is dielectric.

@@ -7,6 +7,7 @@
 //! surface towards the light.
 
 mod camera;
+mod clearcoat;
 #[cfg(feature = "scene-files")]
 mod file;
 mod material;
@@ -23,6 +24,7 @@ pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
     MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
+pub use clearcoat::{ClearCoat, CoatForm, DEFAULT_CLEARCOAT_IOR};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{gamma22_decode, srgb_decode, Layering, Material, DEFAULT_IOR, IOR_RANGE};
@@ -127,6 +129,8 @@ pub struct Scene {
     pub geometry: Geometry,
     /// How every dielectric's base is weighted under its coating.
     pub layering: Layering,
+    /// How every clear coat weights the ball under it (`coat_form`, `--coat-form`).
+    pub coat_form: CoatForm,
     /// What every dielectric's `base_color` means: the colour a viewer sees (default) or
     /// the substrate's albedo under the coating (`base_reading`, `--base-reading`).
     pub base_reading: BaseReading,
@@ -193,6 +197,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             layering: Layering::default(),
+            coat_form: CoatForm::default(),
             base_reading: BaseReading::default(),
             labels: true,
             antialias: true,

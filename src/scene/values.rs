@@ -207,6 +207,22 @@ impl TryFrom<f64> for AnisotropyRotation {
     }
 }
 
+/// A weight in `[0, 1]` (a clear coat's); its error names the key before it.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Unit(pub f64);
+
+impl TryFrom<f64> for Unit {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(Unit(v))
+        } else {
+            Err(format!("{} is outside [0, 1]", short_number(v)))
+        }
+    }
+}
+
 /// An index of refraction in [`super::IOR_RANGE`].
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]

@@ -352,7 +352,41 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
         }
     }
     anisotropy(ui, scene);
+    clearcoat(ui, scene);
     ui.checkbox(&mut scene.labels, "labels (roughness, row model, caption)");
+}
+
+/// The clear coat of every ball (the first ball's shown; moving a slider sets them all)
+/// and, with a coat, its form (docs/design/coat.md).
+fn clearcoat(ui: &mut egui::Ui, scene: &mut Scene) {
+    let Some(first) = scene.balls.first() else {
+        return;
+    };
+    let mut c = first.material.clearcoat;
+    let mut changed = ui
+        .add(egui::Slider::new(&mut c.weight, 0.0..=1.0).text("clear coat"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut c.roughness, 0.0..=1.0).text("coat roughness"))
+        .changed();
+    let (lo, hi) = crate::scene::IOR_RANGE;
+    changed |= ui
+        .add(egui::Slider::new(&mut c.ior, lo..=hi).text("coat IOR"))
+        .changed();
+    if changed {
+        for b in &mut scene.balls {
+            b.material.clearcoat = c;
+        }
+    }
+    if scene.balls.iter().any(|b| b.material.clearcoat.is_on()) {
+        combo(
+            ui,
+            "coat form",
+            &mut scene.coat_form,
+            &crate::scene::CoatForm::ALL,
+            |f| f.name(),
+        );
+    }
 }
 
 /// The anisotropy of every ball with metal (docs/design/anisotropy.md): its strength and

@@ -75,6 +75,7 @@ fn top_level(out: &mut String, scene: &Scene) {
     let _ = writeln!(out, "preset = {}", string(scene.preset.name()));
     let _ = writeln!(out, "geometry = {}", string(scene.geometry.name()));
     let _ = writeln!(out, "layering = {}", string(scene.layering.name()));
+    let _ = writeln!(out, "coat_form = {}", string(scene.coat_form.name()));
     let _ = writeln!(out, "base_reading = {}", string(scene.base_reading.name()));
     let _ = writeln!(out, "exposure = {}", num(scene.exposure));
     let background = match scene.background {
@@ -183,6 +184,22 @@ fn anisotropic(table: String, m: &Material) -> String {
 /// engines' material by an sRGB `base_color` that decodes to it exactly; a dielectric by an
 /// `albedo` whose `pow 2.2` is its base exactly.
 fn material(m: &Material) -> Result<String, String> {
+    let text = material_base(m)?;
+    let c = m.clearcoat;
+    if !c.is_on() {
+        return Ok(text);
+    }
+    let body = text.trim_end_matches('}').trim_end();
+    Ok(format!(
+        "{body}, clearcoat = {}, clearcoat_roughness = {}, clearcoat_ior = {} }}",
+        num(c.weight),
+        num(c.roughness),
+        num(c.ior)
+    ))
+}
+
+/// [`material`] without its clear coat.
+fn material_base(m: &Material) -> Result<String, String> {
     let pow = |c: f64| gamma22_decode([c; 3]).x;
     if m.metallic == 1.0 && m.diffuse == DVec3::ZERO && m.ior == DEFAULT_IOR {
         return Ok(match short3(m.f0, pow, |d| d.powf(1.0 / 2.2)) {

@@ -376,7 +376,7 @@ pub fn smooth_coating_albedo(mu: f64, eta: f64, rho: f64) -> f64 {
 /// Russian roulette on a path's per-channel weights: below [`RR_BELOW`] (their largest),
 /// the path survives with probability `max / RR_BELOW` and its weights are divided by it;
 /// whether it survives (a path of zero weights does not).
-fn russian_roulette(w: &mut [f64], rng: &mut Rng) -> bool {
+pub(crate) fn russian_roulette(w: &mut [f64], rng: &mut Rng) -> bool {
     let max = w.iter().copied().fold(0.0, f64::max);
     if max >= RR_BELOW {
         return true;

@@ -12,6 +12,7 @@
 //! weight and always continues with the weight scaled by `1 - G1`, down to a Russian
 //! roulette.
 
+pub mod clearcoat;
 pub mod coating;
 pub mod microsurface;
 pub mod rng;

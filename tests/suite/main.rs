@@ -7,6 +7,7 @@ mod base_reading;
 mod boundary;
 mod bounds;
 mod clamp;
+mod clearcoat;
 mod cli;
 mod cli_bake;
 mod cli_fuzz;
