@@ -93,6 +93,90 @@ fn geometry_g(mu_o: f32, mu_i: f32, roughness: f32, geometry: u32) -> f32 {
     return g_schlick(mu_o, mu_i, roughness);
 }
 
+// Anisotropic GGX (Heitz 2014, "Understanding the Masking-Shadowing Function in
+// Microfacet-Based BRDFs", JCGT 3(2); src/brdf/anisotropy.rs, name for name), vectors in
+// the local frame (tangent x, alpha_t; bitangent y, alpha_b; normal z).
+// D(h) = 1 / (pi alpha_t alpha_b ((h_x / alpha_t)^2 + (h_y / alpha_b)^2 + h_z^2)^2).
+fn d_ggx_aniso(h: vec3<f32>, alpha_t: f32, alpha_b: f32) -> f32 {
+    if h.z <= 0.0 {
+        return 0.0;
+    }
+    let x = h.x / alpha_t;
+    let y = h.y / alpha_b;
+    let s = x * x + y * y + h.z * h.z;
+    return 1.0 / max(PI * alpha_t * alpha_b * s * s, DIV_EPSILON);
+}
+
+// Smith's Lambda of anisotropic GGX: a / (2 (1 + sqrt(1 + a))), a = (alpha_t^2 w_x^2 +
+// alpha_b^2 w_y^2) / w_z^2; LAMBDA_MAX at or below the horizon.
+fn lambda_smith_aniso(w: vec3<f32>, alpha_t: f32, alpha_b: f32) -> f32 {
+    let z = max(w.z, 0.0);
+    let z2 = z * z;
+    if z2 <= 0.0 {
+        return LAMBDA_MAX;
+    }
+    let a = (alpha_t * alpha_t * w.x * w.x + alpha_b * alpha_b * w.y * w.y) / z2;
+    return a / (2.0 * (1.0 + sqrt(1.0 + a)));
+}
+
+// The G of `geometry` for the anisotropic lobe: height-correlated Smith
+// 1 / (1 + Lambda(o) + Lambda(i)), separable Smith 1 / ((1 + Lambda(o)) (1 + Lambda(i))), or
+// Schlick-GGX at the isotropic-equivalent roughness (alpha_t alpha_b)^(1/4).
+fn g_aniso(o: vec3<f32>, i: vec3<f32>, alpha_t: f32, alpha_b: f32, geometry: u32) -> f32 {
+    if geometry == GEOMETRY_SMITH_CORRELATED {
+        return 1.0 / (1.0 + lambda_smith_aniso(o, alpha_t, alpha_b) + lambda_smith_aniso(i, alpha_t, alpha_b));
+    }
+    if geometry == GEOMETRY_SMITH {
+        return 1.0 / ((1.0 + lambda_smith_aniso(o, alpha_t, alpha_b)) * (1.0 + lambda_smith_aniso(i, alpha_t, alpha_b)));
+    }
+    return g_schlick(o.z, i.z, sqrt(sqrt(alpha_t * alpha_b)));
+}
+
+// The anisotropic lobe's single scattering F G D / (4 mu_i mu_o), local o, i and their half
+// vector h; 0 below the horizon.
+fn f_micro_aniso(fresnel: vec3<f32>, o: vec3<f32>, i: vec3<f32>, h: vec3<f32>, alpha_t: f32, alpha_b: f32, geometry: u32) -> vec3<f32> {
+    if o.z <= 0.0 || i.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let d = d_ggx_aniso(h, alpha_t, alpha_b);
+    let g = g_aniso(o, i, alpha_t, alpha_b, geometry);
+    return fresnel * (g * d / max(4.0 * i.z * o.z, DIV_EPSILON));
+}
+
+// The ball's tangent field at unit normal n (brdf::ball_tangent): the tangent of the circle
+// of latitude about +y, normalize(y x n) (+x at the poles), turned by the rotation (cos, sin)
+// about n; returns the frame (t, b, n) as columns.
+fn ball_tangent_frame(n: vec3<f32>, turn: vec2<f32>) -> mat3x3<f32> {
+    let around = vec3<f32>(n.z, 0.0, -n.x);
+    let len2 = dot(around, around);
+    var t0 = vec3<f32>(1.0, 0.0, 0.0);
+    if len2 > DIV_EPSILON {
+        t0 = around / sqrt(len2);
+    }
+    let b0 = cross(n, t0);
+    let t = turn.x * t0 + turn.y * b0;
+    return mat3x3<f32>(t, cross(n, t), n);
+}
+
+// The normal an anisotropic lobe reflects the map about under the split sum (the glTF
+// sample viewer's KHR_materials_anisotropy image-based lighting, after Revie 2011's bent
+// reflection; src/brdf anisotropic_bent_normal): n bent towards the normal of the plane
+// through the lobe's rough direction (the tangent t, alpha_t) facing v, by 1 - (1 - s (1 - r))^4, with the strength s and the
+// roughness r recovered from the pair (alpha_b = r^2, alpha_t = mix(alpha_b, 1, s^2)).
+fn anisotropic_bent_normal(n: vec3<f32>, v: vec3<f32>, t: vec3<f32>, alpha_t: f32, alpha_b: f32) -> vec3<f32> {
+    let s = sqrt(clamp((alpha_t - alpha_b) / max(1.0 - alpha_b, DIV_EPSILON), 0.0, 1.0));
+    let r = sqrt(alpha_b);
+    let across = cross(t, v);
+    let facing = cross(across, t);
+    let len = length(facing);
+    if len <= DIV_EPSILON {
+        return n;
+    }
+    let k = 1.0 - s * (1.0 - r);
+    let keep = k * k * k * k;
+    return normalize(mix(facing / len, n, keep));
+}
+
 // Schlick's approximation (Schlick 1994, "An Inexpensive BRDF Model for Physically-based
 // Rendering", eq. 15): F = F0 + (1 - F0) (1 - cos)^5, cos = v.h, clamped to [0, 1].
 fn f_schlick(f0: vec3<f32>, cos_theta: f32) -> vec3<f32> {
@@ -281,4 +365,16 @@ fn f_dielectric(cos_theta: f32, eta: f32, form: u32) -> f32 {
         return f_schlick(vec3<f32>(f0_from_ior(eta)), cos_theta).x;
     }
     return fresnel_dielectric(cos_theta, eta);
+}
+
+// The share of the base's light under the physical clear coat of weight `weight`, light
+// arriving with the coat's transmission 1 - e_coat_i: (1 - weight) + weight out (1 -
+// e_coat_i), out per channel the view's part (src/brdf/clearcoat.rs).
+fn clearcoat_through_physical(weight: f32, out: vec3<f32>, e_coat_i: f32) -> vec3<f32> {
+    return vec3<f32>(1.0 - weight) + weight * out * (1.0 - e_coat_i);
+}
+
+// The share of the base's light under an engine's clear coat: 1 - weight F.
+fn clearcoat_through_engine(weight: f32, fresnel: f32) -> f32 {
+    return 1.0 - weight * fresnel;
 }

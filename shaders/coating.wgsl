@@ -7,11 +7,13 @@
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
+#import shadeballs::brdf::{clearcoat_through_physical, clearcoat_through_engine}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
+#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
@@ -24,6 +26,79 @@ fn coating_albedo(row: u32, mu: f32) -> f32 {
     let first = row * COATING_ROW_LEN + k;
     let a = coating_rows[first];
     return a + t * (coating_rows[first + 1u] - a);
+}
+
+// A clear coat's point and the share of the base's light it lets through, read here by
+// the base's shading and formed by clearcoat.wgsl clearcoat_begin (src/cpu/clearcoat.rs).
+// What a coated point forms once per pixel (clearcoat_begin), for the base's shading and
+// the coat's own.
+struct ClearcoatPoint {
+    // The physical form's view part of the base's weight, (1 - E_c(mu_o)) inside, per channel.
+    out: vec3<f32>,
+    // The coat's directional albedo at the view under its form: E_c(mu_o) (physical),
+    // E_F(mu_o) (Filament's), F_c(mu_o) E(mu_o) (glTF's).
+    albedo_o: f32,
+    // The base's weight under uniform light and the map.
+    environment: vec3<f32>,
+    // The coat's 1 - E(mu_o) (its Fresnel-free table).
+    loss_o: f32,
+    // The coat's single scattering E_F(mu_o), its row's.
+    e_f_o: f32,
+    // The coat's Fresnel at the view.
+    fresnel_o: f32,
+    // The weight of the coat's Kulla-Conty term (physical form only).
+    ms: f32,
+}
+
+// The point being shaded (clearcoat_begin), read by clearcoat_through and the coat's own
+// shading. (A private, as coating.wgsl's coating_lobe: the base's shading keeps its
+// signatures.)
+var<private> clearcoat_point: ClearcoatPoint;
+
+// Whether ball b has a clear coat.
+fn has_clearcoat(b: Ball) -> bool {
+    return b.clearcoat > 0.0;
+}
+
+// The coat's specular albedo E_c(mu) under the physical form: its row's E_F(mu) and its
+// term's f_add (1 - E(mu)) (ms its weight).
+fn clearcoat_albedo(b: Ball, mu: f32, ms: f32) -> f32 {
+    var loss = 0.0;
+    if ms > 0.0 {
+        loss = lut_loss_row(e_table, lut_params(), mu, b.clearcoat_lut_row);
+    }
+    return coating_albedo(b.clearcoat_row, mu) + ms * b.clearcoat_f_add * loss;
+}
+
+// The share of the base's light from a light at cosine mu_i (v_dot_h: the view's cosine
+// to the half vector) that comes through ball b's coat; 1 without a coat.
+fn clearcoat_through(b: Ball, mu_i: f32, v_dot_h: f32) -> vec3<f32> {
+    if !has_clearcoat(b) {
+        return vec3<f32>(1.0);
+    }
+    let w = b.clearcoat;
+    switch b.clearcoat_form {
+        case COAT_FORM_FILAMENT: {
+            let fresnel = f_dielectric(v_dot_h, b.clearcoat_eta, b.clearcoat_fresnel);
+            return vec3<f32>(clearcoat_through_engine(w, fresnel));
+        }
+        case COAT_FORM_GLTF: {
+            return vec3<f32>(clearcoat_through_engine(w, clearcoat_point.fresnel_o));
+        }
+        default: {
+            let e_i = clearcoat_albedo(b, mu_i, clearcoat_point.ms);
+            return clearcoat_through_physical(w, clearcoat_point.out, e_i);
+        }
+    }
+}
+
+// The share of the base's light from uniform light and the map that comes through ball
+// b's coat; 1 without a coat.
+fn clearcoat_environment(b: Ball) -> vec3<f32> {
+    if !has_clearcoat(b) {
+        return vec3<f32>(1.0);
+    }
+    return clearcoat_point.environment;
 }
 
 // The coating's specular albedo E_spec(mu) with the ball's term (weight ms): Kulla-Conty's
@@ -124,6 +199,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     if IBL == 1u {
         lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o);
     }
+    // The share of uniform light and the map that a clear coat lets through (1 without).
+    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -152,7 +229,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
             e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
         }
         let f_r = vec3<f32>(spec + ms * lobe) + coating_base(b, e_spec_o, e_spec_i, fresnel);
-        lo += f_r * lights[k].radiance.xyz * mu_i;
+        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }

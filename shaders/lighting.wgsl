@@ -5,7 +5,7 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::alpha_from_roughness
+#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
@@ -14,7 +14,8 @@
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::shade_coating
+#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_through, clearcoat_environment}
+#import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
 
@@ -25,10 +26,22 @@
 // `pixel` (column, row) picks the pixel's sequence of samples in the lobe mode (IBL = 2),
 // where the map's part is the whole model's, sampled once (shade_environment_mis), and the
 // metal's and the coating's shading leave it out.
+// A clear coat (clearcoat.wgsl) adds its own lobe and weights the base's light by what it
+// lets through.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
+    if has_clearcoat(b) {
+        clearcoat_begin(b, n, v, term_weight(b));
+        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights);
+    }
+    return shade_base(b, n, v, n_lights, pixel);
+}
+
+// The ball under its clear coat (all of it without one): the metal's and the coating's
+// parts mixed by metallic, the lobe mode's map part weighted by what a coat lets through.
+fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     var map_part = vec3<f32>(0.0);
     if IBL == 2u {
-        map_part = shade_environment_mis(b, n, v, pixel);
+        map_part = shade_environment_mis(b, n, v, pixel) * clearcoat_environment(b);
     }
     let metallic = b.metallic;
     if metallic >= 1.0 {
@@ -97,9 +110,19 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     if IBL == 1u {
         lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
     }
+    // The share of uniform light and the map that a clear coat lets through (1 without).
+    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
+    // An anisotropic lobe (docs/design/anisotropy.md): the lights' single scattering in the
+    // ball's tangent frame; `roughness` is its isotropic equivalent for the rest.
+    let aniso = b.anisotropy_alpha_t > b.anisotropy_alpha_b;
+    var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
+    if aniso {
+        frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+    }
+    let v_local = v * frame;
     for (var k = 0u; k < n_lights; k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
@@ -108,7 +131,12 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, dot(v, h));
-        let spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
+        var spec = vec3<f32>(0.0);
+        if aniso {
+            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, b.anisotropy_alpha_t, b.anisotropy_alpha_b, GEOMETRY);
+        } else {
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
+        }
         var lobe = vec3<f32>(0.0);
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
         // its E read; then a branch on the ball's own term.
@@ -122,7 +150,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
             );
         }
         let f_r = spec + lobe;
-        lo += f_r * lights[k].radiance.xyz * mu_i;
+        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }
@@ -152,7 +180,13 @@ fn shade_environment_map(
     let n_map = env_to_map(n, rotation);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let e_o = 1.0 - loss_o;
-    let r = 2.0 * dot(n, v) * n - v;
+    // An anisotropic lobe reflects about its bent normal (anisotropic_bent_normal).
+    var n_spec = n;
+    if b.anisotropy_alpha_t > b.anisotropy_alpha_b {
+        let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+        n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+    }
+    let r = 2.0 * dot(n_spec, v) * n_spec - v;
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
     let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);

@@ -6,7 +6,7 @@
 
 #define_import_path shadeballs::sampling
 #import shadeballs::constants::{PI, DIV_EPSILON}
-#import shadeballs::brdf::d_ggx
+#import shadeballs::brdf::{d_ggx, d_ggx_aniso}
 #import shadeballs::environment::{direction_to_uv, env_to_map}
 
 // An orthonormal frame about unit n, as columns (tangent, bitangent, n) (Duff et al. 2017,
@@ -52,6 +52,39 @@ fn vndf_density(mu_o: f32, n_dot_h: f32, alpha: f32) -> f32 {
     let root = sqrt(c * c + alpha * alpha * (1.0 - c * c));
     let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
     return d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0;
+}
+
+// sample_vndf of anisotropic GGX, alpha_t along local x and alpha_b along y (Heitz 2018's
+// listing 1 takes the two alphas: the stretch is per axis).
+fn sample_vndf_aniso(v: vec3<f32>, alpha_t: f32, alpha_b: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let stretched = vec3<f32>(alpha_t * v.x, alpha_b * v.y, max(v.z, 0.0));
+    let vh = stretched / max(length(stretched), DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3<f32>(1.0, 0.0, 0.0);
+    if lensq > DIV_EPSILON {
+        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
+    let ne = vec3<f32>(alpha_t * nh.x, alpha_b * nh.y, max(nh.z, 0.0));
+    let h = ne / max(length(ne), DIV_EPSILON);
+    return 2.0 * dot(v, h) * h - v;
+}
+
+// The density per solid angle of sample_vndf_aniso's direction with local half vector h:
+// G1(v) D(h) / (4 v_z), G1 / v_z written to stay finite at grazing v.
+fn vndf_density_aniso(v: vec3<f32>, h: vec3<f32>, alpha_t: f32, alpha_b: f32) -> f32 {
+    let c = clamp(v.z, 0.0, 1.0);
+    let x = alpha_t * v.x;
+    let y = alpha_b * v.y;
+    let root = sqrt(c * c + x * x + y * y);
+    let g1_over_mu = 2.0 / max(c + root, DIV_EPSILON);
+    return d_ggx_aniso(h, alpha_t, alpha_b) * g1_over_mu / 4.0;
 }
 
 // A cosine-distributed direction about +z (Malley's method), density mu_i / pi.

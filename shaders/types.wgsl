@@ -9,7 +9,8 @@
 // array. TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
 // ball's own, so one pipeline draws every model (a branch per ball, coherent over its
 // pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
-// (Ball.layering; src/scene Layering). COATING_ROW_LEN: the values of a coating row
+// (Ball.layering; src/scene Layering). COAT_FORM_*: how a clear coat weights the ball under
+// it (Ball.clearcoat_form; src/scene CoatForm). COATING_ROW_LEN: the values of a coating row
 // (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
 // generated from the Rust constants by tests/suite/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
@@ -22,6 +23,9 @@ const LAYERING_GLTF: u32 = 1u; // gpu::uniforms::LAYERING_CODES
 const LAYERING_VIEW_ONLY: u32 = 2u; // gpu::uniforms::LAYERING_CODES
 const LAYERING_RECIPROCAL: u32 = 3u; // gpu::uniforms::LAYERING_CODES
 const LAYERING_PHYSICAL: u32 = 4u; // gpu::uniforms::LAYERING_CODES
+const COAT_FORM_PHYSICAL: u32 = 0u; // gpu::uniforms::COAT_FORM_CODES
+const COAT_FORM_FILAMENT: u32 = 1u; // gpu::uniforms::COAT_FORM_CODES
+const COAT_FORM_GLTF: u32 = 2u; // gpu::uniforms::COAT_FORM_CODES
 const COATING_ROW_LEN: u32 = 48u; // lut::COATING_ROW_LEN
 const TONE_MAP_REINHARD: u32 = 0u; // display::ToneMap::code
 const TONE_MAP_ACES: u32 = 1u; // display::ToneMap::code
@@ -145,6 +149,22 @@ struct Ball {
     coating_row: u32,
     layering: u32,
     fresnel: u32,
+    anisotropy_alpha_t: f32,
+    anisotropy_alpha_b: f32,
+    anisotropy_cos: f32,
+    anisotropy_sin: f32,
+    clearcoat_lut_row: vec3<f32>,
+    clearcoat: f32,
+    clearcoat_inside: vec3<f32>,
+    clearcoat_roughness: f32,
+    clearcoat_eta: f32,
+    clearcoat_f_add: f32,
+    clearcoat_ms_norm: f32,
+    clearcoat_e_avg: f32,
+    clearcoat_row: u32,
+    clearcoat_form: u32,
+    clearcoat_fresnel: u32,
+    clearcoat_pad: u32,
 }
 
 // The ball's members as a quad's instance attributes (BallInstance::LAYOUT).
@@ -159,6 +179,11 @@ struct BallIn {
     @location(7) ball_6: vec4<f32>,
     @location(8) ball_7: f32,
     @location(9) ball_8: vec3<u32>,
+    @location(10) ball_9: vec4<f32>,
+    @location(11) ball_10: vec4<f32>,
+    @location(12) ball_11: vec4<f32>,
+    @location(13) ball_12: vec4<f32>,
+    @location(14) ball_13: vec4<u32>,
 }
 
 // A quad's fragment: its ball as flat varyings (a fragment shades only its own
@@ -175,6 +200,11 @@ struct BallOut {
     @location(7) @interpolate(flat) ball_6: vec4<f32>,
     @location(8) @interpolate(flat) ball_7: f32,
     @location(9) @interpolate(flat) ball_8: vec3<u32>,
+    @location(10) @interpolate(flat) ball_9: vec4<f32>,
+    @location(11) @interpolate(flat) ball_10: vec4<f32>,
+    @location(12) @interpolate(flat) ball_11: vec4<f32>,
+    @location(13) @interpolate(flat) ball_12: vec4<f32>,
+    @location(14) @interpolate(flat) ball_13: vec4<u32>,
 }
 
 fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
@@ -190,6 +220,11 @@ fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
     out.ball_6 = in.ball_6;
     out.ball_7 = in.ball_7;
     out.ball_8 = in.ball_8;
+    out.ball_9 = in.ball_9;
+    out.ball_10 = in.ball_10;
+    out.ball_11 = in.ball_11;
+    out.ball_12 = in.ball_12;
+    out.ball_13 = in.ball_13;
     return out;
 }
 
@@ -213,6 +248,22 @@ fn ball_of(in: BallOut) -> Ball {
     b.coating_row = in.ball_8.x;
     b.layering = in.ball_8.y;
     b.fresnel = in.ball_8.z;
+    b.anisotropy_alpha_t = in.ball_9.x;
+    b.anisotropy_alpha_b = in.ball_9.y;
+    b.anisotropy_cos = in.ball_9.z;
+    b.anisotropy_sin = in.ball_9.w;
+    b.clearcoat_lut_row = in.ball_10.xyz;
+    b.clearcoat = in.ball_10.w;
+    b.clearcoat_inside = in.ball_11.xyz;
+    b.clearcoat_roughness = in.ball_11.w;
+    b.clearcoat_eta = in.ball_12.x;
+    b.clearcoat_f_add = in.ball_12.y;
+    b.clearcoat_ms_norm = in.ball_12.z;
+    b.clearcoat_e_avg = in.ball_12.w;
+    b.clearcoat_row = in.ball_13.x;
+    b.clearcoat_form = in.ball_13.y;
+    b.clearcoat_fresnel = in.ball_13.z;
+    b.clearcoat_pad = in.ball_13.w;
     b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);
     return b;
 }

@@ -151,6 +151,7 @@ pub fn render(
     request: &Request,
     progress: &mut dyn Progress,
 ) -> Result<Rendered> {
+    check_clearcoat(scene, request.backend, renderer.is_some())?;
     match renderer {
         Some(renderer) if request.backend == Backend::Montecarlo => {
             montecarlo_on_gpu(renderer, scene, request, progress)
@@ -158,6 +159,34 @@ pub fn render(
         Some(renderer) => on_gpu(renderer, scene, request, progress),
         None => on_cpu(scene, request, progress),
     }
+}
+
+/// What no backend but the model's renderers and the CPU truth shades yet: a clear coat
+/// under the Monte Carlo backends, and a clear-coated truth ball on the GPU (walk.wgsl).
+fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
+    let coated = |b: &&crate::scene::Ball| b.material.clearcoat.is_on();
+    let balls = &scene.balls[..scene.balls.len().min(crate::scene::MAX_BALLS)];
+    let message = if matches!(backend, Backend::Montecarlo | Backend::MontecarloCpu)
+        && balls.iter().any(|b| coated(&b))
+    {
+        "the Monte Carlo backends do not shade a clear coat yet (docs/design/coat.md): \
+         render with --backend auto, cpu or truth"
+    } else if gpu
+        && backend != Backend::Truth
+        && balls
+            .iter()
+            .filter(coated)
+            .any(|b| b.model == crate::scene::Model::Truth)
+    {
+        "a clear-coated ball with model = \"truth\" is walked on the CPU only: render with \
+         --backend cpu or truth"
+    } else {
+        return Ok(());
+    };
+    Err(Error::Invalid {
+        what: "backend",
+        message: message.into(),
+    })
 }
 
 /// The noun of a picture file, for messages.

@@ -14,6 +14,7 @@ use glam::DVec3;
 use crate::brdf::{d_ggx, DIV_EPSILON};
 
 /// An orthonormal frame about a unit normal, columns (tangent, bitangent, normal).
+#[derive(Clone, Copy, Debug)]
 pub struct Frame {
     t: DVec3,
     b: DVec3,
@@ -37,6 +38,11 @@ impl Frame {
     /// The frame about unit `n` ([`duff_frame`]).
     pub fn new(n: DVec3) -> Self {
         duff_frame(n)
+    }
+    /// The frame of the orthonormal `t`, `b`, `n` (a ball's tangent field:
+    /// `brdf::ball_tangent`).
+    pub fn from_axes(t: DVec3, b: DVec3, n: DVec3) -> Self {
+        Frame { t, b, n }
     }
     /// The tangent and the bitangent.
     pub fn tangents(&self) -> (DVec3, DVec3) {
@@ -90,6 +96,40 @@ pub fn vndf_density(mu_o: f64, n_dot_h: f64, alpha: f64) -> f64 {
     let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
     let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
     d_ggx(n_dot_h, alpha) * g1_over_mu / 4.0
+}
+
+/// [`sample_vndf`] of anisotropic GGX, `alpha_t` along local `x` and `alpha_b` along `y`
+/// (Heitz 2018's listing 1 takes the two alphas: the stretch is per axis).
+pub fn sample_vndf_aniso(v: DVec3, (alpha_t, alpha_b): (f64, f64), u1: f64, u2: f64) -> DVec3 {
+    let vh = DVec3::new(alpha_t * v.x, alpha_b * v.y, v.z.max(0.0));
+    let vh = vh / vh.length().max(DIV_EPSILON);
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > DIV_EPSILON {
+        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+    } else {
+        DVec3::X
+    };
+    let t2 = vh.cross(t1);
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+    let ne = DVec3::new(alpha_t * nh.x, alpha_b * nh.y, nh.z.max(0.0));
+    let h = ne / ne.length().max(DIV_EPSILON);
+    2.0 * v.dot(h) * h - v
+}
+
+/// The density per solid angle of [`sample_vndf_aniso`]'s direction with local half
+/// vector `h`, local `v`: `G1(v) D(h) / (4 v_z)`, `G1(v) / v_z = 2 / (v_z + sqrt(v_z^2 +
+/// alpha_t^2 v_x^2 + alpha_b^2 v_y^2))` (exact anisotropic Smith G1), finite at grazing `v`.
+pub fn vndf_density_aniso(v: DVec3, h: DVec3, (alpha_t, alpha_b): (f64, f64)) -> f64 {
+    let c = v.z.clamp(0.0, 1.0);
+    let (x, y) = (alpha_t * v.x, alpha_b * v.y);
+    let root = (c * c + x * x + y * y).sqrt();
+    let g1_over_mu = 2.0 / (c + root).max(DIV_EPSILON);
+    crate::brdf::d_ggx_aniso(h, alpha_t, alpha_b) * g1_over_mu / 4.0
 }
 
 /// A cosine-distributed direction about `+z` (Malley's method: the unit disk projected up),

@@ -2,10 +2,13 @@
 //!
 //! Every function here is mirrored name for name in `shaders/brdf.wgsl`; the WGSL copy
 //! evaluates the same formula in `f32`. The exceptions are bake-time averages, which the
-//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`. Conventions: the surface normal is +z,
+//! GPU reads from tables rather than evaluates: `f_avg_dielectric`, `f_avg_inside`, and
+//! the per-ball `clearcoat_inside_scale`. Conventions: the surface normal is +z,
 //! `mu_o = n.v`, `mu_i = n.l`, `alpha = roughness^2`. Nothing in this layer knows of
 //! tables, files or the GPU.
 
+mod anisotropy;
+mod clearcoat;
 mod compensation;
 mod fresnel;
 mod geometry;
@@ -13,6 +16,11 @@ mod kulla_conty;
 mod layering;
 mod ndf;
 
+pub use anisotropy::{
+    anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso, g_aniso,
+    isotropic_roughness, lambda_smith_aniso,
+};
+pub use clearcoat::{clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical};
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
     f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,
@@ -29,7 +37,7 @@ pub use layering::{
     coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, substrate_albedo,
 };
-pub use ndf::{d_ggx, visible_normal};
+pub use ndf::{d_ggx, visible_normal, visible_normal_aniso};
 
 /// Smallest roughness the model evaluates. Roughness 0 makes GGX a delta (alpha = 0, a
 /// division by zero at the mirror direction); every layer clamps to this value first, so

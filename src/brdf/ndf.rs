@@ -35,8 +35,20 @@ pub fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
 /// lift it and unstretch. The walk draws the disk point at random; the coating's tables
 /// (`lut::coating`) take it from a quadrature rule.
 pub fn visible_normal(alpha: f64, wi: glam::DVec3, p1: f64, p2: f64) -> glam::DVec3 {
+    visible_normal_aniso((alpha, alpha), wi, p1, p2)
+}
+
+/// [`visible_normal`] of anisotropic GGX (`alpha_t` along local `x`, `alpha_b` along `y`):
+/// the same construction with the stretch `(alpha_t, alpha_b)` (Heitz 2018, as Heitz et
+/// al. 2016 stretch the walk's microsurface).
+pub fn visible_normal_aniso(
+    (alpha_t, alpha_b): (f64, f64),
+    wi: glam::DVec3,
+    p1: f64,
+    p2: f64,
+) -> glam::DVec3 {
     use glam::DVec3;
-    let vh = DVec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
+    let vh = DVec3::new(alpha_t * wi.x, alpha_b * wi.y, wi.z).normalize();
     let lensq = vh.x * vh.x + vh.y * vh.y;
     let t1 = if lensq > 0.0 {
         DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
@@ -48,5 +60,5 @@ pub fn visible_normal(alpha: f64, wi: glam::DVec3, p1: f64, p2: f64) -> glam::DV
     let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
     let lift = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
     let nh = p1 * t1 + p2 * t2 + lift * vh;
-    DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+    DVec3::new(alpha_t * nh.x, alpha_b * nh.y, nh.z.max(0.0)).normalize()
 }

@@ -175,6 +175,12 @@ pub struct SceneArgs {
     /// physical, the form closest to the random walk; docs/design/materials.md).
     #[arg(long)]
     pub layering: Option<Layering>,
+    /// How every clear coat weights the ball under it: physical (the coat's own lobe and
+    /// term, the base through it both ways, internal reflections summed), filament or
+    /// gltf (the engines', for comparison). Default: the scene's `coat_form`, else
+    /// physical (docs/design/coat.md).
+    #[arg(long, value_name = "physical|filament|gltf")]
+    pub coat_form: Option<crate::scene::CoatForm>,
     /// What a dielectric's base colour means: apparent (the colour a viewer sees, as glTF,
     /// OpenPBR and Blender read it) or substrate (the albedo under the coating). Default:
     /// the scene's `base_reading`, else apparent.
@@ -248,6 +254,7 @@ impl SceneArgs {
         scene.preset = self.preset.unwrap_or(scene.preset);
         scene.geometry = self.geometry.unwrap_or(scene.geometry);
         scene.layering = self.layering.unwrap_or(scene.layering);
+        scene.coat_form = self.coat_form.unwrap_or(scene.coat_form);
         scene.base_reading = self.base_reading.unwrap_or(scene.base_reading);
         if let Some(name) = &self.environment {
             scene.environment_map = Some(Environment::named(name)?);

@@ -65,7 +65,7 @@ impl CoatingPoint {
             constants,
             albedo,
         } = *coat;
-        let roughness = b.roughness;
+        let roughness = b.shading_roughness();
         let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
         let loss_avg = super::light::loss_avg(e, roughness);
@@ -196,6 +196,10 @@ pub(super) fn shade_coating(
     if let (Some(map), None) = (forms.map, forms.lobe) {
         lo += shade_coating_map(scene, (b, &point), (n, v), map);
     }
+    // The share of uniform light and the map that a clear coat lets through.
+    if let Some(coat) = &forms.coat {
+        lo *= coat.environment();
+    }
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
         if mu_i <= 0.0 || point.mu_o <= 0.0 {
@@ -203,7 +207,10 @@ pub(super) fn shade_coating(
         }
         let f = point.brdf((v, light.direction), n, e);
         let f_r = DVec3::splat(f.spec + f.multiple) + f.base;
-        lo += f_r * light.radiance * mu_i;
+        let through = forms.coat.map_or(DVec3::ONE, |c| {
+            c.through(e, mu_i, v.dot((v + light.direction).normalize()))
+        });
+        lo += through * f_r * light.radiance * mu_i;
     }
     lo
 }
@@ -219,7 +226,7 @@ fn shade_coating_map(
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let intensity = map.intensity(environment);
     let n_map = environment.to_map(n);
     let irradiance = intensity * map.prefiltered.irradiance(n_map);

@@ -44,6 +44,9 @@ pub(crate) struct Forms<'a> {
     pub map: Option<&'a CpuEnvironment>,
     /// The pixel's lobe samples where the scene's `ibl_method` is the lobe's, else `None`.
     pub lobe: Option<LobeSamples>,
+    /// The point's clear coat (`clearcoat.wgsl`'s `clearcoat_point`), set by `shade_point`
+    /// for a coated ball: the base's light is weighted by what it lets through.
+    pub coat: Option<super::clearcoat::ClearcoatPoint>,
 }
 
 /// Which of a pixel's lobe samples a draw takes (`shade_environment_mis`): the pixel's

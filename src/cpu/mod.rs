@@ -3,6 +3,7 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
+pub mod clearcoat;
 pub mod coating;
 mod light;
 pub mod montecarlo;
@@ -88,8 +89,10 @@ pub fn render_radiance_at_lobe_frame(
             geometry,
             map: ibl.as_ref().map(|(_, map)| map),
             lobe: LobeSamples::of(scene, pixel, lobe_frame),
+            coat: None,
         };
-        shade_point(scene, (b, prepared.coat(k)), n, -d, e, &forms)
+        let coats = (prepared.coat(k), prepared.clearcoat(k));
+        shade_point(scene, (b, coats), n, -d, e, &forms)
     };
     let o = basis.origin;
     let size = (width, height);

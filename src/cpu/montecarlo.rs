@@ -28,7 +28,9 @@ use crate::environment::IblTerm;
 use crate::error::Result;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
 use crate::prepared::{Coat, Prepared};
-use crate::sampling::{arriving, sample_cosine, sample_vndf, vndf_density, Frame};
+use crate::sampling::{
+    arriving, sample_cosine, sample_vndf_aniso, vndf_density, vndf_density_aniso, Frame,
+};
 use crate::scene::{bounds_pad_px, Ball, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -160,6 +162,9 @@ pub struct ShadingPoint {
     pub fss_ess: DVec3,
     /// Which part of the BRDF [`model_brdf`] returns.
     pub part: Part,
+    /// An anisotropic metal lobe's tangent frame and `(alpha_t, alpha_b)`
+    /// (docs/design/anisotropy.md); `roughness` is then its isotropic equivalent.
+    pub anisotropy: Option<(Frame, (f64, f64))>,
 }
 
 impl ShadingPoint {
@@ -167,7 +172,7 @@ impl ShadingPoint {
     /// and geometry and the ball's model, with E and E_avg from `e` (its coating formed
     /// for the call: [`ShadingPoint::with_coat`] takes one formed once per ball).
     pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
-        let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+        let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
         let coat = Coat::of_ball(scene, b, e, &rows);
         Self::with_coat(scene, (b, coat.as_ref()), (n, v), e)
     }
@@ -179,7 +184,7 @@ impl ShadingPoint {
         (n, v): (DVec3, DVec3),
         e: &TableSet,
     ) -> Self {
-        let roughness = b.roughness;
+        let roughness = b.shading_roughness();
         let f0 = b.material.f0;
         let mu_o = n.dot(v).max(0.0);
         let loss_avg = loss_avg(e, roughness);
@@ -201,6 +206,7 @@ impl ShadingPoint {
             geometry: scene.effective_geometry(),
             fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
             part: Part::Whole,
+            anisotropy: super::shade::anisotropic_frame(b, n),
         }
     }
 
@@ -262,14 +268,18 @@ fn metal_brdf(p: &ShadingPoint, l: DVec3, h: DVec3, e: &TableSet) -> DVec3 {
     let v_dot_h = p.v.dot(h);
     let n_dot_h = p.n.dot(h);
     let spec = per_channel(p.f0, |f| {
-        f_micro(
-            f_schlick(f, v_dot_h),
-            p.mu_o,
-            mu_i,
-            n_dot_h,
-            p.roughness,
-            p.geometry,
-        )
+        let fresnel = f_schlick(f, v_dot_h);
+        match &p.anisotropy {
+            Some((frame, alphas)) => crate::brdf::f_micro_aniso(
+                fresnel,
+                frame.to_local(p.v),
+                frame.to_local(l),
+                frame.to_local(h),
+                *alphas,
+                p.geometry,
+            ),
+            None => f_micro(fresnel, p.mu_o, mu_i, n_dot_h, p.roughness, p.geometry),
+        }
     });
     let multiple = match p.term {
         IblTerm::KullaConty => {
@@ -345,22 +355,26 @@ impl<'a> Lighting<'a> {
         if !self.lit || p.mu_o <= 0.0 {
             return (direct, DVec3::ZERO);
         }
-        let frame = Frame::new(p.n);
+        // An anisotropic lobe draws its own visible normals in its tangent frame.
+        let (frame, alphas) = p.anisotropy.unwrap_or_else(|| {
+            let alpha = alpha_from_roughness(p.roughness);
+            (Frame::new(p.n), (alpha, alpha))
+        });
         let v_local = frame.to_local(p.v);
-        let alpha = alpha_from_roughness(p.roughness);
         // Welford's running mean and sum of squared deviations, per channel.
         let mut mean = DVec3::ZERO;
         let mut m2 = DVec3::ZERO;
         for k in 0..spp {
             let mut x = DVec3::ZERO;
-            let l = frame.to_world(sample_vndf(v_local, alpha, rng.uniform(), rng.uniform()));
-            x += self.contribution(p, e, l, alpha);
+            let (u1, u2) = (rng.uniform(), rng.uniform());
+            let l = frame.to_world(sample_vndf_aniso(v_local, alphas, u1, u2));
+            x += self.contribution(p, e, l, alphas);
             let l = frame.to_world(sample_cosine(rng.uniform(), rng.uniform()));
-            x += self.contribution(p, e, l, alpha);
+            x += self.contribution(p, e, l, alphas);
             if let Some(s) = &self.sampler {
                 let u = [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()];
                 if let Some(l) = s.sample(u) {
-                    x += self.contribution(p, e, l, alpha);
+                    x += self.contribution(p, e, l, alphas);
                 }
             }
             let delta = x - mean;
@@ -379,12 +393,12 @@ impl<'a> Lighting<'a> {
     /// One sample's share of the multi-sample balance-heuristic estimator:
     /// `f_r L mu_i / sum_k pdf_k(l)` (each strategy draws one direction per estimate, so
     /// the weight `pdf_s / sum_k pdf_k` over `pdf_s` leaves the sum).
-    fn contribution(&self, p: &ShadingPoint, e: &TableSet, l: DVec3, alpha: f64) -> DVec3 {
+    fn contribution(&self, p: &ShadingPoint, e: &TableSet, l: DVec3, alphas: (f64, f64)) -> DVec3 {
         let mu_i = p.n.dot(l);
         if mu_i <= 0.0 {
             return DVec3::ZERO;
         }
-        let pdf = self.pdf(p, l, mu_i, alpha);
+        let pdf = self.pdf(p, l, mu_i, alphas);
         if pdf <= DIV_EPSILON {
             return DVec3::ZERO;
         }
@@ -396,8 +410,8 @@ impl<'a> Lighting<'a> {
     }
 
     /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`.
-    fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alpha: f64) -> f64 {
-        let mut pdf = pdf_vndf(p, l, alpha) + mu_i / PI;
+    fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alphas: (f64, f64)) -> f64 {
+        let mut pdf = pdf_vndf_lobe(p, l, alphas) + mu_i / PI;
         if let Some(s) = &self.sampler {
             pdf += s.pdf(l);
         }
@@ -412,6 +426,21 @@ pub(super) fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
     if len <= DIV_EPSILON {
         return 0.0;
     }
+    vndf_density(p.mu_o, p.n.dot(sum / len), alpha)
+}
+
+/// Density (solid angle) of [`sample_vndf_aniso`] at `l`: [`vndf_density_aniso`] at `l`'s
+/// half vector (in the lobe's tangent frame where it is anisotropic; an isotropic lobe's
+/// is [`vndf_density`] of its alpha, the same density).
+fn pdf_vndf_lobe(p: &ShadingPoint, l: DVec3, alphas: (f64, f64)) -> f64 {
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
     let h = sum / len;
-    vndf_density(p.mu_o, p.n.dot(h), alpha)
+    match &p.anisotropy {
+        Some((frame, _)) => vndf_density_aniso(frame.to_local(p.v), frame.to_local(h), alphas),
+        None => vndf_density(p.mu_o, p.n.dot(h), alphas.0),
+    }
 }

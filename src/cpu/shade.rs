@@ -8,13 +8,13 @@ use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::light::{CpuEnvironment, Forms, LobeSamples};
 use super::montecarlo::{model_brdf, pdf_vndf, ShadingPoint};
 use crate::brdf::{
-    alpha_from_roughness, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
-    term_turquin, FAvgForm, Geometry,
+    alpha_from_roughness, anisotropic_bent_normal, ball_tangent, f_avg_schlick, f_micro,
+    f_micro_aniso, f_ms, f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf, Frame};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -55,15 +55,24 @@ pub fn shade(
     form: FAvgForm,
     geometry: Geometry,
 ) -> DVec3 {
-    let rows = CoatingRows::bake(scene.coating_key(b), &mut Default::default());
+    let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
     let coat = Coat::of_ball(scene, b, e, &rows);
+    let clearcoat = crate::prepared::Clearcoat::of_ball(scene, b, e, &rows);
     let forms = Forms {
         form,
         geometry,
         map: None,
         lobe: LobeSamples::of(scene, (0, 0), 0),
+        coat: None,
     };
-    shade_point(scene, (b, coat.as_ref()), n, v, e, &forms)
+    shade_point(
+        scene,
+        (b, (coat.as_ref(), clearcoat.as_ref())),
+        n,
+        v,
+        e,
+        &forms,
+    )
 }
 
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
@@ -73,6 +82,32 @@ pub fn shade(
 /// per ball (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
+    (b, (coat, clearcoat)): (&Ball, Coats<'_>),
+    n: DVec3,
+    v: DVec3,
+    e: &TableSet,
+    forms: &Forms<'_>,
+) -> DVec3 {
+    let Some(clearcoat) = clearcoat else {
+        return shade_base(scene, (b, coat), n, v, e, forms);
+    };
+    let point = super::clearcoat::ClearcoatPoint::new(scene, b, clearcoat, (n, v), e);
+    let forms = Forms {
+        coat: Some(point),
+        lobe: forms.lobe,
+        ..*forms
+    };
+    shade_base(scene, (b, coat), n, v, e, &forms)
+        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, &forms)
+}
+
+/// A ball's coating and clear coat, each formed once per ball (`None` without one).
+pub(super) type Coats<'a> = (Option<&'a Coat>, Option<&'a crate::prepared::Clearcoat>);
+
+/// `shade_base` of `lighting.wgsl`: the ball under its clear coat (all of it without one),
+/// the base's light weighted by `forms.coat`.
+fn shade_base(
+    scene: &Scene,
     (b, coat): (&Ball, Option<&Coat>),
     n: DVec3,
     v: DVec3,
@@ -80,17 +115,22 @@ pub(super) fn shade_point(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
+    // A clear coat weights the environment's part (the uniform's and the map's).
+    let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
     // The lobe mode: the map's part is the whole model's, sampled once.
     let map_part = match (forms.map, forms.lobe) {
-        (Some(map), Some(lobe)) => shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe),
+        (Some(map), Some(lobe)) => {
+            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * through
+        }
         _ => DVec3::ZERO,
     };
     let metal = || {
-        let (lo, terms) = shade_with_terms(scene, b, n, v, e, forms);
-        match (forms.map, forms.lobe) {
-            (Some(map), None) => lo + shade_environment_map(scene, b, n, v, &terms, map),
-            _ => lo,
-        }
+        let (lo, terms, lights) = shade_with_terms(scene, b, n, v, e, forms);
+        let map = match (forms.map, forms.lobe) {
+            (Some(map), None) => shade_environment_map(scene, b, n, v, &terms, map),
+            _ => DVec3::ZERO,
+        };
+        (lo + map) * through + lights
     };
     let Some(coat) = coat.filter(|_| metallic < 1.0) else {
         return metal() + map_part;
@@ -132,10 +172,10 @@ pub(super) fn shade_with_terms(
     v: DVec3,
     e: &TableSet,
     forms: &Forms<'_>,
-) -> (DVec3, PointTerms) {
+) -> (DVec3, PointTerms, DVec3) {
     let Forms { form, geometry, .. } = *forms;
     let split = forms.map.map(|m| &m.split);
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let f0 = b.material.f0;
     let ms = if b.model.has_term() { 1.0 } else { 0.0 };
     let term = b.model.term().unwrap_or(IblTerm::KullaConty);
@@ -171,7 +211,10 @@ pub(super) fn shade_with_terms(
         IblTerm::Turquin => turquin_rgb(single, f0, e_o),
         IblTerm::FdezAguera => fms_ems,
     };
-    let mut lo = scene.environment * (single + ms * added);
+    let lo = scene.environment * (single + ms * added);
+    let mut lights = DVec3::ZERO;
+    // An anisotropic lobe: the lights' single scattering in the ball's tangent frame.
+    let aniso = anisotropic_frame(b, n);
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -182,14 +225,18 @@ pub(super) fn shade_with_terms(
         let v_dot_h = v.dot(h);
         let n_dot_h = n.dot(h);
         let spec = per_channel(f0, |f| {
-            f_micro(
-                f_schlick(f, v_dot_h),
-                mu_o,
-                mu_i,
-                n_dot_h,
-                roughness,
-                geometry,
-            )
+            let fresnel = f_schlick(f, v_dot_h);
+            match aniso {
+                Some((frame, alphas)) => f_micro_aniso(
+                    fresnel,
+                    frame.to_local(v),
+                    frame.to_local(l),
+                    frame.to_local(h),
+                    alphas,
+                    geometry,
+                ),
+                None => f_micro(fresnel, mu_o, mu_i, n_dot_h, roughness, geometry),
+            }
         });
         let lobe = match term {
             IblTerm::KullaConty => f_add * f_ms(loss_o, loss(e, mu_i, roughness), norm),
@@ -197,7 +244,10 @@ pub(super) fn shade_with_terms(
             IblTerm::FdezAguera => fms_ems / std::f64::consts::PI,
         };
         let f_r = spec + ms * lobe;
-        lo += f_r * light.radiance * mu_i;
+        let through = forms
+            .coat
+            .map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
+        lights += through * f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {
         mu_o,
@@ -208,7 +258,7 @@ pub(super) fn shade_with_terms(
         fms_ems,
         f_add,
     };
-    (lo, terms)
+    (lo, terms, lights)
 }
 
 /// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b`'s metal at normal
@@ -225,7 +275,7 @@ pub fn shade_environment_map(
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
     };
-    let roughness = b.roughness;
+    let roughness = b.shading_roughness();
     let f0 = b.material.f0;
     let PointTerms {
         loss_o,
@@ -238,7 +288,11 @@ pub fn shade_environment_map(
     } = *terms;
     let e_o = 1.0 - loss_o;
     let intensity = ibl.intensity(environment);
-    let r = 2.0 * n.dot(v) * n - v;
+    // An anisotropic lobe reflects about its bent normal.
+    let n_spec = anisotropic_frame(b, n).map_or(n, |(frame, alphas)| {
+        anisotropic_bent_normal(n, v, frame.tangents().0, alphas)
+    });
+    let r = 2.0 * n_spec.dot(v) * n_spec - v;
     let n_map = environment.to_map(n);
     let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
     let prefiltered = intensity
@@ -284,7 +338,7 @@ pub(super) fn shade_environment_mis(
     if p.mu_o <= 0.0 {
         return DVec3::ZERO;
     }
-    let alpha = alpha_from_roughness(b.roughness);
+    let alpha = alpha_from_roughness(b.shading_roughness());
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
     let has_cosine = p.metallic < 1.0;
@@ -326,6 +380,18 @@ pub(super) fn shade_environment_mis(
         }
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
+}
+
+/// Ball `b`'s tangent frame at unit normal `n` and its lobe's `(alpha_t, alpha_b)` where
+/// the lobe is anisotropic (`ball_tangent_frame` of `brdf.wgsl`, `brdf::ball_tangent`).
+pub(crate) fn anisotropic_frame(b: &Ball, n: DVec3) -> Option<(Frame, (f64, f64))> {
+    b.material.is_anisotropic().then(|| {
+        let (t, bt) = ball_tangent(n, b.material.anisotropy_turn());
+        (
+            Frame::from_axes(t, bt, n),
+            b.material.anisotropic_alphas(b.roughness),
+        )
+    })
 }
 
 /// [`term_turquin`] per channel.

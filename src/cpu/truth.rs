@@ -42,6 +42,7 @@ use crate::lut::TableSet;
 use crate::prepared::{with_substrates, Prepared};
 use crate::sampling::Frame;
 use crate::scene::{bounds_pad_px, Ball, CameraBasis, Model, Scene, MAX_BALLS};
+use crate::walk::clearcoat::Layered;
 use crate::walk::coating::Coating;
 use crate::walk::microsurface::Microsurface;
 use crate::walk::single::{single_albedo, Rules};
@@ -163,6 +164,7 @@ pub fn render_truth(
     mut progress: impl FnMut(&TruthProgress) -> bool,
 ) -> Result<TruthImage> {
     settings.check()?;
+    check_clearcoat_lights(scene, settings.every_ball)?;
     // The walk goes through the substrate the base reading implies.
     let substrates = with_substrates(scene, prepared);
     let e = prepared.tables();
@@ -454,7 +456,8 @@ impl SingleAlbedos {
 fn single_point(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> ShadingPoint {
     let metal = Ball {
         model: Model::None,
-        material: crate::scene::Material::metal(b.material.f0),
+        material: crate::scene::Material::metal(b.material.f0)
+            .with_anisotropy(b.material.anisotropy, b.material.anisotropy_rotation),
         ..*b
     };
     let mut point = ShadingPoint::new(scene, &metal, n, v, e);
@@ -472,7 +475,8 @@ fn single_fixed(
     e: &TableSet,
     singles: &SingleAlbedos,
 ) -> DVec3 {
-    if !b.material.has_metal() {
+    // A clear coat's ball is walked whole (`PixelWalk::estimate_clearcoat`).
+    if !b.material.has_metal() || b.material.clearcoat.is_on() {
         return DVec3::ZERO;
     }
     let point = single_point(scene, b, n, v, e);
@@ -483,7 +487,8 @@ fn single_fixed(
             lo += super::montecarlo::model_brdf(&point, light.direction, e) * light.radiance * mu_i;
         }
     }
-    if scene.environment != DVec3::ZERO && point.mu_o > 0.0 {
+    // An anisotropic lobe's is walked (its first escapes: `PixelWalk::estimate_metal`).
+    if scene.environment != DVec3::ZERO && point.mu_o > 0.0 && !b.material.is_anisotropic() {
         lo += scene.environment * singles.at(b, point.mu_o);
     }
     b.material.metallic * lo
@@ -502,8 +507,12 @@ struct PixelWalk {
     count: usize,
     point: Option<ShadingPoint>,
     metallic: f64,
+    /// Whether the metal's lobe is anisotropic.
+    anisotropic: bool,
     /// The dielectric part: its walk, its base's albedo, the lights' local directions.
     coating: Option<(Coating, [f64; 3], [DVec3; crate::scene::MAX_LIGHTS])>,
+    /// A clear coat's ball: the whole material's walk under its coat.
+    clearcoat: Option<Layered>,
 }
 
 impl PixelWalk {
@@ -512,14 +521,18 @@ impl PixelWalk {
         if p.n.dot(p.v) <= 0.0 {
             return None;
         }
-        let frame = Frame::new(p.n);
-        let surface = Microsurface::new(b.roughness);
+        // An anisotropic metal walks its stretched surface in the ball's tangent frame
+        // (docs/design/anisotropy.md); its coating stays isotropic.
+        let (frame, surface) = match super::shade::anisotropic_frame(b, p.n) {
+            Some((frame, (t, bt))) => (frame, Microsurface::anisotropic(t, bt)),
+            None => (Frame::new(p.n), Microsurface::new(b.roughness)),
+        };
         let mut lights = [(DVec3::ZERO, DVec3::ZERO, 0.0); crate::scene::MAX_LIGHTS];
         let mut count = 0;
         for light in &scene.lights {
             let l = frame.to_local(light.direction);
             if l.z > 0.0 {
-                lights[count] = (l, light.radiance, surface.lambda(l.z));
+                lights[count] = (l, light.radiance, surface.lambda(l));
                 count += 1;
             }
         }
@@ -532,8 +545,10 @@ impl PixelWalk {
             count,
             point: (map && b.material.has_metal()).then(|| single_point(scene, b, p.n, p.v, e)),
             metallic: b.material.metallic,
+            anisotropic: b.material.is_anisotropic(),
+            clearcoat: b.material.clearcoat.is_on().then(|| layered(b)),
             coating: b.material.has_dielectric().then(|| {
-                let coating = Coating::new(b.roughness, b.material.ior);
+                let coating = Coating::new(b.shading_roughness(), b.material.ior);
                 (coating, b.material.diffuse.to_array(), lights.map(|l| l.0))
             }),
         })
@@ -579,12 +594,28 @@ impl PixelWalk {
         max_order: u32,
         rng: &mut Rng,
     ) -> DVec3 {
+        if let Some(layered) = &self.clearcoat {
+            return self.estimate_clearcoat(scene, layered, rng);
+        }
         let coating = self.estimate_coating(scene, rng);
         if self.metallic <= 0.0 {
             return coating;
         }
         let metal = self.estimate_metal(scene, e, map, max_order, rng);
         self.metallic * metal + (1.0 - self.metallic) * coating
+    }
+
+    /// One path through a clear coat's ball from the view ([`Layered::sample`]): its exit's
+    /// share of the uniform environment and the map (the render refuses lights with a clear
+    /// coat: `check_clearcoat_lights`).
+    fn estimate_clearcoat(&self, scene: &Scene, layered: &Layered, rng: &mut Rng) -> DVec3 {
+        let Some((dir, w)) = layered.sample(self.v_local, rng) else {
+            return DVec3::ZERO;
+        };
+        let world = self.frame.to_world(dir);
+        let map = scene.environment_map.as_ref();
+        let arriving = scene.environment + map.map_or(DVec3::ZERO, |m| m.radiance(world));
+        DVec3::from_array(w) * arriving
     }
 
     /// The metal's part of [`PixelWalk::estimate`].
@@ -617,6 +648,10 @@ impl PixelWalk {
                     let world = frame.to_world(dir);
                     let arriving = env + map_env.map_or(DVec3::ZERO, |m| m.radiance(world));
                     escaped += mass * DVec3::from_slice(w) * arriving;
+                } else if order == 1 && self.anisotropic {
+                    // The uniform environment's single scattering, which `single_fixed`
+                    // tabulates over mu only for an isotropic lobe.
+                    escaped += mass * DVec3::from_slice(w) * env;
                 }
             },
             |order, wi_k, c, carry, w| {
@@ -636,6 +671,41 @@ impl PixelWalk {
         );
         x + escaped
     }
+}
+
+/// Ball `b`'s material under its clear coat, for the walk.
+fn layered(b: &Ball) -> Layered {
+    let m = &b.material;
+    Layered {
+        coat: Coating::new(m.clearcoat.roughness, m.clearcoat.ior),
+        weight: m.clearcoat.weight,
+        metallic: m.metallic,
+        metal: Microsurface::new(b.roughness),
+        f0: m.f0.to_array(),
+        plastic: Coating::new(b.roughness, m.ior),
+        rho: m.diffuse.to_array(),
+    }
+}
+
+/// A clear coat's truth is walked under uniform light and maps only: next-event estimation
+/// through the coat to a directional light is not written (docs/design/coat.md).
+fn check_clearcoat_lights(scene: &Scene, every_ball: bool) -> Result<()> {
+    let walked = |b: &&Ball| every_ball || b.model == Model::Truth;
+    let coated = scene
+        .balls
+        .iter()
+        .take(MAX_BALLS)
+        .filter(walked)
+        .any(|b| b.material.clearcoat.is_on());
+    if coated && !scene.lights.is_empty() {
+        return Err(Error::Invalid {
+            what: "truth",
+            message: "the truth of a clear-coated ball is walked under the environment alone: \
+                      remove the scene's lights (a coat's walk has no next-event estimation)"
+                .into(),
+        });
+    }
+    Ok(())
 }
 
 /// The CPU reference renderer's image of a scene with truth balls: every other ball as

@@ -155,8 +155,16 @@ impl Plan {
         let mut roughness: Vec<f32> = balls
             .iter()
             .filter(|b| !is_truth(b) && (uses_term(b) || environment || ibl != 0))
-            .map(|b| roughness_coord(b.roughness as f32))
+            .map(|b| roughness_coord(b.shading_roughness() as f32))
             .collect();
+        // A clear coat reads E at its own roughness (its term, its albedo under light).
+        roughness.extend(
+            balls
+                .iter()
+                .filter(|b| !is_truth(b) && b.material.clearcoat.is_on())
+                .filter(|b| uses_term(b) || environment || ibl != 0)
+                .map(|b| roughness_coord(b.material.clearcoat.roughness as f32)),
+        );
         roughness.sort_by(f32::total_cmp);
         roughness.dedup();
         let tables = match options.tables {

@@ -8,8 +8,8 @@ use bytemuck::{Pod, Zeroable};
 use crate::brdf::{f_add_preset, f_ms_norm, GAMES202_EDGE_TINT};
 use crate::environment::IblTerm;
 use crate::lut::{LutParams, TableSet};
-use crate::prepared::{CoatingConstants, Prepared};
-use crate::scene::{Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS};
+use crate::prepared::{ClearcoatConstants, CoatingConstants, Prepared};
+use crate::scene::{CoatForm, Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
 /// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
 #[repr(C)]
@@ -76,6 +76,39 @@ super::ball::gpu_ball! {
         layering: u32,
         /// The coating's Fresnel (`FRESNEL_*`, [`crate::gpu::shaders::fresnel_id`]).
         fresnel: u32,
+        /// The anisotropic lobe's `alpha_t` ([`crate::brdf::anisotropic_alphas`]; 0 for an
+        /// isotropic ball, whose `roughness` is then its own).
+        anisotropy_alpha_t: f32,
+        /// The anisotropic lobe's `alpha_b` (0 for an isotropic ball).
+        anisotropy_alpha_b: f32,
+        /// The cosine of the anisotropy's rotation.
+        anisotropy_cos: f32,
+        /// The sine of the anisotropy's rotation.
+        anisotropy_sin: f32,
+        /// The clear coat's E reads' roughness half ([`TableSet::lut_row`] of its roughness).
+        clearcoat_lut_row: [f32; 3],
+        /// The clear coat's weight (0: no coat; [`ClearcoatConstants`]).
+        clearcoat: f32,
+        /// The physical coat's `1 / (eta^2 (1 - A_avg F_in))` per channel (1 otherwise).
+        clearcoat_inside: [f32; 3],
+        /// The clear coat's roughness.
+        clearcoat_roughness: f32,
+        /// The clear coat's index.
+        clearcoat_eta: f32,
+        /// The clear coat's Kulla-Conty `f_add` (0 without the term or the physical form).
+        clearcoat_f_add: f32,
+        /// `f_ms_norm` of the clear coat's `1 - E_avg` (0 where its `f_add` is).
+        clearcoat_ms_norm: f32,
+        /// The clear coat's `E_c_avg` ([`ClearcoatConstants::e_avg`]).
+        clearcoat_e_avg: f32,
+        /// The clear coat's row of the coating rows (0 without a coat).
+        clearcoat_row: u32,
+        /// The coat form ([`COAT_FORM_CODES`]).
+        clearcoat_form: u32,
+        /// The clear coat's Fresnel (`FRESNEL_*`; [`crate::scene::CoatForm::fresnel`]).
+        clearcoat_fresnel: u32,
+        /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
+        clearcoat_pad: u32,
     }
 }
 
@@ -139,7 +172,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
         .take(MAX_BALLS)
         .enumerate()
         .map(|(k, b)| {
-            let loss_avg = tables.lut_loss_avg(b.roughness as f32);
+            let loss_avg = tables.lut_loss_avg(b.shading_roughness() as f32);
             let e_avg = 1.0 - loss_avg as f64;
             // E_avg and F_avg only for the balls whose term reads them (zero otherwise: the
             // shader multiplies them by the ball's zero flag or compiles them out).
@@ -153,16 +186,30 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 ([0.0; 3], 0.0)
             };
             let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+            // The anisotropic lobe (`roughness` above is then its isotropic equivalent).
+            let anisotropy = if b.material.is_anisotropic() {
+                let (t, bt) = b.material.anisotropic_alphas(b.roughness);
+                let (c, s) = b.material.anisotropy_turn();
+                (t, bt, c, s)
+            } else {
+                (0.0, 0.0, 1.0, 0.0)
+            };
             let coat = prepared.coat(k);
             let coating_constants = coat.map_or(CoatingConstants::default(), |c| c.constants);
             let coating_row = scene
                 .coating_key(b)
                 .map_or(0, |key| coating.index_of(&key) as u32);
+            let clearcoat = prepared.clearcoat(k).map(|c| c.constants);
+            let clearcoat_row = scene
+                .clearcoat_key(b)
+                .map_or(0, |key| coating.index_of(&key) as u32);
+            let cc = |f: fn(&ClearcoatConstants) -> f64| clearcoat.as_ref().map_or(0.0, f) as f32;
+            let cc_roughness = b.material.clearcoat.roughness as f32;
             GpuBall {
                 center: v3(b.center - scene.camera.position),
                 radius: b.radius as f32,
                 f0: v3(b.material.f0),
-                roughness: b.roughness as f32,
+                roughness: b.shading_roughness() as f32,
                 // The substrate the base reading implies (prepared::base_albedo).
                 diffuse: coat
                     .map_or(b.material.diffuse, |c| c.albedo)
@@ -171,7 +218,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 ms: ms as f32,
                 f_add,
                 ms_norm,
-                lut_row: tables.lut_row(b.roughness as f32),
+                lut_row: tables.lut_row(b.shading_roughness() as f32),
                 term: term_code(b.model),
                 metallic: b.material.metallic as f32,
                 eta: coating_constants.eta as f32,
@@ -181,6 +228,24 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 coating_row,
                 layering: layering_code(scene.layering),
                 fresnel: crate::gpu::shaders::fresnel_id(scene.preset.dielectric_fresnel()),
+                anisotropy_alpha_t: anisotropy.0 as f32,
+                anisotropy_alpha_b: anisotropy.1 as f32,
+                anisotropy_cos: anisotropy.2 as f32,
+                anisotropy_sin: anisotropy.3 as f32,
+                clearcoat_lut_row: tables.lut_row(cc_roughness),
+                clearcoat: cc(|c| c.weight),
+                clearcoat_inside: v3(clearcoat.map_or(glam::DVec3::ONE, |c| c.inside)),
+                clearcoat_roughness: cc_roughness,
+                clearcoat_eta: cc(|c| c.eta),
+                clearcoat_f_add: cc(|c| c.f_add),
+                clearcoat_ms_norm: cc(|c| c.ms_norm),
+                clearcoat_e_avg: cc(|c| c.e_avg),
+                clearcoat_row,
+                clearcoat_form: coat_form_code(scene.coat_form),
+                clearcoat_fresnel: crate::gpu::shaders::fresnel_id(
+                    scene.coat_form.fresnel(scene.preset.dielectric_fresnel()),
+                ),
+                clearcoat_pad: 0,
             }
         })
         .collect()
@@ -199,6 +264,22 @@ pub const LAYERING_CODES: [(u32, Layering); 5] = [
 /// A layering form as `coating.wgsl` reads it from `Ball.layering`.
 pub fn layering_code(form: Layering) -> u32 {
     LAYERING_CODES
+        .iter()
+        .find(|(_, f)| *f == form)
+        .map_or(0, |(code, _)| *code)
+}
+
+/// The code of each coat form in `Ball.clearcoat_form`, and the WGSL constant
+/// `COAT_FORM_*` of `types.wgsl` generated from it (tests/suite/boundary.rs).
+pub const COAT_FORM_CODES: [(u32, CoatForm); 3] = [
+    (0, CoatForm::Physical),
+    (1, CoatForm::Filament),
+    (2, CoatForm::Gltf),
+];
+
+/// A coat form as `clearcoat.wgsl` reads it from `Ball.clearcoat_form`.
+pub fn coat_form_code(form: CoatForm) -> u32 {
+    COAT_FORM_CODES
         .iter()
         .find(|(_, f)| *f == form)
         .map_or(0, |(code, _)| *code)

@@ -33,10 +33,12 @@ use crate::scene::{Ball, Camera, Material, Model, Scene, DEFAULT_IOR, IOR_RANGE,
 pub const MAX_GLTF_BYTES: u64 = 256 << 20;
 
 /// The extensions read (a file may require these).
-pub const SUPPORTED_EXTENSIONS: [&str; 3] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
     "KHR_materials_ior",
+    "KHR_materials_clearcoat",
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
+    "KHR_materials_anisotropy",
 ];
 
 /// How far a mesh's bounds may be from a cube and still be a sphere: the largest side
@@ -95,6 +97,13 @@ pub struct GltfMaterial {
     pub emissive: DVec3,
     /// `KHR_materials_emissive_strength`'s `emissiveStrength` (1 without it).
     pub emissive_strength: f64,
+    /// `KHR_materials_anisotropy`'s `anisotropyStrength` (0 without it).
+    pub anisotropy_strength: f64,
+    /// `KHR_materials_anisotropy`'s `anisotropyRotation`, radians (0 without it).
+    pub anisotropy_rotation: f64,
+    /// `KHR_materials_clearcoat`'s `clearcoatFactor` and `clearcoatRoughnessFactor` (index
+    /// 1.5, the extension's; no coat without it).
+    pub clearcoat: crate::scene::ClearCoat,
 }
 
 impl GltfMaterial {
@@ -112,6 +121,9 @@ impl GltfMaterial {
             specular_colour: DVec3::ONE,
             emissive: DVec3::ZERO,
             emissive_strength: 1.0,
+            anisotropy_strength: 0.0,
+            anisotropy_rotation: 0.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         }
     }
 
@@ -146,9 +158,19 @@ impl GltfMaterial {
     }
 
     /// The ball's material: the engines' metallic-roughness material of `base_color`,
-    /// `metallic` and [`GltfMaterial::coating_ior`].
+    /// `metallic` and [`GltfMaterial::coating_ior`], its metal's lobe anisotropic as
+    /// `KHR_materials_anisotropy` asks (the rotation brought into `(-pi, pi]`; a material
+    /// without metal keeps an isotropic lobe: the import's notice says so).
     pub fn material(&self) -> Material {
-        Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
+        let m = Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
+            .with_clearcoat(self.clearcoat);
+        if self.anisotropy_strength > 0.0 && m.has_metal() {
+            let pi = std::f64::consts::PI;
+            let turn = pi - (pi - self.anisotropy_rotation).rem_euclid(2.0 * pi);
+            m.with_anisotropy(self.anisotropy_strength, turn)
+        } else {
+            m
+        }
     }
 }
 
@@ -637,7 +659,7 @@ fn check_buffer_views(doc: &Doc) -> std::result::Result<(), String> {
 }
 
 /// The textures a material's (or an extension's) object names.
-const TEXTURE_KEYS: [&str; 7] = [
+const TEXTURE_KEYS: [&str; 11] = [
     "baseColorTexture",
     "metallicRoughnessTexture",
     "normalTexture",
@@ -645,6 +667,10 @@ const TEXTURE_KEYS: [&str; 7] = [
     "emissiveTexture",
     "specularTexture",
     "specularColorTexture",
+    "anisotropyTexture",
+    "clearcoatTexture",
+    "clearcoatRoughnessTexture",
+    "clearcoatNormalTexture",
 ];
 
 fn materials(
@@ -682,6 +708,9 @@ fn materials(
             specular_colour: DVec3::ONE,
             emissive: DVec3::from_array(emissive),
             emissive_strength: 1.0,
+            anisotropy_strength: 0.0,
+            anisotropy_rotation: 0.0,
+            clearcoat: crate::scene::ClearCoat::NONE,
         };
         let mut textures: Vec<&str> = TEXTURE_KEYS
             .iter()
@@ -712,9 +741,27 @@ fn materials(
                             (0.0, f64::MAX),
                         )?);
                     }
+                    "KHR_materials_clearcoat" => {
+                        material.clearcoat.weight = number(e, "clearcoatFactor", &e_at, 0.0, unit)?;
+                        material.clearcoat.roughness =
+                            number(e, "clearcoatRoughnessFactor", &e_at, 0.0, unit)?;
+                    }
                     "KHR_materials_emissive_strength" => {
                         material.emissive_strength =
                             number(e, "emissiveStrength", &e_at, 1.0, (0.0, f64::MAX))?;
+                    }
+                    "KHR_materials_anisotropy" => {
+                        material.anisotropy_strength =
+                            number(e, "anisotropyStrength", &e_at, 0.0, unit)?;
+                        material.anisotropy_rotation =
+                            number(e, "anisotropyRotation", &e_at, 0.0, (f64::MIN, f64::MAX))?;
+                        if material.anisotropy_strength > 0.0 && metallic <= 0.0 {
+                            notices.push(format!(
+                                "material '{name}': KHR_materials_anisotropy on a material \
+                                 without metal not modelled (the anisotropy is the metal \
+                                 lobe's), ignored"
+                            ));
+                        }
                     }
                     other => notices.push(format!(
                         "material '{name}': extension {other} not modelled, ignored"

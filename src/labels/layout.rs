@@ -219,11 +219,22 @@ pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> 
             .collect();
         roughness.sort_by(|a, b| a.0.total_cmp(&b.0));
         let values: Vec<f64> = roughness.into_iter().map(|(_, r)| r).collect();
-        labels.columns.push(label(
-            column_label(&values),
-            room,
-            [Align::Centre, Align::Start],
-        ));
+        let mut coats: Vec<(f32, f64)> = column
+            .iter()
+            .map(|s| (s.cy(), scene.balls[s.index].material.clearcoat))
+            .filter(|(_, c)| c.is_on())
+            .map(|(y, c)| (y, c.roughness))
+            .collect();
+        coats.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let coats: Vec<f64> = coats.into_iter().map(|(_, r)| r).collect();
+        let text = if coats.is_empty() {
+            column_label(&values)
+        } else {
+            super::column_label_with_coat(&values, &coats)
+        };
+        labels
+            .columns
+            .push(label(text, room, [Align::Centre, Align::Start]));
     }
 
     // Rows: at the left of the leftmost ball, right-aligned, centred on the row.

@@ -298,6 +298,42 @@ pub fn row_label(ball: &Ball) -> String {
         Model::Truth => "truth",
     };
     let m = &ball.material;
+    let label = row_label_isotropic(ball, model);
+    if !m.is_anisotropic() {
+        return label;
+    }
+    // An anisotropic lobe says so first, with its rotation where it has one.
+    let turned = if m.anisotropy_rotation != 0.0 {
+        format!(
+            " at {} deg",
+            number(m.anisotropy_rotation.to_degrees().round())
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "anisotropy {}{turned}{ROW_LABEL_SEPARATOR}{label}",
+        number(m.anisotropy)
+    )
+}
+
+/// [`row_label`] without the anisotropy: the clear coat's weight, then the base's.
+fn row_label_isotropic(ball: &Ball, model: &str) -> String {
+    let m = &ball.material;
+    let base = base_label(ball, model);
+    if m.clearcoat.is_on() {
+        format!(
+            "coat {}{ROW_LABEL_SEPARATOR}{base}",
+            number(m.clearcoat.weight)
+        )
+    } else {
+        base
+    }
+}
+
+/// The row label of a ball's material under its clear coat, `model` its model's name.
+fn base_label(ball: &Ball, model: &str) -> String {
+    let m = &ball.material;
     if !m.has_dielectric() {
         model.to_string()
     } else if m.has_metal() {
@@ -313,6 +349,21 @@ pub fn row_label(ball: &Ball) -> String {
 /// The text under a column of balls of these roughness values (top to bottom): `r = 0.15`,
 /// or each distinct value in order (`r = 0.15 / 0.35`).
 pub fn column_label(roughness: &[f64]) -> String {
+    format!("r = {}", distinct_numbers(roughness))
+}
+
+/// The text under a column with clear coats: the balls' roughness and the coats'
+/// (`r = 0.4 · coat r = 0.1`).
+pub fn column_label_with_coat(roughness: &[f64], coat_roughness: &[f64]) -> String {
+    format!(
+        "{} \u{b7} coat r = {}",
+        column_label(roughness),
+        distinct_numbers(coat_roughness)
+    )
+}
+
+/// Each distinct value in order, joined by ` / `.
+fn distinct_numbers(roughness: &[f64]) -> String {
     let mut values: Vec<String> = Vec::new();
     for r in roughness {
         let text = number(*r);
@@ -320,7 +371,7 @@ pub fn column_label(roughness: &[f64]) -> String {
             values.push(text);
         }
     }
-    format!("r = {}", values.join(" / "))
+    values.join(" / ")
 }
 
 /// The caption: `accurate preset · smith-correlated G · environment · tone mapper ·
@@ -358,6 +409,11 @@ pub fn caption(scene: &Scene) -> String {
         format!(" \u{b7} {} layering", scene.layering)
     } else {
         String::new()
+    };
+    let layering = if scene.balls.iter().any(|b| b.material.clearcoat.is_on()) {
+        format!("{layering} \u{b7} {} coat", scene.coat_form)
+    } else {
+        layering
     };
     let display = scene.display();
     format!(

@@ -41,7 +41,7 @@ impl CoatingConstants {
         let row = rows.row(&key).expect("every coating's row is baked");
         let ms = if b.model.has_term() { 1.0 } else { 0.0 };
         let term = b.model.term().unwrap_or(IblTerm::KullaConty);
-        let r = b.roughness as f32;
+        let r = b.shading_roughness() as f32;
         let e_avg = 1.0 - f64::from(e.lut_loss_avg(r));
         let loss = |mu: f64| f64::from(e.lut_loss(mu as f32, r));
         Some(Self::new(

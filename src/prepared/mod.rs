@@ -4,6 +4,7 @@
 //! Carlo, the truth), so that both read the same numbers and neither bakes them again.
 //! The scene itself bakes nothing.
 
+mod clearcoat;
 mod coat;
 mod substrate;
 
@@ -11,6 +12,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+pub use clearcoat::{base_average_albedo, Clearcoat, ClearcoatConstants};
 pub use coat::{coating_spec_albedo, CoatingConstants};
 pub use substrate::{base_albedo, substrate_albedo, substrate_albedo_with, with_substrates};
 
@@ -30,6 +32,7 @@ pub struct Prepared {
     tables: TableSet,
     coating: CoatingRows,
     coats: Vec<Option<Coat>>,
+    clearcoats: Vec<Option<Clearcoat>>,
 }
 
 impl Default for Prepared {
@@ -39,6 +42,7 @@ impl Default for Prepared {
             tables: TableSet::None,
             coating: CoatingRows::default(),
             coats: Vec::new(),
+            clearcoats: Vec::new(),
         }
     }
 }
@@ -56,7 +60,7 @@ impl Prepared {
                 .balls
                 .iter()
                 .take(MAX_BALLS)
-                .filter_map(|b| scene.coating_key(b)),
+                .flat_map(|b| scene.ball_coating_keys(b)),
             cache,
         );
         let coats = scene
@@ -65,10 +69,17 @@ impl Prepared {
             .take(MAX_BALLS)
             .map(|b| Coat::of_ball(scene, b, tables, &coating))
             .collect();
+        let clearcoats = scene
+            .balls
+            .iter()
+            .take(MAX_BALLS)
+            .map(|b| Clearcoat::of_ball(scene, b, tables, &coating))
+            .collect();
         Prepared {
             tables: tables.clone(),
             coating,
             coats,
+            clearcoats,
         }
     }
 
@@ -80,6 +91,11 @@ impl Prepared {
     /// The coating rows of the scene's dielectrics.
     pub fn coating_rows(&self) -> &CoatingRows {
         &self.coating
+    }
+
+    /// Ball `k`'s clear coat; `None` without one.
+    pub fn clearcoat(&self, k: usize) -> Option<&Clearcoat> {
+        self.clearcoats.get(k).and_then(Option::as_ref)
     }
 
     /// Ball `k`'s coating; `None` for an all-metal ball.

@@ -55,7 +55,7 @@ pub fn substrate_albedo_with(
     if let (Model::KullaConty, Some(c)) = (b.model, own) {
         return solve(c.e_spec_avg);
     }
-    let r = b.roughness as f32;
+    let r = b.shading_roughness() as f32;
     let e_avg = 1.0 - f64::from(e.lut_loss_avg(r));
     let loss = |mu: f64| f64::from(e.lut_loss(mu as f32, r));
     let c = CoatingConstants::new(

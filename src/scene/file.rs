@@ -5,6 +5,8 @@
 //! geometry = "smith-correlated" # optional: schlick | smith | smith-correlated (default)
 //! layering = "physical"        # optional: how a dielectric's base sits under its coating:
 //!                              #   constant | gltf | view-only | reciprocal | physical (default)
+//! coat_form = "physical"       # optional: how a clear coat weights the ball under it:
+//!                              #   physical (default) | filament | gltf
 //! base_reading = "apparent"    # optional: what a dielectric's base colour means: apparent
 //!                              #   (default: the colour a viewer sees, as glTF) | substrate
 //! exposure = 1.0               # optional, > 0
@@ -55,6 +57,12 @@
 //! #   (default 0), ior in [1, 4] (default 1.5); or the shorthand
 //! #   { kind = "dielectric", albedo = [...], ior = 1.5 } (albedo required, as a
 //! #   metal's; a grey f0 for the ior)
+//! # material = { base_color = [...], metallic = 1, anisotropy = 0.8, anisotropy_rotation = 0 }
+//! #   any material with metal: its lobe's anisotropy in [0, 1] (glTF's
+//! #   KHR_materials_anisotropy), turned by anisotropy_rotation radians from the tangent
+//! #   around +y (docs/design/anisotropy.md)
+//! # Any material takes a clear coat: clearcoat = 0.5 (weight in [0, 1], default 0),
+//! #   clearcoat_roughness = 0.1 (in [0, 1], default 0), clearcoat_ior = 1.5 (in [1, 4])
 //! ```
 //!
 //! Value checks (ranges, NaN, zero directions) run inside deserialisation, so toml reports
@@ -70,8 +78,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::values::{
-    BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid, IblSamples, ImageSize, Ior,
-    Metallic, Named, NonNegative, Positive, Radiance, Roughness,
+    Anisotropy, AnisotropyRotation, BackgroundValue, Colour, Direction, Finite, Finite3, Fov, Grid,
+    IblSamples, ImageSize, Ior, Metallic, Named, NonNegative, Positive, Radiance, Roughness, Unit,
 };
 use super::{
     grid_position, srgb_decode, Ball, Camera, Layering, Light, Material, Model, Scene, DEFAULT_IOR,
@@ -88,6 +96,7 @@ struct SceneFile {
     preset: Option<Named<super::Preset>>,
     geometry: Option<Named<Geometry>>,
     layering: Option<Named<Layering>>,
+    coat_form: Option<Named<super::CoatForm>>,
     base_reading: Option<Named<super::BaseReading>>,
     exposure: Option<Positive>,
     antialias: Option<bool>,
@@ -175,6 +184,16 @@ struct MaterialFile {
     metallic: Option<Metallic>,
     /// The dielectric's index of refraction (default 1.5).
     ior: Option<Ior>,
+    /// The metal lobe's anisotropy in [0, 1] (default 0; docs/design/anisotropy.md).
+    anisotropy: Option<Anisotropy>,
+    /// Its rotation from the ball's tangent, radians (default 0).
+    anisotropy_rotation: Option<AnisotropyRotation>,
+    /// The clear coat's weight in [0, 1] (default 0: none).
+    clearcoat: Option<Unit>,
+    /// The clear coat's roughness in [0, 1] (default 0).
+    clearcoat_roughness: Option<Roughness>,
+    /// The clear coat's index of refraction (default 1.5).
+    clearcoat_ior: Option<Ior>,
 }
 
 /// Reads and parses the scene file at `path`.
@@ -373,6 +392,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
         preset: file.preset.map_or(reference.preset, |p| p.0),
         geometry: file.geometry.map_or(reference.geometry, |g| g.0),
         layering: file.layering.map_or(reference.layering, |l| l.0),
+        coat_form: file.coat_form.map_or(reference.coat_form, |f| f.0),
         base_reading: file.base_reading.map_or(reference.base_reading, |r| r.0),
         labels: file.labels,
         antialias: file.antialias.unwrap_or(reference.antialias),
@@ -488,6 +508,39 @@ fn ball(b: Spanned<BallFile>, term: IblTerm) -> Spanned2<Ball> {
 }
 
 fn material(m: Spanned<MaterialFile>) -> Spanned2<Material> {
+    let span = m.span();
+    let anisotropy = m.get_ref().anisotropy.map_or(0.0, |a| a.0);
+    let rotation = m.get_ref().anisotropy_rotation.map_or(0.0, |r| r.0);
+    let material = material_isotropic(m)?;
+    if anisotropy > 0.0 && !material.has_metal() {
+        return Err((
+            span,
+            "`anisotropy` is the metal lobe's: a material without metal (metallic 0) takes \
+             none"
+                .to_string(),
+        ));
+    }
+    Ok(material.with_anisotropy(anisotropy, rotation))
+}
+
+fn material_isotropic(m: Spanned<MaterialFile>) -> Spanned2<Material> {
+    let span = m.span();
+    let m = m.into_inner();
+    let clearcoat = super::ClearCoat {
+        weight: m.clearcoat.map_or(0.0, |w| w.0),
+        roughness: m.clearcoat_roughness.map_or(0.0, |r| r.0),
+        ior: m
+            .clearcoat_ior
+            .map_or(super::DEFAULT_CLEARCOAT_IOR, |i| i.0),
+    };
+    let material = material_base(Spanned::new(span.clone(), m))?;
+    Ok(Material {
+        clearcoat,
+        ..material
+    })
+}
+
+fn material_base(m: Spanned<MaterialFile>) -> Spanned2<Material> {
     let span = m.span();
     let m = m.into_inner();
     let fail = |message: &str| Err((span.clone(), message.to_string()));

@@ -26,6 +26,14 @@ pub struct Material {
     pub diffuse: DVec3,
     /// The dielectric coating's index of refraction (relative to the outside).
     pub ior: f64,
+    /// The metal lobe's anisotropy in `[0, 1]` (glTF's `KHR_materials_anisotropy`
+    /// `anisotropyStrength`; docs/design/anisotropy.md): 0 is isotropic.
+    pub anisotropy: f64,
+    /// The anisotropy's direction, radians counter-clockwise from the ball's tangent
+    /// (`brdf::ball_tangent`; glTF's `anisotropyRotation`).
+    pub anisotropy_rotation: f64,
+    /// The clear coat over the whole material ([`super::ClearCoat::NONE`]: none).
+    pub clearcoat: super::ClearCoat,
 }
 
 impl Material {
@@ -36,6 +44,9 @@ impl Material {
             f0,
             diffuse: DVec3::ZERO,
             ior: DEFAULT_IOR,
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -59,6 +70,9 @@ impl Material {
             f0: DVec3::ZERO,
             diffuse,
             ior,
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
     }
 
@@ -70,12 +84,62 @@ impl Material {
             f0: base_color,
             diffuse: base_color,
             ior,
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
+            clearcoat: super::ClearCoat::NONE,
         }
+    }
+
+    /// The material with the metal's lobe made anisotropic: `anisotropy` in `[0, 1]`,
+    /// turned by `rotation` radians (glTF's `KHR_materials_anisotropy`).
+    pub fn with_anisotropy(self, anisotropy: f64, rotation: f64) -> Self {
+        Material {
+            anisotropy,
+            anisotropy_rotation: rotation,
+            ..self
+        }
+    }
+
+    /// Whether the lobe is anisotropic (`anisotropy > 0`): then its lights' single
+    /// scattering is the anisotropic lobe's, and everything isotropic about the ball reads
+    /// its isotropic-equivalent roughness ([`Material::shading_roughness`]).
+    pub fn is_anisotropic(&self) -> bool {
+        self.anisotropy > 0.0
+    }
+
+    /// The lobe's `(alpha_t, alpha_b)` at `roughness` ([`crate::brdf::anisotropic_alphas`]).
+    pub fn anisotropic_alphas(&self, roughness: f64) -> (f64, f64) {
+        crate::brdf::anisotropic_alphas(roughness, self.anisotropy)
+    }
+
+    /// The roughness every isotropic part of the ball reads at `roughness` (its E and
+    /// E_avg, the term's `f_add`, the split sum, the prefiltered map, the coating): the
+    /// isotropic equivalent `sqrt(sqrt(alpha_t alpha_b))` of an anisotropic lobe (what
+    /// engines feed their isotropic terms), `roughness` itself otherwise.
+    pub fn shading_roughness(&self, roughness: f64) -> f64 {
+        if !self.is_anisotropic() {
+            return roughness;
+        }
+        let (t, b) = self.anisotropic_alphas(roughness);
+        crate::brdf::isotropic_roughness(t, b)
+    }
+
+    /// `(cos, sin)` of the anisotropy's rotation.
+    pub fn anisotropy_turn(&self) -> (f64, f64) {
+        (
+            self.anisotropy_rotation.cos(),
+            self.anisotropy_rotation.sin(),
+        )
     }
 
     /// Whether any part is metal.
     pub fn has_metal(&self) -> bool {
         self.metallic > 0.0
+    }
+
+    /// This material under the clear coat `clearcoat`.
+    pub fn with_clearcoat(self, clearcoat: super::ClearCoat) -> Self {
+        Material { clearcoat, ..self }
     }
 
     /// Whether any part is dielectric.

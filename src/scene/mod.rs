@@ -8,6 +8,7 @@
 
 mod ball_label;
 mod camera;
+mod clearcoat;
 #[cfg(feature = "scene-files")]
 mod file;
 mod material;
@@ -25,6 +26,7 @@ pub use camera::{
     bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
     MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
 };
+pub use clearcoat::{ClearCoat, CoatForm, DEFAULT_CLEARCOAT_IOR};
 #[cfg(feature = "scene-files")]
 pub use file::{load, parse, MAX_SCENE_BYTES};
 pub use material::{gamma22_decode, srgb_decode, Layering, Material, DEFAULT_IOR, IOR_RANGE};
@@ -87,6 +89,15 @@ pub struct Ball {
     pub label: Option<BallLabel>,
 }
 
+impl Ball {
+    /// The roughness every isotropic part of the ball's shading reads
+    /// ([`Material::shading_roughness`]): `roughness`, or an anisotropic lobe's isotropic
+    /// equivalent.
+    pub fn shading_roughness(&self) -> f64 {
+        self.material.shading_roughness(self.roughness)
+    }
+}
+
 /// A directional light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
@@ -123,6 +134,8 @@ pub struct Scene {
     pub geometry: Geometry,
     /// How every dielectric's base is weighted under its coating.
     pub layering: Layering,
+    /// How every clear coat weights the ball under it (`coat_form`, `--coat-form`).
+    pub coat_form: CoatForm,
     /// What every dielectric's `base_color` means: the colour a viewer sees (default) or
     /// the substrate's albedo under the coating (`base_reading`, `--base-reading`).
     pub base_reading: BaseReading,
@@ -189,6 +202,7 @@ impl Scene {
             // The G closest to real multiple scattering (docs/truth.md, "How close to the truth").
             geometry: Geometry::SmithCorrelated,
             layering: Layering::default(),
+            coat_form: CoatForm::default(),
             base_reading: BaseReading::default(),
             labels: true,
             antialias: true,
@@ -276,7 +290,7 @@ impl Scene {
     pub fn coating_key(&self, b: &Ball) -> Option<crate::lut::CoatingKey> {
         b.material.has_dielectric().then(|| {
             crate::lut::CoatingKey::new(
-                b.roughness,
+                b.shading_roughness(),
                 b.material.ior,
                 self.preset.dielectric_fresnel(),
                 self.effective_geometry(),

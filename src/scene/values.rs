@@ -170,6 +170,59 @@ impl TryFrom<f64> for Metallic {
     }
 }
 
+/// An anisotropy strength in `[0, 1]` (glTF's `anisotropyStrength`).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Anisotropy(pub f64);
+
+impl TryFrom<f64> for Anisotropy {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(Anisotropy(v))
+        } else {
+            Err(format!("anisotropy {} is outside [0, 1]", short_number(v)))
+        }
+    }
+}
+
+/// An anisotropy rotation in radians, finite and within `[-2 pi, 2 pi]` (glTF's
+/// `anisotropyRotation`; beyond a turn is a slip of units, degrees for radians).
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct AnisotropyRotation(pub f64);
+
+impl TryFrom<f64> for AnisotropyRotation {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        let turn = std::f64::consts::TAU;
+        if v.is_finite() && (-turn..=turn).contains(&v) {
+            Ok(AnisotropyRotation(v))
+        } else {
+            Err(format!(
+                "anisotropy_rotation {} is outside [-2 pi, 2 pi] (radians)",
+                short_number(v)
+            ))
+        }
+    }
+}
+
+/// A weight in `[0, 1]` (a clear coat's); its error names the key before it.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(try_from = "f64")]
+pub struct Unit(pub f64);
+
+impl TryFrom<f64> for Unit {
+    type Error = String;
+    fn try_from(v: f64) -> Result<Self, String> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(Unit(v))
+        } else {
+            Err(format!("{} is outside [0, 1]", short_number(v)))
+        }
+    }
+}
+
 /// An index of refraction in [`super::IOR_RANGE`].
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]

@@ -351,7 +351,66 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             None => edit::restore_materials(scene, &controls.scene_materials),
         }
     }
+    anisotropy(ui, scene);
+    clearcoat(ui, scene);
     ui.checkbox(&mut scene.labels, "labels (roughness, row model, caption)");
+}
+
+/// The clear coat of every ball (the first ball's shown; moving a slider sets them all)
+/// and, with a coat, its form (docs/design/coat.md).
+fn clearcoat(ui: &mut egui::Ui, scene: &mut Scene) {
+    let Some(first) = scene.balls.first() else {
+        return;
+    };
+    let mut c = first.material.clearcoat;
+    let mut changed = ui
+        .add(egui::Slider::new(&mut c.weight, 0.0..=1.0).text("clear coat"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut c.roughness, 0.0..=1.0).text("coat roughness"))
+        .changed();
+    let (lo, hi) = crate::scene::IOR_RANGE;
+    changed |= ui
+        .add(egui::Slider::new(&mut c.ior, lo..=hi).text("coat IOR"))
+        .changed();
+    if changed {
+        for b in &mut scene.balls {
+            b.material.clearcoat = c;
+        }
+    }
+    if scene.balls.iter().any(|b| b.material.clearcoat.is_on()) {
+        combo(
+            ui,
+            "coat form",
+            &mut scene.coat_form,
+            &crate::scene::CoatForm::ALL,
+            |f| f.name(),
+        );
+    }
+}
+
+/// The anisotropy of every ball with metal (docs/design/anisotropy.md): its strength and
+/// its rotation from the ball's tangent, as the first such ball has them.
+fn anisotropy(ui: &mut egui::Ui, scene: &mut Scene) {
+    let Some(first) = scene.balls.iter().find(|b| b.material.has_metal()) else {
+        return;
+    };
+    let (mut strength, mut rotation) = (
+        first.material.anisotropy,
+        first.material.anisotropy_rotation,
+    );
+    let pi = std::f64::consts::PI;
+    let mut changed = ui
+        .add(egui::Slider::new(&mut strength, 0.0..=1.0).text("anisotropy"))
+        .changed();
+    changed |= ui
+        .add(egui::Slider::new(&mut rotation, -pi..=pi).text("anisotropy rotation (rad)"))
+        .changed();
+    if changed {
+        for b in scene.balls.iter_mut().filter(|b| b.material.has_metal()) {
+            b.material = b.material.with_anisotropy(strength, rotation);
+        }
+    }
 }
 
 fn lighting(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {

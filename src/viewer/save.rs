@@ -75,6 +75,7 @@ fn top_level(out: &mut String, scene: &Scene) {
     let _ = writeln!(out, "preset = {}", string(scene.preset.name()));
     let _ = writeln!(out, "geometry = {}", string(scene.geometry.name()));
     let _ = writeln!(out, "layering = {}", string(scene.layering.name()));
+    let _ = writeln!(out, "coat_form = {}", string(scene.coat_form.name()));
     let _ = writeln!(out, "base_reading = {}", string(scene.base_reading.name()));
     let _ = writeln!(out, "exposure = {}", num(scene.exposure));
     let background = match scene.background {
@@ -148,7 +149,7 @@ fn light(out: &mut String, light: &Light) -> Result<(), String> {
 }
 
 fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
-    let material = material(&b.material)?;
+    let material = anisotropic(material(&b.material)?, &b.material);
     let label = b.label.map_or(String::new(), |l| {
         format!("label = {}\n", string(l.as_str()))
     });
@@ -163,12 +164,45 @@ fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
     Ok(())
 }
 
+/// The inline table `table` with the material's anisotropy keys where its lobe is
+/// anisotropic.
+fn anisotropic(table: String, m: &Material) -> String {
+    if !m.is_anisotropic() {
+        return table;
+    }
+    let keys = format!(
+        ", anisotropy = {}, anisotropy_rotation = {} }}",
+        num(m.anisotropy),
+        num(m.anisotropy_rotation)
+    );
+    match table.strip_suffix(" }") {
+        Some(head) => head.to_string() + &keys,
+        None => table,
+    }
+}
+
 /// The material's inline table, colours as they were written where an input with the
 /// fewest decimals decodes to them exactly: a metal by the `albedo` whose `pow 2.2` is its
 /// `f0` (the homework's copper: `[0.7216, 0.451, 0.2]`), else by its linear `f0`; the
 /// engines' material by an sRGB `base_color` that decodes to it exactly; a dielectric by an
 /// `albedo` whose `pow 2.2` is its base exactly.
 fn material(m: &Material) -> Result<String, String> {
+    let text = material_base(m)?;
+    let c = m.clearcoat;
+    if !c.is_on() {
+        return Ok(text);
+    }
+    let body = text.trim_end_matches('}').trim_end();
+    Ok(format!(
+        "{body}, clearcoat = {}, clearcoat_roughness = {}, clearcoat_ior = {} }}",
+        num(c.weight),
+        num(c.roughness),
+        num(c.ior)
+    ))
+}
+
+/// [`material`] without its clear coat.
+fn material_base(m: &Material) -> Result<String, String> {
     let pow = |c: f64| gamma22_decode([c; 3]).x;
     if m.metallic == 1.0 && m.diffuse == DVec3::ZERO && m.ior == DEFAULT_IOR {
         return Ok(match short3(m.f0, pow, |d| d.powf(1.0 / 2.2)) {

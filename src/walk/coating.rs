@@ -139,10 +139,10 @@ impl Event<'_> {
             // In the inside frame the outside lies at -z: leave along -l, then escape
             // outside along l from the height 1 - c.
             let p = transmission_phase(s, self.wi, -l, self.eta());
-            p * s.g1(l.z, (1.0 - self.c).max(f64::EPSILON))
+            p * s.g1(l, (1.0 - self.c).max(f64::EPSILON))
         } else {
             let (p, cos) = s.phase(self.wi, l);
-            p * fresnel_dielectric(cos, self.eta()) * s.g1(l.z, self.c)
+            p * fresnel_dielectric(cos, self.eta()) * s.g1(l, self.c)
         }
     }
 }
@@ -168,7 +168,7 @@ pub fn transmission_phase(s: &Microsurface, wi: DVec3, wo: DVec3, eta: f64) -> f
     if cos_i <= 0.0 || cos_o >= 0.0 {
         return 0.0;
     }
-    let visible = cos_i * d_ggx(h.z, s.alpha) / s.projected_area(wi.z).max(DIV_EPSILON);
+    let visible = cos_i * d_ggx(h.z, s.alpha) / s.projected_area(wi).max(DIV_EPSILON);
     let denominator = (cos_i + eta * cos_o).powi(2).max(DIV_EPSILON);
     (1.0 - fresnel_dielectric(cos_i, eta)) * visible * eta * eta * (-cos_o) / denominator
 }
@@ -232,7 +232,7 @@ impl Coating {
         let mut c = 1.0;
         let mut order = 0u32;
         loop {
-            if dir.z > 0.0 && rng.uniform() < s.g1(dir.z, c) {
+            if dir.z > 0.0 && rng.uniform() < s.g1(dir, c) {
                 if side == Side::Outside {
                     visit.exit(order, dir, &w[..n]);
                     return true;
@@ -253,7 +253,7 @@ impl Coating {
                 return true;
             }
             // Given that it hits (an upward ray's draw above said so).
-            c = s.next_height(dir.z, c, rng.uniform());
+            c = s.next_height(dir, c, rng.uniform());
             order += 1;
             if order > MAX_ORDER {
                 return false;
@@ -376,7 +376,7 @@ pub fn smooth_coating_albedo(mu: f64, eta: f64, rho: f64) -> f64 {
 /// Russian roulette on a path's per-channel weights: below [`RR_BELOW`] (their largest),
 /// the path survives with probability `max / RR_BELOW` and its weights are divided by it;
 /// whether it survives (a path of zero weights does not).
-fn russian_roulette(w: &mut [f64], rng: &mut Rng) -> bool {
+pub(crate) fn russian_roulette(w: &mut [f64], rng: &mut Rng) -> bool {
     let max = w.iter().copied().fold(0.0, f64::max);
     if max >= RR_BELOW {
         return true;

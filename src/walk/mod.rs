@@ -12,6 +12,7 @@
 //! weight and always continues with the weight scaled by `1 - G1`, down to a Russian
 //! roulette.
 
+pub mod clearcoat;
 pub mod coating;
 pub mod microsurface;
 pub mod rng;
@@ -86,7 +87,7 @@ pub fn trace<F: Reflectance>(
     let mut order = 0u32;
     loop {
         if dir.z > 0.0 {
-            let escape = s.g1(dir.z, c);
+            let escape = s.g1(dir, c);
             on_escape(order, dir, carry * escape, &w[..n]);
             carry *= 1.0 - escape;
             if carry <= 0.0 {
@@ -96,7 +97,7 @@ pub fn trace<F: Reflectance>(
         if order >= limit {
             return true;
         }
-        c = s.next_height(dir.z, c, rng.uniform());
+        c = s.next_height(dir, c, rng.uniform());
         order += 1;
         if order > MAX_ORDER {
             return false;

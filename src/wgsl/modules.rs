@@ -17,13 +17,13 @@ macro_rules! module {
 
 /// Every module, by import path. The library (no bindings, no override constants):
 /// `constants`, `brdf`, `lut`, `environment`, `sampling`. The renderer's: `types` (override constants,
-/// the boundary structs), `bindings` (groups 0 and 1), `coating` (the dielectric's shading), `model` (the whole
+/// the boundary structs), `bindings` (groups 0 and 1), `clearcoat` (a clear coat over a ball), `coating` (the dielectric's shading), `model` (the whole
 /// model's BRDF for the sampling estimators), `lighting`, `screen` (the vertex
 /// stages, rays and output the ball renderer and the truth share), `footprint` (a pixel's
 /// antialiased footprint and the background, the ball renderer's and the Monte Carlo's), and the roots `balls`,
 /// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `accumulate` (the lobe's
 /// progressive image), `probe`, `prefilter`.
-pub const MODULES: [Module; 18] = [
+pub const MODULES: [Module; 19] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -31,6 +31,7 @@ pub const MODULES: [Module; 18] = [
     module!("sampling"),
     module!("types"),
     module!("bindings"),
+    module!("clearcoat"),
     module!("coating"),
     module!("model"),
     module!("lighting"),

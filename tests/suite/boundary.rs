@@ -11,7 +11,7 @@ use shadeballs::display::{self, ToneMap, Transfer};
 use shadeballs::environment::{lobe, prefilter};
 use shadeballs::gpu::boundary::{self, StructLayout, STRUCTS};
 use shadeballs::gpu::shaders;
-use shadeballs::gpu::uniforms::{LAYERING_CODES, TERM_CODES};
+use shadeballs::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
 use shadeballs::lut::{self, EAvgRead, MuAxis};
 use shadeballs::wgsl::PROGRAMS;
 
@@ -140,6 +140,14 @@ fn renderer_constants() -> Vec<Constant> {
             name,
             code as u64,
             "gpu::uniforms::LAYERING_CODES".into(),
+        ));
+    }
+    for (code, form) in COAT_FORM_CODES {
+        let name = format!("COAT_FORM_{}", upper(form.name()));
+        c.push(uint(
+            name,
+            code as u64,
+            "gpu::uniforms::COAT_FORM_CODES".into(),
         ));
     }
     c.push(uint(

@@ -1,11 +1,13 @@
 //! The one test binary (each extra binary links wgpu again). Modules by layer.
 
+mod anisotropy;
 mod antialias;
 mod bad_input;
 mod base_reading;
 mod boundary;
 mod bounds;
 mod clamp;
+mod clearcoat;
 mod cli;
 mod cli_bake;
 mod cli_fuzz;

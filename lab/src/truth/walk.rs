@@ -119,7 +119,7 @@ pub fn lobe(
     let n = channels.len();
     let size = outgoing.len() * n;
     // Lambda of each outgoing direction, once.
-    let lambdas: Vec<f64> = outgoing.iter().map(|wo| s.lambda(wo.z)).collect();
+    let lambdas: Vec<f64> = outgoing.iter().map(|wo| s.lambda(*wo)).collect();
     let run = |rng: &mut Rng, count: usize| {
         let mut out = Albedo::new(size);
         let mut single = vec![0.0; size];
@@ -176,7 +176,7 @@ pub fn albedo_next_event(
     seed: &[u64],
 ) -> Stat {
     let wi = incident(mu);
-    let lambdas: Vec<f64> = rule.iter().map(|(wo, _)| s.lambda(wo.z)).collect();
+    let lambdas: Vec<f64> = rule.iter().map(|(wo, _)| s.lambda(*wo)).collect();
     let run = |rng: &mut Rng, count: usize| {
         let mut out = Stat::default();
         for _ in 0..count {

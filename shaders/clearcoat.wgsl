@@ -1,0 +1,112 @@
+// clearcoat.wgsl: a clear coat over a ball's whole shading (docs/design/coat.md; the maths
+// in src/brdf/clearcoat.rs): the coat's own lobe (shade_clearcoat) and its point's forming
+// (clearcoat_begin); the share of the base's light that comes through it is coating.wgsl's
+// clearcoat_through and clearcoat_environment (the base's shading reads them). Mirrored in
+// f64 by src/cpu/clearcoat.rs (same model, same order of terms).
+
+#define_import_path shadeballs::clearcoat
+#import shadeballs::brdf::{f_micro, f_ms, f_dielectric, clearcoat_through_physical, clearcoat_through_engine}
+#import shadeballs::lut::lut_loss_row
+#import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_multiple}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, DOMINANT_DIRECTION}
+#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
+#import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
+#import shadeballs::bindings::{env_specular_layers, env_convolved}
+#import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point}
+
+// Forms ball b's coat at unit normal n towards v (ms: the ball's term weight) into
+// clearcoat_point. Called once per pixel before the base is shaded.
+fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
+    var p: ClearcoatPoint;
+    let w = b.clearcoat;
+    let form = b.clearcoat_form;
+    let mu_o = max(dot(n, v), 0.0);
+    p.ms = select(ms_ball, 0.0, form == COAT_FORM_FILAMENT || form == COAT_FORM_GLTF);
+    p.loss_o = 0.0;
+    if p.ms > 0.0 || (form == COAT_FORM_GLTF && (HAS_ENVIRONMENT == 1u || IBL != 0u)) {
+        p.loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.clearcoat_lut_row);
+    }
+    p.e_f_o = coating_albedo(b.clearcoat_row, mu_o);
+    p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, b.clearcoat_fresnel);
+    p.out = vec3<f32>(0.0);
+    switch form {
+        case COAT_FORM_FILAMENT: {
+            p.albedo_o = p.e_f_o;
+            p.environment = vec3<f32>(clearcoat_through_engine(w, p.fresnel_o));
+        }
+        case COAT_FORM_GLTF: {
+            p.albedo_o = p.fresnel_o * (1.0 - p.loss_o);
+            p.environment = vec3<f32>(clearcoat_through_engine(w, p.fresnel_o));
+        }
+        default: {
+            let e_o = p.e_f_o + p.ms * b.clearcoat_f_add * p.loss_o;
+            p.albedo_o = e_o;
+            p.out = (1.0 - e_o) * b.clearcoat_inside;
+            p.environment = clearcoat_through_physical(w, p.out, b.clearcoat_e_avg);
+        }
+    }
+    clearcoat_point = p;
+}
+
+// The coat's own radiance at unit normal n towards v (after clearcoat_begin), lit by the
+// first n_lights lights, the uniform environment and the map, times its weight.
+fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
+    let p = clearcoat_point;
+    let form = b.clearcoat_form;
+    let roughness = b.clearcoat_roughness;
+    let mu_o = max(dot(n, v), 0.0);
+    var lo = vec3<f32>(0.0);
+    if HAS_ENVIRONMENT == 1u {
+        lo = globals.environment.xyz * p.albedo_o;
+    }
+    if IBL != 0u {
+        lo += shade_clearcoat_map(b, n, v);
+    }
+    if HAS_LIGHTS == 1u {
+        for (var k = 0u; k < n_lights; k++) {
+            let l = lights[k].direction.xyz;
+            let mu_i = dot(n, l);
+            if mu_i <= 0.0 || mu_o <= 0.0 {
+                continue;
+            }
+            let h = normalize(v + l);
+            var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
+            if form == COAT_FORM_GLTF {
+                fresnel = 1.0;
+            }
+            var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
+            if form == COAT_FORM_GLTF {
+                spec *= p.fresnel_o;
+            }
+            if p.ms > 0.0 {
+                let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.clearcoat_lut_row);
+                spec += p.ms * b.clearcoat_f_add * f_ms(p.loss_o, loss_i, b.clearcoat_ms_norm);
+            }
+            lo += spec * lights[k].radiance.xyz * mu_i;
+        }
+    }
+    return b.clearcoat * lo;
+}
+
+// The map's part of shade_clearcoat: the prefiltered radiance at the coat's roughness
+// along its dominant direction (the lobe mode's too)
+// times the coat's albedo at the view, and the physical form's term as the coating's.
+fn shade_clearcoat_map(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    let p = clearcoat_point;
+    let roughness = b.clearcoat_roughness;
+    let rotation = env.rotation;
+    let intensity = env.intensity;
+    // The prefiltered layers in the lobe mode too (its samples are the base's).
+    let r = 2.0 * dot(n, v) * n - v;
+    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
+    let radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    var lo = radiance * p.albedo_o;
+    if b.clearcoat_form != COAT_FORM_FILAMENT && b.clearcoat_form != COAT_FORM_GLTF && p.ms > 0.0 {
+        // albedo_o holds the term's part too: the single scattering alone takes the
+        // prefiltered radiance, the term the multiple-scattering convolution.
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, env_to_map(n, rotation), roughness);
+        let added = p.ms * b.clearcoat_f_add * p.loss_o;
+        lo = radiance * p.e_f_o + added * multiple;
+    }
+    return lo;
+}

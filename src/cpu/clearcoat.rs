@@ -1,0 +1,196 @@
+//! A ball's clear coat on the CPU, term for term `shaders/clearcoat.wgsl` in f64: the
+//! coat's own lobe and the share of the base's light that comes through it
+//! (docs/design/coat.md).
+
+use glam::DVec3;
+
+use super::light::{loss, CpuEnvironment, Forms};
+use crate::brdf::{
+    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms,
+};
+use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::prepared::{Clearcoat, ClearcoatConstants};
+use crate::scene::{Ball, CoatForm, Scene};
+
+/// What `clearcoat_begin` forms once per pixel (`ClearcoatPoint` of `clearcoat.wgsl`).
+#[derive(Clone, Copy, Debug)]
+pub struct ClearcoatPoint {
+    row: [f32; COATING_ROW_LEN],
+    c: ClearcoatConstants,
+    fresnel_form: crate::brdf::DielectricFresnel,
+    mu_o: f64,
+    /// The physical form's view part of the base's weight, per channel.
+    out: DVec3,
+    /// The coat's directional albedo at the view under its form.
+    albedo_o: f64,
+    /// The base's weight under uniform light and the map.
+    environment: DVec3,
+    loss_o: f64,
+    e_f_o: f64,
+    fresnel_o: f64,
+    ms: f64,
+}
+
+impl ClearcoatPoint {
+    /// `clearcoat_begin`: ball `b`'s coat `coat` at unit normal `n` towards `v`, `ms_ball`
+    /// the ball's term weight.
+    pub fn new(
+        scene: &Scene,
+        b: &Ball,
+        coat: &Clearcoat,
+        (n, v): (DVec3, DVec3),
+        e: &TableSet,
+    ) -> Self {
+        let c = coat.constants;
+        let ms_ball = if b.model.has_term() { 1.0 } else { 0.0 };
+        let w = c.weight;
+        let form = c.form;
+        let mu_o = n.dot(v).max(0.0);
+        let ms = match form {
+            CoatForm::Physical => ms_ball,
+            CoatForm::Filament | CoatForm::Gltf => 0.0,
+        };
+        let lit = scene.environment != DVec3::ZERO || scene.environment_map.is_some();
+        let loss_o = if ms > 0.0 || (form == CoatForm::Gltf && lit) {
+            loss(e, mu_o, c.roughness)
+        } else {
+            0.0
+        };
+        let e_f_o = f64::from(coating_albedo(&coat.row, mu_o as f32));
+        let fresnel_o = f_dielectric(mu_o, c.eta, c.fresnel);
+        let (albedo_o, out, environment) = match form {
+            CoatForm::Filament => (
+                e_f_o,
+                DVec3::ZERO,
+                DVec3::splat(clearcoat_through_engine(w, fresnel_o)),
+            ),
+            CoatForm::Gltf => (
+                fresnel_o * (1.0 - loss_o),
+                DVec3::ZERO,
+                DVec3::splat(clearcoat_through_engine(w, fresnel_o)),
+            ),
+            CoatForm::Physical => {
+                let e_o = e_f_o + ms * c.f_add * loss_o;
+                let out = (1.0 - e_o) * c.inside;
+                let through = |o: f64| clearcoat_through_physical(w, o, c.e_avg);
+                (
+                    e_o,
+                    out,
+                    DVec3::new(through(out.x), through(out.y), through(out.z)),
+                )
+            }
+        };
+        ClearcoatPoint {
+            row: coat.row,
+            c,
+            fresnel_form: c.fresnel,
+            mu_o,
+            out,
+            albedo_o,
+            environment,
+            loss_o,
+            e_f_o,
+            fresnel_o,
+            ms,
+        }
+    }
+
+    /// `clearcoat_albedo`: the physical coat's `E_c(mu)`.
+    fn albedo(&self, e: &TableSet, mu: f64) -> f64 {
+        let l = if self.ms > 0.0 {
+            loss(e, mu, self.c.roughness)
+        } else {
+            0.0
+        };
+        f64::from(coating_albedo(&self.row, mu as f32)) + self.ms * self.c.f_add * l
+    }
+
+    /// `clearcoat_through`: the share of the base's light from a light at cosine `mu_i`
+    /// (`v_dot_h` the view's cosine to the half vector) that comes through the coat.
+    pub fn through(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> DVec3 {
+        let w = self.c.weight;
+        match self.c.form {
+            CoatForm::Filament => {
+                let fresnel = f_dielectric(v_dot_h, self.c.eta, self.fresnel_form);
+                DVec3::splat(clearcoat_through_engine(w, fresnel))
+            }
+            CoatForm::Gltf => DVec3::splat(clearcoat_through_engine(w, self.fresnel_o)),
+            CoatForm::Physical => {
+                let e_i = self.albedo(e, mu_i);
+                let t = |o: f64| clearcoat_through_physical(w, o, e_i);
+                DVec3::new(t(self.out.x), t(self.out.y), t(self.out.z))
+            }
+        }
+    }
+
+    /// `clearcoat_environment`: the share of uniform light and the map that comes through.
+    pub fn environment(&self) -> DVec3 {
+        self.environment
+    }
+}
+
+/// `shade_clearcoat` of `clearcoat.wgsl`: the coat's own radiance at unit normal `n`
+/// towards `v`, times its weight; the map's part where the scene has one (`forms.map`).
+pub(super) fn shade_clearcoat(
+    scene: &Scene,
+    p: &ClearcoatPoint,
+    (n, v): (DVec3, DVec3),
+    e: &TableSet,
+    forms: &Forms<'_>,
+) -> DVec3 {
+    let c = &p.c;
+    let mut lo = scene.environment * p.albedo_o;
+    if let Some(map) = forms.map {
+        lo += shade_clearcoat_map(scene, p, (n, v), map);
+    }
+    let mu_o = p.mu_o;
+    for light in &scene.lights {
+        let l = light.direction;
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 || mu_o <= 0.0 {
+            continue;
+        }
+        let h = (v + l).normalize();
+        let fresnel = match c.form {
+            CoatForm::Gltf => 1.0,
+            _ => f_dielectric(v.dot(h), c.eta, p.fresnel_form),
+        };
+        let mut spec = f_micro(fresnel, mu_o, mu_i, n.dot(h), c.roughness, forms.geometry);
+        if c.form == CoatForm::Gltf {
+            spec *= p.fresnel_o;
+        }
+        if p.ms > 0.0 {
+            let loss_i = loss(e, mu_i, c.roughness);
+            spec += p.ms * c.f_add * f_ms(p.loss_o, loss_i, c.ms_norm);
+        }
+        lo += spec * light.radiance * mu_i;
+    }
+    c.weight * lo
+}
+
+/// `shade_clearcoat_map` of `clearcoat.wgsl`.
+fn shade_clearcoat_map(
+    scene: &Scene,
+    p: &ClearcoatPoint,
+    (n, v): (DVec3, DVec3),
+    map: &CpuEnvironment,
+) -> DVec3 {
+    let Some(environment) = &scene.environment_map else {
+        return DVec3::ZERO;
+    };
+    let c = &p.c;
+    let roughness = c.roughness;
+    let intensity = map.intensity(environment);
+    // The prefiltered layers in the lobe mode too (its samples are the base's).
+    let r = 2.0 * n.dot(v) * n - v;
+    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let radiance = intensity
+        * map
+            .prefiltered
+            .specular(environment.to_map(dominant), roughness);
+    if c.form == CoatForm::Physical && p.ms > 0.0 {
+        let multiple = intensity * map.prefiltered.multiple(environment.to_map(n), roughness);
+        return radiance * p.e_f_o + p.ms * c.f_add * p.loss_o * multiple;
+    }
+    radiance * p.albedo_o
+}

@@ -1,0 +1,159 @@
+//! A ball's clear coat prepared once for both renderers (docs/design/coat.md): its
+//! constants ([`ClearcoatConstants`]: the GPU's `Ball.clearcoat*` members) and its row with
+//! them in f32 ([`Clearcoat`], what `cpu::clearcoat` reads).
+
+use glam::DVec3;
+
+use super::{base_albedo, CoatingConstants};
+use crate::brdf::{
+    base_albedo_physical, clearcoat_inside_scale, f_add_preset, f_avg_schlick, DielectricFresnel,
+    GAMES202_EDGE_TINT,
+};
+use crate::environment::IblTerm;
+use crate::lut::{CoatingRows, TableSet, COATING_ROW_LEN};
+use crate::scene::{Ball, CoatForm, Layering, Scene};
+
+/// What a ball's clear coat takes that is constant over the ball, formed once per ball on
+/// the CPU (the GPU's `Ball.clearcoat*`; `cpu::clearcoat`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClearcoatConstants {
+    /// The coat's weight.
+    pub weight: f64,
+    /// The coat's roughness.
+    pub roughness: f64,
+    /// The coat's index.
+    pub eta: f64,
+    /// The coat's Kulla-Conty `f_add` (0 without the ball's term and under the engines'
+    /// forms).
+    pub f_add: f64,
+    /// `f_ms_norm` of the coat's `1 - E_avg` (0 where `f_add` is).
+    pub ms_norm: f64,
+    /// `E_c_avg`, the cosine-weighted average of the coat's specular albedo (its row and
+    /// its term) as the shader reads it.
+    pub e_avg: f64,
+    /// `1 / (eta^2 (1 - A_avg F_in))` per channel ([`clearcoat_inside_scale`]): the
+    /// internal reflections under the physical form (1 under the others).
+    pub inside: DVec3,
+    /// The form.
+    pub form: CoatForm,
+    /// The coat's Fresnel ([`CoatForm::fresnel`]).
+    pub fresnel: DielectricFresnel,
+}
+
+impl ClearcoatConstants {
+    /// Ball `b`'s coat constants, from its row of `rows` and E read from `e`; `None`
+    /// without a coat.
+    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+        let key = scene.clearcoat_key(b)?;
+        let row = rows.row(&key).expect("every clear coat's row is baked");
+        let coat = b.material.clearcoat;
+        let form = scene.coat_form;
+        let physical = form == CoatForm::Physical;
+        let ms = if physical && b.model.has_term() {
+            1.0
+        } else {
+            0.0
+        };
+        let r = coat.roughness as f32;
+        let loss_avg = f64::from(e.lut_loss_avg(r));
+        let loss = |mu: f64| f64::from(e.lut_loss(mu as f32, r));
+        let c = CoatingConstants::new(
+            coat.ior,
+            row,
+            scene.preset,
+            (ms, IblTerm::KullaConty),
+            1.0 - loss_avg,
+            loss,
+        );
+        let inside = if physical {
+            let a_avg = base_average_albedo(scene, b, e, rows);
+            let k = |a: f64| clearcoat_inside_scale(a, c.e_spec_avg, coat.ior);
+            DVec3::new(k(a_avg.x), k(a_avg.y), k(a_avg.z))
+        } else {
+            DVec3::ONE
+        };
+        Some(ClearcoatConstants {
+            weight: coat.weight,
+            roughness: coat.roughness,
+            eta: coat.ior,
+            f_add: c.f_add,
+            ms_norm: if ms > 0.0 {
+                crate::brdf::f_ms_norm(loss_avg)
+            } else {
+                0.0
+            },
+            e_avg: c.e_spec_avg,
+            inside,
+            form,
+            fresnel: form.fresnel(scene.preset.dielectric_fresnel()),
+        })
+    }
+}
+
+/// The cosine-weighted average of ball `b`'s own directional albedo under uniform light
+/// (without its coat), per channel, as the renderers' uniform-light shading gives it: the
+/// metal's `F_avg E_avg + f_add (1 - E_avg)` and the dielectric's `E_spec_avg` plus its
+/// base's average under the scene's layering form, mixed by `metallic`.
+pub fn base_average_albedo(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> DVec3 {
+    let ms = if b.model.has_term() { 1.0 } else { 0.0 };
+    let m = &b.material;
+    let e_avg = 1.0 - f64::from(e.lut_loss_avg(b.roughness as f32));
+    let metal = if m.has_metal() {
+        let f0 = m.f0.to_array();
+        let tint = GAMES202_EDGE_TINT;
+        let c = |k: usize| {
+            let f_add = f_add_preset(scene.preset.f_avg_form(), f0[k], tint[k], e_avg);
+            f_avg_schlick(f0[k]) * e_avg + ms * f_add * (1.0 - e_avg)
+        };
+        DVec3::new(c(0), c(1), c(2))
+    } else {
+        DVec3::ZERO
+    };
+    let dielectric = match CoatingConstants::of_ball(scene, b, e, rows) {
+        Some(c) => {
+            let row = scene.coating_key(b).and_then(|k| rows.row(&k));
+            let albedo = base_albedo(scene, b, e, row, Some(&c));
+            let base = |a: f64| match scene.layering {
+                Layering::Constant | Layering::Gltf => a * (1.0 - c.f_avg),
+                Layering::ViewOnly | Layering::Reciprocal => a * (1.0 - c.e_spec_avg),
+                Layering::Physical => base_albedo_physical(a, c.e_spec_avg, c.e_spec_avg, c.eta),
+            };
+            DVec3::splat(c.e_spec_avg) + DVec3::new(base(albedo.x), base(albedo.y), base(albedo.z))
+        }
+        None => DVec3::ZERO,
+    };
+    m.metallic * metal + (1.0 - m.metallic) * dielectric
+}
+
+/// A ball's clear coat as the CPU's shading reads it, formed once per ball (as the GPU's
+/// uniforms are): its row and its constants, in f32 as the GPU holds them.
+#[derive(Clone, Copy, Debug)]
+pub struct Clearcoat {
+    /// The coat's row of the coating rows.
+    pub row: [f32; COATING_ROW_LEN],
+    /// Its constants, each rounded to f32.
+    pub constants: ClearcoatConstants,
+}
+
+impl Clearcoat {
+    /// Ball `b`'s clear coat, from its row of `rows` and E read from `e`; `None` without
+    /// one.
+    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+        let c = ClearcoatConstants::of_ball(scene, b, e, rows)?;
+        let key = scene.clearcoat_key(b)?;
+        let f32_of = |x: f64| x as f32 as f64;
+        Some(Clearcoat {
+            row: *rows.row(&key)?,
+            constants: ClearcoatConstants {
+                weight: f32_of(c.weight),
+                roughness: f32_of(c.roughness),
+                eta: f32_of(c.eta),
+                f_add: f32_of(c.f_add),
+                ms_norm: f32_of(c.ms_norm),
+                e_avg: f32_of(c.e_avg),
+                inside: c.inside.as_vec3().as_dvec3(),
+                ..c
+            },
+        })
+    }
+}
