@@ -12,7 +12,7 @@ pub struct ImportArgs {
     /// The glTF file: .gltf (its buffers beside it) or .glb.
     pub file: PathBuf,
     /// The scene file to write (.toml): one ball per sphere the file places (else one per
-    /// material, in a chart), each labelled with its material's name (`label`), labels on.
+    /// material, in a chart), each labelled with its material's name (`label`; a chart's labels on).
     #[arg(long)]
     pub out: PathBuf,
 }

@@ -16,7 +16,7 @@
 //! bounds, of half their side times the scale. The file's first perspective camera is the
 //! scene's; without one a camera frames the balls. A file with no such sphere gives a chart
 //! of one ball per material. The balls are lit by the built-in studio map; each is labelled
-//! with its material's name ([`crate::scene::BallLabel::shortened`]), labels on.
+//! with its material's name ([`crate::scene::BallLabel::shortened`]); a chart's labels on.
 
 use std::path::{Path, PathBuf};
 
@@ -415,8 +415,10 @@ fn read(bytes: &[u8], folder: Option<&Path>) -> std::result::Result<Imported, St
         background: Background::Environment,
         camera,
         exposure: 1.0,
-        // Each ball's label is its material's name (`Ball::label`).
-        labels: true,
+        // Each ball's label is its material's name (`Ball::label`), drawn in a chart; the
+        // file's own placement (spheres close together, seen in depth) leaves them no
+        // room, so they are there for `--labels` alone.
+        labels: !placed,
         tone_map: None,
         transfer: None,
         ..Scene::reference()

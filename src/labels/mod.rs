@@ -35,6 +35,9 @@ pub const MIN_FONT_PX: f32 = 8.0;
 /// of their own where they fit larger ([`Label::fit`]); the viewer draws no label smaller
 /// than this fraction at all.
 pub const READABLE_FRACTION: f32 = 0.75;
+/// The fewest characters a label cut short with an ellipsis keeps ([`Label::ellipsis`]):
+/// where fewer fit, it is shrunk whole or left out.
+pub const MIN_SHORTENED_CHARS: usize = 3;
 /// The dark outline's width around the glyphs, per pixel of font size.
 pub(crate) const OUTLINE_PER_FONT_PX: f32 = 0.07;
 /// Free pixels kept around a label's outline (for the glyphs' anti-aliased edges).
@@ -231,7 +234,13 @@ impl Label {
             return Vec::new();
         };
         let wanted = readable.min(tall.size_px);
-        let ends: Vec<usize> = self.text.char_indices().map(|(i, _)| i).skip(1).collect();
+        // A start of fewer characters names nothing.
+        let ends: Vec<usize> = self
+            .text
+            .char_indices()
+            .map(|(i, _)| i)
+            .skip(MIN_SHORTENED_CHARS)
+            .collect();
         for &end in ends.iter().rev() {
             let start = self.text[..end].trim_end();
             if start.is_empty() {

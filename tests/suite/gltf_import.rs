@@ -52,6 +52,15 @@ fn metal_rough_spheres_places_98_balls_at_its_node_translations() {
     let imported = import::load(&path).unwrap();
     assert!(imported.placed && !imported.camera_from_file);
     assert_eq!(imported.scene.balls.len(), 98);
+    // Each ball carries its material's name, drawn with --labels alone: the file's own
+    // placement leaves no room under its spheres.
+    assert!(!imported.scene.labels);
+    for (b, &k) in imported.scene.balls.iter().zip(&imported.ball_materials) {
+        assert_eq!(
+            b.label.map(|l| l.to_string()),
+            Some(imported.materials[k].name.clone())
+        );
+    }
     // The expectation from the file's JSON read here: every node with a mesh below 98 (the
     // spheres; 98..102 are the text labels), at its translation (its parents have none)
     // plus the centre of accessor 0's bounds, radius half its side.
