@@ -404,7 +404,7 @@ fn anisotropy(ui: &mut egui::Ui, scene: &mut Scene) {
         .add(egui::Slider::new(&mut strength, 0.0..=1.0).text("anisotropy"))
         .changed();
     changed |= ui
-        .add(egui::Slider::new(&mut rotation, -pi..=pi).text("anisotropy rotation (rad)"))
+        .add(egui::Slider::new(&mut rotation, -pi..=pi).text("rotation (rad)"))
         .changed();
     if changed {
         for b in scene.balls.iter_mut().filter(|b| b.material.has_metal()) {
