@@ -235,7 +235,7 @@ fn run_study((w, h): (u32, u32), spp: u32) -> shadeballs::Result<()> {
             geometry: s.effective_geometry(),
             ..BakeConfig::default()
         });
-        let ibl = cpu::CpuEnvironment::new(&environment, &tables);
+        let ibl = cpu::CpuEnvironment::new(&environment, &tables, true);
         let e = TableSet::full(tables);
         let mc = reference(&s, &e, builtin.name(), (w, h), spp)?;
         let setup = study::Setup {

@@ -4,9 +4,9 @@
 
 use glam::DVec3;
 
-use super::light::{loss, CpuEnvironment, Forms};
+use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
-    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms,
+    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
 };
 use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
@@ -130,17 +130,17 @@ impl ClearcoatPoint {
 }
 
 /// `shade_clearcoat` of `clearcoat.wgsl`: the coat's own radiance at unit normal `n`
-/// towards `v`, times its weight; the map's part where the scene has one (`forms.map`).
+/// towards `v`, times its weight; the map's part where the scene has one (`map`).
 pub(super) fn shade_clearcoat(
     scene: &Scene,
     p: &ClearcoatPoint,
     (n, v): (DVec3, DVec3),
     e: &TableSet,
-    forms: &Forms<'_>,
+    (map, geometry): (Option<&CpuEnvironment>, Geometry),
 ) -> DVec3 {
     let c = &p.c;
     let mut lo = scene.environment * p.albedo_o;
-    if let Some(map) = forms.map {
+    if let Some(map) = map {
         lo += shade_clearcoat_map(scene, p, (n, v), map);
     }
     let mu_o = p.mu_o;
@@ -155,7 +155,7 @@ pub(super) fn shade_clearcoat(
             CoatForm::Gltf => 1.0,
             _ => f_dielectric(v.dot(h), c.eta, p.fresnel_form),
         };
-        let mut spec = f_micro(fresnel, mu_o, mu_i, n.dot(h), c.roughness, forms.geometry);
+        let mut spec = f_micro(fresnel, mu_o, mu_i, n.dot(h), c.roughness, geometry);
         if c.form == CoatForm::Gltf {
             spec *= p.fresnel_o;
         }

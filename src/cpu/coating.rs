@@ -6,7 +6,8 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::light::{loss, CpuEnvironment, Forms};
+use super::forms::Forms;
+use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,

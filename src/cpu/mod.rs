@@ -5,7 +5,9 @@
 
 pub mod clearcoat;
 pub mod coating;
+mod forms;
 mod light;
+mod model;
 pub mod montecarlo;
 mod shade;
 pub mod truth;
@@ -20,7 +22,7 @@ pub use truth::{
     render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
 };
 
-use light::{Forms, LobeSamples};
+use forms::{Forms, LobeSamples};
 use shade::shade_point;
 
 use crate::display::{to_rgba8_pixel, DisplayTransform};
@@ -70,7 +72,8 @@ pub fn render_radiance_at_lobe_frame(
                 ..Default::default()
             }),
         };
-        (environment, CpuEnvironment::new(environment, &tables))
+        let lobe = scene.ibl_method == crate::environment::IblMethod::Lobe;
+        (environment, CpuEnvironment::new(environment, &tables, lobe))
     });
     let ibl = &ibl;
     let background = scene.background_radiance();

@@ -4,17 +4,18 @@
 
 use glam::DVec3;
 
+use super::forms::{Forms, LobeSamples};
+use super::light::CpuEnvironment;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
-use super::light::{CpuEnvironment, Forms, LobeSamples};
-use super::montecarlo::{model_brdf, pdf_vndf, ShadingPoint};
+use super::model::{anisotropic_frame, model_brdf, pdf_vndf, ShadingPoint};
 use crate::brdf::{
-    alpha_from_roughness, anisotropic_bent_normal, ball_tangent, f_avg_schlick, f_micro,
-    f_micro_aniso, f_ms, f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
+    alpha_from_roughness, anisotropic_bent_normal, f_avg_schlick, f_micro, f_micro_aniso, f_ms,
+    f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf, Frame};
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -98,7 +99,7 @@ pub(super) fn shade_point(
         ..*forms
     };
     shade_base(scene, (b, coat), n, v, e, &forms)
-        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, &forms)
+        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, (forms.map, forms.geometry))
 }
 
 /// A ball's coating and clear coat, each formed once per ball (`None` without one).
@@ -380,18 +381,6 @@ pub(super) fn shade_environment_mis(
         }
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
-}
-
-/// Ball `b`'s tangent frame at unit normal `n` and its lobe's `(alpha_t, alpha_b)` where
-/// the lobe is anisotropic (`ball_tangent_frame` of `brdf.wgsl`, `brdf::ball_tangent`).
-pub(crate) fn anisotropic_frame(b: &Ball, n: DVec3) -> Option<(Frame, (f64, f64))> {
-    b.material.is_anisotropic().then(|| {
-        let (t, bt) = ball_tangent(n, b.material.anisotropy_turn());
-        (
-            Frame::from_axes(t, bt, n),
-            b.material.anisotropic_alphas(b.roughness),
-        )
-    })
 }
 
 /// [`term_turquin`] per channel.

@@ -523,7 +523,7 @@ impl PixelWalk {
         }
         // An anisotropic metal walks its stretched surface in the ball's tangent frame
         // (docs/design/anisotropy.md); its coating stays isotropic.
-        let (frame, surface) = match super::shade::anisotropic_frame(b, p.n) {
+        let (frame, surface) = match super::model::anisotropic_frame(b, p.n) {
             Some((frame, (t, bt))) => (frame, Microsurface::anisotropic(t, bt)),
             None => (Frame::new(p.n), Microsurface::new(b.roughness)),
         };

@@ -1,0 +1,235 @@
+//! The model's BRDF at one visible point, for the estimators that sample it (the Monte
+//! Carlo backend and the lobe mode's multiple importance sampling): the CPU twin of
+//! `shaders/model.wgsl`. The point ([`ShadingPoint`]) holds what does not depend on the
+//! incident direction; [`model_brdf`] evaluates the BRDF and [`pdf_vndf`] the visible
+//! normals' density.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use super::coating::CoatingPoint;
+use super::light::{f_add_rgb, loss, loss_avg, per_channel};
+use crate::brdf::{
+    ball_tangent, f_avg_schlick, f_micro, f_ms, f_ms_norm, f_schlick, Geometry, DIV_EPSILON,
+};
+use crate::environment::IblTerm;
+use crate::lut::{CoatingRows, SplitSum, TableSet};
+use crate::prepared::Coat;
+use crate::sampling::{vndf_density, vndf_density_aniso, Frame};
+use crate::scene::{Ball, Scene};
+use crate::stats::Part;
+
+/// One visible surface point: the ball's model and what does not depend on the incident
+/// direction (E(mu_o), E_avg, f_add, the diffuse weight), formed once per pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint {
+    /// Unit surface normal.
+    pub n: DVec3,
+    /// Unit direction towards the eye.
+    pub v: DVec3,
+    /// `max(n.v, 0)`.
+    pub mu_o: f64,
+    /// The ball's roughness (the model clamps it).
+    pub roughness: f64,
+    /// `F0` per channel.
+    pub f0: DVec3,
+    /// 1 when the ball has the multiple-scattering term, else 0.
+    pub ms: f64,
+    /// `1 - E(mu_o)`.
+    pub loss_o: f64,
+    /// The Kulla-Conty normalisation `f_ms_norm(1 - E_avg)`.
+    pub norm: f64,
+    /// The preset's Fresnel scale of the Kulla-Conty lobe, per channel.
+    pub f_add: DVec3,
+    /// The metal's share (the metal's and the coating's BRDFs are mixed by it).
+    pub metallic: f64,
+    /// The dielectric coating's part (`None` for an all-metal ball).
+    pub coating: Option<CoatingPoint>,
+    /// Which multiple-scattering model.
+    pub term: IblTerm,
+    /// The scene's effective G.
+    pub geometry: Geometry,
+    /// Fdez-Aguera's `FssEss`, the single-scattering albedo per channel: `F_avg E(mu_o)`
+    /// unless [`ShadingPoint::with_split_sum`] gives it exactly.
+    pub fss_ess: DVec3,
+    /// Which part of the BRDF [`model_brdf`] returns.
+    pub part: Part,
+    /// An anisotropic metal lobe's tangent frame and `(alpha_t, alpha_b)`
+    /// (docs/design/anisotropy.md); `roughness` is then its isotropic equivalent.
+    pub anisotropy: Option<(Frame, (f64, f64))>,
+}
+
+impl ShadingPoint {
+    /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
+    /// and geometry and the ball's model, with E and E_avg from `e` (its coating formed
+    /// for the call: [`ShadingPoint::with_coat`] takes one formed once per ball).
+    pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
+        let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
+        let coat = Coat::of_ball(scene, b, e, &rows);
+        Self::with_coat(scene, (b, coat.as_ref()), (n, v), e)
+    }
+
+    /// [`ShadingPoint::new`] with the ball's coating `coat` (`None` for an all-metal ball).
+    pub fn with_coat(
+        scene: &Scene,
+        (b, coat): (&Ball, Option<&Coat>),
+        (n, v): (DVec3, DVec3),
+        e: &TableSet,
+    ) -> Self {
+        let roughness = b.shading_roughness();
+        let f0 = b.material.f0;
+        let mu_o = n.dot(v).max(0.0);
+        let loss_avg = loss_avg(e, roughness);
+        let e_avg = 1.0 - loss_avg;
+        let form = scene.preset.f_avg_form();
+        ShadingPoint {
+            n,
+            v,
+            mu_o,
+            roughness,
+            f0,
+            ms: if b.model.has_term() { 1.0 } else { 0.0 },
+            loss_o: loss(e, mu_o, roughness),
+            norm: f_ms_norm(loss_avg),
+            f_add: f_add_rgb(form, f0, e_avg),
+            metallic: b.material.metallic,
+            coating: coat.map(|coat| CoatingPoint::new(scene, b, coat, (n, v), e)),
+            term: b.model.term().unwrap_or(IblTerm::KullaConty),
+            geometry: scene.effective_geometry(),
+            fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
+            part: Part::Whole,
+            anisotropy: anisotropic_frame(b, n),
+        }
+    }
+
+    /// The point with `FssEss = F0 A + B` from the split sum's table (`A = E - B` with E
+    /// from the tables, as `split_sum_scale` in `environment.wgsl`).
+    pub fn with_split_sum(mut self, split: &SplitSum) -> Self {
+        let bias = split.bias_at(self.mu_o as f32, self.roughness as f32) as f64;
+        let e_o = 1.0 - self.loss_o;
+        self.fss_ess = self.f0 * e_o + (DVec3::ONE - self.f0) * bias;
+        self
+    }
+}
+
+/// The BRDF `f_r(v, l)` of the point's model, per channel (0 when `l` or `v` is below the
+/// horizon): the metal's and the coating's (`CoatingPoint::brdf`, the lights' loop of
+/// `shade_coating`) mixed by `metallic`. The metal's is the single-scattering Cook-Torrance
+/// lobe `f_micro` with Schlick's F per channel and a multiple-scattering lobe on balls with
+/// the term:
+///
+/// - [`IblTerm::KullaConty`] (Kulla & Conty 2017, "Revisiting Physically Based Shading at
+///   Imageworks"): `f_add f_ms(1 - E(mu_o), 1 - E(mu_i))`, term for term the
+///   directional-light branch of [`super::shade`].
+/// - [`IblTerm::Turquin`] (Turquin 2019, "Practical multiple scattering compensation for
+///   microfacet models"): the single-scattering lobe scaled by `1 + F0 (1 / E(mu_o) - 1)`,
+///   `E` guarded by [`DIV_EPSILON`].
+/// - [`IblTerm::FdezAguera`] (Fdez-Aguera 2019, "A Multiple-Scattering Microfacet Model for
+///   Real-Time Image-based Lighting"): a Lambertian lobe of albedo
+///   `FmsEms = FssEss F_avg Ems / (1 - F_avg Ems)`, `Ems = 1 - E(mu_o)`,
+///   `F_avg = F0 + (1 - F0) / 21`, `FssEss = F0 A + B` from the split sum's table
+///   ([`ShadingPoint::with_split_sum`], which [`super::render_montecarlo`] applies; without it
+///   `F_avg E(mu_o)`).
+pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
+    let mu_i = p.n.dot(l);
+    if mu_i <= 0.0 || p.mu_o <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return DVec3::ZERO;
+    }
+    let coating = p.coating.map(|c| {
+        let f = c.brdf((p.v, l), p.n, e);
+        match p.part {
+            Part::Whole => DVec3::splat(f.spec + f.multiple) + f.base,
+            Part::Multiple => DVec3::splat(f.multiple),
+        }
+    });
+    match coating {
+        Some(c) if p.metallic <= 0.0 => c,
+        Some(c) => p.metallic * metal_brdf(p, l, sum / len, e) + (1.0 - p.metallic) * c,
+        None => metal_brdf(p, l, sum / len, e),
+    }
+}
+
+/// The metal's part of [`model_brdf`], `h` the half vector.
+fn metal_brdf(p: &ShadingPoint, l: DVec3, h: DVec3, e: &TableSet) -> DVec3 {
+    let mu_i = p.n.dot(l);
+    let v_dot_h = p.v.dot(h);
+    let n_dot_h = p.n.dot(h);
+    let spec = per_channel(p.f0, |f| {
+        let fresnel = f_schlick(f, v_dot_h);
+        match &p.anisotropy {
+            Some((frame, alphas)) => crate::brdf::f_micro_aniso(
+                fresnel,
+                frame.to_local(p.v),
+                frame.to_local(l),
+                frame.to_local(h),
+                *alphas,
+                p.geometry,
+            ),
+            None => f_micro(fresnel, p.mu_o, mu_i, n_dot_h, p.roughness, p.geometry),
+        }
+    });
+    let multiple = match p.term {
+        IblTerm::KullaConty => {
+            let loss_i = loss(e, mu_i, p.roughness);
+            p.ms * p.f_add * f_ms(p.loss_o, loss_i, p.norm)
+        }
+        IblTerm::Turquin => {
+            let e_o = (1.0 - p.loss_o).max(DIV_EPSILON);
+            spec * p.ms * p.f0 * (p.loss_o / e_o)
+        }
+        IblTerm::FdezAguera => {
+            let f_avg = per_channel(p.f0, f_avg_schlick);
+            let denom = (DVec3::ONE - f_avg * p.loss_o).max(DVec3::splat(DIV_EPSILON));
+            let fms_ems = p.fss_ess * f_avg * p.loss_o / denom;
+            p.ms * fms_ems / PI
+        }
+    };
+    match p.part {
+        Part::Whole => spec + multiple,
+        Part::Multiple => multiple,
+    }
+}
+
+/// Ball `b`'s tangent frame at unit normal `n` and its lobe's `(alpha_t, alpha_b)` where
+/// the lobe is anisotropic (`ball_tangent_frame` of `brdf.wgsl`, `brdf::ball_tangent`).
+pub(crate) fn anisotropic_frame(b: &Ball, n: DVec3) -> Option<(Frame, (f64, f64))> {
+    b.material.is_anisotropic().then(|| {
+        let (t, bt) = ball_tangent(n, b.material.anisotropy_turn());
+        (
+            Frame::from_axes(t, bt, n),
+            b.material.anisotropic_alphas(b.roughness),
+        )
+    })
+}
+
+/// Density (solid angle) of [`crate::sampling::sample_vndf`] at `l`: [`vndf_density`] at `l`'s half vector.
+pub(super) fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    vndf_density(p.mu_o, p.n.dot(sum / len), alpha)
+}
+
+/// Density (solid angle) of [`crate::sampling::sample_vndf_aniso`] at `l`: [`vndf_density_aniso`] at `l`'s
+/// half vector (in the lobe's tangent frame where it is anisotropic; an isotropic lobe's
+/// is [`vndf_density`] of its alpha, the same density).
+pub(super) fn pdf_vndf_lobe(p: &ShadingPoint, l: DVec3, alphas: (f64, f64)) -> f64 {
+    let sum = p.v + l;
+    let len = sum.length();
+    if len <= DIV_EPSILON {
+        return 0.0;
+    }
+    let h = sum / len;
+    match &p.anisotropy {
+        Some((frame, _)) => vndf_density_aniso(frame.to_local(p.v), frame.to_local(h), alphas),
+        None => vndf_density(p.mu_o, p.n.dot(h), alphas.0),
+    }
+}
