@@ -154,6 +154,8 @@ pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats
                 ui.separator();
                 comparison(ui, controls, stats);
                 ui.separator();
+                layers(ui, scene);
+                ui.separator();
                 if ui.button("reset camera").clicked() {
                     scene.camera = controls.home_camera;
                 }
@@ -351,8 +353,6 @@ fn balls(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls) {
             None => edit::restore_materials(scene, &controls.scene_materials),
         }
     }
-    anisotropy(ui, scene);
-    clearcoat(ui, scene);
     ui.checkbox(&mut scene.labels, "labels (roughness, row model, caption)");
 }
 
@@ -581,6 +581,21 @@ pub fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Pa
     };
     controls.map_path = path.display().to_string();
     controls.map_status = Some(status);
+}
+
+/// The Layers section: the metal's anisotropy and the clear coat (collapsed unless a
+/// ball has one, so the sections above keep their places).
+fn layers(ui: &mut egui::Ui, scene: &mut Scene) {
+    let any = scene
+        .balls
+        .iter()
+        .any(|b| b.material.is_anisotropic() || b.material.clearcoat.is_on());
+    egui::CollapsingHeader::new("Layers (anisotropy, clear coat)")
+        .default_open(any)
+        .show(ui, |ui| {
+            anisotropy(ui, scene);
+            clearcoat(ui, scene);
+        });
 }
 
 /// The Compare section (collapsed unless a comparison was asked for at start): on/off,
