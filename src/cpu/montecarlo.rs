@@ -1,5 +1,5 @@
 //! The Monte Carlo reference (`render --backend montecarlo`): the chosen model
-//! ([`IblTerm`]) integrated against the directional lights and the environment without any
+//! ([`crate::environment::IblTerm`]) integrated against the directional lights and the environment without any
 //! real-time approximation: no split sum, no harmonics, no prefiltering
 //! (docs/design/environment.md, "The Monte Carlo backend").
 //!
