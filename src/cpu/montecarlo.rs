@@ -1,7 +1,7 @@
 //! The Monte Carlo reference (`render --backend montecarlo`): the chosen model
-//! ([`crate::environment::IblTerm`]) integrated against the directional lights and the environment without any
-//! real-time approximation: no split sum, no harmonics, no prefiltering
-//! (docs/design/environment.md, "The Monte Carlo backend").
+//! ([`crate::environment::IblTerm`]) integrated against the directional lights and the
+//! environment without any real-time approximation: no split sum, no harmonics, no
+//! prefiltering (docs/design/environment.md, "The Monte Carlo backend").
 //!
 //! The camera, the primary rays (one per pixel, through its centre) and the sphere hits are
 //! those of [`super::render_radiance`], and E and E_avg come from the same
