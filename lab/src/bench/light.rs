@@ -15,7 +15,7 @@
 //! plastics (the same layout, red IOR 1.5 over blue IOR 1.33 of `assets/scenes/plastic.toml`),
 //! every ball with the Kulla-Conty term, under `studio` and `sky`.
 //!
-//! Cost: the median wall time of a 1280x720 frame (640x360 in the quick run), each
+//! Cost: the median wall time of a 1280x720 frame (320x180 in the quick run), each
 //! submitted and waited for, the methods' frames in turn within each round (the first
 //! method of a round rotating), and the median over rounds of the ratio to the split sum's
 //! frame of the same round. The progressive image after k frames costs k lobe frames of its
@@ -298,12 +298,13 @@ pub struct Settings {
 impl Settings {
     pub fn new(quick: bool) -> Self {
         if quick {
-            // Seconds, inside `bench --quick`'s minute: a quarter of the full run's frame
-            // and one timed round.
+            // Seconds, inside `bench --quick`'s minute: a sixteenth of the full run's
+            // frame (the lobe's multiple importance sampling at N = 64 costs seconds a
+            // frame at 640x360) and one timed round.
             Settings {
-                size: (96, 54),
+                size: (64, 36),
                 spp: 1024,
-                frame: (640, 360),
+                frame: (320, 180),
                 repeats: 1,
                 frames: vec![1, 4],
             }
