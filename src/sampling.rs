@@ -66,24 +66,7 @@ impl Frame {
 /// ([`crate::brdf::visible_normal`]) takes `v` on either side of the horizon; this one
 /// clamps it to the upper side, as the shaders' lobe does.
 pub fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
-    let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z.max(0.0));
-    let vh = vh / vh.length().max(DIV_EPSILON);
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if lensq > DIV_EPSILON {
-        DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
-    } else {
-        DVec3::X
-    };
-    let t2 = vh.cross(t1);
-    let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    let p1 = r * phi.cos();
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
-    let ne = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0));
-    let h = ne / ne.length().max(DIV_EPSILON);
-    2.0 * v.dot(h) * h - v
+    sample_vndf_aniso(v, (alpha, alpha), u1, u2)
 }
 
 /// The density per solid angle of [`sample_vndf`]'s direction with half vector at `n.h`
