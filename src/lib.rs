@@ -55,6 +55,15 @@ pub mod cli;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 
+// The crate's own tests that need its internals (`gpu::tests`, ...) share the suite's GPU
+// and image helpers (tests/suite/pixels.rs, one copy), which name the crate `shadeballs`.
+#[cfg(all(test, feature = "cli"))]
+extern crate self as shadeballs;
+#[cfg(all(test, feature = "cli"))]
+#[allow(dead_code)] // the suite's helpers: the crate's tests use some of them
+#[path = "../tests/suite/pixels.rs"]
+mod pixels;
+
 /// The glam a [`Scene`]'s vectors are (`glam::DVec3`): a host builds scenes with it, no
 /// version of its own to match.
 pub use glam;

@@ -1,6 +1,5 @@
 //! Running the real `shadeballs` binary, as a user does, for the CLI tests.
 
-use std::path::PathBuf;
 use std::process::Command;
 
 /// Runs `shadeballs args…`: (exit status was success, stderr).
@@ -15,12 +14,8 @@ pub fn shadeballs(args: &[&str]) -> (bool, String) {
     )
 }
 
-/// A fresh folder under the system temp folder, unique to this process.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("shadeballs-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+// The temp folders (one helper for the suite and the crate's own tests: pixels.rs).
+pub use crate::pixels::temp_dir;
 
 /// Sends `SIG<signal>` (`INT`, `TERM`) to a running `shadeballs` whose stderr is piped,
 /// waits for it, and checks that it exited with `code` naming the signal: its stderr.

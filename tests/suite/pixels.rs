@@ -138,3 +138,24 @@ pub fn both(r: &mut Renderer, scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8
         cpu::to_display_rgba8(&radiance, scene.exposure, scene.display()),
     )
 }
+
+/// A fresh folder under the system temp folder, unique to this process.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("shadeballs-cli-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The reference scene with a second, coloured light and every other ball a dielectric.
+pub fn mixed_scene() -> Scene {
+    use shadeballs::scene::{Light, Material};
+    let mut scene = Scene::reference();
+    scene.lights.push(Light {
+        direction: glam::DVec3::new(1.0, 1.0, 0.5).normalize(),
+        radiance: glam::DVec3::new(2.0, 1.5, 1.0),
+    });
+    for b in scene.balls.iter_mut().step_by(2) {
+        b.material = Material::dielectric(glam::DVec3::new(0.1, 0.4, 0.6), 1.5);
+    }
+    scene
+}
