@@ -39,7 +39,7 @@ pub(crate) struct LobeKey {
 
 impl LobeKey {
     /// The key of `scene` drawn at `size` with `plan` under `options`.
-    pub fn new(scene: &Scene, size: (u32, u32), plan: &Plan, options: DrawOptions) -> Self {
+    pub(crate) fn new(scene: &Scene, size: (u32, u32), plan: &Plan, options: DrawOptions) -> Self {
         LobeKey {
             scene: scene.clone(),
             size,
@@ -87,7 +87,7 @@ struct Held {
 }
 
 impl LobePass {
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         group0: &wgpu::BindGroupLayout,
         group1: &wgpu::BindGroupLayout,
@@ -118,31 +118,31 @@ impl LobePass {
     }
 
     /// Frames summed so far (`None` when no sums are held).
-    pub fn frames(&self) -> Option<u32> {
+    pub(crate) fn frames(&self) -> Option<u32> {
         self.sums.as_ref().map(|s| s.sums.frames())
     }
 
     /// Lobe samples a pixel a frame of the sums held (0 when none are held).
-    pub fn samples_a_frame(&self) -> u32 {
+    pub(crate) fn samples_a_frame(&self) -> u32 {
         self.sums.as_ref().map_or(0, |s| s.key.scene.ibl_samples)
     }
 
     /// Starts the sums again from zero at the next frame.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         if let Some(s) = &mut self.sums {
             s.sums.reset();
         }
     }
 
     /// Drops the sums (the latest scene uses no lobe).
-    pub fn forget(&mut self) {
+    pub(crate) fn forget(&mut self) {
         self.sums = None;
     }
 
     /// Makes the sums hold `key`'s image: kept where they already do, else started again
     /// from zero (the textures kept where the size is the same). Returns the frames
     /// summed so far.
-    pub fn start(&mut self, device: &wgpu::Device, key: LobeKey) -> u32 {
+    pub(crate) fn start(&mut self, device: &wgpu::Device, key: LobeKey) -> u32 {
         match self.sums.take() {
             Some(s) if s.key.same(&key) => self.sums = Some(s),
             Some(mut s) if s.key.size == key.size => {
@@ -156,12 +156,12 @@ impl LobePass {
     }
 
     /// The view the ball pass draws this frame into (after [`LobePass::start`]).
-    pub fn frame_view(&self) -> Option<&wgpu::TextureView> {
+    pub(crate) fn frame_view(&self) -> Option<&wgpu::TextureView> {
         self.sums.as_ref().map(|s| &s.frame)
     }
 
     /// Records the addition of the frame drawn into [`LobePass::frame_view`] to the sums.
-    pub fn accumulate(&mut self, draw: &Draw<'_>, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn accumulate(&mut self, draw: &Draw<'_>, encoder: &mut wgpu::CommandEncoder) {
         let pipeline = self.pipeline(draw, Role::Accumulate, LOBE_FORMAT).clone();
         let Some(held) = self.sums.as_mut() else {
             return;
@@ -179,7 +179,7 @@ impl LobePass {
     /// Records the resolve of the sums' mean into `view` (of `format`) over the `size`
     /// rectangle at its top-left corner, the rest of the attachment cleared to `clear`
     /// (as the ball pass clears it).
-    pub fn resolve(
+    pub(crate) fn resolve(
         &mut self,
         draw: &Draw<'_>,
         encoder: &mut wgpu::CommandEncoder,

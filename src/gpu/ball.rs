@@ -16,7 +16,7 @@
 
 /// A member's type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BallType {
+pub(crate) enum BallType {
     /// `f32`.
     F32,
     /// `u32`.
@@ -27,7 +27,8 @@ pub enum BallType {
 
 impl BallType {
     /// The type as WGSL writes it.
-    pub const fn wgsl(self) -> &'static str {
+    #[cfg(test)]
+    pub(crate) const fn wgsl(self) -> &'static str {
         match self {
             BallType::F32 => "f32",
             BallType::U32 => "u32",
@@ -50,7 +51,7 @@ impl BallType {
 }
 
 /// The Rust types a member may have, and their [`BallType`].
-pub trait BallField {
+pub(crate) trait BallField {
     /// The member's type.
     const TYPE: BallType;
 }
@@ -67,7 +68,8 @@ impl BallField for [f32; 3] {
 
 /// One member of the GPU ball: its name, byte offset and type.
 #[derive(Clone, Copy, Debug)]
-pub struct BallMember {
+#[cfg_attr(not(test), allow(dead_code))] // read by the tests
+pub(crate) struct BallMember {
     /// The member's name, the same in Rust and WGSL.
     pub name: &'static str,
     /// `offset_of` it in the Rust struct (and the WGSL one).
@@ -86,13 +88,13 @@ macro_rules! gpu_ball {
         $(#[$outer])*
         #[repr(C)]
         #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-        pub struct GpuBall {
+        pub(crate) struct GpuBall {
             $($(#[doc = $doc])* pub $name: $ty,)*
         }
 
         /// Every member of [`GpuBall`], in order: what its WGSL twins and the vertex layout
         /// of a ball's quad are generated from (`gpu::ball`).
-        pub const BALL_MEMBERS: &[$crate::gpu::ball::BallMember] = &[$(
+        pub(crate) const BALL_MEMBERS: &[$crate::gpu::ball::BallMember] = &[$(
             $crate::gpu::ball::BallMember {
                 name: stringify!($name),
                 offset: std::mem::offset_of!(GpuBall, $name),
@@ -130,7 +132,7 @@ const fn packing(members: &[BallMember]) -> ([usize; 64], [u32; 64], usize) {
 }
 
 /// The number of vertex attributes the members travel in.
-pub const fn attribute_count(members: &[BallMember]) -> usize {
+pub(crate) const fn attribute_count(members: &[BallMember]) -> usize {
     packing(members).2
 }
 
@@ -155,7 +157,7 @@ const fn attribute_shape(members: &[BallMember], a: usize) -> (bool, u32, usize)
 /// The vertex attributes of a ball's quad: the quad's bounds (`rect`, location 0, at
 /// `rect_offset`), then each packed run of members at location `1 + a`, offset by
 /// `ball_offset` (where the ball sits in the instance).
-pub const fn attributes<const N: usize>(
+pub(crate) const fn attributes<const N: usize>(
     members: &[BallMember],
     rect_offset: u64,
     ball_offset: u64,
@@ -189,6 +191,7 @@ pub const fn attributes<const N: usize>(
 }
 
 /// The WGSL type of attribute `a`.
+#[cfg(test)]
 fn attribute_wgsl(members: &[BallMember], a: usize) -> String {
     let (float, scalars, _) = attribute_shape(members, a);
     let scalar = if float { "f32" } else { "u32" };
@@ -203,7 +206,8 @@ fn attribute_wgsl(members: &[BallMember], a: usize) -> String {
 /// packed attributes `ball_A`), the flat varyings `BallOut` (`position`, the loop
 /// `counts`, the packed attributes), `ball_out` (the vertex stage's copy) and `ball_of`
 /// (the members unpacked by name; the term the pipeline's where `BALL_TERM` names one).
-pub fn wgsl(members: &[BallMember]) -> Vec<String> {
+#[cfg(test)]
+pub(crate) fn wgsl(members: &[BallMember]) -> Vec<String> {
     let (attribute, lane, count) = packing(members);
     let mut out = vec!["struct Ball {".to_string()];
     for m in members {

@@ -32,7 +32,7 @@ pub(crate) struct Bindings {
 /// buffers in the vertex stage, and no gather.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct BallInstance {
+pub(crate) struct BallInstance {
     pub rect: [f32; 4],
     pub ball: GpuBall,
 }
@@ -49,7 +49,7 @@ const ATTRIBUTES: [wgpu::VertexAttribute; 1 + ball::attribute_count(BALL_MEMBERS
 impl BallInstance {
     /// The vertex layout of [`BallInstance`], one per instance (`BallIn` of `types.wgsl`,
     /// `vs_ball`'s input).
-    pub const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    pub(crate) const LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
         array_stride: size_of::<BallInstance>() as u64,
         step_mode: wgpu::VertexStepMode::Instance,
         attributes: &ATTRIBUTES,
@@ -102,7 +102,7 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
 }
 
 impl Bindings {
-    pub fn new(device: &wgpu::Device) -> Self {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("group 0"),
             entries: &[
@@ -140,7 +140,7 @@ impl Bindings {
     }
 
     /// The bind group of these buffers with `tables`.
-    pub fn bind(&self, device: &wgpu::Device, tables: &GpuTables) -> wgpu::BindGroup {
+    pub(crate) fn bind(&self, device: &wgpu::Device, tables: &GpuTables) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("group 0"),
             layout: &self.layout,
@@ -176,7 +176,7 @@ impl Bindings {
 
 /// A bind group layout of one texture at binding 0, read by the fragment stage with
 /// `textureLoad` (unfilterable float, 2-D): the truth's sums, the viewer's blit source.
-pub fn texture_load_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
+pub(crate) fn texture_load_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
         entries: &[wgpu::BindGroupLayoutEntry {

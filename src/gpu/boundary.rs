@@ -13,7 +13,7 @@ use crate::lut::LutParams;
 
 /// A Rust struct's layout under the name of its WGSL twin.
 #[derive(Clone, Copy, Debug)]
-pub struct StructLayout {
+pub(crate) struct StructLayout {
     /// The WGSL struct's name.
     pub wgsl: &'static str,
     /// The Rust type's name.
@@ -25,7 +25,7 @@ pub struct StructLayout {
 }
 
 /// The WGSL type a Rust field stands for in a buffer.
-pub trait WgslType {
+pub(crate) trait WgslType {
     /// The type as WGSL writes it (`f32`, `vec4<u32>`, a struct's name).
     const WGSL: &'static str;
 }
@@ -72,13 +72,13 @@ macro_rules! layout {
 
 /// The WGSL [`BALL_MEMBERS`] generate (`gpu::ball`), line by line: what `types.wgsl`
 /// holds between the ball's markers (tests/suite/boundary.rs).
-pub fn ball_wgsl() -> Vec<String> {
+pub(crate) fn ball_wgsl() -> Vec<String> {
     super::ball::wgsl(BALL_MEMBERS)
 }
 
 /// The vertex attributes of a ball's quad (`BallInstance::LAYOUT`, generated from
 /// [`BALL_MEMBERS`]): what `vs_ball`'s input must declare, location for location.
-pub fn ball_attributes() -> &'static [wgpu::VertexAttribute] {
+pub(crate) fn ball_attributes() -> &'static [wgpu::VertexAttribute] {
     BallInstance::LAYOUT.attributes
 }
 
@@ -95,7 +95,7 @@ const BALL_LAYOUT: [(&str, usize, &str); BALL_MEMBERS.len()] = {
 };
 
 /// Every struct of the boundary.
-pub const STRUCTS: [StructLayout; 7] = [
+pub(crate) const STRUCTS: [StructLayout; 7] = [
     layout!(
         "Globals",
         Globals {

@@ -35,7 +35,7 @@ pub enum Backend {
 
 impl Backend {
     /// Every backend, in a fixed order.
-    pub const ALL: [Backend; 7] = [
+    pub(crate) const ALL: [Backend; 7] = [
         Backend::Auto,
         Backend::Vulkan,
         Backend::Gl,
@@ -46,7 +46,7 @@ impl Backend {
     ];
 
     /// The name used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Backend::Auto => "auto",
             Backend::Vulkan => "vulkan",
@@ -120,7 +120,7 @@ impl Gpu {
     /// Opens the first adapter of `instance` (created for `backends`; one that can present
     /// to `surface`, if given: the viewer's window) with the adapter's own limits and those
     /// of `wanted` it offers.
-    pub fn open(
+    pub(crate) fn open(
         instance: &wgpu::Instance,
         backends: wgpu::Backends,
         surface: Option<&wgpu::Surface<'_>>,
@@ -184,7 +184,7 @@ impl Gpu {
 
     /// A host program's device and queue (handles: cloning shares them): no adapter of this
     /// crate's, no handler or callback installed.
-    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
+    pub(crate) fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
         Gpu {
             adapter: None,
             device: device.clone(),
@@ -196,7 +196,7 @@ impl Gpu {
     /// `Err` when the device is lost, or when an error escaped every error scope since the
     /// last call (that error is then cleared: an out-of-memory texture does not poison the
     /// next, smaller frame).
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let mut guard = self.faults.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(lost) = &guard.lost {
             return Err(Error::Gpu {
@@ -222,7 +222,7 @@ impl Gpu {
 
     /// Whether `format` can be a render target here (GL cannot render to Rgba32Float). On a
     /// host's device, what WebGPU guarantees with its features.
-    pub fn renderable(&self, format: wgpu::TextureFormat) -> bool {
+    pub(crate) fn renderable(&self, format: wgpu::TextureFormat) -> bool {
         let features = match &self.adapter {
             Some(adapter) => adapter.get_texture_format_features(format),
             None => format.guaranteed_format_features(self.device.features()),

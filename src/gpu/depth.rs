@@ -13,7 +13,7 @@ pub(crate) struct DepthTarget {
 impl DepthTarget {
     /// The view of a depth texture of `size`, made on `device` if the one held has another
     /// size (or none is held).
-    pub fn view(&mut self, device: &wgpu::Device, size: (u32, u32)) -> &wgpu::TextureView {
+    pub(crate) fn view(&mut self, device: &wgpu::Device, size: (u32, u32)) -> &wgpu::TextureView {
         if self.held.as_ref().is_none_or(|(s, _, _)| *s != size) {
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("ball depth"),

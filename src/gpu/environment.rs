@@ -22,7 +22,7 @@ pub(crate) const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::
 /// Mirrors `EnvUniform` in `types.wgsl` (member for member: tests/suite/boundary.rs).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct EnvUniform {
+pub(crate) struct EnvUniform {
     /// cos and sin of `-rotation_deg`.
     pub rotation: [f32; 2],
     /// The map's intensity (times the map's f16 scale).
@@ -39,7 +39,7 @@ pub struct EnvUniform {
 
 impl EnvUniform {
     /// The uniform of `scene`.
-    pub fn of(scene: &Scene) -> Self {
+    pub(crate) fn of(scene: &Scene) -> Self {
         // The textures hold the map divided by its f16 scale (`MipChain::scale`): the
         // intensity multiplies it back, exactly (a power of two).
         let (rotation, intensity) = scene.environment_map.as_ref().map_or((0.0, 0.0), |e| {
@@ -63,7 +63,7 @@ impl EnvUniform {
 
     /// The uniform with frame `frame` of the lobe's samples (`scene.ibl_samples` a frame):
     /// its first sample index `frame * ibl_samples`.
-    pub fn at_lobe_frame(mut self, scene: &Scene, frame: u32) -> Self {
+    pub(crate) fn at_lobe_frame(mut self, scene: &Scene, frame: u32) -> Self {
         self.lobe[0] = (u64::from(frame) * u64::from(scene.ibl_samples)) as f32;
         self
     }
@@ -71,7 +71,7 @@ impl EnvUniform {
 
 /// Group 1's layout: the uniform, the map, the specular and convolved layers, the
 /// split-sum table, the sampler, the map's luminance tables (the lobe mode's map samples).
-pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+pub(crate) fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let stages = wgpu::ShaderStages::FRAGMENT;
     let texture = |binding, dim, filterable| wgpu::BindGroupLayoutEntry {
         binding,
@@ -122,7 +122,7 @@ pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 
 /// The luminance tables' buffer of group 1 (`env_cdf` in `bindings.wgsl`): `words`
 /// ([`crate::environment::sampler::LuminanceCdf::gpu_words`], or [`NO_LUMINANCE`]).
-pub fn luminance_buffer(device: &wgpu::Device, words: &[f32]) -> wgpu::Buffer {
+pub(crate) fn luminance_buffer(device: &wgpu::Device, words: &[f32]) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("luminance tables"),
@@ -133,11 +133,11 @@ pub fn luminance_buffer(device: &wgpu::Device, words: &[f32]) -> wgpu::Buffer {
 
 /// The luminance tables of a map without them (size 0 by 0: the lobe mode draws no map
 /// samples).
-pub const NO_LUMINANCE: [f32; 4] = [0.0; 4];
+pub(crate) const NO_LUMINANCE: [f32; 4] = [0.0; 4];
 
 /// The sampler every environment read uses: linear within and between levels, `u`
 /// repeating (the map wraps in azimuth), `v` clamped.
-pub fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
+pub(crate) fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("environment"),
         address_mode_u: wgpu::AddressMode::Repeat,
@@ -150,7 +150,7 @@ pub fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
 }
 
 /// The textures of one map, prefiltered.
-pub struct EnvironmentTextures {
+pub(crate) struct EnvironmentTextures {
     /// The map and its mip chain.
     pub radiance: wgpu::TextureView,
     /// [`SPECULAR_LEVELS`] layers.
@@ -274,7 +274,7 @@ impl EnvironmentTextures {
     /// ([`crate::environment::prefilter::kernels`]), without waiting for it: the queue runs
     /// it while the CPU goes on (with the render pipelines' compilation, in a fresh
     /// process), and every later submission that reads the textures comes after it.
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         chain: &MipChain,
@@ -331,7 +331,7 @@ impl EnvironmentTextures {
 
     /// Stand-ins for a scene with no map: one black texel each (nothing reads them: the
     /// pipelines compile the map's reads out), so one pipeline layout serves every scene.
-    pub fn empty(device: &wgpu::Device) -> Self {
+    pub(crate) fn empty(device: &wgpu::Device) -> Self {
         let black = |label, layers| {
             let t = texture(
                 device,
@@ -369,7 +369,7 @@ impl EnvironmentTextures {
 
     /// Group 1 of these textures with `uniform`, `sampler` and the luminance tables'
     /// buffer `luminance` ([`luminance_buffer`]).
-    pub fn bind(
+    pub(crate) fn bind(
         &self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
@@ -681,7 +681,7 @@ impl PartialEq for EnvironmentKey {
 
 impl EnvironmentKey {
     /// The key of `environment` shaded with `geometry`.
-    pub fn new(environment: &Environment, geometry: crate::brdf::Geometry) -> Self {
+    pub(crate) fn new(environment: &Environment, geometry: crate::brdf::Geometry) -> Self {
         EnvironmentKey {
             map: environment.map.clone(),
             geometry,

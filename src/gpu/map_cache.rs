@@ -17,7 +17,7 @@ use crate::scene::Scene;
 
 /// Prefiltered maps a renderer keeps: a few megabytes each at 1024 x 512 (the map's f16 mip
 /// chain and the prefiltered layers).
-pub const MAX_PREFILTERED_MAPS: usize = 4;
+pub(crate) const MAX_PREFILTERED_MAPS: usize = 4;
 
 /// A prepared map: its key, textures, luminance tables (`None` until a scene in the lobe
 /// mode draws with it: the split sum never reads them; then `Some(None)` where the map has
@@ -49,7 +49,7 @@ pub(crate) struct PrefilteredMaps {
 }
 
 impl PrefilteredMaps {
-    pub fn new(device: &wgpu::Device) -> Self {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
         let layout = env_gpu::layout(device);
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("environment"),

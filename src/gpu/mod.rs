@@ -6,35 +6,46 @@
 mod accumulate;
 mod ball;
 mod bindings;
-pub mod boundary;
+#[cfg(test)] // the tests check the layouts on both sides against it
+pub(crate) mod boundary;
 mod context;
 mod depth;
-pub mod environment;
+pub(crate) mod environment;
 mod map_cache;
 mod montecarlo;
 mod pipelines;
-pub mod plan;
+pub(crate) mod plan;
 pub mod readback;
 mod renderer;
 pub mod shaders;
 mod sums;
 mod table_cache;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 mod truth;
 pub mod uniforms;
 mod upload;
 
-pub use bindings::texture_load_layout;
-pub use context::{Backend, Gpu};
-pub use map_cache::MAX_PREFILTERED_MAPS;
-pub use montecarlo::PASS_SAMPLES as MC_PASS_SAMPLES;
-pub use pipelines::{is_bits, is_linear};
-pub use plan::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
-pub use renderer::headless::{HdrImage, LdrImage, MAX_TRUTH_SPP};
-pub use renderer::probe::{ProbeSample, MAX_PROBE_GRID};
-pub use renderer::{Renderer, Target};
-pub use sums::QUAD_PAD_PX;
-pub use table_cache::MAX_CACHED_ROWS;
-pub use upload::{loss_quads, GpuTables};
+pub(crate) use bindings::texture_load_layout;
+pub use context::Backend;
+pub use context::Gpu;
+#[cfg(test)]
+pub(crate) use map_cache::MAX_PREFILTERED_MAPS;
+#[cfg(test)]
+pub(crate) use montecarlo::PASS_SAMPLES as MC_PASS_SAMPLES;
+pub use plan::DrawOptions;
+pub use plan::Plan;
+#[cfg(test)]
+pub use plan::TablePolicy;
+pub use plan::TermMode;
+pub(crate) use plan::Variant;
+pub use plan::MAX_PLANNED_ROWS;
+pub(crate) use renderer::headless::MAX_TRUTH_SPP;
+pub(crate) use renderer::probe::MAX_PROBE_GRID;
+pub use renderer::Renderer;
+pub use renderer::Target;
+pub use upload::loss_quads;
+pub use upload::GpuTables;
 
 /// Error scopes around one operation: validation and out-of-memory errors are returned by
 /// [`Scopes::pop`] instead of reaching the uncaptured-error handler. Dropped without a pop

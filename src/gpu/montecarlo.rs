@@ -33,7 +33,7 @@ use crate::stats::{MonteCarloImage, Part};
 /// Estimates a pixel each pass draws (the last pass draws the rest): 16 keeps a pass of a
 /// 1280x720 frame of metal balls under a second on lavapipe (docs/design/environment.md,
 /// "The Monte Carlo backend").
-pub const PASS_SAMPLES: u32 = 16;
+pub(crate) const PASS_SAMPLES: u32 = 16;
 
 /// `McParams.strategies`' bits (`montecarlo.wgsl`): GGX visible normals, the cosine
 /// hemisphere, the map's luminance.
@@ -90,7 +90,7 @@ pub(crate) struct MonteCarloPass {
 }
 
 impl MonteCarloPass {
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         group0: &wgpu::BindGroupLayout,
         group1: &wgpu::BindGroupLayout,
@@ -108,7 +108,7 @@ impl MonteCarloPass {
     /// Renders `spp` estimates a covered pixel of `scene` with `seed`, in passes of
     /// [`PASS_SAMPLES`]; after each pass `keep_going(samples so far)` may stop it (the
     /// image then holds the passes done). The background comes from [`fill_background`].
-    pub fn render(
+    pub(crate) fn render(
         &mut self,
         gpu: &Gpu,
         scene: &Scene,

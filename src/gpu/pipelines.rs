@@ -42,11 +42,11 @@ pub(crate) fn pipeline_key(
 
 /// The depth target of the per-ball draw (`Renderer`'s own, sized to each colour target):
 /// f32, so that `fs_ball`'s depths (distances scaled by a power of two) keep every bit.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Whether `format` gets linear radiance rather than display values: float formats, and
 /// `Rgba32Uint`, which gets its f32 bits ([`is_bits`]).
-pub fn is_linear(format: wgpu::TextureFormat) -> bool {
+pub(crate) fn is_linear(format: wgpu::TextureFormat) -> bool {
     matches!(
         format,
         wgpu::TextureFormat::Rgba32Float
@@ -58,13 +58,13 @@ pub fn is_linear(format: wgpu::TextureFormat) -> bool {
 /// Whether `format` gets the bits of linear radiance as f32 (the modules composed with the
 /// shader def `OUTPUT_BITS`): `Rgba32Uint`, the f32 target of backends that render to no 32-bit float format (GL;
 /// integer formats are colour-renderable there), read back as f32 by `render_hdr`.
-pub fn is_bits(format: wgpu::TextureFormat) -> bool {
+pub(crate) fn is_bits(format: wgpu::TextureFormat) -> bool {
     format == wgpu::TextureFormat::Rgba32Uint
 }
 
 /// The ball modules (float or display output, and bits output: each created on first use),
 /// their pipeline layout and the pipelines made so far.
-pub struct Pipelines {
+pub(crate) struct Pipelines {
     modules: [Option<wgpu::ShaderModule>; 2],
     layout: wgpu::PipelineLayout,
     made: HashMap<PipelineKey, wgpu::RenderPipeline>,
@@ -72,7 +72,7 @@ pub struct Pipelines {
 }
 
 impl Pipelines {
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         bindings: &Bindings,
         environment: &wgpu::BindGroupLayout,
@@ -92,7 +92,7 @@ impl Pipelines {
 
     /// The background pipeline (`fs_background`: the environment map behind the balls)
     /// for `format` and `variant`'s map, in the per-ball pass (depth attached, untouched).
-    pub fn background(
+    pub(crate) fn background(
         &mut self,
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
@@ -124,7 +124,7 @@ impl Pipelines {
     }
 
     /// The pipeline of `key`, created on first use.
-    pub fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
+    pub(crate) fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
         let module = module(&mut self.modules, device, is_bits(key.format));
         let layout = &self.layout;
         self.made.entry(key).or_insert_with(|| {

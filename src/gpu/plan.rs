@@ -240,7 +240,7 @@ impl Plan {
     }
 
     /// The variants (pipelines per target format) the plan draws with.
-    pub fn variants(&self) -> Vec<Variant> {
+    pub(crate) fn variants(&self) -> Vec<Variant> {
         self.draws.iter().map(|(v, _)| *v).collect()
     }
 

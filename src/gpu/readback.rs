@@ -92,7 +92,7 @@ impl Readback {
 }
 
 /// Maps `buffer` for reading, waits, and copies its contents out.
-pub fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+pub(crate) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
     read_prefix(device, buffer, buffer.size())
 }
 

@@ -168,7 +168,8 @@ impl Renderer {
     }
 
     /// The frame of the lobe's samples the next draw takes.
-    pub fn lobe_frame(&self) -> u32 {
+    #[cfg(test)]
+    pub(crate) fn lobe_frame(&self) -> u32 {
         self.lobe_frame
     }
 
@@ -224,7 +225,7 @@ impl Renderer {
     }
 
     /// The plan of the latest scene planned or drawn.
-    pub fn plan(&self) -> Option<&Plan> {
+    pub(crate) fn plan(&self) -> Option<&Plan> {
         self.plan.as_ref()
     }
 
@@ -247,7 +248,7 @@ impl Renderer {
     }
 
     /// The bake settings in use (`geometry` is the last one baked for).
-    pub fn bake_config(&self) -> BakeConfig {
+    pub(crate) fn bake_config(&self) -> BakeConfig {
         self.bake_config
     }
 
@@ -289,7 +290,7 @@ impl Renderer {
     /// prefiltering (which runs on behind; wait on the queue to time it whole, as the lab's
     /// `bench --only ibl` does); `None` before any. A map drawn again while held (up to
     /// [`MAX_PREFILTERED_MAPS`](super::MAX_PREFILTERED_MAPS)) is not prepared again.
-    pub fn last_prefilter_time(&self) -> Option<Duration> {
+    pub(crate) fn last_prefilter_time(&self) -> Option<Duration> {
         self.environment.last_prepared()
     }
 
@@ -305,7 +306,7 @@ impl Renderer {
     /// Hands over `chain`, built from `map` ([`MipChain::new`](crate::environment::MipChain::new))
     /// beforehand (the CLI builds it while the device opens), for the next preparation of
     /// that very map (the same `Arc`); a preparation of any other map builds its own.
-    pub fn offer_mip_chain(
+    pub(crate) fn offer_mip_chain(
         &mut self,
         map: Arc<crate::environment::EnvMap>,
         chain: crate::environment::MipChain,
@@ -314,7 +315,7 @@ impl Renderer {
     }
 
     /// Rows in the memory cache.
-    pub fn cached_rows(&self) -> usize {
+    pub(crate) fn cached_rows(&self) -> usize {
         self.tables.cached_rows()
     }
 

@@ -5,9 +5,12 @@
 //! override constants chosen per pipeline ([`overrides_for`]); the target's output type
 //! (`OUTPUT_BITS`) is a shader def, one module per choice.
 
-use crate::brdf::{FAvgForm, Geometry};
+#[cfg(test)]
+use crate::brdf::FAvgForm;
+use crate::brdf::Geometry;
 use crate::gpu::Variant;
 use crate::lut::MuAxis;
+#[cfg(test)]
 use crate::wgsl::Program;
 
 /// Vertex entry point of the full-screen draws (one triangle over the viewport: the
@@ -41,13 +44,16 @@ pub(crate) const PROBE_MAIN: &str = "probe_main";
 /// Entry point of the probe along a scene's own rows.
 pub(crate) const PROBE_ROWS: &str = "probe_rows_main";
 /// Entry point of the prefilter's specular layers.
+#[cfg(test)]
 pub(crate) const SPECULAR_MAIN: &str = "specular_main";
 /// Entry point of the prefilter's convolved layers.
+#[cfg(test)]
 pub(crate) const CONVOLVED_MAIN: &str = "convolved_main";
 
 /// The entry points each program's pipelines use (a test checks that every module a
 /// program imports serves one of them).
-pub fn entry_points(program: &Program) -> &'static [&'static str] {
+#[cfg(test)]
+pub(crate) fn entry_points(program: &Program) -> &'static [&'static str] {
     match program.root {
         "shadeballs::balls" => &[VS_MAIN, VS_FAR, VS_BALL, FS_BALL, FS_BACKGROUND],
         "shadeballs::walk" => &[
@@ -73,7 +79,8 @@ macro_rules! composed {
 }
 
 /// The text the build composed for `program`, if it is one of [`crate::wgsl::PROGRAMS`].
-pub fn source(program: &Program) -> Option<&'static str> {
+#[cfg(test)]
+pub(crate) fn source(program: &Program) -> Option<&'static str> {
     Some(match program.name {
         "balls" => composed!("balls"),
         "balls_bits" => composed!("balls_bits"),
@@ -90,7 +97,7 @@ pub fn source(program: &Program) -> Option<&'static str> {
 
 /// The ball renderer (`balls.wgsl` and its imports); `bits`: for an `Rgba32Uint` target
 /// (the shader def `OUTPUT_BITS`).
-pub fn balls_source(bits: bool) -> &'static str {
+pub(crate) fn balls_source(bits: bool) -> &'static str {
     if bits {
         composed!("balls_bits")
     } else {
@@ -100,7 +107,7 @@ pub fn balls_source(bits: bool) -> &'static str {
 
 /// The truth on the GPU (`walk.wgsl`: its accumulation and resolve entry points, and the
 /// ball renderer's vertex stages it imports); `bits`: for an `Rgba32Uint` target.
-pub fn truth_source(bits: bool) -> &'static str {
+pub(crate) fn truth_source(bits: bool) -> &'static str {
     if bits {
         composed!("truth_bits")
     } else {
@@ -131,19 +138,20 @@ pub(crate) fn prefilter_source() -> &'static str {
 }
 
 /// The table probe: `probe.wgsl` and its imports.
-pub fn probe_source() -> &'static str {
+pub(crate) fn probe_source() -> &'static str {
     composed!("probe")
 }
 
 /// The `geometry` argument of the WGSL `geometry_g` and `f_micro` for `g`, and the value of
 /// the renderer's `GEOMETRY` override (its index in `Geometry::ALL`, matching the
 /// `GEOMETRY_*` constants of `constants.wgsl`).
-pub fn geometry_id(g: Geometry) -> u32 {
+pub(crate) fn geometry_id(g: Geometry) -> u32 {
     Geometry::ALL.iter().position(|&x| x == g).unwrap_or(0) as u32
 }
 
 /// The `form` argument of the WGSL `f_add_preset` (`F_ADD_*` in `constants.wgsl`).
-pub fn f_add_form_id(form: FAvgForm) -> u32 {
+#[cfg(test)]
+pub(crate) fn f_add_form_id(form: FAvgForm) -> u32 {
     match form {
         FAvgForm::Accurate => 0,
         FAvgForm::Games202 => 1,
@@ -151,7 +159,7 @@ pub fn f_add_form_id(form: FAvgForm) -> u32 {
 }
 
 /// The `form` argument of the WGSL `f_dielectric` (`FRESNEL_*` in `constants.wgsl`).
-pub fn fresnel_id(form: crate::brdf::DielectricFresnel) -> u32 {
+pub(crate) fn fresnel_id(form: crate::brdf::DielectricFresnel) -> u32 {
     match form {
         crate::brdf::DielectricFresnel::Exact => 0,
         crate::brdf::DielectricFresnel::Schlick => 1,
@@ -173,7 +181,7 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 /// `DOMINANT_DIRECTION`, `BALL_TERM`, the display
 /// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
 /// (`srgb`: the hardware encodes, so the shader writes linear).
-pub fn overrides_for(
+pub(crate) fn overrides_for(
     geometry: Geometry,
     linear: bool,
     mu_axis: MuAxis,

@@ -23,7 +23,7 @@ pub(crate) const SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Fl
 /// may hit a pixel whose centre the f64 silhouette just misses (the CPU renderer's bins use
 /// the same). With antialiasing the pad is [`crate::scene::AA_BOUNDS_PAD_PX`]
 /// ([`crate::scene::bounds_pad_px`]).
-pub const QUAD_PAD_PX: f64 = crate::scene::BOUNDS_PAD_PX;
+pub(crate) const QUAD_PAD_PX: f64 = crate::scene::BOUNDS_PAD_PX;
 
 /// What the accumulation and resolve passes draw with: the device, the bind groups 0 and
 /// 1, and the pipelines' compile-time choices.
@@ -166,7 +166,7 @@ pub(crate) struct Sums {
 impl Sums {
     /// The sums of `spec`, each side's bind group (of `layout`) binding `leading` from
     /// binding 0, then the side's views, then `trailing`.
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         spec: SumsSpec,
@@ -226,33 +226,33 @@ impl Sums {
     }
 
     /// The size summed.
-    pub fn size(&self) -> (u32, u32) {
+    pub(crate) fn size(&self) -> (u32, u32) {
         self.size
     }
 
     /// Frames summed so far.
-    pub fn frames(&self) -> u32 {
+    pub(crate) fn frames(&self) -> u32 {
         self.frames
     }
 
     /// Starts the sums again from zero at the next frame.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.frames = 0;
     }
 
     /// The bind group reading the latest sums.
-    pub fn group(&self) -> &wgpu::BindGroup {
+    pub(crate) fn group(&self) -> &wgpu::BindGroup {
         &self.groups[self.latest]
     }
 
     /// The textures holding the latest sums.
-    pub fn latest_textures(&self) -> &[wgpu::Texture] {
+    pub(crate) fn latest_textures(&self) -> &[wgpu::Texture] {
         &self.textures[self.latest]
     }
 
     /// Records a clear of the latest sums to zero where no frame is summed yet (the first
     /// frame reads zero sums).
-    pub fn clear_if_empty(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn clear_if_empty(&self, encoder: &mut wgpu::CommandEncoder) {
         if self.frames == 0 {
             let zero = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
             let attachments = attachments(&self.views[self.latest], zero);
@@ -267,7 +267,7 @@ impl Sums {
     /// A render pass into the next sums, its targets starting with `load` (the depth
     /// target, if any, cleared), with the latest sums' bind group as group 2 and `draw`'s
     /// groups 0 and 1. [`Sums::advance`] after it makes them the latest.
-    pub fn next_pass<'e>(
+    pub(crate) fn next_pass<'e>(
         &self,
         encoder: &'e mut wgpu::CommandEncoder,
         draw: (&wgpu::BindGroup, &wgpu::BindGroup),
@@ -298,14 +298,14 @@ impl Sums {
     }
 
     /// Makes the sums [`Sums::next_pass`] wrote the latest, one more frame.
-    pub fn advance(&mut self) {
+    pub(crate) fn advance(&mut self) {
         self.latest = 1 - self.latest;
         self.frames = self.frames.saturating_add(1);
     }
 
     /// Records the full-screen `pipeline` reading the latest sums into `view`, starting
     /// with `load`, over the `size` rectangle at its top-left corner (within the sums').
-    pub fn resolve(
+    pub(crate) fn resolve(
         &self,
         draw: &Draw<'_>,
         encoder: &mut wgpu::CommandEncoder,

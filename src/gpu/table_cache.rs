@@ -19,21 +19,21 @@ use crate::lut::{self, BakeConfig, Row, RowKey, RowSet, TableKey, TableSet, Tabl
 
 /// Most rows the memory cache keeps (about 0.8 KB each at 64 texels): past it, the rows
 /// not bound are dropped.
-pub const MAX_CACHED_ROWS: usize = 4096;
+pub(crate) const MAX_CACHED_ROWS: usize = 4096;
 
 /// Bind groups kept besides the bound one (their textures stay alive with them).
 const MAX_KEPT_BINDS: usize = 4;
 
 /// Bound tables: their key, the tables (read by the uniforms and the probe) and their bind
 /// group. With [`TableSet::None`] the group holds one-texel placeholders.
-pub struct Bound {
+pub(crate) struct Bound {
     key: TableKey,
     pub tables: TableSet,
     pub bind: wgpu::BindGroup,
 }
 
 /// The tables baked, uploaded and bound.
-pub struct TableCache {
+pub(crate) struct TableCache {
     device: wgpu::Device,
     queue: wgpu::Queue,
     bindings: Bindings,
@@ -48,7 +48,7 @@ pub struct TableCache {
 
 impl TableCache {
     /// An empty cache that uploads on `device` and `queue` and binds with `bindings`.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, bindings: &Bindings) -> Self {
+    pub(crate) fn new(device: &wgpu::Device, queue: &wgpu::Queue, bindings: &Bindings) -> Self {
         TableCache {
             device: device.clone(),
             queue: queue.clone(),
@@ -177,7 +177,7 @@ impl TableCache {
 
     /// Holds `tables` as the 2-D table of their config, replacing any other tables of the
     /// same config (which may hold other values), and binds them.
-    pub fn pin(&mut self, tables: Arc<Tables>) {
+    pub(crate) fn pin(&mut self, tables: Arc<Tables>) {
         self.full = Some(tables.clone());
         let key = TableSet::Full(tables.config);
         self.kept.retain(|b| b.key != key);
@@ -188,12 +188,12 @@ impl TableCache {
     }
 
     /// The tables bound now (what the last draw read).
-    pub fn bound(&self) -> Option<&Bound> {
+    pub(crate) fn bound(&self) -> Option<&Bound> {
         self.bound.as_ref()
     }
 
     /// Rows in the memory cache.
-    pub fn cached_rows(&self) -> usize {
+    pub(crate) fn cached_rows(&self) -> usize {
         self.rows.len()
     }
 }

@@ -75,7 +75,7 @@ pub(crate) fn quads(
 }
 
 impl TruthPass {
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         group0: &wgpu::BindGroupLayout,
         group1: &wgpu::BindGroupLayout,
@@ -92,12 +92,12 @@ impl TruthPass {
     }
 
     /// Estimates per truth pixel of the latest accumulation (`None` before any).
-    pub fn frames(&self) -> Option<u32> {
+    pub(crate) fn frames(&self) -> Option<u32> {
         self.sums.as_ref().map(|(_, s)| s.frames())
     }
 
     /// Starts the sums again from zero at the next frame.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         if let Some((_, s)) = &mut self.sums {
             s.reset();
         }
@@ -106,7 +106,7 @@ impl TruthPass {
     /// Records one frame of estimates for `scene` at `size`: `truth` are the truth balls'
     /// quads, `others` the other balls' (they hide what is behind them). Restarts the sums
     /// if the scene or the size changed.
-    pub fn accumulate(
+    pub(crate) fn accumulate(
         &mut self,
         draw: &Draw<'_>,
         encoder: &mut wgpu::CommandEncoder,
@@ -168,7 +168,7 @@ impl TruthPass {
 
     /// Records the resolve of the latest sums into `view` (of `format`), over the
     /// `size` rectangle at its top-left corner, keeping what is drawn there elsewhere.
-    pub fn resolve(
+    pub(crate) fn resolve(
         &mut self,
         draw: &Draw<'_>,
         encoder: &mut wgpu::CommandEncoder,

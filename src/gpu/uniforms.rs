@@ -115,7 +115,7 @@ super::ball::gpu_ball! {
 /// One light of the lights uniform array: `Light` of `types.wgsl` ([`lights`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct GpuLight {
+pub(crate) struct GpuLight {
     /// xyz: unit vector from the surface towards the light; w: 0.
     pub direction: [f32; 4],
     /// rgb: linear radiance ([`crate::scene::Light::radiance`]); w: 0.
@@ -131,7 +131,7 @@ fn v3(v: glam::DVec3) -> [f32; 3] {
 }
 
 /// Globals for rendering `scene` at `width x height` with `tables`.
-pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Globals {
+pub(crate) fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Globals {
     let basis = scene.camera.basis(width, height);
     Globals {
         // The GPU works relative to the camera (issue 38, 4): the eye at the origin, each
@@ -163,7 +163,7 @@ pub fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32) -> Glo
 /// and the roughness half of every E read (`Tables::lut_row`, `RowSet::lut_row`). Done once
 /// per ball instead of once per pixel, this takes about half of what the term cost a frame
 /// on lavapipe (docs/benchmarks.md, "Measured results").
-pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
+pub(crate) fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
     let tint = GAMES202_EDGE_TINT;
     let (tables, coating) = (prepared.tables(), prepared.coating_rows());
     scene
@@ -253,7 +253,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
 
 /// The code of each layering form in `Ball.layering`, and the WGSL constant `LAYERING_*`
 /// of `types.wgsl` generated from it (tests/suite/boundary.rs).
-pub const LAYERING_CODES: [(u32, Layering); 5] = [
+pub(crate) const LAYERING_CODES: [(u32, Layering); 5] = [
     (0, Layering::Constant),
     (1, Layering::Gltf),
     (2, Layering::ViewOnly),
@@ -262,7 +262,7 @@ pub const LAYERING_CODES: [(u32, Layering); 5] = [
 ];
 
 /// A layering form as `coating.wgsl` reads it from `Ball.layering`.
-pub fn layering_code(form: Layering) -> u32 {
+pub(crate) fn layering_code(form: Layering) -> u32 {
     LAYERING_CODES
         .iter()
         .find(|(_, f)| *f == form)
@@ -271,14 +271,14 @@ pub fn layering_code(form: Layering) -> u32 {
 
 /// The code of each coat form in `Ball.clearcoat_form`, and the WGSL constant
 /// `COAT_FORM_*` of `types.wgsl` generated from it (tests/suite/boundary.rs).
-pub const COAT_FORM_CODES: [(u32, CoatForm); 3] = [
+pub(crate) const COAT_FORM_CODES: [(u32, CoatForm); 3] = [
     (0, CoatForm::Physical),
     (1, CoatForm::Filament),
     (2, CoatForm::Gltf),
 ];
 
 /// A coat form as `clearcoat.wgsl` reads it from `Ball.clearcoat_form`.
-pub fn coat_form_code(form: CoatForm) -> u32 {
+pub(crate) fn coat_form_code(form: CoatForm) -> u32 {
     COAT_FORM_CODES
         .iter()
         .find(|(_, f)| *f == form)
@@ -287,7 +287,7 @@ pub fn coat_form_code(form: CoatForm) -> u32 {
 
 /// A ball's term as `lighting.wgsl` reads it from `Ball.term` (`TERM_*` in `types.wgsl`,
 /// generated from [`TERM_CODES`]; 0 without one).
-pub fn term_code(model: Model) -> u32 {
+pub(crate) fn term_code(model: Model) -> u32 {
     match model.term() {
         None => 0,
         Some(term) => TERM_CODES
@@ -299,14 +299,14 @@ pub fn term_code(model: Model) -> u32 {
 
 /// The code of each term in `Ball.term`, and the WGSL constant `TERM_*` of `types.wgsl`
 /// generated from it (tests/suite/boundary.rs).
-pub const TERM_CODES: [(u32, IblTerm); 3] = [
+pub(crate) const TERM_CODES: [(u32, IblTerm); 3] = [
     (1, IblTerm::KullaConty),
     (2, IblTerm::Turquin),
     (3, IblTerm::FdezAguera),
 ];
 
 /// The lights array (the used prefix of the uniform array).
-pub fn lights(scene: &Scene) -> Vec<GpuLight> {
+pub(crate) fn lights(scene: &Scene) -> Vec<GpuLight> {
     scene
         .lights
         .iter()

@@ -32,7 +32,7 @@ pub struct HdrImage {
 /// Most estimates a pixel of a GPU truth render: the sums are f32, whose count (alpha)
 /// is exact to 2^24, and whose relative rounding per addition stays near 2^-24 times the
 /// count (6e-5 at this cap, under the noise of any such render).
-pub const MAX_TRUTH_SPP: u32 = 1024;
+pub(crate) const MAX_TRUTH_SPP: u32 = 1024;
 
 /// Truth frames queued before the headless render waits for the device.
 const FRAMES_IN_FLIGHT: u32 = 8;
@@ -105,7 +105,7 @@ impl Renderer {
     /// for `scene` at `width x height` (as [`Renderer::render_hdr`] reads it back), adding
     /// no frame where the sums hold this scene's: what a viewer shows, for its EXR. A scene
     /// without the lobe is [`Renderer::render_hdr`]'s image.
-    pub fn render_progressive_hdr(
+    pub(crate) fn render_progressive_hdr(
         &mut self,
         scene: &Scene,
         width: u32,
@@ -116,7 +116,8 @@ impl Renderer {
 
     /// [`Renderer::render_ldr`] with the truth balls' image the mean of `spp` estimates a
     /// pixel (the sums started again from zero; the other balls as always).
-    pub fn render_truth_ldr(
+    #[cfg(test)]
+    pub(crate) fn render_truth_ldr(
         &mut self,
         scene: &Scene,
         width: u32,
@@ -129,7 +130,8 @@ impl Renderer {
 
     /// [`Renderer::render_hdr`] with the truth balls' image the mean of `spp` estimates a
     /// pixel (the sums started again from zero; the other balls as always).
-    pub fn render_truth_hdr(
+    #[cfg(test)]
+    pub(crate) fn render_truth_hdr(
         &mut self,
         scene: &Scene,
         width: u32,
@@ -143,6 +145,7 @@ impl Renderer {
     /// Starts the truth's sums again and adds `spp - 1` frames of estimates (the draw that
     /// follows adds the last). Waits for the device every [`FRAMES_IN_FLIGHT`] frames, so
     /// that no more are queued.
+    #[cfg(test)]
     fn accumulate_frames(
         &mut self,
         scene: &Scene,
@@ -273,7 +276,7 @@ impl Renderer {
     /// [`Renderer::render_montecarlo`] in passes of [`crate::gpu::MC_PASS_SAMPLES`] estimates:
     /// after each pass but the last, `keep_going(estimates so far)` may stop the render
     /// (the image then holds the passes done; its `spp` says how many).
-    pub fn render_montecarlo_progressive(
+    pub(crate) fn render_montecarlo_progressive(
         &mut self,
         scene: &Scene,
         (width, height): (u32, u32),

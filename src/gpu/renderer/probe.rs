@@ -13,7 +13,7 @@ use crate::lut::{RowSet, TableSet, Tables};
 use crate::scene::Scene;
 
 /// Largest probe grid side (N^2 / 64 workgroups must fit one dispatch dimension, 65535).
-pub const MAX_PROBE_GRID: u32 = 1024;
+pub(crate) const MAX_PROBE_GRID: u32 = 1024;
 
 /// One probe sample: `mu = i / (N - 1)`, `roughness = j / (N - 1)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,7 +54,7 @@ impl Renderer {
     /// each row's roughness with no weight on the next row), at `mu = i / (N - 1)`;
     /// row-major, row = the plan's rows in order. Returns the rows read (`None` when the
     /// plan reads no rows: no ball reads E (no term, no environment), or the 2-D table).
-    pub fn probe_rows(
+    pub(crate) fn probe_rows(
         &mut self,
         scene: &Scene,
         n: u32,

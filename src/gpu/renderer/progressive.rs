@@ -40,7 +40,7 @@ impl Renderer {
     /// Adds one frame of estimates to the truth balls' sums of `scene` at `w x h` (starting
     /// them again if the scene or the size changed) without drawing an image, and submits.
     /// A scene without truth balls does nothing.
-    pub fn accumulate_truth(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
+    pub(crate) fn accumulate_truth(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
         self.scoped(|r| {
             let frame = r.prepare_frame(scene, w, h)?;
             if frame.plan.truth.is_empty() {
@@ -58,13 +58,13 @@ impl Renderer {
 
     /// Estimates per pixel the truth balls' image holds now (after the latest draw or
     /// [`Renderer::accumulate_truth`]); `None` before any scene with truth balls.
-    pub fn truth_samples(&self) -> Option<u32> {
+    pub(crate) fn truth_samples(&self) -> Option<u32> {
         self.truth.frames()
     }
 
     /// Starts the truth balls' sums again from zero at the next frame (they restart by
     /// themselves when the scene or the size changes).
-    pub fn reset_truth(&mut self) {
+    pub(crate) fn reset_truth(&mut self) {
         self.truth.reset();
     }
 
@@ -76,7 +76,7 @@ impl Renderer {
     /// is not read), and a changed scene starts again from one frame
     /// ([`Renderer::lobe_samples`]). Past [`Renderer::set_lobe_sample_cap`]'s cap it adds
     /// nothing and writes the mean held. A scene without the lobe is drawn by `encode`.
-    pub fn encode_progressive(
+    pub(crate) fn encode_progressive(
         &mut self,
         scene: &Scene,
         target: Target<'_>,
@@ -91,7 +91,8 @@ impl Renderer {
     }
 
     /// [`Renderer::encode_progressive`] and submits.
-    pub fn render_progressive(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
+    #[cfg(test)]
+    pub(crate) fn render_progressive(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
         self.gpu.check()?;
         self.check_truth_supported(scene)?;
         self.submit_scoped(|r, encoder| r.encode_progressive(scene, target, encoder))
@@ -101,27 +102,27 @@ impl Renderer {
     /// `ibl_samples`) after the latest [`Renderer::encode_progressive`],
     /// [`Renderer::accumulate_lobe`] or [`Renderer::render_lobe_hdr`]; `None` when that
     /// scene's balls use no lobe (or before any).
-    pub fn lobe_samples(&self) -> Option<u32> {
+    pub(crate) fn lobe_samples(&self) -> Option<u32> {
         let frames = self.lobe.frames()?;
         Some(frames.saturating_mul(self.lobe.samples_a_frame()))
     }
 
     /// Stops [`Renderer::encode_progressive`] adding frames once the image holds `cap`
     /// samples a pixel (`None`, the default: no cap), so that an idle viewer goes idle.
-    pub fn set_lobe_sample_cap(&mut self, cap: Option<u32>) {
+    pub(crate) fn set_lobe_sample_cap(&mut self, cap: Option<u32>) {
         self.lobe_cap = cap;
     }
 
     /// Starts the lobe's sums again from zero at the next frame (they restart by
     /// themselves when the scene changes).
-    pub fn reset_lobe(&mut self) {
+    pub(crate) fn reset_lobe(&mut self) {
         self.lobe.reset();
     }
 
     /// Adds the next frame of the lobe's samples of `scene` at `w x h` to the sums
     /// (starting them again if the scene changed) without drawing an image, and submits.
     /// A scene whose balls use no lobe does nothing.
-    pub fn accumulate_lobe(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
+    pub(crate) fn accumulate_lobe(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
         self.submit_scoped(|r, encoder| match r.start_lobe(scene, (w, h)) {
             Some(frames) => r.add_lobe_frame(scene, (w, h), frames, encoder).map(drop),
             None => Ok(()),

@@ -8,18 +8,18 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use rayon::prelude::*;
-use shadeballs::brdf::*;
-use shadeballs::lut::{
+use crate::brdf::*;
+use crate::lut::{
     bake, e_avg_reference, e_reference, BakeConfig, Layout, LayoutKind, Method, PointSet, Storage,
 };
+use rayon::prelude::*;
 
 /// How many f32 neighbours on each side of an edge the grids take.
-pub const ULPS: u32 = 16;
+pub(crate) const ULPS: u32 = 16;
 
 /// `x` and its `k` f32 neighbours on each side (`next_up` / `next_down`: through zero and
 /// the subnormals, across the normal/subnormal boundary).
-pub fn neighbours(x: f32, k: u32) -> Vec<f32> {
+pub(crate) fn neighbours(x: f32, k: u32) -> Vec<f32> {
     let mut v = vec![x];
     let (mut up, mut down) = (x, x);
     for _ in 0..k {
@@ -33,7 +33,7 @@ pub fn neighbours(x: f32, k: u32) -> Vec<f32> {
 /// Values of a quantity in `[0, 1]` (a reflectance, a loss, E_avg, F_avg): both ends and
 /// every f32 within `k` steps inside them, the smallest subnormals, the normal/subnormal
 /// boundary, `DIV_EPSILON`, the roughness clamp, and a few interior values.
-pub fn unit_edges(k: u32) -> Vec<f32> {
+pub(crate) fn unit_edges(k: u32) -> Vec<f32> {
     let mut v = Vec::new();
     for x in [
         0.0,
@@ -56,7 +56,7 @@ pub fn unit_edges(k: u32) -> Vec<f32> {
 
 /// Cosines: the unit edges, `-0.0` and negative values (below the horizon, at and near it),
 /// and values just above 1 (what rounding in `normalize` can give).
-pub fn cos_edges(k: u32) -> Vec<f32> {
+pub(crate) fn cos_edges(k: u32) -> Vec<f32> {
     let mut v = unit_edges(k);
     v.extend(neighbours(-0.0, k).into_iter().filter(|x| *x <= 0.0));
     v.extend(neighbours(1.0, k).into_iter().filter(|x| *x > 1.0));
@@ -65,7 +65,7 @@ pub fn cos_edges(k: u32) -> Vec<f32> {
 }
 
 /// Roughness: the cosines' values (negative and above 1 are clamped), and on the CPU NaN.
-pub fn roughness_edges(k: u32, with_nan: bool) -> Vec<f32> {
+pub(crate) fn roughness_edges(k: u32, with_nan: bool) -> Vec<f32> {
     let mut v = cos_edges(k);
     v.extend([2.0, f32::INFINITY, f32::NEG_INFINITY]);
     if with_nan {

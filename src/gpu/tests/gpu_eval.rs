@@ -4,17 +4,17 @@
 //! GPU edge grid in `gpu_stress.rs`. Each output has an f64 counterpart in [`cpu`], the same
 //! functions of `src/brdf` at the same (f32) inputs.
 
-use shadeballs::brdf::{self, Geometry};
-use shadeballs::gpu::{shaders, uniforms, Renderer};
-use shadeballs::lut::Tables;
+use crate::brdf::{self, Geometry};
+use crate::gpu::{shaders, uniforms, Renderer};
+use crate::lut::Tables;
 use wgpu::util::DeviceExt;
 
 /// Inputs per sample: mu_o, mu_i, n.h, v.h, roughness, F0, loss_o, loss_i, loss_avg, F_avg,
 /// E_avg, and the (mu, roughness) of a table read.
-pub const INPUTS: usize = 13;
+pub(crate) const INPUTS: usize = 13;
 
 /// Names of the outputs per sample, in order (`eval_main` below).
-pub const OUTPUTS: [&str; 19] = [
+pub(crate) const OUTPUTS: [&str; 19] = [
     "roughness_clamped",
     "alpha_from_roughness",
     "d_ggx",
@@ -39,11 +39,11 @@ pub const OUTPUTS: [&str; 19] = [
 const STRIDE_OUT: usize = 20;
 
 const ENTRY: &str = r#"
-#import shadeballs::constants
-#import shadeballs::brdf
-#import shadeballs::lut
-#import shadeballs::types
-#import shadeballs::bindings
+#import crate::constants
+#import crate::brdf
+#import crate::lut
+#import crate::types
+#import crate::bindings
 
 @group(1) @binding(0) var<storage, read> eval_in: array<f32>;
 @group(1) @binding(1) var<storage, read_write> eval_out: array<f32>;
@@ -98,14 +98,14 @@ const CHUNK: usize = 1 << 18;
 
 /// The outputs of [`OUTPUTS`] for every sample of `inputs` (`INPUTS` floats each), with the
 /// G of `geometry` in `f_micro` and `f_r`, and `tables` behind the table reads.
-pub fn evaluate(
+pub(crate) fn evaluate(
     r: &Renderer,
     tables: &Tables,
     geometry: Geometry,
     inputs: &[f32],
 ) -> Vec<[f32; 19]> {
     let (device, queue) = (&r.gpu().device, &r.gpu().queue);
-    let source = shadeballs::wgsl::compose("eval", ENTRY, &[])
+    let source = crate::wgsl::compose("eval", ENTRY, &[])
         .expect("the eval module composes")
         .source;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -170,7 +170,7 @@ pub fn evaluate(
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
         queue.submit([encoder.finish()]);
-        let bytes = shadeballs::gpu::readback::read_buffer(device, &readback).unwrap();
+        let bytes = crate::gpu::readback::read_buffer(device, &readback).unwrap();
         let values: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
         out.extend(values.chunks_exact(STRIDE_OUT).map(|v| {
             let mut row = [0.0; 19];
@@ -191,7 +191,7 @@ fn table_group(
     tables: &Tables,
 ) -> wgpu::BindGroup {
     // The tables as the renderer and any host upload them (the facade's GpuTables).
-    let gpu_tables = shadeballs::GpuTables::upload(device, queue, tables);
+    let gpu_tables = crate::GpuTables::upload(device, queue, tables);
     let globals = uniforms::Globals {
         lut: gpu_tables.params,
         ..bytemuck::Zeroable::zeroed()
@@ -224,7 +224,7 @@ fn table_group(
 
 /// The f64 counterparts of [`OUTPUTS`] at the same inputs (`src/brdf`; the table reads are
 /// the CPU model of the shader's, `Tables::lut_loss`, itself f32).
-pub fn cpu(tables: &Tables, geometry: Geometry, x: &[f32]) -> [f64; 19] {
+pub(crate) fn cpu(tables: &Tables, geometry: Geometry, x: &[f32]) -> [f64; 19] {
     let f = |k: usize| x[k] as f64;
     let (mu_o, mu_i, n_dot_h, v_dot_h, r, f0) = (f(0), f(1), f(2), f(3), f(4), f(5));
     let alpha = brdf::alpha_from_roughness(r);

@@ -9,8 +9,8 @@
 //! patterns the shaders had before the fix put back, must be flagged.
 mod analysis;
 
+use crate::gpu::shaders;
 use analysis::inlinable_decisions;
-use shadeballs::gpu::shaders;
 
 #[test]
 fn fragment_control_flow_reads_no_uniform_value() {

@@ -3,16 +3,16 @@
 //! (exactly equal where no ball has the term).
 use std::time::Duration;
 
+use crate::cpu;
+use crate::gpu::Renderer;
+use crate::gpu::{DrawOptions, MAX_PLANNED_ROWS};
+use crate::lut::BakeConfig;
+use crate::lut::TableSet;
+use crate::scene::{Model, Scene};
 use glam::DVec3;
-use shadeballs::cpu;
-use shadeballs::gpu::Renderer;
-use shadeballs::gpu::{DrawOptions, MAX_PLANNED_ROWS};
-use shadeballs::lut::BakeConfig;
-use shadeballs::lut::TableSet;
-use shadeballs::scene::{Model, Scene};
 
+use super::plan::{no_term, scene_with_roughness};
 use crate::pixels::{assert_close, compare, vulkan};
-use crate::plan::{no_term, scene_with_roughness};
 
 const W: u32 = 640;
 const H: u32 = 360;
@@ -22,12 +22,7 @@ fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     let bound = r.bound_tables();
     let rows = match &bound {
         TableSet::Rows(_) => Some(cpu::to_display_rgba8(
-            &cpu::render_radiance(
-                scene,
-                &shadeballs::prepared::Prepared::new(scene, &bound),
-                W,
-                H,
-            ),
+            &cpu::render_radiance(scene, &crate::prepared::Prepared::new(scene, &bound), W, H),
             scene.exposure,
             scene.display(),
         )),
@@ -35,12 +30,7 @@ fn cpu_renders(r: &mut Renderer, scene: &Scene) -> (Vec<u8>, Option<Vec<u8>>) {
     };
     let full = TableSet::full(r.tables_for(scene.effective_geometry()));
     let full = cpu::to_display_rgba8(
-        &cpu::render_radiance(
-            scene,
-            &shadeballs::prepared::Prepared::new(scene, &full),
-            W,
-            H,
-        ),
+        &cpu::render_radiance(scene, &crate::prepared::Prepared::new(scene, &full), W, H),
         scene.exposure,
         scene.display(),
     );
@@ -173,7 +163,7 @@ fn probe_along_the_scenes_rows() {
             s.mu, s.roughness
         );
         assert_eq!(s.e_avg, 1.0 - rows.lut_loss_avg(s.roughness));
-        let exact = shadeballs::lut::e_reference(s.mu as f64, s.roughness as f64, g);
+        let exact = crate::lut::e_reference(s.mu as f64, s.roughness as f64, g);
         worst = worst.max((s.e as f64 - exact).abs());
     }
     println!("probe along the default scene's rows: max E error {worst:.2e}");

@@ -2,14 +2,14 @@
 //! edge grid, and at a million random points against their f64 counterparts. (Whole
 //! extreme scenes: `extreme_scenes.rs`.)
 
+use crate::brdf::Geometry;
+use crate::lut::{bake, BakeConfig, Tables};
 use glam::DVec3;
 use rayon::prelude::*;
-use shadeballs::brdf::Geometry;
-use shadeballs::lut::{bake, BakeConfig, Tables};
 
-use crate::gpu_eval::{cpu, evaluate, INPUTS, OUTPUTS};
+use super::gpu_eval::{cpu, evaluate, INPUTS, OUTPUTS};
+use super::stress::{cos_edges, roughness_edges, unit_edges};
 use crate::pixels::vulkan;
-use crate::stress::{cos_edges, roughness_edges, unit_edges};
 
 fn tables(g: Geometry) -> Tables {
     bake(&BakeConfig {

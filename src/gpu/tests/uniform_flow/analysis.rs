@@ -209,7 +209,7 @@ fn name(f: &Function) -> String {
 
 /// The inlinable control-flow decisions reachable from the fragment entry points of
 /// `source`.
-pub fn inlinable_decisions(source: &str) -> Vec<String> {
+pub(crate) fn inlinable_decisions(source: &str) -> Vec<String> {
     let module = naga::front::wgsl::parse_str(source).expect("the module parses");
     let fragment: Vec<&Function> = module
         .entry_points

@@ -6,14 +6,14 @@
 //! member.
 use std::collections::BTreeMap;
 
-use shadeballs::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
-use shadeballs::display::{self, ToneMap, Transfer};
-use shadeballs::environment::{lobe, prefilter};
-use shadeballs::gpu::boundary::{self, StructLayout, STRUCTS};
-use shadeballs::gpu::shaders;
-use shadeballs::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
-use shadeballs::lut::{self, EAvgRead, MuAxis};
-use shadeballs::wgsl::PROGRAMS;
+use crate::brdf::{self, DielectricFresnel, FAvgForm, Geometry};
+use crate::display::{self, ToneMap, Transfer};
+use crate::environment::{lobe, prefilter};
+use crate::gpu::boundary::{self, StructLayout, STRUCTS};
+use crate::gpu::shaders;
+use crate::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
+use crate::lut::{self, EAvgRead, MuAxis};
+use crate::wgsl::PROGRAMS;
 
 const BEGIN: &str = "// generated from the Rust constants by tests/suite/boundary.rs: do not edit";
 const END: &str = "// end of the generated constants";
@@ -124,8 +124,8 @@ fn library_constants() -> Vec<Constant> {
 
 /// The constants of `types.wgsl`.
 fn renderer_constants() -> Vec<Constant> {
-    let scene = shadeballs::scene::MAX_BALLS as u64;
-    let lights = shadeballs::scene::MAX_LIGHTS as u64;
+    let scene = crate::scene::MAX_BALLS as u64;
+    let lights = crate::scene::MAX_LIGHTS as u64;
     let mut c = vec![
         uint("MAX_BALLS".into(), scene, "scene::MAX_BALLS".into()),
         uint("MAX_LIGHTS".into(), lights, "scene::MAX_LIGHTS".into()),
@@ -278,7 +278,7 @@ fn blocks() -> Vec<(&'static str, Vec<String>)> {
             "footprint.wgsl",
             lines(vec![float(
                 "AA_EDGE_PX",
-                shadeballs::scene::AA_EDGE_PX,
+                crate::scene::AA_EDGE_PX,
                 "scene::AA_EDGE_PX",
             )]),
         ),
@@ -286,7 +286,7 @@ fn blocks() -> Vec<(&'static str, Vec<String>)> {
             "walk.wgsl",
             lines(vec![float(
                 "WALK_RR_BELOW",
-                shadeballs::walk::RR_BELOW,
+                crate::walk::RR_BELOW,
                 "walk::RR_BELOW",
             )]),
         ),

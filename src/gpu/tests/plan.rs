@@ -1,28 +1,26 @@
 //! The plan (`scene::plan`): which rows are baked and which pipelines exist, per case of
 //! issue 7, and the rows' read against the precise reference. CPU only.
+use crate::display::DisplayTransform;
+use crate::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
+use crate::lut::{self, accuracy::random_points, BakeConfig, RowKey, RowSet, TableKey, TableSet};
+use crate::scene::Scene;
 use glam::DVec3;
-use shadeballs::display::DisplayTransform;
-use shadeballs::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLANNED_ROWS};
-use shadeballs::lut::{
-    self, accuracy::random_points, BakeConfig, RowKey, RowSet, TableKey, TableSet,
-};
-use shadeballs::scene::Scene;
 
 /// The default scene with every ball's term off (the lab's `no_term` too).
-pub fn no_term() -> Scene {
+pub(crate) fn no_term() -> Scene {
     let mut s = Scene::reference();
     for b in &mut s.balls {
-        b.model = shadeballs::scene::Model::None;
+        b.model = crate::scene::Model::None;
     }
     s
 }
 
-pub fn plan(scene: &Scene) -> Plan {
+pub(crate) fn plan(scene: &Scene) -> Plan {
     Plan::new(scene, BakeConfig::default(), DrawOptions::default())
 }
 
 /// `n` balls with the term, roughness `i / n` apart (all distinct after the clamp).
-pub fn scene_with_roughness(n: usize) -> Scene {
+pub(crate) fn scene_with_roughness(n: usize) -> Scene {
     let mut s = Scene::reference();
     let ball = s.balls[0];
     s.balls = (0..n)
@@ -236,7 +234,7 @@ fn a_row_equals_the_table_row_at_its_roughness() {
 /// `DIV_EPSILON`. A scene's rows pass their `1 - E_avg` per ball in f32, never stored 8-bit.
 #[test]
 fn games202_layout_rounds_e_avg_to_zero_and_rows_do_not() {
-    use shadeballs::lut::{Layout, LayoutKind};
+    use crate::lut::{Layout, LayoutKind};
     let scene = Scene::reference();
     let config = BakeConfig {
         geometry: scene.effective_geometry(),
@@ -263,8 +261,8 @@ fn games202_layout_rounds_e_avg_to_zero_and_rows_do_not() {
 /// share one, and keeps each ball's own (0) when they do not.
 #[test]
 fn a_shared_term_is_compiled_in_and_mixed_terms_stay_per_ball() {
-    use shadeballs::environment::IblTerm;
-    use shadeballs::scene::Model;
+    use crate::environment::IblTerm;
+    use crate::scene::Model;
     let term_in = |s: &Scene| {
         plan(s)
             .variants()

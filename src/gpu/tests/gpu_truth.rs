@@ -10,22 +10,32 @@
 //! back every `BATCH` frames, and each batch's mean is the difference of two read-backs.
 
 use glam::DVec3;
-use shadeballs::cpu::{self, intersect_sphere, TruthSettings};
-use shadeballs::gpu::Renderer;
-use shadeballs::lut::TableSet;
-use shadeballs::lut::{self, BakeConfig};
-use shadeballs::scene::{Model, Scene};
+
+use crate::cpu::{self, intersect_sphere, TruthSettings};
+
+use crate::gpu::Renderer;
+
+use crate::lut::TableSet;
+
+use crate::lut::{self, BakeConfig};
+
+use crate::scene::{Model, Scene};
 
 use crate::pixels::{renderer, vulkan};
 
 const W: u32 = 320;
+
 const H: u32 = 180;
+
 /// Frames a batch, and batches: 32 batch means give the standard error with 31 degrees of
 /// freedom, so 4 of them is a two-sided tail of about 4e-4 of Student's t.
 const BATCH: u32 = 4;
+
 const BATCHES: u32 = 32;
+
 /// The agreement bound: 4 combined standard errors (the brief's).
 const Z_MAX: f64 = 4.0;
+
 /// A floor on each comparison's standard error, relative to the CPU's mean: the exact
 /// part (the lights' single scattering) is evaluated in f32 on the GPU and f64 on the
 /// CPU, where a ball whose walk adds almost nothing has a standard error far below the
@@ -150,7 +160,7 @@ fn cpu_truth(scene: &Scene, owner: &[Option<usize>], spp: u32) -> Vec<Estimate> 
     };
     let image = cpu::render_truth(
         scene,
-        &shadeballs::prepared::Prepared::new(scene, &TableSet::full(tables.clone())),
+        &crate::prepared::Prepared::new(scene, &TableSet::full(tables.clone())),
         W,
         H,
         settings,
@@ -219,7 +229,7 @@ fn show(v: DVec3, fmt: &str) -> String {
 /// walks' next-event estimates, the coating's gathering at its base, the escapes into the
 /// environment, and the mix by metallic.
 fn agreement_scene() -> Scene {
-    let mut scene = all_truth(crate::render::mixed_scene());
+    let mut scene = all_truth(crate::pixels::mixed_scene());
     // Balls 0, 2, 4, 6, 8 are the dielectrics (IOR 1.5); 4 is the roughest of the top row,
     // 6 the second roughness of the bottom row.
     scene.balls[4].material.ior = 1.33;
@@ -280,7 +290,7 @@ fn gpu_truth_white_furnace_is_the_environment() {
 /// by total internal reflection, a higher one more, so longer paths).
 #[test]
 fn gpu_truth_white_furnace_of_coatings_is_the_environment() {
-    use shadeballs::scene::Material;
+    use crate::scene::Material;
     let mut r = vulkan();
     let mut scene = all_truth(Scene::furnace());
     let iors = [1.1, 1.33, 1.5, 2.0, 2.5];
@@ -374,6 +384,6 @@ fn truth_spp_is_checked() {
     let scene = all_truth(Scene::reference());
     assert!(r.render_truth_ldr(&scene, 32, 18, 0).is_err());
     assert!(r
-        .render_truth_ldr(&scene, 32, 18, shadeballs::gpu::MAX_TRUTH_SPP + 1)
+        .render_truth_ldr(&scene, 32, 18, crate::gpu::MAX_TRUTH_SPP + 1)
         .is_err());
 }

@@ -1,8 +1,8 @@
 //! Image-based lighting: the split-sum table, the prefiltered environment (CPU and GPU),
 //! and the shading under a map against its CPU twin.
 
-use shadeballs::brdf::Geometry;
-use shadeballs::lut::{self, e_reference, split_sum, SplitSum};
+use crate::brdf::Geometry;
+use crate::lut::{self, e_reference, split_sum, SplitSum};
 
 /// A + B = E. Against E by the same `theta_i` nodes with the azimuth in closed form the
 /// sum checks the split sum's azimuthal quadrature, and against the precise adaptive
@@ -99,12 +99,12 @@ fn split_sum_table_is_baked_close_to_the_precise_quadrature() {
 
 use std::sync::Arc;
 
+use crate::cpu;
+use crate::environment::prefilter::{MipChain, Prefiltered};
+use crate::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
+use crate::lut::TableSet;
+use crate::scene::{Material, Model, Scene};
 use glam::{DVec2, DVec3};
-use shadeballs::cpu;
-use shadeballs::environment::prefilter::{MipChain, Prefiltered};
-use shadeballs::environment::{self, Builtin, EnvMap, Environment, IblTerm, Source};
-use shadeballs::lut::TableSet;
-use shadeballs::scene::{Material, Model, Scene};
 
 use crate::pixels::both;
 use crate::pixels::{assert_close, compare, vulkan};
@@ -145,7 +145,7 @@ fn furnace_through_the_map_path_holds_for_every_term() {
         let cpu = cpu::to_rgba8(
             &cpu::render_radiance(
                 &scene,
-                &shadeballs::prepared::Prepared::new(
+                &crate::prepared::Prepared::new(
                     &scene,
                     &TableSet::full(r.tables_for(scene.effective_geometry())),
                 ),
@@ -218,7 +218,7 @@ fn prefiltering_a_constant_map_gives_the_constant() {
     let c = DVec3::new(0.3, 2.0, 7.0);
     let map = EnvMap::uniform(c, 128, 64);
     let chain = MipChain::new(&map);
-    let tables = shadeballs::lut::bake(&Default::default());
+    let tables = crate::lut::bake(&Default::default());
     let pre = Prefiltered::new(
         &chain,
         &environment::prefilter::kernels(&tables),
@@ -285,7 +285,7 @@ fn rotating_the_environment_rotates_the_highlights() {
     let pre_turned = map_environment(EnvMap::new(w0, h0, texels).unwrap(), 0.0);
     let mut r = vulkan();
     let (w, h) = (320, 180);
-    let render = |r: &mut shadeballs::Renderer, e: Environment| {
+    let render = |r: &mut crate::Renderer, e: Environment| {
         let scene = under(Scene::reference(), e, IblTerm::KullaConty);
         r.render_ldr(&scene, w, h).unwrap().rgba
     };
@@ -333,13 +333,13 @@ fn gl_matches_the_cpu_twin_under_a_map() {
 /// the old address) is prepared again, never served stale textures.
 #[test]
 fn prepared_maps_are_kept_and_reused() {
-    use shadeballs::gpu::MAX_PREFILTERED_MAPS;
+    use crate::gpu::MAX_PREFILTERED_MAPS;
     let mut r = vulkan();
     let (w, h) = (64, 36);
     let maps: Vec<Environment> = (0..MAX_PREFILTERED_MAPS)
         .map(|k| map_environment(EnvMap::uniform(DVec3::splat(0.2 + k as f64), 32, 16), 0.0))
         .collect();
-    let draw = |r: &mut shadeballs::Renderer, e: &Environment| {
+    let draw = |r: &mut crate::Renderer, e: &Environment| {
         let scene = under(Scene::furnace(), e.clone(), IblTerm::KullaConty);
         r.render_hdr(&scene, w, h).unwrap().rgba
     };
@@ -386,7 +386,7 @@ fn shipped_split_sum_tables_are_the_bake() {
 // ---------------------------------------------------------------------------------------
 // Lighting that follows the lobe (`ibl_method = "lobe"`).
 
-use shadeballs::environment::IblMethod;
+use crate::environment::IblMethod;
 
 /// The lab's IBL balls (copper over a white metal row, every ball with the Kulla-Conty
 /// term) under `builtin` alone, lit by `n` lobe samples a frame, no antialiasing (the Monte
@@ -435,7 +435,7 @@ fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTe
                 let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
                 let radiance = cpu::render_radiance_at_lobe_frame(
                     &scene,
-                    &shadeballs::prepared::Prepared::new(&scene, &tables),
+                    &crate::prepared::Prepared::new(&scene, &tables),
                     w,
                     h,
                     frame,
@@ -591,7 +591,7 @@ fn lobe_converges_to_the_monte_carlo_of_the_model() {
         let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
         let mc = cpu::render_montecarlo(
             &scene,
-            &shadeballs::prepared::Prepared::new(&scene, &tables),
+            &crate::prepared::Prepared::new(&scene, &tables),
             w,
             h,
             2048,
@@ -614,10 +614,10 @@ fn lobe_converges_to_the_monte_carlo_of_the_model() {
     }
 }
 
-/// `scene` drawn by [`shadeballs::Renderer::render_progressive`] into a `w x h`
+/// `scene` drawn by [`crate::Renderer::render_progressive`] into a `w x h`
 /// `Rgba8Unorm` texture of the test's own, read back.
-fn progressive_ldr(r: &mut shadeballs::Renderer, scene: &Scene, (w, h): (u32, u32)) -> Vec<u8> {
-    use shadeballs::gpu::readback::Readback;
+fn progressive_ldr(r: &mut crate::Renderer, scene: &Scene, (w, h): (u32, u32)) -> Vec<u8> {
+    use crate::gpu::readback::Readback;
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let device = r.gpu().device.clone();
     let texture = target_texture(
@@ -628,7 +628,7 @@ fn progressive_ldr(r: &mut shadeballs::Renderer, scene: &Scene, (w, h): (u32, u3
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
     );
     let view = texture.create_view(&Default::default());
-    let target = shadeballs::Target {
+    let target = crate::Target {
         view: &view,
         format,
         width: w,
@@ -670,7 +670,7 @@ fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
         for k in 0..frames {
             let frame = cpu::render_radiance_at_lobe_frame(
                 &scene,
-                &shadeballs::prepared::Prepared::new(&scene, &tables),
+                &crate::prepared::Prepared::new(&scene, &tables),
                 w,
                 h,
                 k,
@@ -758,7 +758,7 @@ fn time_lobe_progressive_at_720p() {
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
     let view = texture.create_view(&Default::default());
-    let target = shadeballs::Target {
+    let target = crate::Target {
         view: &view,
         format: wgpu::TextureFormat::Rgba8Unorm,
         width: w,
@@ -825,7 +825,7 @@ fn the_split_sum_reads_along_the_mirror_direction_when_asked() {
     );
     let dominant = r.render_hdr(&studio, w, h).unwrap().rgba;
     let homework = r.render_hdr(&Scene::reference(), w, h).unwrap().rgba;
-    let mirror = shadeballs::gpu::DrawOptions {
+    let mirror = crate::gpu::DrawOptions {
         dominant_direction: false,
         ..Default::default()
     };
@@ -880,13 +880,13 @@ fn term_frame_cost_alternating_and_in_a_row() {
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
     let view = texture.create_view(&Default::default());
-    let target = shadeballs::gpu::Target {
+    let target = crate::gpu::Target {
         view: &view,
         format,
         width: w,
         height: h,
     };
-    let frame = |r: &mut shadeballs::Renderer, on: bool| {
+    let frame = |r: &mut crate::Renderer, on: bool| {
         r.set_multiple_scattering_term(on);
         let t = std::time::Instant::now();
         r.render(&scene, target).unwrap();
@@ -895,7 +895,7 @@ fn term_frame_cost_alternating_and_in_a_row() {
     };
     frame(&mut r, true);
     frame(&mut r, false);
-    let median = |mut v: Vec<f64>| shadeballs::stats::median(&mut v);
+    let median = |mut v: Vec<f64>| crate::stats::median(&mut v);
     let (mut on, mut off) = (Vec::new(), Vec::new());
     for _ in 0..11 {
         on.push(frame(&mut r, true));
