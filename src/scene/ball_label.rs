@@ -22,7 +22,7 @@ const _: () = assert!(MAX_BALL_LABEL_BYTES <= u8::MAX as usize);
 
 impl BallLabel {
     /// `text` as a label, or why it cannot be one (a scene file's check).
-    pub fn new(text: &str) -> Result<Self, String> {
+    pub(crate) fn new(text: &str) -> Result<Self, String> {
         if text.trim().is_empty() {
             return Err("a ball's label is blank: give it some text, or leave `label` out".into());
         }
@@ -48,7 +48,7 @@ impl BallLabel {
     /// Any text made a label (an imported name): control characters become spaces, the
     /// ends are trimmed, and a text over [`MAX_BALL_LABEL_BYTES`] is cut at a character
     /// and ends with [`ELLIPSIS`]; `None` for a blank text.
-    pub fn shortened(text: &str) -> Option<Self> {
+    pub(crate) fn shortened(text: &str) -> Option<Self> {
         let line: String = text
             .chars()
             .map(|c| if c.is_control() { ' ' } else { c })

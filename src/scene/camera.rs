@@ -39,7 +39,7 @@ pub struct CameraBasis {
 impl Camera {
     /// The reference scene's camera (docs/design/reference-scene.md, "The balls, the light
     /// and the camera").
-    pub fn reference() -> Self {
+    pub(crate) fn reference() -> Self {
         Camera {
             position: DVec3::new(0.0, 80.0, 300.0),
             target: DVec3::ZERO,
@@ -73,7 +73,7 @@ impl Camera {
     /// cannot (issue 38, 4): a pixel spans less than [`MIN_GPU_PIXEL_ANGLE`], finer than
     /// the f32 directions of the shader's rays resolve (its f32 unit vectors are 6e-8
     /// apart), so its balls would be drawn in blocks of pixels. The camera must be valid.
-    pub fn gpu_problem(&self, width: u32, height: u32) -> Option<String> {
+    pub(crate) fn gpu_problem(&self, width: u32, height: u32) -> Option<String> {
         let angle = self.basis(width, height).pixel_angle(width, height);
         if angle >= MIN_GPU_PIXEL_ANGLE {
             return None;
@@ -109,15 +109,15 @@ impl Camera {
 /// of f32 at 1 (`f32::EPSILON`), so that the shader's f32 ray directions place a silhouette
 /// within 1/16 of a pixel of the CPU's f64 ones ([`Camera::gpu_problem`]). At 720 rows that
 /// is a vfov of 0.08 degrees; at 16384, 1.8 degrees.
-pub const MIN_GPU_PIXEL_ANGLE: f64 = 16.0 * f32::EPSILON as f64;
+pub(crate) const MIN_GPU_PIXEL_ANGLE: f64 = 16.0 * f32::EPSILON as f64;
 /// The range a camera's [`Camera::min_aspect`] may take (10:1 either way).
-pub const MIN_ASPECT_RANGE: (f64, f64) = (0.1, 10.0);
+pub(crate) const MIN_ASPECT_RANGE: (f64, f64) = (0.1, 10.0);
 
 impl Camera {
     /// `tan(vfov / 2)` of an image of `aspect` (width / height): `vfov_deg`'s, or, for an
     /// image narrower than [`Camera::min_aspect`], the larger one that keeps that aspect's
     /// horizontal field of view (`tan(hfov / 2) = tan(vfov / 2) * min_aspect`).
-    pub fn tan_half_vfov(&self, aspect: f64) -> f64 {
+    pub(crate) fn tan_half_vfov(&self, aspect: f64) -> f64 {
         let tan_half = (self.vfov_deg.to_radians() * 0.5).tan();
         match self.min_aspect {
             Some(min) if aspect > 0.0 && aspect < min => tan_half * min / aspect,
@@ -128,7 +128,7 @@ impl Camera {
     /// How many times smaller than at `height` pixels the chart stands in a `width x
     /// height` image: 1, or `min_aspect / aspect` where [`Camera::min_aspect`] widens the
     /// field of view. The labels' font follows it ([`crate::labels::layout`]).
-    pub fn zoom_out(&self, width: u32, height: u32) -> f64 {
+    pub(crate) fn zoom_out(&self, width: u32, height: u32) -> f64 {
         let aspect = width as f64 / height.max(1) as f64;
         let plain = (self.vfov_deg.to_radians() * 0.5).tan();
         self.tan_half_vfov(aspect) / plain
@@ -141,20 +141,20 @@ impl Camera {
 /// (about 1e-7 of the field of view against a pixel's 1e-3), so half a pixel is ample; a
 /// wider pad costs frame time where balls are small (2 pixels: 4,096 balls 1.3x slower
 /// than with 0.5 on lavapipe, the discarded fragments of each quad's border).
-pub const BOUNDS_PAD_PX: f64 = 0.5;
+pub(crate) const BOUNDS_PAD_PX: f64 = 0.5;
 
 /// Pixels added around each ball's exact bounds when silhouettes are antialiased
 /// ([`crate::scene::Scene::antialias`]): a pixel whose centre misses the ball by up to half
 /// its diagonal (0.71 px) is still partly covered, so the bounds grow by 0.75 pixel over
 /// [`BOUNDS_PAD_PX`] (each extra pixel of pad costs frame time: docs/benchmarks.md,
 /// "Antialiasing").
-pub const AA_BOUNDS_PAD_PX: f64 = BOUNDS_PAD_PX + 0.75;
+pub(crate) const AA_BOUNDS_PAD_PX: f64 = BOUNDS_PAD_PX + 0.75;
 
 /// How near a silhouette, in pixel footprints ([`CameraBasis::pixel_angle`] times the
 /// distance from the eye), a pixel's centre ray must pass for the pixel to be partly
 /// covered (`AA_EDGE_PX` in `footprint.wgsl`): half a pixel's diagonal (0.71) and a margin for
 /// the f32 rounding of the shader against this f64 test.
-pub const AA_EDGE_PX: f64 = 1.0;
+pub(crate) const AA_EDGE_PX: f64 = 1.0;
 
 /// The pad of each ball's bounds for a scene drawn with (`true`) or without antialiasing.
 pub fn bounds_pad_px(antialias: bool) -> f64 {
@@ -178,7 +178,7 @@ impl CameraBasis {
 
     /// The unit direction of the primary ray through image position `(x, y)` in pixels
     /// (pixel centres at `+ 0.5`; `primary_ray` in `screen.wgsl`).
-    pub fn ray_at(&self, x: f64, y: f64, width: u32, height: u32) -> DVec3 {
+    pub(crate) fn ray_at(&self, x: f64, y: f64, width: u32, height: u32) -> DVec3 {
         let ndc_x = 2.0 * x / width as f64 - 1.0;
         let ndc_y = 1.0 - 2.0 * y / height as f64;
         (self.forward + ndc_x * self.right + ndc_y * self.up).normalize()
@@ -190,7 +190,7 @@ impl CameraBasis {
     /// vector orthogonal to right and up), so the unit direction turns by at most that
     /// much. The distance of the ray from a point `s` away from the eye moves by at most
     /// `s` times it a pixel (the tests' measure of pixels from a silhouette).
-    pub fn pixel_angle(&self, width: u32, height: u32) -> f64 {
+    pub(crate) fn pixel_angle(&self, width: u32, height: u32) -> f64 {
         let x = 2.0 * self.right.length() / width.max(1) as f64;
         let y = 2.0 * self.up.length() / height.max(1) as f64;
         x.max(y)

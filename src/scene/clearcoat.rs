@@ -8,7 +8,7 @@ use crate::brdf::DielectricFresnel;
 use crate::lut::CoatingKey;
 
 /// The coat's index of refraction when none is given: glTF's and OpenPBR's 1.5.
-pub const DEFAULT_CLEARCOAT_IOR: f64 = 1.5;
+pub(crate) const DEFAULT_CLEARCOAT_IOR: f64 = 1.5;
 
 /// A clear coat: `weight` in `[0, 1]` (OpenPBR's `coat_weight`, glTF's `clearcoat`: a
 /// share `1 - weight` of the surface is bare), the coat's `roughness` in `[0, 1]` and its
@@ -33,7 +33,7 @@ impl Default for ClearCoat {
 
 impl ClearCoat {
     /// No coat.
-    pub const NONE: ClearCoat = ClearCoat {
+    pub(crate) const NONE: ClearCoat = ClearCoat {
         weight: 0.0,
         roughness: 0.0,
         ior: DEFAULT_CLEARCOAT_IOR,
@@ -66,7 +66,7 @@ impl CoatForm {
     pub const ALL: [CoatForm; 3] = [CoatForm::Physical, CoatForm::Filament, CoatForm::Gltf];
 
     /// The name the scene file and the command line use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             CoatForm::Physical => "physical",
             CoatForm::Filament => "filament",
@@ -76,7 +76,7 @@ impl CoatForm {
 
     /// The Fresnel the coat's lobe takes under this form: the preset's for the physical
     /// form, Schlick's (of the coat's `F0`) for the engines'.
-    pub fn fresnel(self, preset: DielectricFresnel) -> DielectricFresnel {
+    pub(crate) fn fresnel(self, preset: DielectricFresnel) -> DielectricFresnel {
         match self {
             CoatForm::Physical => preset,
             CoatForm::Filament | CoatForm::Gltf => DielectricFresnel::Schlick,
@@ -89,7 +89,7 @@ crate::named_enum!(CoatForm, "coat form");
 impl Scene {
     /// The coating row ball `b`'s clear coat reads (its roughness, index, the form's
     /// Fresnel and the scene's G); `None` without a coat.
-    pub fn clearcoat_key(&self, b: &Ball) -> Option<CoatingKey> {
+    pub(crate) fn clearcoat_key(&self, b: &Ball) -> Option<CoatingKey> {
         let c = b.material.clearcoat;
         c.is_on().then(|| {
             CoatingKey::new(

@@ -10,7 +10,7 @@ pub const DEFAULT_IOR: f64 = 1.5;
 
 /// The range of indices a material may have: 1 (no interface) to 4 (above every common
 /// dielectric: diamond is 2.42, silicon's real part about 4).
-pub const IOR_RANGE: (f64, f64) = (1.0, 4.0);
+pub(crate) const IOR_RANGE: (f64, f64) = (1.0, 4.0);
 
 /// A ball's material, resolved to linear values: `metallic` mixes the metal's shading
 /// (specular only, `F0` coloured) and the dielectric's (a coating of index `ior` over a
@@ -59,7 +59,7 @@ impl Material {
     /// A metal whose `F0` is the colour `albedo` decoded with `pow 2.2`, the homework's
     /// decoding ([`gamma22_decode`]; docs/design/reference-scene.md, "The balls, the light
     /// and the camera"): the reference scene's copper and a scene file's `albedo` key.
-    pub fn metal_gamma22(albedo: [f64; 3]) -> Self {
+    pub(crate) fn metal_gamma22(albedo: [f64; 3]) -> Self {
         Material::metal(gamma22_decode(albedo))
     }
 
@@ -92,7 +92,7 @@ impl Material {
 
     /// The material with the metal's lobe made anisotropic: `anisotropy` in `[0, 1]`,
     /// turned by `rotation` radians (glTF's `KHR_materials_anisotropy`).
-    pub fn with_anisotropy(self, anisotropy: f64, rotation: f64) -> Self {
+    pub(crate) fn with_anisotropy(self, anisotropy: f64, rotation: f64) -> Self {
         Material {
             anisotropy,
             anisotropy_rotation: rotation,
@@ -103,12 +103,12 @@ impl Material {
     /// Whether the lobe is anisotropic (`anisotropy > 0`): then its lights' single
     /// scattering is the anisotropic lobe's, and everything isotropic about the ball reads
     /// its isotropic-equivalent roughness ([`Material::shading_roughness`]).
-    pub fn is_anisotropic(&self) -> bool {
+    pub(crate) fn is_anisotropic(&self) -> bool {
         self.anisotropy > 0.0
     }
 
     /// The lobe's `(alpha_t, alpha_b)` at `roughness` ([`crate::brdf::anisotropic_alphas`]).
-    pub fn anisotropic_alphas(&self, roughness: f64) -> (f64, f64) {
+    pub(crate) fn anisotropic_alphas(&self, roughness: f64) -> (f64, f64) {
         crate::brdf::anisotropic_alphas(roughness, self.anisotropy)
     }
 
@@ -116,7 +116,7 @@ impl Material {
     /// E_avg, the term's `f_add`, the split sum, the prefiltered map, the coating): the
     /// isotropic equivalent `sqrt(sqrt(alpha_t alpha_b))` of an anisotropic lobe (what
     /// engines feed their isotropic terms), `roughness` itself otherwise.
-    pub fn shading_roughness(&self, roughness: f64) -> f64 {
+    pub(crate) fn shading_roughness(&self, roughness: f64) -> f64 {
         if !self.is_anisotropic() {
             return roughness;
         }
@@ -125,7 +125,7 @@ impl Material {
     }
 
     /// `(cos, sin)` of the anisotropy's rotation.
-    pub fn anisotropy_turn(&self) -> (f64, f64) {
+    pub(crate) fn anisotropy_turn(&self) -> (f64, f64) {
         (
             self.anisotropy_rotation.cos(),
             self.anisotropy_rotation.sin(),
@@ -133,12 +133,12 @@ impl Material {
     }
 
     /// Whether any part is metal.
-    pub fn has_metal(&self) -> bool {
+    pub(crate) fn has_metal(&self) -> bool {
         self.metallic > 0.0
     }
 
     /// This material under the clear coat `clearcoat`.
-    pub fn with_clearcoat(self, clearcoat: super::ClearCoat) -> Self {
+    pub(crate) fn with_clearcoat(self, clearcoat: super::ClearCoat) -> Self {
         Material { clearcoat, ..self }
     }
 
@@ -199,7 +199,7 @@ impl Layering {
     ];
 
     /// The name the scene file and the command line use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Layering::Constant => "constant",
             Layering::Gltf => "gltf",

@@ -16,27 +16,38 @@ mod model;
 mod preset;
 mod reading;
 mod showcase;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 #[cfg(feature = "scene-files")]
 mod values;
 
 use glam::DVec3;
 
-pub use ball_label::{BallLabel, ELLIPSIS, MAX_BALL_LABEL_BYTES};
-pub use camera::{
-    bounds_pad_px, Camera, CameraBasis, AA_BOUNDS_PAD_PX, AA_EDGE_PX, BOUNDS_PAD_PX,
-    MIN_ASPECT_RANGE, MIN_GPU_PIXEL_ANGLE,
-};
-pub use clearcoat::{ClearCoat, CoatForm, DEFAULT_CLEARCOAT_IOR};
+pub(crate) use ball_label::BallLabel;
+pub use ball_label::ELLIPSIS;
+pub use ball_label::MAX_BALL_LABEL_BYTES;
+pub use camera::bounds_pad_px;
+pub use camera::Camera;
+pub(crate) use camera::{CameraBasis, AA_EDGE_PX, BOUNDS_PAD_PX};
+pub use clearcoat::ClearCoat;
+pub use clearcoat::CoatForm;
+pub(crate) use clearcoat::DEFAULT_CLEARCOAT_IOR;
 #[cfg(feature = "scene-files")]
-pub use file::{load, parse, MAX_SCENE_BYTES};
-pub use material::{gamma22_decode, srgb_decode, Layering, Material, DEFAULT_IOR, IOR_RANGE};
+pub use file::load;
+#[cfg(feature = "scene-files")]
+pub use file::parse;
+#[cfg(feature = "scene-files")]
+pub use file::MAX_SCENE_BYTES;
+pub use material::gamma22_decode;
+pub use material::srgb_decode;
+pub use material::Layering;
+pub use material::Material;
+pub use material::DEFAULT_IOR;
+pub(crate) use material::IOR_RANGE;
 pub use model::Model;
 pub use preset::Preset;
 pub use reading::BaseReading;
-pub use showcase::{
-    showcase_camera, showcase_position, SHOWCASE_COLUMN_STEP, SHOWCASE_EXPOSURE,
-    SHOWCASE_MIN_ASPECT, SHOWCASE_RADIUS, SHOWCASE_ROW_HALF_GAP,
-};
+pub(crate) use showcase::{SHOWCASE_COLUMN_STEP, SHOWCASE_RADIUS};
 
 use crate::brdf::Geometry;
 use crate::display::{DisplayTransform, ToneMap, Transfer};
@@ -62,12 +73,12 @@ pub const MAX_MAGNITUDE: f64 = 1e12;
 // A map's radiance is held to the same bound (`environment::check_map_radiance`).
 const _: () = assert!(MAX_MAGNITUDE == crate::environment::MAX_MAP_RADIANCE);
 
-pub use crate::error::{short_number, short_numbers};
+pub(crate) use crate::error::{short_number, short_numbers};
 
 /// Spacing of `grid = [row, col]` placements: the reference scene's layout
 /// (docs/design/reference-scene.md, "The balls, the light and the camera"): column 0 at x =
 /// 180, each column 80 to the left; row 0 at y = +60, each row 120 lower; z = 0.
-pub fn grid_position(row: u32, col: u32) -> DVec3 {
+pub(crate) fn grid_position(row: u32, col: u32) -> DVec3 {
     DVec3::new(180.0 - 80.0 * col as f64, 60.0 - 120.0 * row as f64, 0.0)
 }
 
@@ -93,7 +104,7 @@ impl Ball {
     /// The roughness every isotropic part of the ball's shading reads
     /// ([`Material::shading_roughness`]): `roughness`, or an anisotropic lobe's isotropic
     /// equivalent.
-    pub fn shading_roughness(&self) -> f64 {
+    pub(crate) fn shading_roughness(&self) -> f64 {
         self.material.shading_roughness(self.roughness)
     }
 }
@@ -171,12 +182,12 @@ pub struct Scene {
 
 /// The largest width or height of a picture in pixels (`--width`, `--height`, a scene
 /// file's `size`): a device with a smaller largest texture refuses more.
-pub const MAX_IMAGE_SIDE: u32 = 16384;
+pub(crate) const MAX_IMAGE_SIDE: u32 = 16384;
 
 /// The reference scene's copper, a display colour the homework decodes with `pow 2.2`
 /// ([`Material::metal_gamma22`]; docs/design/reference-scene.md, "The balls, the light and
 /// the camera").
-pub const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
+pub(crate) const REFERENCE_ALBEDO_SRGB: [f64; 3] = [0.7216, 0.451, 0.2];
 /// Roughness per column of the reference scene (column 0 at x = 180).
 pub const REFERENCE_ROUGHNESS: [f64; 5] = [0.15, 0.35, 0.55, 0.75, 0.95];
 /// The reference scene's ball radius.
@@ -231,7 +242,7 @@ impl Scene {
     /// The fixed part of the background's radiance: the uniform environment under
     /// [`Background::Environment`] (plus the map along each ray where the scene has one),
     /// black, or the colour.
-    pub fn background_radiance(&self) -> DVec3 {
+    pub(crate) fn background_radiance(&self) -> DVec3 {
         match self.background {
             Background::Environment => self.environment,
             Background::Black => DVec3::ZERO,
@@ -241,7 +252,7 @@ impl Scene {
 
     /// What a pixel that misses every ball shows along unit direction `d`: the uniform
     /// environment plus the map (the background's), black, or the background's colour.
-    pub fn background_along(&self, d: DVec3) -> DVec3 {
+    pub(crate) fn background_along(&self, d: DVec3) -> DVec3 {
         match self.background {
             Background::Environment => {
                 let map = self
@@ -272,7 +283,8 @@ impl Scene {
     }
 
     /// The scene with [`Scene::set_term`] applied.
-    pub fn with_term(mut self, term: IblTerm) -> Self {
+    #[cfg(test)]
+    pub(crate) fn with_term(mut self, term: IblTerm) -> Self {
         self.set_term(term);
         self
     }

@@ -21,7 +21,7 @@ pub enum Model {
 
 impl Model {
     /// Every model, in the order the help and the charts list them.
-    pub const ALL: [Model; 5] = [
+    pub(crate) const ALL: [Model; 5] = [
         Model::None,
         Model::KullaConty,
         Model::Turquin,
@@ -30,7 +30,7 @@ impl Model {
     ];
 
     /// The name the scene file and the command line use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Model::None => "none",
             Model::KullaConty => "kulla-conty",
@@ -42,7 +42,7 @@ impl Model {
 
     /// The real-time multiple-scattering term the model adds; `None` for `none` and
     /// `truth`.
-    pub fn term(self) -> Option<IblTerm> {
+    pub(crate) fn term(self) -> Option<IblTerm> {
         match self {
             Model::KullaConty => Some(IblTerm::KullaConty),
             Model::Turquin => Some(IblTerm::Turquin),

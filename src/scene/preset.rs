@@ -19,10 +19,10 @@ pub enum Preset {
 
 impl Preset {
     /// Every preset, in a fixed order.
-    pub const ALL: [Preset; 2] = [Preset::Accurate, Preset::Games202];
+    pub(crate) const ALL: [Preset; 2] = [Preset::Accurate, Preset::Games202];
 
     /// The name used on the command line and in scene files.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Preset::Accurate => "accurate",
             Preset::Games202 => "games202",
@@ -39,7 +39,7 @@ impl Preset {
 
     /// The Fresnel of a dielectric coating: the exact one (`accurate`) or Schlick's of the
     /// same index (`games202`).
-    pub fn dielectric_fresnel(self) -> DielectricFresnel {
+    pub(crate) fn dielectric_fresnel(self) -> DielectricFresnel {
         match self {
             Preset::Accurate => DielectricFresnel::Exact,
             Preset::Games202 => DielectricFresnel::Schlick,
@@ -67,7 +67,7 @@ impl Preset {
     }
 
     /// The G this preset forces, if any.
-    pub fn geometry(self) -> Option<Geometry> {
+    pub(crate) fn geometry(self) -> Option<Geometry> {
         match self {
             Preset::Accurate => None,
             Preset::Games202 => Some(Geometry::Schlick),

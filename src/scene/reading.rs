@@ -20,10 +20,10 @@ pub enum BaseReading {
 
 impl BaseReading {
     /// Both readings, the default first.
-    pub const ALL: [BaseReading; 2] = [BaseReading::Apparent, BaseReading::Substrate];
+    pub(crate) const ALL: [BaseReading; 2] = [BaseReading::Apparent, BaseReading::Substrate];
 
     /// The name the scene file (`base_reading`) and `--base-reading` use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             BaseReading::Apparent => "apparent",
             BaseReading::Substrate => "substrate",

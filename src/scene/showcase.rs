@@ -10,25 +10,25 @@ use crate::environment::{Background, Builtin, Environment};
 
 /// The showcase's ball radius: a little over the homework's 35, so that the balls fill
 /// the frame with a small gap between them.
-pub const SHOWCASE_RADIUS: f64 = 37.0;
+pub(crate) const SHOWCASE_RADIUS: f64 = 37.0;
 /// Distance between the centres of neighbouring columns (the homework's 80).
-pub const SHOWCASE_COLUMN_STEP: f64 = 80.0;
+pub(crate) const SHOWCASE_COLUMN_STEP: f64 = 80.0;
 /// Height of the top row's centres above the bottom row's, halved.
-pub const SHOWCASE_ROW_HALF_GAP: f64 = 50.0;
+pub(crate) const SHOWCASE_ROW_HALF_GAP: f64 = 50.0;
 
 /// The showcase's exposure: Khronos PBR Neutral (the accurate preset's tone mapper) keeps
 /// mid-tones linear and takes 0.04 off, so at exposure 1 the default picture's mean pixel
 /// is 49.9/255 against 60 and more for Reinhard with gamma 2.2; at 1.5 it is 69.1/255
 /// (issue 27's goal: above 60; `cargo test --release -- showcase:: --nocapture`), with
 /// the highlights still unclipped.
-pub const SHOWCASE_EXPOSURE: f64 = 1.5;
+pub(crate) const SHOWCASE_EXPOSURE: f64 = 1.5;
 
 /// The narrowest aspect at which the showcase's 18 degrees hold
 /// ([`Camera::min_aspect`]): the chart and its row labels fit a frame of this aspect
 /// (the viewer's scene area beside its panel at 1280x720 is 980x720, 1.36); a narrower
 /// frame (a square render, a tall window, the viewer at 1024x768) widens the field of view
 /// to keep the same width in sight. A 16:9 render is wider, so its picture is unchanged.
-pub const SHOWCASE_MIN_ASPECT: f64 = 1.4;
+pub(crate) const SHOWCASE_MIN_ASPECT: f64 = 1.4;
 
 /// The showcase's camera: level (no tilt, so the rows stay straight), 1040 units away,
 /// 18 degrees vertical field of view. The outermost ball's centre sits 9.8 degrees off
@@ -40,7 +40,7 @@ pub const SHOWCASE_MIN_ASPECT: f64 = 1.4;
 /// viewer's scene area (980 x 720 beside its panel); a 16:9 render shows them across two
 /// thirds of its width. Looking along `-z`, the studio's rim light (elevation 22 to 58
 /// degrees) is above the frame's 9 degrees and never shows clipped in the background.
-pub fn showcase_camera() -> Camera {
+pub(crate) fn showcase_camera() -> Camera {
     Camera {
         position: DVec3::new(-20.0, -6.0, 1040.0),
         target: DVec3::new(-20.0, -6.0, 0.0),
@@ -50,7 +50,7 @@ pub fn showcase_camera() -> Camera {
 }
 
 /// Ball centres of the showcase: column `col` (0 at the left) of row `row` (0 at the top).
-pub fn showcase_position(row: u32, col: u32) -> DVec3 {
+pub(crate) fn showcase_position(row: u32, col: u32) -> DVec3 {
     let x = SHOWCASE_COLUMN_STEP * (col as f64 - 2.0);
     let y = if row == 0 {
         SHOWCASE_ROW_HALF_GAP

@@ -56,7 +56,7 @@ impl TryFrom<Vec<f64>> for Finite3 {
 /// A ball's `grid = [row, col]`: exactly two whole numbers.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "Vec<u32>")]
-pub struct Grid(pub [u32; 2]);
+pub(crate) struct Grid(pub [u32; 2]);
 
 impl TryFrom<Vec<u32>> for Grid {
     type Error = String;
@@ -68,7 +68,7 @@ impl TryFrom<Vec<u32>> for Grid {
 /// A non-zero finite direction, normalised.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "Vec<f64>")]
-pub struct Direction(pub DVec3);
+pub(crate) struct Direction(pub DVec3);
 
 impl TryFrom<Vec<f64>> for Direction {
     type Error = String;
@@ -87,7 +87,7 @@ impl TryFrom<Vec<f64>> for Direction {
 /// A colour with every channel in `[0, 1]`.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "Vec<f64>")]
-pub struct Colour(pub DVec3);
+pub(crate) struct Colour(pub DVec3);
 
 impl TryFrom<Vec<f64>> for Colour {
     type Error = String;
@@ -106,7 +106,7 @@ impl TryFrom<Vec<f64>> for Colour {
 /// A radiance: finite, non-negative channels.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "Vec<f64>")]
-pub struct Radiance(pub DVec3);
+pub(crate) struct Radiance(pub DVec3);
 
 impl TryFrom<Vec<f64>> for Radiance {
     type Error = String;
@@ -141,7 +141,7 @@ impl TryFrom<f64> for Positive {
 /// A roughness in `[0, 1]`.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Roughness(pub f64);
+pub(crate) struct Roughness(pub f64);
 
 impl TryFrom<f64> for Roughness {
     type Error = String;
@@ -157,7 +157,7 @@ impl TryFrom<f64> for Roughness {
 /// A metallic weight in `[0, 1]`.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Metallic(pub f64);
+pub(crate) struct Metallic(pub f64);
 
 impl TryFrom<f64> for Metallic {
     type Error = String;
@@ -173,7 +173,7 @@ impl TryFrom<f64> for Metallic {
 /// An anisotropy strength in `[0, 1]` (glTF's `anisotropyStrength`).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Anisotropy(pub f64);
+pub(crate) struct Anisotropy(pub f64);
 
 impl TryFrom<f64> for Anisotropy {
     type Error = String;
@@ -190,7 +190,7 @@ impl TryFrom<f64> for Anisotropy {
 /// `anisotropyRotation`; beyond a turn is a slip of units, degrees for radians).
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct AnisotropyRotation(pub f64);
+pub(crate) struct AnisotropyRotation(pub f64);
 
 impl TryFrom<f64> for AnisotropyRotation {
     type Error = String;
@@ -210,7 +210,7 @@ impl TryFrom<f64> for AnisotropyRotation {
 /// A weight in `[0, 1]` (a clear coat's); its error names the key before it.
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Unit(pub f64);
+pub(crate) struct Unit(pub f64);
 
 impl TryFrom<f64> for Unit {
     type Error = String;
@@ -226,7 +226,7 @@ impl TryFrom<f64> for Unit {
 /// An index of refraction in [`super::IOR_RANGE`].
 #[derive(Deserialize, Clone, Copy, Debug)]
 #[serde(try_from = "f64")]
-pub struct Ior(pub f64);
+pub(crate) struct Ior(pub f64);
 
 impl TryFrom<f64> for Ior {
     type Error = String;
@@ -301,7 +301,7 @@ impl TryFrom<i64> for IblSamples {
 
 /// A name parsed with the type's `FromStr` (the `named_enum!` names).
 #[derive(Clone, Copy, Debug)]
-pub struct Named<T>(pub T);
+pub(crate) struct Named<T>(pub T);
 
 impl<'de, T: FromStr<Err = crate::Error>> Deserialize<'de> for Named<T> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {

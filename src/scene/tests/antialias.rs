@@ -1,11 +1,16 @@
 //! Antialiased silhouettes (issue 17; docs/design/antialiasing.md): edge pixels against a
 //! supersampled reference, interior pixels against the image without antialiasing, the
 //! white furnace's edges, and the GPU against the CPU renderer.
+
 use glam::DVec3;
-use shadeballs::cpu;
-use shadeballs::display::DisplayTransform;
-use shadeballs::gpu::Renderer;
-use shadeballs::scene::Scene;
+
+use crate::cpu;
+
+use crate::display::DisplayTransform;
+
+use crate::gpu::Renderer;
+
+use crate::scene::Scene;
 
 use crate::pixels::{assert_close, compare, output_dir, vulkan};
 
@@ -44,7 +49,7 @@ fn classify(scene: &Scene, w: u32, h: u32) -> Vec<Kind> {
             (0..w).map(move |px| {
                 // Balls whose silhouette passes near the pixel (within 1.5 footprints).
                 let d = basis.ray(px, py, w, h);
-                let distance = |b: &shadeballs::scene::Ball| {
+                let distance = |b: &crate::scene::Ball| {
                     let oc = o - b.center;
                     let perp = (oc - oc.dot(d) * d).length();
                     (perp - b.radius) / (oc.length() * angle)
@@ -136,7 +141,7 @@ fn edge_error(image: &[u8], reference: &[u8], kinds: &[Kind], what: &str) -> (u8
 /// Writes an image for looking at when a bound fails.
 fn save(name: &str, w: u32, h: u32, rgba: Vec<u8>) -> String {
     let path = output_dir().join(name);
-    shadeballs::output::write_png(&path, w, h, rgba).unwrap();
+    crate::output::write_png(&path, w, h, rgba).unwrap();
     path.display().to_string()
 }
 
@@ -205,7 +210,7 @@ fn edges_match_the_reference_under_an_environment_map() {
     let (w, h) = (640, 360);
     let mut r = vulkan();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/studio.toml");
-    let own = shadeballs::scene::load(&path).unwrap();
+    let own = crate::scene::load(&path).unwrap();
     assert!(own.antialias, "antialiasing is on by default");
     let homework = Scene {
         tone_map: Some(DisplayTransform::HOMEWORK.tone_map),
@@ -281,7 +286,7 @@ fn furnace_edges_stay_background() {
     let scene = Scene::furnace();
     let kinds = classify(&scene, w, h);
     let image = vulkan().render_ldr(&scene, w, h).unwrap().rgba;
-    let bg = shadeballs::display::to_unorm8(shadeballs::display::tone_map(1.0, scene.exposure));
+    let bg = crate::display::to_unorm8(crate::display::tone_map(1.0, scene.exposure));
     let basis = scene.camera.basis(w, h);
     let mut worst = 0u8;
     let mut n = 0;
@@ -291,7 +296,7 @@ fn furnace_edges_stay_background() {
         // silhouette passes nearest the pixel's centre ray (in angle).
         let d = basis.ray(px, py, w, h);
         let near = scene.balls.iter().enumerate().min_by(|(_, a), (_, b)| {
-            let off = |x: &&shadeballs::scene::Ball| {
+            let off = |x: &&crate::scene::Ball| {
                 let oc = basis.origin - x.center;
                 ((oc - oc.dot(d) * d).length() - x.radius).abs() / oc.length()
             };

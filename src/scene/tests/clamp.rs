@@ -2,8 +2,10 @@
 //! evaluates `ROUGHNESS_MIN` instead; measured here against the ideal mirror's energy.
 
 use rayon::prelude::*;
-use shadeballs::brdf::*;
-use shadeballs::lut::{bake, e_avg_reference, e_reference, BakeConfig};
+
+use crate::brdf::*;
+
+use crate::lut::{bake, e_avg_reference, e_reference, BakeConfig};
 
 /// Roughness 0 makes GGX a delta (alpha = 0): an ideal mirror, whose single scattering keeps
 /// all the energy (G -> 1, so E = 1 at every mu). The model evaluates it at
@@ -36,7 +38,7 @@ fn the_roughness_clamp_and_its_effect_on_energy() {
         );
         // With the term (F = 1, so f_add = 1): E + int f_ms mu_i dw_i, tables as read.
         let loss_avg = tables.lut_loss_avg(0.0) as f64;
-        let lost = shadeballs::lut::adaptive(
+        let lost = crate::lut::adaptive(
             &|mu: f64| 2.0 * std::f64::consts::PI * tables.lut_loss(mu as f32, 0.0) as f64 * mu,
             0.0,
             1.0,

@@ -4,14 +4,21 @@
 //! lobe against the truth per ball.
 
 use glam::DVec3;
-use shadeballs::brdf::{anisotropic_alphas, isotropic_roughness, Geometry};
-use shadeballs::environment::IblTerm;
-use shadeballs::sampling::sample_vndf_aniso;
-use shadeballs::scene::{Material, Model, Scene};
-use shadeballs::walk::microsurface::Microsurface;
-use shadeballs::walk::{trace, Rng};
 
-use crate::materials::{ball_means, chart, furnace_worst, interior};
+use crate::brdf::{anisotropic_alphas, isotropic_roughness, Geometry};
+
+use crate::environment::IblTerm;
+
+use crate::sampling::sample_vndf_aniso;
+
+use crate::scene::{Material, Model, Scene};
+
+use crate::walk::microsurface::Microsurface;
+
+use crate::walk::{trace, Rng};
+
+use super::materials::{ball_means, chart, furnace_worst, interior};
+
 use crate::pixels::{assert_close, both, compare, vulkan};
 
 /// A scene file of `assets/scenes`.
@@ -19,7 +26,7 @@ fn asset_scene(name: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes")
         .join(name);
-    shadeballs::scene::load(&path).unwrap()
+    crate::scene::load(&path).unwrap()
 }
 
 #[test]
@@ -27,7 +34,7 @@ fn anisotropy_keys_parse_and_refuse_in_one_line() {
     let ball = |material: &str| {
         format!("[[ball]]\ngrid = [0, 0]\nradius = 35\nroughness = 0.5\nmaterial = {material}\n")
     };
-    let parse = |text: &str| shadeballs::scene::parse(text, std::path::Path::new("a.toml"));
+    let parse = |text: &str| crate::scene::parse(text, std::path::Path::new("a.toml"));
     let m = parse(&ball(
         "{ base_color = [0.9, 0.9, 0.9], metallic = 1, anisotropy = 0.8, anisotropy_rotation = 1.5 }",
     ))
@@ -153,8 +160,8 @@ fn anisotropic_white_furnace_on_the_gpu() {
         assert!(worst <= 1, "{term}: GPU ball {k} is {worst}/255 off");
         let mut map = scene.clone();
         map.environment = DVec3::ZERO;
-        map.environment_map = Some(shadeballs::environment::Environment::builtin(
-            shadeballs::environment::Builtin::White,
+        map.environment_map = Some(crate::environment::Environment::builtin(
+            crate::environment::Builtin::White,
         ));
         let image = gpu.render_ldr(&map, w, h).unwrap().rgba;
         let (worst, k) = furnace_worst(&map, &image, w, h);
@@ -177,7 +184,7 @@ fn anisotropic_white_furnace_on_the_gpu() {
 /// points over the visible normals' unit square (the weight is in [0, 1] and smooth but
 /// for the horizon's cut).
 fn albedo_aniso(v: DVec3, (at, ab): (f64, f64), n: usize) -> f64 {
-    use shadeballs::brdf::lambda_smith_aniso;
+    use crate::brdf::lambda_smith_aniso;
     let g1 = 1.0 / (1.0 + lambda_smith_aniso(v, at, ab));
     let mut sum = 0.0;
     for i in 0..n {
@@ -205,11 +212,10 @@ fn albedo_aniso(v: DVec3, (at, ab): (f64, f64), n: usize) -> f64 {
 #[test]
 fn the_isotropic_equivalents_furnace_by_quadrature() {
     let n = 96;
-    let tables =
-        shadeballs::lut::TableSet::full(shadeballs::lut::bake(&shadeballs::lut::BakeConfig {
-            geometry: Geometry::SmithCorrelated,
-            ..Default::default()
-        }));
+    let tables = crate::lut::TableSet::full(crate::lut::bake(&crate::lut::BakeConfig {
+        geometry: Geometry::SmithCorrelated,
+        ..Default::default()
+    }));
     for (mu, roughness) in [(0.2f64, 0.3f64), (0.7, 0.5), (0.5, 0.9)] {
         let a = roughness * roughness;
         let v = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
@@ -268,11 +274,11 @@ fn the_isotropic_equivalents_furnace_by_quadrature() {
 /// visible normal and half the time from the cosine (one-sample MIS). Returns the mean and
 /// its standard error.
 fn walk_albedo(s: &Microsurface, wi: DVec3, paths: u32, seed: u64) -> (f64, f64) {
-    use shadeballs::sampling::{sample_cosine, vndf_density_aniso};
+    use crate::sampling::{sample_cosine, vndf_density_aniso};
     let alphas = (s.alpha, s.alpha_b);
     let mut rng = Rng::new(&[seed]);
     let (mut sum, mut sum_sq) = (0.0, 0.0);
-    let channels = [shadeballs::walk::Schlick(1.0)];
+    let channels = [crate::walk::Schlick(1.0)];
     for _ in 0..paths {
         let (u0, u1, u2) = (rng.uniform(), rng.uniform(), rng.uniform());
         let wo = if u0 < 0.5 {
@@ -361,7 +367,7 @@ fn the_anisotropic_walk_keeps_its_laws() {
             trace(
                 &s,
                 wi,
-                &[shadeballs::walk::Schlick(1.0)],
+                &[crate::walk::Schlick(1.0)],
                 u32::MAX,
                 &mut rng,
                 |_, _, _, _| {},
@@ -397,28 +403,28 @@ fn the_default_anisotropic_lobe_against_the_truth() {
         )
     });
     scene.environment = DVec3::ZERO;
-    scene.environment_map = Some(shadeballs::environment::Environment::builtin(
-        shadeballs::environment::Builtin::Studio,
+    scene.environment_map = Some(crate::environment::Environment::builtin(
+        crate::environment::Builtin::Studio,
     ));
     scene.geometry = Geometry::SmithCorrelated;
     scene.antialias = false;
-    let tables = shadeballs::lut::bake(&shadeballs::lut::BakeConfig {
+    let tables = crate::lut::bake(&crate::lut::BakeConfig {
         geometry: scene.effective_geometry(),
         ..Default::default()
     });
-    let e = shadeballs::lut::TableSet::full(tables);
-    let settings = shadeballs::cpu::TruthSettings {
+    let e = crate::lut::TableSet::full(tables);
+    let settings = crate::cpu::TruthSettings {
         spp: 64,
         seed: 3,
         ..Default::default()
     };
-    let prepared = shadeballs::prepared::Prepared::new(&scene, &e);
-    let truth = shadeballs::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
+    let prepared = crate::prepared::Prepared::new(&scene, &e);
+    let truth = crate::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
     let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
         .map(|k| interior(&scene, k, w, h))
         .collect();
     let t_means = ball_means(&truth.image.mean, &pixels);
-    let model = shadeballs::cpu::render_radiance(&scene, &prepared, w, h);
+    let model = crate::cpu::render_radiance(&scene, &prepared, w, h);
     let m_means = ball_means(&model, &pixels);
     let mut worst_aniso = 0.0f64;
     let mut worst_iso = 0.0f64;
@@ -476,7 +482,7 @@ fn gltf_anisotropy_is_imported() {
     });
     let bytes = serde_json::to_vec(&doc).unwrap();
     let path = std::path::Path::new("brushed.gltf");
-    let imported = shadeballs::import::parse(&bytes, None, path).unwrap();
+    let imported = crate::import::parse(&bytes, None, path).unwrap();
     let m = &imported.materials;
     assert_eq!(
         (m[0].anisotropy_strength, m[0].anisotropy_rotation),
@@ -490,7 +496,7 @@ fn gltf_anisotropy_is_imported() {
     let notices = imported.notices.join("\n");
     assert!(notices.contains("anisotropyTexture"), "{notices}");
     assert!(notices.contains("without metal"), "{notices}");
-    let text = shadeballs::viewer::save::scene_toml(&imported.scene, (640, 360)).unwrap();
-    let back = shadeballs::scene::parse(&text, std::path::Path::new("back.toml")).unwrap();
+    let text = crate::viewer::save::scene_toml(&imported.scene, (640, 360)).unwrap();
+    let back = crate::scene::parse(&text, std::path::Path::new("back.toml")).unwrap();
     assert_eq!(back.balls, imported.scene.balls);
 }

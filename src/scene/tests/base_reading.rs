@@ -4,13 +4,16 @@
 //! under both.
 
 use glam::DVec3;
-use shadeballs::environment::{Builtin, Environment};
-use shadeballs::lut::{bake, BakeConfig, TableSet};
-use shadeballs::scene::{
+
+use crate::environment::{Builtin, Environment};
+
+use crate::lut::{bake, BakeConfig, TableSet};
+
+use crate::scene::{
     srgb_decode, BaseReading, Layering, Material, Model, Scene, REFERENCE_ROUGHNESS,
 };
 
-use crate::materials::{ball_means, chart, furnace_worst, interior};
+use super::materials::{ball_means, chart, furnace_worst, interior};
 
 /// Issue 35's plastic: `base_color = [0.8, 0.3, 0.1]` (sRGB), metallic 0, IOR 1.5, one
 /// row of the chart's five roughness values with the Kulla-Conty term, lit by the studio
@@ -52,26 +55,21 @@ fn model_and_truth(
         .collect();
     let mut shaded = scene.clone();
     if lobe {
-        shaded.ibl_method = shadeballs::environment::IblMethod::Lobe;
+        shaded.ibl_method = crate::environment::IblMethod::Lobe;
         shaded.ibl_samples = 256;
     }
     let model = ball_means(
-        &shadeballs::cpu::render_radiance(
-            &shaded,
-            &shadeballs::prepared::Prepared::new(&shaded, &e),
-            w,
-            h,
-        ),
+        &crate::cpu::render_radiance(&shaded, &crate::prepared::Prepared::new(&shaded, &e), w, h),
         &pixels,
     );
-    let settings = shadeballs::cpu::TruthSettings {
+    let settings = crate::cpu::TruthSettings {
         spp,
         seed: 35,
         ..Default::default()
     };
-    let truth = shadeballs::cpu::render_truth(
+    let truth = crate::cpu::render_truth(
         scene,
-        &shadeballs::prepared::Prepared::new(scene, &e),
+        &crate::prepared::Prepared::new(scene, &e),
         w,
         h,
         settings,
@@ -142,11 +140,11 @@ fn each_reading_matches_its_own_truth() {
     let s = orange(BaseReading::Substrate, false);
     let pixels: Vec<Vec<usize>> = (0..5).map(|k| interior(&a, k, w, h)).collect();
     let ma = ball_means(
-        &shadeballs::cpu::render_radiance(&a, &shadeballs::prepared::Prepared::new(&a, &e), w, h),
+        &crate::cpu::render_radiance(&a, &crate::prepared::Prepared::new(&a, &e), w, h),
         &pixels,
     );
     let ms = ball_means(
-        &shadeballs::cpu::render_radiance(&s, &shadeballs::prepared::Prepared::new(&s, &e), w, h),
+        &crate::cpu::render_radiance(&s, &crate::prepared::Prepared::new(&s, &e), w, h),
         &pixels,
     );
     assert!(ma
@@ -182,18 +180,18 @@ fn the_apparent_reading_is_brighter_under_the_studio() {
     let e = tables(&apparent);
     let pixels: Vec<Vec<usize>> = (0..5).map(|k| interior(&apparent, k, w, h)).collect();
     let a = ball_means(
-        &shadeballs::cpu::render_radiance(
+        &crate::cpu::render_radiance(
             &apparent,
-            &shadeballs::prepared::Prepared::new(&apparent, &e),
+            &crate::prepared::Prepared::new(&apparent, &e),
             w,
             h,
         ),
         &pixels,
     );
     let s = ball_means(
-        &shadeballs::cpu::render_radiance(
+        &crate::cpu::render_radiance(
             &substrate,
-            &shadeballs::prepared::Prepared::new(&substrate, &e),
+            &crate::prepared::Prepared::new(&substrate, &e),
             w,
             h,
         ),
@@ -269,7 +267,7 @@ fn the_white_furnace_holds_under_both_readings() {
 fn the_metallic_roughness_chart_before_and_after() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes/metallic_roughness.toml");
-    let mut apparent = shadeballs::scene::load(&path).unwrap();
+    let mut apparent = crate::scene::load(&path).unwrap();
     apparent.antialias = false;
     let substrate = Scene {
         base_reading: BaseReading::Substrate,
@@ -281,18 +279,18 @@ fn the_metallic_roughness_chart_before_and_after() {
         .map(|k| interior(&apparent, k, w, h))
         .collect();
     let a = ball_means(
-        &shadeballs::cpu::render_radiance(
+        &crate::cpu::render_radiance(
             &apparent,
-            &shadeballs::prepared::Prepared::new(&apparent, &e),
+            &crate::prepared::Prepared::new(&apparent, &e),
             w,
             h,
         ),
         &pixels,
     );
     let s = ball_means(
-        &shadeballs::cpu::render_radiance(
+        &crate::cpu::render_radiance(
             &substrate,
-            &shadeballs::prepared::Prepared::new(&substrate, &e),
+            &crate::prepared::Prepared::new(&substrate, &e),
             w,
             h,
         ),

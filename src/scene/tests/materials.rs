@@ -1,13 +1,16 @@
 //! Materials as engines have them (docs/design/materials.md): the coating's tables, the
 //! scene's material keys, the furnace of every metallic value, the layering forms.
 
-use shadeballs::brdf::{DielectricFresnel, Geometry};
-use shadeballs::lut::{
+use crate::brdf::{DielectricFresnel, Geometry};
+
+use crate::lut::{
     coating_albedo, coating_albedo_quadrature, coating_row, CoatingKey, CoatingRule,
     COATING_ROW_LEN,
 };
-use shadeballs::walk::single::{single_albedo, Rules};
-use shadeballs::walk::{Dielectric, Schlick};
+
+use crate::walk::single::{single_albedo, Rules};
+
+use crate::walk::{Dielectric, Schlick};
 
 /// The coating's albedo against the precise quadrature of `walk::single_albedo` (48 x 48
 /// nodes a segment, peak-mapped), at the nodes and as read between them.
@@ -38,7 +41,7 @@ fn coating_rows_meet_the_precise_quadrature() {
                                 &rules,
                                 mu,
                                 key.roughness(),
-                                &[Schlick(shadeballs::brdf::f0_from_ior(key.eta()))],
+                                &[Schlick(crate::brdf::f0_from_ior(key.eta()))],
                                 &[geometry],
                             )[0][0],
                         };
@@ -70,7 +73,7 @@ fn coating_rows_bake_time() {
     let keys: Vec<CoatingKey> = [1.33, 1.5, 2.0]
         .iter()
         .flat_map(|&eta| {
-            shadeballs::scene::REFERENCE_ROUGHNESS.map(|r| {
+            crate::scene::REFERENCE_ROUGHNESS.map(|r| {
                 CoatingKey::new(r, eta, DielectricFresnel::Exact, Geometry::SmithCorrelated)
             })
         })
@@ -78,8 +81,7 @@ fn coating_rows_bake_time() {
     let mut times = Vec::new();
     for _ in 0..5 {
         let start = std::time::Instant::now();
-        let rows =
-            shadeballs::lut::CoatingRows::bake(keys.iter().copied(), &mut Default::default());
+        let rows = crate::lut::CoatingRows::bake(keys.iter().copied(), &mut Default::default());
         times.push(start.elapsed().as_secs_f64() * 1e3);
         assert_eq!(rows.rows.len(), 15);
     }
@@ -88,11 +90,14 @@ fn coating_rows_bake_time() {
 }
 
 use glam::DVec3;
-use shadeballs::environment::IblTerm;
-use shadeballs::scene::{Ball, Camera, Layering, Material, Model, Scene};
+
+use crate::environment::IblTerm;
+
+use crate::scene::{Ball, Camera, Layering, Material, Model, Scene};
 
 use crate::pixels::{assert_close, compare, renderer, vulkan};
-use shadeballs::scene::Preset;
+
+use crate::scene::Preset;
 
 /// Balls on a `rows x cols` grid (step 80 across, 90 down, radius 35, y up), looked at
 /// head on through an 18 degree field of view from far enough to frame them at 16:9.
@@ -140,8 +145,7 @@ pub(crate) fn interior(scene: &Scene, k: usize, w: u32, h: u32) -> Vec<usize> {
     let basis = scene.camera.basis(w, h);
     let b = &scene.balls[k];
     let hit = |x: u32, y: u32| {
-        shadeballs::cpu::intersect_sphere(basis.origin, basis.ray(x, y, w, h), b.center, b.radius)
-            > 0.0
+        crate::cpu::intersect_sphere(basis.origin, basis.ray(x, y, w, h), b.center, b.radius) > 0.0
     };
     let mut out = Vec::new();
     for y in 1..h - 1 {
@@ -204,7 +208,7 @@ pub(crate) fn furnace_worst(scene: &Scene, image: &[u8], w: u32, h: u32) -> (u8,
 fn white_furnace_every_metallic_ior_and_roughness() {
     let (w, h) = (640, 360);
     let mut gpu = vulkan();
-    let white = shadeballs::environment::Builtin::White;
+    let white = crate::environment::Builtin::White;
     for ior in [1.1, 1.33, 1.5, 2.0, 2.5] {
         for term in IblTerm::ALL {
             for layering in [Layering::ViewOnly, Layering::Reciprocal, Layering::Physical] {
@@ -223,8 +227,7 @@ fn white_furnace_every_metallic_ior_and_roughness() {
                     assert!(worst <= 1, "{what}: CPU ball {k} is {worst}/255 off");
                     let mut map = scene.clone();
                     map.environment = DVec3::ZERO;
-                    map.environment_map =
-                        Some(shadeballs::environment::Environment::builtin(white));
+                    map.environment_map = Some(crate::environment::Environment::builtin(white));
                     let image = gpu.render_ldr(&map, w, h).unwrap().rgba;
                     let (worst, k) = furnace_worst(&map, &image, w, h);
                     println!("{what}, white map: GPU {worst}/255 (ball {k})");
@@ -270,7 +273,7 @@ pub(crate) fn ball_means(image: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
 /// its own studio map or the reference scene's light from the camera (no map).
 fn plastic_scene(studio: bool) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/plastic.toml");
-    let mut scene = shadeballs::scene::load(&path).unwrap();
+    let mut scene = crate::scene::load(&path).unwrap();
     scene.antialias = false;
     assert!(scene.environment_map.is_some() && scene.lights.is_empty());
     if !studio {
@@ -297,19 +300,19 @@ fn layering_forms_against_the_truth_on_plastic_toml() {
     for studio in [false, true] {
         let scene = plastic_scene(studio);
         let light = if studio { "studio" } else { "reference light" };
-        let tables = shadeballs::lut::bake(&shadeballs::lut::BakeConfig {
+        let tables = crate::lut::bake(&crate::lut::BakeConfig {
             geometry: scene.effective_geometry(),
             ..Default::default()
         });
-        let e = shadeballs::lut::TableSet::full(tables.clone());
-        let settings = shadeballs::cpu::TruthSettings {
+        let e = crate::lut::TableSet::full(tables.clone());
+        let settings = crate::cpu::TruthSettings {
             spp: if studio { 256 } else { 64 },
             seed: 11,
             ..Default::default()
         };
-        let truth = shadeballs::cpu::render_truth(
+        let truth = crate::cpu::render_truth(
             &scene,
-            &shadeballs::prepared::Prepared::new(&scene, &e),
+            &crate::prepared::Prepared::new(&scene, &e),
             w,
             h,
             settings,
@@ -333,9 +336,9 @@ fn layering_forms_against_the_truth_on_plastic_toml() {
                 layering,
                 ..scene.clone()
             };
-            let model = shadeballs::cpu::render_radiance(
+            let model = crate::cpu::render_radiance(
                 &scene,
-                &shadeballs::prepared::Prepared::new(&scene, &e),
+                &crate::prepared::Prepared::new(&scene, &e),
                 w,
                 h,
             );
@@ -389,7 +392,7 @@ fn asset_scene(name: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes")
         .join(name);
-    shadeballs::scene::load(&path).unwrap()
+    crate::scene::load(&path).unwrap()
 }
 
 /// The GPU and its CPU twin within the house's bound (99.9 % of pixels within 1/255) on
@@ -439,7 +442,7 @@ fn material_keys_parse_and_refuse_in_one_line() {
     let ball = |material: &str| {
         format!("[[ball]]\ngrid = [0, 0]\nradius = 35\nroughness = 0.5\nmaterial = {material}\n")
     };
-    let parse = |text: &str| shadeballs::scene::parse(text, std::path::Path::new("m.toml"));
+    let parse = |text: &str| crate::scene::parse(text, std::path::Path::new("m.toml"));
     let m = parse(&ball(
         "{ base_color = [0.5, 0.5, 0.5], metallic = 0.25, ior = 1.33 }",
     ))
