@@ -36,13 +36,13 @@ use super::layout::{Layout, MuAxis};
 use crate::brdf::{alpha_from_roughness, roughness_clamped, Geometry, ROUGHNESS_MIN};
 
 /// Chebyshev points along `y = sqrt(x)`, chosen by measurement (see the module docs).
-pub const CHEBYSHEV_MU_NODES: usize = 25;
+pub(crate) const CHEBYSHEV_MU_NODES: usize = 25;
 /// Chebyshev points along roughness, chosen by measurement (see the module docs).
-pub const CHEBYSHEV_R_NODES: usize = 17;
+pub(crate) const CHEBYSHEV_R_NODES: usize = 17;
 
 /// E as a tensor Chebyshev series in (warped x, roughness).
 #[derive(Clone, Debug)]
-pub struct ChebyshevSurface {
+pub(crate) struct ChebyshevSurface {
     /// `coeffs[m * n + k]`: coefficient of `T_m(s_r) T_k(s_y)`, `n` along y, `nr` along
     /// roughness, the `''` halvings already applied.
     coeffs: Vec<f64>,
@@ -109,7 +109,7 @@ pub(crate) fn exact_row(geometry: Geometry, samples: usize, roughness: f64, n: u
 impl ChebyshevSurface {
     /// Quadrature (`samples` Gauss-Legendre nodes a segment) at the default grid of
     /// Chebyshev points, in parallel on rayon's pool.
-    pub fn new(geometry: Geometry, samples: usize) -> Self {
+    pub(crate) fn new(geometry: Geometry, samples: usize) -> Self {
         Self::with_grid(geometry, samples, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES)
     }
 
@@ -142,7 +142,7 @@ impl ChebyshevSurface {
     }
 
     /// The series in `y = sqrt(x)` at `roughness` (clamped): `n` coefficients.
-    pub fn row(&self, roughness: f64) -> Vec<f64> {
+    pub(crate) fn row(&self, roughness: f64) -> Vec<f64> {
         let n = self.n;
         let nr = self.nr;
         let t = (roughness_clamped(roughness) - ROUGHNESS_MIN) / (1.0 - ROUGHNESS_MIN);
@@ -160,13 +160,8 @@ impl ChebyshevSurface {
             .collect()
     }
 
-    /// E at `(mu, roughness)`.
-    pub fn e(&self, mu: f64, roughness: f64) -> f64 {
-        Self::e_in_row(&self.row(roughness), mu, roughness)
-    }
-
     /// E at `mu` from a row's series ([`ChebyshevSurface::row`] at the same roughness).
-    pub fn e_in_row(row: &[f64], mu: f64, roughness: f64) -> f64 {
+    pub(crate) fn e_in_row(row: &[f64], mu: f64, roughness: f64) -> f64 {
         let x = MuAxis::Warped.coord_f64(mu, alpha_from_roughness(roughness));
         clenshaw(row, 2.0 * x.sqrt() - 1.0)
     }

@@ -34,14 +34,14 @@ use crate::brdf::{
 /// interpolation in `sqrt(mu)` ([`coating_albedo`], `coating_albedo` in
 /// `shaders/coating.wgsl`). The square root spends the nodes where `E_F` changes fastest,
 /// towards grazing.
-pub const COATING_ROW_LEN: usize = 48;
+pub(crate) const COATING_ROW_LEN: usize = 48;
 
 /// Gauss-Legendre nodes along each polar coordinate of the visible-normal disk.
-pub const COATING_NODES: usize = 12;
+pub(crate) const COATING_NODES: usize = 12;
 
 /// The smallest `mu_o` a row is evaluated at: `G / G1(o)` is `0 / 0` at grazing; `E_F`
 /// is continuous there, and 1e-4 moves it by less than the read's own error.
-pub const COATING_MU_MIN: f64 = 1e-4;
+pub(crate) const COATING_MU_MIN: f64 = 1e-4;
 
 /// Everything that changes a row: the roughness and index the shader reads at (f32, as
 /// bits, clamped like every read), the Fresnel form and G.
@@ -52,14 +52,19 @@ pub struct CoatingKey {
     /// The relative index `eta` (f32) as bits.
     pub eta_bits: u32,
     /// The coating's Fresnel.
-    pub fresnel: DielectricFresnel,
+    pub(crate) fresnel: DielectricFresnel,
     /// The masking-shadowing term.
     pub geometry: Geometry,
 }
 
 impl CoatingKey {
     /// The key of the row at `roughness` and `eta`.
-    pub fn new(roughness: f64, eta: f64, fresnel: DielectricFresnel, geometry: Geometry) -> Self {
+    pub(crate) fn new(
+        roughness: f64,
+        eta: f64,
+        fresnel: DielectricFresnel,
+        geometry: Geometry,
+    ) -> Self {
         CoatingKey {
             roughness_bits: (crate::brdf::roughness_clamped(roughness) as f32).to_bits(),
             eta_bits: (eta as f32).to_bits(),
@@ -69,18 +74,18 @@ impl CoatingKey {
     }
 
     /// The row's roughness.
-    pub fn roughness(&self) -> f64 {
+    pub(crate) fn roughness(&self) -> f64 {
         f64::from(f32::from_bits(self.roughness_bits))
     }
 
     /// The row's relative index.
-    pub fn eta(&self) -> f64 {
+    pub(crate) fn eta(&self) -> f64 {
         f64::from(f32::from_bits(self.eta_bits))
     }
 }
 
 /// The rule over the disk's radius and half azimuth, built once a bake.
-pub struct CoatingRule {
+pub(crate) struct CoatingRule {
     /// Gauss-Legendre nodes and weights on `[0, 1]`, for both coordinates.
     x: Vec<f64>,
     w: Vec<f64>,
@@ -88,7 +93,7 @@ pub struct CoatingRule {
 
 impl CoatingRule {
     /// The rule of `n` nodes along the radius and `n` along the half azimuth.
-    pub fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         let (x, w) = gauss_legendre_unit(n);
         CoatingRule { x, w }
     }
@@ -119,7 +124,7 @@ fn mirror_mu(alpha: f64, o: DVec3, p1: f64, p2: f64) -> (f64, f64) {
 /// even in `p1` and the azimuth covers the half `p1 >= 0`, doubled. Along each azimuth the
 /// radius stops where the mirror direction crosses the horizon (found by bisection): the
 /// integrand is smooth up to there and zero beyond, so the radial rule sees no kink.
-pub fn coating_weights(
+pub(crate) fn coating_weights(
     rule: &CoatingRule,
     mu_o: f64,
     roughness: f64,
@@ -164,7 +169,8 @@ pub fn coating_weights(
 /// `E_F(mu_o)` of the coating `key` by `rule`: `int F(o.m) G(mu_o, mu_i) / G1(mu_o)
 /// D_o(m) dw_m` over the visible normals `m`, `i` the mirror of `o` about `m`
 /// ([`coating_weights`]); [`coating_albedo`] reads it from a row.
-pub fn coating_albedo_quadrature(rule: &CoatingRule, mu_o: f64, key: &CoatingKey) -> f64 {
+#[cfg(test)]
+pub(crate) fn coating_albedo_quadrature(rule: &CoatingRule, mu_o: f64, key: &CoatingKey) -> f64 {
     let weights = coating_weights(rule, mu_o, key.roughness(), key.geometry);
     fresnel_sum(&weights, key)
 }
@@ -196,13 +202,14 @@ fn coating_rows_sharing(rule: &CoatingRule, keys: &[CoatingKey]) -> Vec<[f32; CO
 }
 
 /// The row of `key`: [`coating_albedo`] at `sqrt(mu) = k / (COATING_ROW_LEN - 1)`, as f32.
-pub fn coating_row(rule: &CoatingRule, key: &CoatingKey) -> [f32; COATING_ROW_LEN] {
+#[cfg(test)]
+pub(crate) fn coating_row(rule: &CoatingRule, key: &CoatingKey) -> [f32; COATING_ROW_LEN] {
     coating_rows_sharing(rule, std::slice::from_ref(key))[0]
 }
 
 /// `coating_albedo` of `shaders/coating.wgsl`: the row read at `mu` in f32, linear in `sqrt(mu)`
 /// between its values.
-pub fn coating_albedo(row: &[f32; COATING_ROW_LEN], mu: f32) -> f32 {
+pub(crate) fn coating_albedo(row: &[f32; COATING_ROW_LEN], mu: f32) -> f32 {
     let x = mu.clamp(0.0, 1.0).sqrt() * (COATING_ROW_LEN - 1) as f32;
     let k = (x.floor() as usize).min(COATING_ROW_LEN - 2);
     let t = x - k as f32;
@@ -212,7 +219,7 @@ pub fn coating_albedo(row: &[f32; COATING_ROW_LEN], mu: f32) -> f32 {
 /// `2 int_0^1 E_F(mu) mu dmu` of the row as read ([`coating_albedo`]), exactly:
 /// with `x = sqrt(mu)`, `2 mu dmu = 4 x^3 dx` and the read is linear in `x` between
 /// nodes, so each interval's integral is a polynomial's.
-pub fn coating_albedo_avg(row: &[f32; COATING_ROW_LEN]) -> f64 {
+pub(crate) fn coating_albedo_avg(row: &[f32; COATING_ROW_LEN]) -> f64 {
     let h = 1.0 / (COATING_ROW_LEN - 1) as f64;
     (0..COATING_ROW_LEN - 1)
         .map(|k| {
@@ -285,18 +292,18 @@ impl CoatingRows {
     }
 
     /// The index of `key`'s row (0 when absent: a ball without a coating reads none).
-    pub fn index_of(&self, key: &CoatingKey) -> usize {
+    pub(crate) fn index_of(&self, key: &CoatingKey) -> usize {
         self.index.get(key).copied().unwrap_or(0)
     }
 
     /// The row of `key`, if baked.
-    pub fn row(&self, key: &CoatingKey) -> Option<&[f32; COATING_ROW_LEN]> {
+    pub(crate) fn row(&self, key: &CoatingKey) -> Option<&[f32; COATING_ROW_LEN]> {
         self.index.get(key).map(|&i| &self.rows[i])
     }
 
     /// Every row's values one after the other (the storage buffer's contents; one row of
     /// zeros when there is none, so the binding is never empty).
-    pub fn flat(&self) -> Vec<f32> {
+    pub(crate) fn flat(&self) -> Vec<f32> {
         if self.rows.is_empty() {
             return vec![0.0; COATING_ROW_LEN];
         }

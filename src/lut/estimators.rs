@@ -37,7 +37,7 @@ impl Method {
     ];
 
     /// The name used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Method::Cosine => "cosine",
             Method::Ndf => "ndf",
@@ -61,10 +61,10 @@ pub enum PointSet {
 
 impl PointSet {
     /// Every point set, in a fixed order.
-    pub const ALL: [PointSet; 3] = [PointSet::Random, PointSet::Hammersley, PointSet::Sobol];
+    pub(crate) const ALL: [PointSet; 3] = [PointSet::Random, PointSet::Hammersley, PointSet::Sobol];
 
     /// The name used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             PointSet::Random => "random",
             PointSet::Hammersley => "hammersley",
@@ -73,7 +73,7 @@ impl PointSet {
     }
 
     /// Fills `out` with `n` points in `[0, 1)^2`; `seed` decorrelates texels (Random only).
-    pub fn points(self, n: usize, seed: u64, out: &mut Vec<[f64; 2]>) {
+    pub(crate) fn points(self, n: usize, seed: u64, out: &mut Vec<[f64; 2]>) {
         out.clear();
         const TO_UNIT: f64 = 1.0 / 4_294_967_296.0;
         match self {
@@ -146,7 +146,7 @@ impl Pcg32 {
 }
 
 /// Per-bake scratch state: quadrature nodes, point buffers.
-pub struct Estimator {
+pub(crate) struct Estimator {
     method: Method,
     points: PointSet,
     samples: usize,
@@ -157,7 +157,7 @@ pub struct Estimator {
 impl Estimator {
     /// An estimator of `method` with `samples` (at least 1) points of `points` a texel
     /// (Monte Carlo) or Gauss-Legendre nodes a segment (quadrature).
-    pub fn new(method: Method, points: PointSet, samples: usize) -> Self {
+    pub(crate) fn new(method: Method, points: PointSet, samples: usize) -> Self {
         let samples = samples.max(1);
         let gl = if matches!(method, Method::Quadrature | Method::Chebyshev) {
             gauss_legendre_unit(samples)
@@ -174,7 +174,7 @@ impl Estimator {
     }
 
     /// Estimate of `E(mu, roughness)`; `seed` decorrelates random points between texels.
-    pub fn e(&mut self, mu: f64, roughness: f64, geometry: Geometry, seed: u64) -> f64 {
+    pub(crate) fn e(&mut self, mu: f64, roughness: f64, geometry: Geometry, seed: u64) -> f64 {
         if matches!(self.method, Method::Quadrature | Method::Chebyshev) {
             return self.e_quadrature(mu, roughness, geometry);
         }

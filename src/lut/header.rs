@@ -8,7 +8,7 @@ use super::Tables;
 
 /// Which language the arrays are written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Language {
+pub(crate) enum Language {
     /// A C (and C++) header: `static const float` arrays and `#define`s.
     C,
     /// GLSL (4.30 / ES 3.00 and later): `const float` arrays with array constructors.
@@ -79,7 +79,7 @@ fn values(values: &[f32], language: Language) -> String {
 }
 
 /// The tables' source in `language`.
-pub fn source(tables: &Tables, language: Language) -> String {
+pub(crate) fn source(tables: &Tables, language: Language) -> String {
     let layout = tables.layout();
     let (mu, r) = (layout.mu_size, layout.r_size);
     let n = tables.stored_loss.len();

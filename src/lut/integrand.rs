@@ -62,21 +62,21 @@ use crate::brdf::{alpha_from_roughness, Geometry};
 /// Near 0, E is linear in mu with a slope of up to about 2.4e3 (Schlick G, roughness 0.02:
 /// E(1e-6) is 2.4e-3 below E(1e-12)), so 1e-12 moves E by less than 1e-8; f64 evaluates the
 /// integrand there without loss (tested).
-pub const MU_MIN: f64 = 1e-12;
+pub(crate) const MU_MIN: f64 = 1e-12;
 
 /// Width `w` of the substitution `d = w tan t` over the peak, in units of alpha.
-pub const PEAK_WIDTH_PER_ALPHA: f64 = 2.0;
+pub(crate) const PEAK_WIDTH_PER_ALPHA: f64 = 2.0;
 
 /// The peak segment reaches `d = PEAK_SPAN * w` (`t` up to `atan(4)`, 76 degrees).
-pub const PEAK_SPAN: f64 = 4.0;
+pub(crate) const PEAK_SPAN: f64 = 4.0;
 
 /// With height-correlated Smith G, the side towards the normal is split at
 /// `d = GRAZING_SPLIT * mu_o` when that is within half the peak segment (see `segments`).
-pub const GRAZING_SPLIT: f64 = 8.0;
+pub(crate) const GRAZING_SPLIT: f64 = 8.0;
 
 /// How a segment's variable maps to the distance `d` from the peak.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mapping {
+pub(crate) enum Mapping {
     /// `d = w tan x`.
     Tan,
     /// `d = exp(x)`.
@@ -85,7 +85,7 @@ pub enum Mapping {
 
 /// One piece of the `theta_i` range: `theta_i = theta_o + sign d(x)`, `x` in `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Segment {
+pub(crate) struct Segment {
     /// `1` on the side towards the horizon (`theta_i > theta_o`), `-1` towards the normal.
     pub sign: f64,
     /// How `x` maps to `d`.
@@ -118,7 +118,7 @@ pub fn phi_integral(mu_o: f64, s_o: f64, mu_i: f64, s_i: f64, alpha: f64) -> f64
 
 /// The E integrand over `theta_i` (includes the `sin theta_i` Jacobian of `dmu_i`).
 #[derive(Clone, Copy, Debug)]
-pub struct EIntegrand {
+pub(crate) struct EIntegrand {
     /// mu of the outgoing direction, clamped to `[MU_MIN, 1]`.
     pub mu_o: f64,
     s_o: f64,
@@ -135,7 +135,7 @@ pub struct EIntegrand {
 impl EIntegrand {
     /// The integrand of `E(mu_o, roughness)` for `geometry`; `mu_o` is clamped to
     /// `[MU_MIN, 1]`.
-    pub fn new(mu_o: f64, roughness: f64, geometry: Geometry) -> Self {
+    pub(crate) fn new(mu_o: f64, roughness: f64, geometry: Geometry) -> Self {
         let mu_o = mu_o.clamp(MU_MIN, 1.0);
         Self {
             mu_o,
@@ -160,7 +160,7 @@ impl EIntegrand {
     /// The pieces of `[0, pi/2]` in their mapped variables (see the module docs): up to
     /// four (five with height-correlated G at grazing, `GRAZING_SPLIT`), each integrated over `[seg.lo, seg.hi]` by [`EIntegrand::at_segment`]. An
     /// iterator, not a vector: the bake asks for them once per texel.
-    pub fn segments(&self) -> impl Iterator<Item = Segment> {
+    pub(crate) fn segments(&self) -> impl Iterator<Item = Segment> {
         let w = self.width();
         let (mu_o, correlated) = (self.mu_o, self.geometry == Geometry::SmithCorrelated);
         // (sign, distance to the end of the range) for the side towards the horizon and
@@ -198,7 +198,7 @@ impl EIntegrand {
     }
 
     /// The integrand in a segment's variable `x` (Jacobian included).
-    pub fn at_segment(&self, seg: &Segment, x: f64) -> f64 {
+    pub(crate) fn at_segment(&self, seg: &Segment, x: f64) -> f64 {
         let (theta_i, jacobian) = self.theta_at_segment(seg, x);
         self.at_theta(theta_i) * jacobian
     }

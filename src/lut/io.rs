@@ -20,7 +20,7 @@ use crate::output::write_image;
 use crate::output::{extension, write_atomic, write_atomic_with};
 
 /// Writes `tables` to `path`, the format chosen by its extension.
-pub fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
+pub(crate) fn write_tables(tables: &Tables, path: &Path) -> Result<()> {
     match extension(path).as_str() {
         // Streamed into the temporary file: a 4096 x 4096 table is 1 GB of text.
         "csv" => write_atomic_with(path, |w| {
@@ -67,13 +67,6 @@ fn stored_e_avg(tables: &Tables, j: usize) -> f64 {
 /// CSV with header `table,roughness,mu,value`; E_avg rows leave `mu` empty. Coordinates
 /// are the texels' exact values; values are what the storage holds (`stored_e`), printed
 /// to round-trip.
-pub fn tables_csv(tables: &Tables) -> String {
-    let mut out = Vec::new();
-    write_csv(tables, &mut out).expect("writing to a Vec");
-    String::from_utf8(out).expect("the CSV is ASCII")
-}
-
-/// [`tables_csv`] into any writer.
 pub(crate) fn write_csv(tables: &Tables, w: &mut impl Write) -> std::io::Result<()> {
     let l = tables.layout();
     w.write_all(b"table,roughness,mu,value\n")?;
@@ -127,3 +120,8 @@ fn tables_image_u16(tables: &Tables) -> DynamicImage {
     });
     DynamicImage::ImageRgb16(img)
 }
+
+// Tests that need the crate's internals (moved from the suite); with the command line's
+// features only, so `cargo test --no-default-features --lib` runs them once.
+#[cfg(all(test, feature = "cli"))]
+mod tests;

@@ -33,7 +33,7 @@ use crate::brdf::{Geometry, ROUGHNESS_MIN};
 use crate::error::{Error, Result};
 
 /// The 12 bytes every KTX 2.0 file starts with: `«KTX 20»\r\n\x1A\n`.
-pub const IDENTIFIER: [u8; 12] = [
+pub(crate) const IDENTIFIER: [u8; 12] = [
     0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
 ];
 
@@ -42,10 +42,10 @@ pub const VK_FORMAT_R8G8_UNORM: u32 = 16;
 /// `VK_FORMAT_R16G16_SFLOAT`.
 pub const VK_FORMAT_R16G16_SFLOAT: u32 = 83;
 /// `VK_FORMAT_R32G32_SFLOAT`.
-pub const VK_FORMAT_R32G32_SFLOAT: u32 = 103;
+pub(crate) const VK_FORMAT_R32G32_SFLOAT: u32 = 103;
 
 /// The key/value key holding the layout text.
-pub const LAYOUT_KEY: &str = "shadeballs.layout";
+pub(crate) const LAYOUT_KEY: &str = "shadeballs.layout";
 /// The standard key naming the program that wrote the file.
 pub(crate) const WRITER_KEY: &str = "KTXwriter";
 /// What the two channels hold (the layout text's `channels`).
@@ -96,7 +96,7 @@ fn format_name(storage: Storage) -> &'static str {
 /// a 1x1x1x1 texel block of `bytesPlane0` bytes, and one sample per channel (R at bit 0,
 /// G after it; float formats signed and float with bounds -1.0 and 1.0 as 32-bit floats,
 /// unorm8 bounds 0 and 255).
-pub fn data_format_descriptor(storage: Storage) -> Vec<u8> {
+pub(crate) fn data_format_descriptor(storage: Storage) -> Vec<u8> {
     let bits = 8 * storage.bytes_per_texel();
     let mut d = Vec::with_capacity(4 + DFD_BLOCK_LEN);
     d.extend_from_slice(&((4 + DFD_BLOCK_LEN) as u32).to_le_bytes());
@@ -139,7 +139,7 @@ pub fn data_format_descriptor(storage: Storage) -> Vec<u8> {
 /// The layout as the file states it: `key=value` lines, one a key. The first group is
 /// what a reader needs ([`parse_tables`] checks it against the file); the second says
 /// how to read the table in words.
-pub fn layout_text(tables: &Tables) -> String {
+pub(crate) fn layout_text(tables: &Tables) -> String {
     let c = &tables.config;
     let l = &c.layout;
     let (mu_scale, mu_bias) = l.scale_bias(l.mu_size);
@@ -795,3 +795,8 @@ fn parse_layout(text: &str, storage: Storage, width: usize, height: usize) -> Re
         layout,
     })
 }
+
+// Tests that need the crate's internals (moved from the suite); with the command line's
+// features only, so `cargo test --no-default-features --lib` runs them once.
+#[cfg(all(test, feature = "cli"))]
+mod tests;

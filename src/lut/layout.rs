@@ -42,10 +42,10 @@ pub enum MuAxis {
 
 impl MuAxis {
     /// Every value, in a fixed order (their names parse in scene files and table files).
-    pub const ALL: [MuAxis; 3] = [MuAxis::Linear, MuAxis::Sqrt, MuAxis::Warped];
+    pub(crate) const ALL: [MuAxis; 3] = [MuAxis::Linear, MuAxis::Sqrt, MuAxis::Warped];
 
     /// The name in files (the KTX2 layout text).
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             MuAxis::Linear => "linear",
             MuAxis::Sqrt => "sqrt",
@@ -56,7 +56,7 @@ impl MuAxis {
     /// The coordinate of `mu`, in f32 as the shader computes it (`mu_coord` in
     /// `shaders/lut.wgsl`); `alpha` is the clamped alpha of the read. `mu + alpha >= alpha_min
     /// > 0`, so the warp never divides by zero.
-    pub fn coord(self, mu: f32, alpha: f32) -> f32 {
+    pub(crate) fn coord(self, mu: f32, alpha: f32) -> f32 {
         let mu = mu.clamp(0.0, 1.0);
         match self {
             MuAxis::Linear => mu,
@@ -66,7 +66,7 @@ impl MuAxis {
     }
 
     /// The mu at coordinate `x` in a row of the given alpha (exact inverse, f64).
-    pub fn value(self, x: f64, alpha: f64) -> f64 {
+    pub(crate) fn value(self, x: f64, alpha: f64) -> f64 {
         match self {
             MuAxis::Linear => x,
             MuAxis::Sqrt => x * x,
@@ -85,7 +85,7 @@ impl MuAxis {
     }
 
     /// The id the shader switches on (`MU_AXIS_*` in `shaders/lut.wgsl`).
-    pub fn id(self) -> u32 {
+    pub(crate) fn id(self) -> u32 {
         match self {
             MuAxis::Linear => 0,
             MuAxis::Sqrt => 1,
@@ -111,10 +111,10 @@ pub enum EAvgRead {
 
 impl EAvgRead {
     /// Every value, in a fixed order (their names parse in scene files and table files).
-    pub const ALL: [EAvgRead; 2] = [EAvgRead::Linear, EAvgRead::PowerLaw];
+    pub(crate) const ALL: [EAvgRead; 2] = [EAvgRead::Linear, EAvgRead::PowerLaw];
 
     /// The name in files (the KTX2 layout text).
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             EAvgRead::Linear => "linear",
             EAvgRead::PowerLaw => "power-law",
@@ -122,7 +122,7 @@ impl EAvgRead {
     }
 
     /// The id the shader switches on (`E_AVG_READ_*` in `shaders/lut.wgsl`).
-    pub fn id(self) -> u32 {
+    pub(crate) fn id(self) -> u32 {
         match self {
             EAvgRead::Linear => 0,
             EAvgRead::PowerLaw => 1,
@@ -132,7 +132,7 @@ impl EAvgRead {
 
 /// Smallest stored `1 - E_avg` a power-law read takes the logarithm of: far below any value
 /// the model produces (1.3e-6 at roughness 0.02 with Smith G), far above f32's subnormals.
-pub const LOSS_AVG_MIN: f32 = 1e-20;
+pub(crate) const LOSS_AVG_MIN: f32 = 1e-20;
 
 /// The range the roughness axis spans, linearly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -147,7 +147,7 @@ pub enum RAxis {
 
 impl RAxis {
     /// Roughness of the first row.
-    pub fn r_min(self) -> f64 {
+    pub(crate) fn r_min(self) -> f64 {
         match self {
             RAxis::Full => 0.0,
             RAxis::Clamped => ROUGHNESS_MIN,
@@ -166,10 +166,10 @@ pub enum Centres {
 
 impl Centres {
     /// Every value, in a fixed order (their names parse in scene files and table files).
-    pub const ALL: [Centres; 2] = [Centres::Endpoints, Centres::HalfTexel];
+    pub(crate) const ALL: [Centres; 2] = [Centres::Endpoints, Centres::HalfTexel];
 
     /// The name in files (the KTX2 layout text).
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Centres::Endpoints => "endpoints",
             Centres::HalfTexel => "half-texel",
@@ -193,7 +193,7 @@ impl Storage {
     pub const ALL: [Storage; 3] = [Storage::F32, Storage::F16, Storage::Unorm8];
 
     /// The name used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Storage::F32 => "f32",
             Storage::F16 => "f16",
@@ -241,7 +241,7 @@ pub enum LayoutKind {
 
 impl LayoutKind {
     /// Every named layout, in a fixed order.
-    pub const ALL: [LayoutKind; 4] = [
+    pub(crate) const ALL: [LayoutKind; 4] = [
         LayoutKind::Warped,
         LayoutKind::SqrtMu,
         LayoutKind::Games202,
@@ -249,7 +249,7 @@ impl LayoutKind {
     ];
 
     /// The name used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             LayoutKind::Warped => "warped",
             LayoutKind::SqrtMu => "sqrt-mu",
@@ -290,9 +290,9 @@ pub struct Layout {
 /// Default texels along mu. The default table size (mu x roughness) was chosen by
 /// measurement: the smallest that keeps the read-path error within max 1e-3 and mean 1e-4
 /// (see docs/benchmarks.md, "Measured results").
-pub const DEFAULT_MU_SIZE: usize = 64;
+pub(crate) const DEFAULT_MU_SIZE: usize = 64;
 /// Default texels along roughness (see [`DEFAULT_MU_SIZE`]).
-pub const DEFAULT_R_SIZE: usize = 64;
+pub(crate) const DEFAULT_R_SIZE: usize = 64;
 
 /// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness): 128 x 128, the
 /// size engines ship such tables at (32^2 to 128^2; Filament's DFG table is 128 x 128),
@@ -315,9 +315,11 @@ pub const UNIFORM_R_SIZE: usize = 128;
 /// 2176 x 100 is enough (9.75e-4, Schlick) but 8-bit weights take it to 1.02e-3; 2304 x 112
 /// leaves a margin for both. 2.1 MB as R32G32_SFLOAT (`bake --layout uniform --size
 /// 2304x112`).
-pub const UNIFORM_PRECISE_MU_SIZE: usize = 2304;
+#[cfg(test)]
+pub(crate) const UNIFORM_PRECISE_MU_SIZE: usize = 2304;
 /// Roughness rows of the 1e-3 uniform size (see [`UNIFORM_PRECISE_MU_SIZE`]).
-pub const UNIFORM_PRECISE_R_SIZE: usize = 112;
+#[cfg(test)]
+pub(crate) const UNIFORM_PRECISE_R_SIZE: usize = 112;
 
 impl Default for Layout {
     fn default() -> Self {
@@ -385,7 +387,7 @@ impl Layout {
     }
 
     /// `(scale, bias)` of an axis with `n` texels (see the module docs).
-    pub fn scale_bias(&self, n: usize) -> (f64, f64) {
+    pub(crate) fn scale_bias(&self, n: usize) -> (f64, f64) {
         match self.centres {
             Centres::Endpoints => ((n as f64 - 1.0).max(0.0), 0.0),
             Centres::HalfTexel => (n as f64, -0.5),
@@ -420,7 +422,7 @@ impl Layout {
 
     /// The roughness axis coordinate of a read, in f32 as the shader computes it (`r_coord`
     /// in `shaders/lut.wgsl`): the clamped roughness mapped from `[r_min, 1]` to `[0, 1]`.
-    pub fn r_coord(&self, roughness: f32) -> f32 {
+    pub(crate) fn r_coord(&self, roughness: f32) -> f32 {
         let r_min = self.r_axis.r_min() as f32;
         ((roughness_coord(roughness) - r_min) / (1.0 - r_min)).clamp(0.0, 1.0)
     }
@@ -513,7 +515,7 @@ impl Layout {
 
 /// The two texels and the weight of the second, for a bilinear read along one axis:
 /// exactly the f32 arithmetic of `lut_texel_span` in `shaders/lut.wgsl`.
-pub fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize, f32) {
+pub(crate) fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize, f32) {
     if n <= 1 {
         return (0, 0, 0.0);
     }
@@ -526,7 +528,7 @@ pub fn lut_texel_span(x: f32, n: usize, scale: f32, bias: f32) -> (usize, usize,
 
 /// The clamped roughness the model uses, as the shader computes it (f32,
 /// `roughness_clamped` in `shaders/brdf.wgsl`).
-pub fn roughness_coord(roughness: f32) -> f32 {
+pub(crate) fn roughness_coord(roughness: f32) -> f32 {
     // Exact: every f32 is an f64, and the clamp's result is the input or an f32 bound.
     roughness_clamped(roughness as f64) as f32
 }

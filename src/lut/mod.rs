@@ -5,41 +5,60 @@
 
 pub mod accuracy;
 mod chebyshev;
-pub mod coating;
+pub(crate) mod coating;
 mod estimators;
-pub mod header;
+pub(crate) mod header;
 mod integrand;
-pub mod io;
+pub(crate) mod io;
 pub mod ktx2;
 mod layout;
-pub mod plain;
+pub(crate) mod plain;
 mod quadrature;
 mod reference;
-pub mod rows;
-pub mod split_sum;
+pub(crate) mod rows;
+pub(crate) mod split_sum;
 mod table_set;
 
 use rayon::prelude::*;
 
-pub use chebyshev::{ChebyshevSurface, CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
-pub use coating::{
-    coating_albedo, coating_albedo_avg, coating_albedo_quadrature, coating_row, CoatingKey,
-    CoatingRows, CoatingRule, COATING_ROW_LEN,
-};
-pub use estimators::{Estimator, Method, PointSet};
-pub use integrand::{phi_integral, EIntegrand, Mapping, Segment, MU_MIN, PEAK_WIDTH_PER_ALPHA};
-pub use layout::{
-    lut_texel_span, roughness_coord, Centres, EAvgRead, Layout, LayoutKind, LutParams, MuAxis,
-    RAxis, Storage, DEFAULT_MU_SIZE, DEFAULT_R_SIZE, LOSS_AVG_MIN, UNIFORM_MU_SIZE,
-    UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE, UNIFORM_R_SIZE,
-};
-pub use quadrature::{adaptive, gauss_legendre_unit};
-pub use reference::{e_avg_reference, e_reference, REFERENCE_TOL};
-pub use rows::{bake_rows, Row, RowKey, RowSet};
-pub use split_sum::{
-    e_same_nodes, split_sum, split_sum_with, SplitSum, SPLIT_SUM_SIZE, SPLIT_SUM_TABLE_NODES,
-};
-pub use table_set::{TableKey, TableSet};
+pub(crate) use chebyshev::ChebyshevSurface;
+#[cfg(test)]
+pub(crate) use chebyshev::{CHEBYSHEV_MU_NODES, CHEBYSHEV_R_NODES};
+pub use coating::CoatingRows;
+pub(crate) use coating::{coating_albedo, coating_albedo_avg, CoatingKey, COATING_ROW_LEN};
+#[cfg(test)]
+pub(crate) use coating::{coating_albedo_quadrature, coating_row, CoatingRule};
+pub(crate) use estimators::Estimator;
+pub use estimators::Method;
+pub use estimators::PointSet;
+pub use integrand::phi_integral;
+pub(crate) use integrand::{EIntegrand, Mapping, PEAK_WIDTH_PER_ALPHA};
+pub use layout::Centres;
+pub use layout::EAvgRead;
+pub use layout::Layout;
+pub use layout::LayoutKind;
+pub use layout::LutParams;
+pub use layout::MuAxis;
+pub use layout::RAxis;
+pub use layout::Storage;
+pub use layout::UNIFORM_MU_SIZE;
+pub use layout::UNIFORM_R_SIZE;
+pub(crate) use layout::{lut_texel_span, roughness_coord, LOSS_AVG_MIN};
+#[cfg(test)]
+pub(crate) use layout::{UNIFORM_PRECISE_MU_SIZE, UNIFORM_PRECISE_R_SIZE};
+pub use quadrature::adaptive;
+pub use quadrature::gauss_legendre_unit;
+pub use reference::e_avg_reference;
+pub use reference::e_reference;
+pub use rows::bake_rows;
+pub(crate) use rows::Row;
+pub use rows::RowKey;
+pub use rows::RowSet;
+#[cfg(test)]
+pub(crate) use split_sum::{e_same_nodes, split_sum};
+pub(crate) use split_sum::{SplitSum, SPLIT_SUM_SIZE};
+pub(crate) use table_set::TableKey;
+pub use table_set::TableSet;
 
 use crate::brdf::Geometry;
 
@@ -230,7 +249,7 @@ fn row_loss_avg_at(layout: &Layout, loss: &[f32], alpha: f64) -> f64 {
 /// - square root, `x = mu^(1/2)`: `a (m1^2 - m0^2) + 4 b (m1^(5/2) - m0^(5/2)) / 5`;
 /// - warped, `x = (1 + al) (1 - al / (mu + al))`: with `c = a + b (1 + al)`,
 ///   `c (m1^2 - m0^2) - 2 b (1 + al) al ((m1 - m0) - al ln((m1 + al) / (m0 + al)))`.
-pub fn piece_integral(axis: MuAxis, alpha: f64, a: f64, b: f64, m0: f64, m1: f64) -> f64 {
+pub(crate) fn piece_integral(axis: MuAxis, alpha: f64, a: f64, b: f64, m0: f64, m1: f64) -> f64 {
     let sq = m1 * m1 - m0 * m0;
     match axis {
         MuAxis::Linear => a * sq + 2.0 * b * (m1 * m1 * m1 - m0 * m0 * m0) / 3.0,

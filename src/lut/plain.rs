@@ -18,6 +18,7 @@ use super::Tables;
 
 /// The texture coordinate `(u, v)` of a plain read at `(mu, roughness)` of a table of
 /// `n x m` texels, in f32 as a shader computes it.
+#[cfg(test)]
 pub(crate) fn plain_uv(mu: f32, roughness: f32, n: usize, m: usize) -> (f32, f32) {
     let axis = |x: f32, n: usize| {
         let n = n as f32;
@@ -28,6 +29,7 @@ pub(crate) fn plain_uv(mu: f32, roughness: f32, n: usize, m: usize) -> (f32, f32
 
 /// The sampler's half of one axis: texel `i0`, texel `i1` (both clamped to the edge), and
 /// the weight of `i1`, quantised to `weight_bits` fractional bits when given.
+#[cfg(test)]
 fn span(u: f32, n: usize, weight_bits: Option<u32>) -> (usize, usize, f32) {
     let p = u * n as f32 - 0.5;
     let floor = p.floor();
@@ -51,7 +53,8 @@ fn span(u: f32, n: usize, weight_bits: Option<u32>) -> (usize, usize, f32) {
 /// `(u width - 0.5, v height - 0.5)`, weights `(1 - a)(1 - b)`, `a (1 - b)`, `(1 - a) b`,
 /// `a b` in f32. `weight_bits`: quantise `a` and `b` to that many fractional bits (None:
 /// exact f32 weights).
-pub fn bilinear_clamped(
+#[cfg(test)]
+pub(crate) fn bilinear_clamped(
     texels: &[f32],
     width: usize,
     height: usize,
@@ -72,7 +75,8 @@ impl Tables {
     /// `1 - E` as a plain bilinear read of the stored table at `(mu, roughness)` returns it
     /// (the red channel of the KTX2 file; see the module docs). Meaningful for the uniform
     /// layout, whose texels sit where this read expects them.
-    pub fn plain_loss(&self, mu: f32, roughness: f32, weight_bits: Option<u32>) -> f32 {
+    #[cfg(test)]
+    pub(crate) fn plain_loss(&self, mu: f32, roughness: f32, weight_bits: Option<u32>) -> f32 {
         let l = self.layout();
         let uv = plain_uv(mu, roughness, l.mu_size, l.r_size);
         bilinear_clamped(&self.stored_loss, l.mu_size, l.r_size, uv, weight_bits)
@@ -80,7 +84,8 @@ impl Tables {
 
     /// `1 - E_avg` as the same plain read of the green channel returns it: the row's value
     /// repeated along the row, so linear between rows.
-    pub fn plain_loss_avg(&self, roughness: f32, weight_bits: Option<u32>) -> f32 {
+    #[cfg(test)]
+    pub(crate) fn plain_loss_avg(&self, roughness: f32, weight_bits: Option<u32>) -> f32 {
         let l = self.layout();
         let uv = plain_uv(0.5, roughness, 1, l.r_size);
         bilinear_clamped(&self.stored_loss_avg, 1, l.r_size, uv, weight_bits)

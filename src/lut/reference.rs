@@ -7,7 +7,7 @@ use super::quadrature::adaptive;
 use crate::brdf::Geometry;
 
 /// Absolute tolerance of each adaptive integral of E.
-pub const REFERENCE_TOL: f64 = 1e-11;
+pub(crate) const REFERENCE_TOL: f64 = 1e-11;
 
 /// Precise `E(mu, roughness)` with `F = 1`.
 pub fn e_reference(mu: f64, roughness: f64, geometry: Geometry) -> f64 {

@@ -51,7 +51,7 @@ impl RowKey {
     }
 
     /// The row's roughness (clamped).
-    pub fn roughness(&self) -> f32 {
+    pub(crate) fn roughness(&self) -> f32 {
         f32::from_bits(self.roughness_bits)
     }
 }
@@ -72,7 +72,7 @@ pub struct Row {
 }
 
 /// Bakes the row of `key`.
-pub fn bake_row(key: &RowKey) -> Row {
+pub(crate) fn bake_row(key: &RowKey) -> Row {
     let config = &key.config;
     let layout = &config.layout;
     let roughness = key.roughness() as f64;
@@ -125,7 +125,7 @@ pub struct RowSet {
 
 impl RowSet {
     /// The set of `rows` (at least one), all baked with one config.
-    pub fn new(rows: Vec<Arc<Row>>) -> Self {
+    pub(crate) fn new(rows: Vec<Arc<Row>>) -> Self {
         let mut config = rows.first().map(|r| r.key.config).unwrap_or_default();
         config.layout.r_size = rows.len().max(1);
         RowSet { config, rows }
@@ -138,12 +138,12 @@ impl RowSet {
     }
 
     /// The rows' layout as one table: `config.layout`, one row per roughness.
-    pub fn layout(&self) -> &Layout {
+    pub(crate) fn layout(&self) -> &Layout {
         &self.config.layout
     }
 
     /// The rows' stored `1 - E`, row after row (a `mu_size x rows` table).
-    pub fn stored_loss(&self) -> Vec<f32> {
+    pub(crate) fn stored_loss(&self) -> Vec<f32> {
         self.rows
             .iter()
             .flat_map(|r| r.stored_loss.iter().copied())
@@ -152,7 +152,7 @@ impl RowSet {
 
     /// The index of the row nearest `roughness` (clamped; the exact row when the set holds
     /// it, as a planned set does for every ball it was planned for).
-    pub fn index_of(&self, roughness: f32) -> usize {
+    pub(crate) fn index_of(&self, roughness: f32) -> usize {
         let r = roughness_coord(roughness);
         self.rows
             .iter()
@@ -167,7 +167,7 @@ impl RowSet {
 
     /// The read parameters of the rows as one table: the mu axis of their layout, one row
     /// each, no roughness axis (each ball names its row: [`RowSet::lut_row`]).
-    pub fn lut_params(&self) -> crate::lut::LutParams {
+    pub(crate) fn lut_params(&self) -> crate::lut::LutParams {
         let l = self.layout();
         crate::lut::LutParams {
             r_scale: 0.0,
@@ -180,14 +180,14 @@ impl RowSet {
 
     /// A ball's row for `lut_loss_row` (`Tables::lut_row`'s form): `[row index, 0 (no
     /// weight on the next row), alpha]`, alpha in f32 as `Tables::lut_row` forms it.
-    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
+    pub(crate) fn lut_row(&self, roughness: f32) -> [f32; 3] {
         let r = roughness_coord(roughness);
         [self.index_of(roughness) as f32, 0.0, r * r]
     }
 
     /// `lut_loss_row` of `shaders/lut.wgsl` on these rows: the f32 arithmetic of
     /// `Tables::lut_loss_row`, the next row weighted by `row[1]` (0 from [`RowSet::lut_row`]).
-    pub fn lut_loss_row(&self, mu: f32, row: [f32; 3]) -> f32 {
+    pub(crate) fn lut_loss_row(&self, mu: f32, row: [f32; 3]) -> f32 {
         let t = |i: usize, j: usize| self.rows[j].stored_loss[i];
         read_row(self.layout(), self.rows.len(), mu, row, t)
     }
@@ -198,7 +198,7 @@ impl RowSet {
     }
 
     /// `1 - E_avg` of the ball's row (a per-ball uniform).
-    pub fn lut_loss_avg(&self, roughness: f32) -> f32 {
+    pub(crate) fn lut_loss_avg(&self, roughness: f32) -> f32 {
         self.rows[self.index_of(roughness)].loss_avg
     }
 }

@@ -16,32 +16,41 @@
 //! The real-time renderer stores only B ([`SplitSum`]) and takes `A = E - B` with its own
 //! E read, which keeps the furnace exact (`F0 = 1`: `A + B = E`).
 
+#[cfg(test)]
 use std::f64::consts::PI;
 
+#[cfg(test)]
 use rayon::prelude::*;
 
+#[cfg(test)]
 use super::integrand::EIntegrand;
+#[cfg(test)]
 use super::quadrature::gauss_legendre_unit;
 use crate::brdf::Geometry;
 
 /// Gauss-Legendre nodes per `theta_i` segment.
-pub const SPLIT_SUM_THETA_NODES: usize = 24;
+#[cfg(test)]
+pub(crate) const SPLIT_SUM_THETA_NODES: usize = 24;
 /// Gauss-Legendre nodes per piece of the mapped azimuth (peak and tail).
-pub const SPLIT_SUM_PHI_NODES: usize = 32;
+#[cfg(test)]
+pub(crate) const SPLIT_SUM_PHI_NODES: usize = 32;
 /// The nodes (per `theta_i` segment, per piece of the azimuth) the table is baked with:
 /// fewer than [`split_sum`]'s, as the table's bilinear read between 32 x 32 texels is
 /// itself good to about 1e-3 (tests hold the bake within 5e-5 of `split_sum`).
-pub const SPLIT_SUM_TABLE_NODES: [usize; 2] = [12, 16];
+#[cfg(test)]
+pub(crate) const SPLIT_SUM_TABLE_NODES: [usize; 2] = [12, 16];
 /// The tan-mapped peak of the azimuth reaches this many widths from the mirror azimuth.
-pub const PHI_PEAK_SPAN: f64 = 4.0;
+#[cfg(test)]
+pub(crate) const PHI_PEAK_SPAN: f64 = 4.0;
 /// Texels of the B table along mu and along roughness: texel `(i, j)` holds `mu = i /
 /// (N - 1)`, `roughness = j / (N - 1)` (centres on the end points, read with
 /// `SPLIT_SUM_SCALE` and `SPLIT_SUM_BIAS`).
-pub const SPLIT_SUM_SIZE: usize = 32;
+pub(crate) const SPLIT_SUM_SIZE: usize = 32;
 
 /// `A` and `B` at `(mu_o, roughness)` for `geometry`, to about 1e-6
 /// ([`SPLIT_SUM_THETA_NODES`], [`SPLIT_SUM_PHI_NODES`]).
-pub fn split_sum(mu_o: f64, roughness: f64, geometry: Geometry) -> (f64, f64) {
+#[cfg(test)]
+pub(crate) fn split_sum(mu_o: f64, roughness: f64, geometry: Geometry) -> (f64, f64) {
     split_sum_with(
         mu_o,
         roughness,
@@ -53,7 +62,8 @@ pub fn split_sum(mu_o: f64, roughness: f64, geometry: Geometry) -> (f64, f64) {
 
 /// [`split_sum`] with `theta_nodes` Gauss-Legendre nodes per `theta_i` segment and
 /// `phi_nodes` per piece of the azimuth.
-pub fn split_sum_with(
+#[cfg(test)]
+pub(crate) fn split_sum_with(
     mu_o: f64,
     roughness: f64,
     geometry: Geometry,
@@ -86,7 +96,8 @@ pub fn split_sum_with(
 
 /// E by the same `theta_i` nodes as [`split_sum`], the azimuth in closed form
 /// (`phi_integral`): `A + B` against it isolates the azimuth's quadrature.
-pub fn e_same_nodes(mu_o: f64, roughness: f64, geometry: Geometry) -> f64 {
+#[cfg(test)]
+pub(crate) fn e_same_nodes(mu_o: f64, roughness: f64, geometry: Geometry) -> f64 {
     let f = EIntegrand::new(mu_o, roughness, geometry);
     let (tn, tw) = gauss_legendre_unit(SPLIT_SUM_THETA_NODES);
     f.segments()
@@ -101,6 +112,7 @@ pub fn e_same_nodes(mu_o: f64, roughness: f64, geometry: Geometry) -> f64 {
 }
 
 /// `int_0^{2 pi} D (1 - w) dphi` and `int_0^{2 pi} D w dphi`, `w = (1 - v.h)^5`.
+#[cfg(test)]
 fn azimuth(
     mu_o: f64,
     s_o: f64,
@@ -172,7 +184,8 @@ pub struct SplitSum {
 impl SplitSum {
     /// Bakes the table (rows on rayon) with [`SPLIT_SUM_TABLE_NODES`]: a few
     /// milliseconds at startup.
-    pub fn bake(geometry: Geometry) -> Self {
+    #[cfg(test)]
+    pub(crate) fn bake(geometry: Geometry) -> Self {
         let n = SPLIT_SUM_SIZE;
         let bias = (0..n * n)
             .into_par_iter()
@@ -189,7 +202,7 @@ impl SplitSum {
     /// The table as shipped with the crate (`assets/split_sum_bias.bin`: every G's table,
     /// in `Geometry::ALL` order, little-endian f32), what the renderers use: no bake at
     /// startup. A test holds it bit for bit equal to [`SplitSum::bake`].
-    pub fn shipped(geometry: Geometry) -> Self {
+    pub(crate) fn shipped(geometry: Geometry) -> Self {
         const BYTES: &[u8] = include_bytes!("../../assets/split_sum_bias.bin");
         let n = SPLIT_SUM_SIZE * SPLIT_SUM_SIZE;
         let index = Geometry::ALL
@@ -205,7 +218,8 @@ impl SplitSum {
 
     /// Every G's table as [`SplitSum::shipped`] reads them (what the test writes when the
     /// bake changes).
-    pub fn shipped_bytes() -> Vec<u8> {
+    #[cfg(test)]
+    pub(crate) fn shipped_bytes() -> Vec<u8> {
         Geometry::ALL
             .iter()
             .flat_map(|&g| SplitSum::bake(g).bias)

@@ -21,12 +21,12 @@ pub enum TableSet<R = Arc<RowSet>, F = Arc<Tables>> {
 
 /// The tables a plan asks for, by key: each row's bake settings and roughness
 /// ([`RowKey`]), or the 2-D table's bake settings.
-pub type TableKey = TableSet<Vec<RowKey>, BakeConfig>;
+pub(crate) type TableKey = TableSet<Vec<RowKey>, BakeConfig>;
 
 impl TableKey {
     /// The key of one row per roughness in `roughness` (clamped like every read), or of
     /// nothing when it is empty.
-    pub fn rows(config: &BakeConfig, roughness: &[f32]) -> Self {
+    pub(crate) fn rows(config: &BakeConfig, roughness: &[f32]) -> Self {
         if roughness.is_empty() {
             return TableSet::None;
         }
@@ -34,7 +34,7 @@ impl TableKey {
     }
 
     /// The roughness of each row asked for (empty unless rows).
-    pub fn roughness(&self) -> Vec<f32> {
+    pub(crate) fn roughness(&self) -> Vec<f32> {
         match self {
             TableSet::Rows(keys) => keys.iter().map(RowKey::roughness).collect(),
             _ => Vec::new(),
@@ -49,7 +49,7 @@ impl TableSet {
     }
 
     /// The key these tables were baked for: the plan's [`TableKey`] that binds them.
-    pub fn key(&self) -> TableKey {
+    pub(crate) fn key(&self) -> TableKey {
         match self {
             TableSet::None => TableSet::None,
             TableSet::Rows(rows) => TableSet::Rows(rows.rows.iter().map(|r| r.key).collect()),
@@ -66,7 +66,7 @@ impl TableSet {
     }
 
     /// The read parameters of the tables (with none, those of the one-texel placeholder).
-    pub fn lut_params(&self) -> LutParams {
+    pub(crate) fn lut_params(&self) -> LutParams {
         match self {
             TableSet::None => LutParams {
                 mu_size: 1,
@@ -80,7 +80,7 @@ impl TableSet {
 
     /// The mu axis of the tables (the pipelines' `MU_AXIS`); with none nothing reads it,
     /// and the default layout's is returned.
-    pub fn mu_axis(&self) -> MuAxis {
+    pub(crate) fn mu_axis(&self) -> MuAxis {
         match self {
             TableSet::None => Layout::default().mu_axis,
             TableSet::Full(t) => t.layout().mu_axis,
@@ -91,7 +91,7 @@ impl TableSet {
     /// A ball's `lut_row` (the roughness half of its E reads). With no tables the read (of
     /// the GPU's 1 x 1 placeholder) still runs where a pipeline branches on the ball's
     /// flag, so alpha is the ball's own, keeping the warped axis's division away from 0 / 0.
-    pub fn lut_row(&self, roughness: f32) -> [f32; 3] {
+    pub(crate) fn lut_row(&self, roughness: f32) -> [f32; 3] {
         match self {
             TableSet::None => {
                 let r = roughness_coord(roughness);

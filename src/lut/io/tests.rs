@@ -1,9 +1,11 @@
 //! Table files of the baked tables: CSV, EXR and PNG, their values and their refusals.
 //! (The maths of baking and reading the tables are the unit tests of `src/lut/mod.rs`.)
 
-use shadeballs::brdf::ROUGHNESS_MIN;
-use shadeballs::lut::io::write_tables;
-use shadeballs::lut::{bake, BakeConfig, Layout};
+use crate::brdf::ROUGHNESS_MIN;
+
+use crate::lut::io::write_tables;
+
+use crate::lut::{bake, BakeConfig, Layout};
 
 #[test]
 fn tables_are_written_as_csv_exr_and_png() {
