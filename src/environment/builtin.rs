@@ -26,14 +26,14 @@ pub enum Builtin {
 }
 
 /// The width a built-in is generated at unless asked otherwise (height is half).
-pub const DEFAULT_BUILTIN_WIDTH: u32 = 1024;
+pub(crate) const DEFAULT_BUILTIN_WIDTH: u32 = 1024;
 
 /// The widest built-in: 8192 x 4096 is [`MAX_MAP_TEXELS`].
-pub const MAX_BUILTIN_WIDTH: u32 = 8192;
+pub(crate) const MAX_BUILTIN_WIDTH: u32 = 8192;
 
 impl Builtin {
     /// Every built-in, in the order the help lists them.
-    pub const ALL: [Builtin; 3] = [Builtin::Studio, Builtin::Sky, Builtin::White];
+    pub(crate) const ALL: [Builtin; 3] = [Builtin::Studio, Builtin::Sky, Builtin::White];
 
     /// The name the command line and the scene file use.
     pub fn name(self) -> &'static str {
@@ -84,27 +84,19 @@ crate::named_enum!(Builtin, "built-in environment");
 
 /// The unit direction of azimuth `phi_deg` and elevation `elevation_deg` (the module's
 /// convention).
-pub fn direction(phi_deg: f64, elevation_deg: f64) -> DVec3 {
+pub(crate) fn direction(phi_deg: f64, elevation_deg: f64) -> DVec3 {
     let (sp, cp) = phi_deg.to_radians().sin_cos();
     let (se, ce) = elevation_deg.to_radians().sin_cos();
     DVec3::new(ce * sp, se, -ce * cp)
 }
 
-/// `(azimuth, elevation)` of unit direction `d`, in degrees.
-fn angles(d: DVec3) -> (f64, f64) {
-    (
-        d.x.atan2(-d.z).to_degrees(),
-        d.y.clamp(-1.0, 1.0).asin().to_degrees(),
-    )
-}
-
 /// Luminance of linear sRGB (Rec. 709 weights).
-pub fn luminance(c: DVec3) -> f64 {
+pub(crate) fn luminance(c: DVec3) -> f64 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
 /// The solid-angle weighted mean luminance of `map`.
-pub fn mean_luminance(map: &EnvMap) -> f64 {
+pub(crate) fn mean_luminance(map: &EnvMap) -> f64 {
     let w = map.width() as usize;
     let sum: f64 = (0..map.height())
         .map(|j| {
@@ -205,7 +197,7 @@ pub(crate) struct AreaLight {
 
 /// Half-width of the smoothstep that softens each light's edges, degrees: a 1024-wide map
 /// has texels of 0.35 degrees, so the edge spans about 6 texels.
-pub const STUDIO_EDGE_DEG: f64 = 1.0;
+pub(crate) const STUDIO_EDGE_DEG: f64 = 1.0;
 
 /// The studio's lights: key (up, front-left of the balls as the reference camera sees
 /// them: the direction towards it is about `(-0.5, 0.5, 0.7)`), fill (front-right, dimmer,
@@ -235,7 +227,7 @@ pub(crate) const STUDIO_LIGHTS: [AreaLight; 3] = [
 ];
 
 /// The studio's dim grey gradient: floor 0.03, horizon 0.08, top 0.12.
-pub fn studio_gradient(d: DVec3) -> DVec3 {
+pub(crate) fn studio_gradient(d: DVec3) -> DVec3 {
     let y = d.y.clamp(-1.0, 1.0);
     let g = if y >= 0.0 {
         0.08 + (0.12 - 0.08) * y
@@ -257,19 +249,6 @@ fn coverage(l: &AreaLight, phi: f64, e: f64) -> f64 {
     edge(dphi, 0.5 * l.width_deg) * edge(de, 0.5 * l.height_deg)
 }
 
-/// The studio's radiance towards `d`: the classic look-dev setup of three soft area
-/// lights (key, fill, rim) over a dim gradient, after the three-point lighting of
-/// photography and film (e.g. Birn, *Digital Lighting and Rendering*, 3rd ed., 2013,
-/// chapter 5). A light replaces the gradient where it covers it.
-pub fn studio(d: DVec3) -> DVec3 {
-    let (phi_deg, elevation_deg) = angles(d);
-    studio_at(Texel {
-        d,
-        phi_deg,
-        elevation_deg,
-    })
-}
-
 fn studio_at(t: Texel) -> DVec3 {
     let mut c = studio_gradient(t.d);
     for l in &STUDIO_LIGHTS {
@@ -282,7 +261,8 @@ fn studio_at(t: Texel) -> DVec3 {
 }
 
 /// The direction towards the studio's key light.
-pub fn studio_key_direction() -> DVec3 {
+#[cfg(test)]
+pub(crate) fn studio_key_direction() -> DVec3 {
     let k = STUDIO_LIGHTS[0];
     direction(k.phi_deg, k.elevation_deg)
 }
@@ -298,7 +278,7 @@ pub(crate) const SUN_ELEVATION_DEG: f64 = 35.0;
 pub(crate) const SUN_AZIMUTH_DEG: f64 = -145.0;
 /// The sun disk's angular radius, degrees: widened from the real 0.27 so that a
 /// 1024-wide map (0.35-degree texels) resolves it over some 50 texels.
-pub const SUN_RADIUS_DEG: f64 = 1.5;
+pub(crate) const SUN_RADIUS_DEG: f64 = 1.5;
 /// The sun disk's radiance as a multiple of the zenith sky's.
 pub(crate) const SUN_TO_ZENITH: f64 = 150.0;
 /// The ground's grey albedo: below the horizon the map shows this times the average
@@ -306,7 +286,7 @@ pub(crate) const SUN_TO_ZENITH: f64 = 150.0;
 pub(crate) const GROUND_ALBEDO: f64 = 0.3;
 
 /// The direction towards the sky's sun.
-pub fn sun_direction() -> DVec3 {
+pub(crate) fn sun_direction() -> DVec3 {
     direction(SUN_AZIMUTH_DEG, SUN_ELEVATION_DEG)
 }
 

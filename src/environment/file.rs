@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::output;
 
 /// Most texels a map may have: 8192 x 4096 (384 MiB as f32 RGB on the CPU).
-pub const MAX_MAP_TEXELS: u64 = 8192 * 4096;
+pub(crate) const MAX_MAP_TEXELS: u64 = 8192 * 4096;
 
 /// What loading found and fixed: texels that were NaN, infinite or negative, clamped.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -33,7 +33,7 @@ pub struct MapStats {
 
 impl MapStats {
     /// Channels clamped in all.
-    pub fn total(&self) -> u64 {
+    pub(crate) fn total(&self) -> u64 {
         self.nan + self.infinite + self.negative
     }
 }
@@ -99,7 +99,7 @@ pub(crate) fn size_problem(width: u32, height: u32) -> Option<String> {
 /// Peak bytes a texel costs while a map is read: the decoder's image and the map's own
 /// texels, both alive at once: an `.hdr` decodes to RGB f32 (12 + 12), an `.exr` may
 /// decode to RGBA f32 and be converted to RGB f32 (16 + 12 + 12).
-pub fn load_bytes_per_texel(format: image::ImageFormat) -> u64 {
+pub(crate) fn load_bytes_per_texel(format: image::ImageFormat) -> u64 {
     if format == image::ImageFormat::Hdr {
         24
     } else {
@@ -275,13 +275,13 @@ pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
 /// Without the crate feature `image-files` this build decodes no map file: every path is
 /// one error saying so (built-in maps and maps made in code still work).
 #[cfg(not(feature = "image-files"))]
-pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
+pub(crate) fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     Err(error(path, WITHOUT_IMAGE_FILES))
 }
 
 /// Without the crate feature `image-files` this build encodes no map file.
 #[cfg(not(feature = "image-files"))]
-pub fn save(_map: &EnvMap, path: &Path) -> Result<()> {
+pub(crate) fn save(_map: &EnvMap, path: &Path) -> Result<()> {
     Err(error(path, WITHOUT_IMAGE_FILES))
 }
 

@@ -120,7 +120,7 @@ pub fn project(map: &EnvMap, bands: usize) -> Vec<DVec3> {
 
 /// Gauss-Legendre nodes [`zonal_coefficients`] integrates with, for `bands` bands: exact
 /// for a polynomial kernel of degree below `2 * nodes - bands`.
-pub fn zonal_nodes(bands: usize) -> usize {
+pub(crate) fn zonal_nodes(bands: usize) -> usize {
     128 + bands
 }
 

@@ -30,10 +30,10 @@ pub enum IblMethod {
 
 impl IblMethod {
     /// Every method, in the order the help lists them.
-    pub const ALL: [IblMethod; 2] = [IblMethod::SplitSum, IblMethod::Lobe];
+    pub(crate) const ALL: [IblMethod; 2] = [IblMethod::SplitSum, IblMethod::Lobe];
 
     /// The name the command line and the scene file use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             IblMethod::SplitSum => "split-sum",
             IblMethod::Lobe => "lobe",
@@ -45,25 +45,25 @@ crate::named_enum!(IblMethod, "ibl method");
 
 /// Most lobe samples a pixel a frame (`ibl_samples`, `--ibl-samples`): the count is a
 /// pipeline-time constant, one pipeline per value used.
-pub const MAX_IBL_SAMPLES: u32 = 256;
+pub(crate) const MAX_IBL_SAMPLES: u32 = 256;
 
 /// Lobe samples a pixel a frame when a scene names none.
 pub const DEFAULT_IBL_SAMPLES: u32 = 16;
 
 /// Most frames `render --ibl-frames` accumulates.
-pub const MAX_IBL_FRAMES: u32 = 4096;
+pub(crate) const MAX_IBL_FRAMES: u32 = 4096;
 
 /// Added to a lobe sample's mip level (Colbert & Krivanek suggest 1 for a smoother image
 /// at the price of a wider lobe; 0 keeps the estimate closest to the lobe's integral).
-pub const LOBE_LOD_BIAS: f64 = 0.0;
+pub(crate) const LOBE_LOD_BIAS: f64 = 0.0;
 
 /// The R2 sequence's steps in 32-bit fixed point (Roberts 2018, "The Unreasonable
 /// Effectiveness of Quasirandom Sequences": point `i` is `frac(i / g, i / g^2)`, `g` the
 /// plastic number 1.3247...): `round(2^32 / g)` and `round(2^32 / g^2)`.
-pub const R2_STEPS: [u32; 2] = [3_242_174_889, 2_447_445_414];
+pub(crate) const R2_STEPS: [u32; 2] = [3_242_174_889, 2_447_445_414];
 
 /// Checks a lobe sample count: `1..=MAX_IBL_SAMPLES`, else a one-line reason.
-pub fn check_ibl_samples(n: u32) -> Result<u32, String> {
+pub(crate) fn check_ibl_samples(n: u32) -> Result<u32, String> {
     if (1..=MAX_IBL_SAMPLES).contains(&n) {
         Ok(n)
     } else {
@@ -90,7 +90,7 @@ pub fn pixel_scramble(px: u32, py: u32) -> [u32; 2] {
 /// sampling: 0 the visible normals', 1 the cosine's, 2 and 3 the map's texel and its
 /// position in it): `scramble` itself for `k = 0`, else each coordinate plus `k` times an
 /// odd constant, hashed, so the strategies' point sets are shifted independently.
-pub fn strategy_scramble(scramble: [u32; 2], k: u32) -> [u32; 2] {
+pub(crate) fn strategy_scramble(scramble: [u32; 2], k: u32) -> [u32; 2] {
     if k == 0 {
         return scramble;
     }

@@ -10,12 +10,14 @@
 //! across. Reads are bilinear between texel centres, wrapping in `u` and clamped in `v`
 //! (`env_radiance` in `shaders/environment.wgsl` is the GPU's twin).
 
-pub mod builtin;
+pub(crate) mod builtin;
 mod file;
 pub mod harmonics;
 pub mod lobe;
 pub mod prefilter;
-pub mod sampler;
+pub(crate) mod sampler;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -23,11 +25,17 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 pub use builtin::Builtin;
-#[cfg(feature = "image-files")]
-pub use file::load_bytes_per_texel;
-pub use file::{load, save, MapStats, MAX_MAP_TEXELS};
-pub use lobe::{IblMethod, DEFAULT_IBL_SAMPLES, MAX_IBL_SAMPLES};
-pub use prefilter::{ChainOn, MipChain, Prefiltered};
+pub use file::load;
+pub use file::save;
+#[cfg(test)]
+pub(crate) use file::MapStats;
+pub(crate) use file::MAX_MAP_TEXELS;
+pub use lobe::IblMethod;
+pub use lobe::DEFAULT_IBL_SAMPLES;
+pub(crate) use lobe::MAX_IBL_SAMPLES;
+pub(crate) use prefilter::ChainOn;
+pub use prefilter::MipChain;
+pub use prefilter::Prefiltered;
 
 use crate::error::{Error, Result};
 
@@ -97,7 +105,7 @@ impl EnvMap {
     }
 
     /// The largest channel of any texel (0 for a black map).
-    pub fn peak(&self) -> f32 {
+    pub(crate) fn peak(&self) -> f32 {
         self.peak
     }
 
@@ -106,7 +114,7 @@ impl EnvMap {
     /// `2^k` that brings the peak under it. Exact in f32 and f64, so dividing the texels and
     /// multiplying the reads back changes no bit beyond f16's own rounding (issue 28, 2:
     /// a sun above 65504 keeps its energy instead of being clipped).
-    pub fn f16_scale(&self) -> f32 {
+    pub(crate) fn f16_scale(&self) -> f32 {
         let mut scale = 1.0f32;
         while self.peak / scale > prefilter::F16_MAX {
             scale *= 2.0;
@@ -115,13 +123,13 @@ impl EnvMap {
     }
 
     /// Whether every texel is black.
-    pub fn is_black(&self) -> bool {
+    pub(crate) fn is_black(&self) -> bool {
         self.peak == 0.0
     }
 
     /// Fails in one line, before the mip chain is built, when this map's chain and textures
     /// on `on` need more memory than is available ([`crate::memory::check`]; issue 28, 3).
-    pub fn check_chain_memory(&self, on: ChainOn) -> Result<()> {
+    pub(crate) fn check_chain_memory(&self, on: ChainOn) -> Result<()> {
         let (w, h) = (self.width, self.height);
         let (device, margin) = match on {
             ChainOn::Gpu => ("GPU", crate::memory::GPU_MARGIN),
@@ -156,7 +164,7 @@ impl EnvMap {
     }
 
     /// Bilinear radiance at `uv` (texel centres at half-integers; `u` wraps, `v` clamps).
-    pub fn bilinear(&self, uv: DVec2) -> DVec3 {
+    pub(crate) fn bilinear(&self, uv: DVec2) -> DVec3 {
         let x = uv.x * self.width as f64 - 0.5;
         let y = (uv.y * self.height as f64 - 0.5).clamp(0.0, (self.height - 1) as f64);
         let x0 = x.floor();
@@ -173,7 +181,7 @@ impl EnvMap {
     }
 
     /// Bilinear radiance seen along unit direction `d` in the map's own frame.
-    pub fn radiance(&self, d: DVec3) -> DVec3 {
+    pub(crate) fn radiance(&self, d: DVec3) -> DVec3 {
         self.bilinear(direction_to_uv(d))
     }
 
@@ -188,7 +196,7 @@ impl EnvMap {
 }
 
 /// `(u, v)` of unit direction `d` (the module's convention).
-pub fn direction_to_uv(d: DVec3) -> DVec2 {
+pub(crate) fn direction_to_uv(d: DVec3) -> DVec2 {
     let u = d.x.atan2(-d.z) / (2.0 * PI) + 0.5;
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     DVec2::new(u, v)
@@ -208,14 +216,14 @@ pub fn uv_to_direction(uv: DVec2) -> DVec3 {
 /// The largest radiance a map may reach once scaled by its intensity: the bound every
 /// radiance of a scene keeps, `scene::MAX_MAGNITUDE` (the scene's layer is above this one;
 /// a constant assertion there checks that the two agree).
-pub const MAX_MAP_RADIANCE: f64 = 1e12;
+pub(crate) const MAX_MAP_RADIANCE: f64 = 1e12;
 
 /// Checks that a map whose brightest texel is `peak`, times `intensity`, stays within the
 /// bound every radiance of a scene keeps, [`MAX_MAP_RADIANCE`] (issue 38, 1: a
 /// map of 1e30 at intensity 1e9 rendered infinite pixels, and f32's 3.4e38 is passed by
 /// any sum of such texels, an exposure, a Monte Carlo estimate's square). The message says
 /// the largest intensity the map takes.
-pub fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), String> {
+pub(crate) fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), String> {
     let bound = MAX_MAP_RADIANCE;
     let radiance = f64::from(peak) * intensity;
     if radiance <= bound {
@@ -234,7 +242,7 @@ pub fn check_map_radiance(peak: f32, intensity: f64) -> std::result::Result<(), 
 
 /// The largest intensity a map whose brightest texel is `peak` takes
 /// ([`check_map_radiance`]), rounded down to 3 significant digits.
-pub fn max_map_intensity(peak: f32) -> f64 {
+pub(crate) fn max_map_intensity(peak: f32) -> f64 {
     let bound = MAX_MAP_RADIANCE;
     if peak <= 0.0 {
         return bound;
@@ -313,7 +321,7 @@ impl Environment {
 
     /// A built-in by its name (`studio`, `sky`, `white`), else the `.hdr`/`.exr` file at
     /// that path: what the command line's `--environment` takes.
-    pub fn named(name_or_path: &str) -> Result<Self> {
+    pub(crate) fn named(name_or_path: &str) -> Result<Self> {
         if let Ok(b) = name_or_path.parse::<Builtin>() {
             return Ok(Self::builtin(b));
         }
@@ -343,19 +351,19 @@ impl Environment {
 
     /// A direction of the map's frame in the world: turned by `+rotation_deg` about `+y`
     /// (the inverse of [`Environment::to_map`]).
-    pub fn from_map(&self, map: DVec3) -> DVec3 {
+    pub(crate) fn from_map(&self, map: DVec3) -> DVec3 {
         let (s, c) = self.rotation_deg.to_radians().sin_cos();
         DVec3::new(c * map.x + s * map.z, map.y, -s * map.x + c * map.z)
     }
 
     /// Whether the environment adds no light: intensity 0 or a black map.
-    pub fn is_black(&self) -> bool {
+    pub(crate) fn is_black(&self) -> bool {
         self.intensity == 0.0 || self.map.is_black()
     }
 
     /// Radiance arriving from world direction `d` (towards the light): bilinear in the map,
     /// times the intensity.
-    pub fn radiance(&self, d: DVec3) -> DVec3 {
+    pub(crate) fn radiance(&self, d: DVec3) -> DVec3 {
         self.intensity * self.map.radiance(self.to_map(d))
     }
 }
@@ -388,7 +396,7 @@ impl IblTerm {
     pub const ALL: [IblTerm; 3] = [IblTerm::Turquin, IblTerm::FdezAguera, IblTerm::KullaConty];
 
     /// The name the command line and the scene file use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             IblTerm::Turquin => "turquin",
             IblTerm::FdezAguera => "fdez-aguera",

@@ -34,10 +34,10 @@ use crate::brdf::{alpha_from_roughness, Geometry};
 use crate::lut::Tables;
 
 /// Layers of the specular prefilter: roughness 0, 1/6, ..., 1.
-pub const SPECULAR_LEVELS: u32 = 7;
+pub(crate) const SPECULAR_LEVELS: u32 = 7;
 /// Width of the sharpest specular layers (height half): the map's own width when narrower.
 /// Rougher layers are smaller ([`specular_mip`]).
-pub const SPECULAR_WIDTH: u32 = 256;
+pub(crate) const SPECULAR_WIDTH: u32 = 256;
 /// Mip levels of the specular texture: layer `k` is stored at level [`specular_mip`]`(k)`,
 /// `SPECULAR_WIDTH >> level` wide.
 pub(crate) const SPECULAR_MIP_LEVELS: u32 = 3;
@@ -46,30 +46,30 @@ pub(crate) const SPECULAR_MIP_LEVELS: u32 = 3;
 pub const SPECULAR_SAMPLES: u32 = 64;
 /// Added to filtered importance sampling's level (Krivanek & Colbert suggest 1: a
 /// smoother result with fewer samples, at the price of a wider lobe).
-pub const FIS_LOD_BIAS: f64 = 0.0;
+pub(crate) const FIS_LOD_BIAS: f64 = 0.0;
 /// The coarsest mip level filtered importance sampling reads is at least this wide (22.5
 /// degree texels): a bilinear read of an equirectangular level of 4 x 2 texels spreads a
 /// light over a hemisphere, beyond any lobe. The rough layers take more samples instead
 /// ([`specular_samples`]).
-pub const FIS_MIN_WIDTH: u32 = 16;
+pub(crate) const FIS_MIN_WIDTH: u32 = 16;
 /// Kulla-Conty kernel layers: roughness 0, 1/8, ..., 1.
 pub const CONVOLVED_LEVELS: u32 = 9;
 /// Width of each convolved layer (height half).
 pub const CONVOLVED_WIDTH: u32 = 32;
 /// The mip level the convolutions sum over: the first at most this wide.
-pub const CONVOLUTION_SOURCE_WIDTH: u32 = 64;
+pub(crate) const CONVOLUTION_SOURCE_WIDTH: u32 = 64;
 /// Samples of each zonal kernel over `t = n.w` in `[0, 1]` (linear between them).
-pub const KERNEL_SIZE: usize = 64;
+pub(crate) const KERNEL_SIZE: usize = 64;
 /// Largest radiance the f16 textures hold; a brighter map is divided by a power of two to
 /// fit ([`EnvMap::f16_scale`]).
-pub const F16_MAX: f32 = 65504.0;
+pub(crate) const F16_MAX: f32 = 65504.0;
 /// The smallest positive f16 (a subnormal, 2^-24); half of it rounds to 0.
 pub(crate) const F16_MIN_SUBNORMAL: f32 = 5.960_464_5e-8;
 /// A weight sum below this is treated as zero (no texel in the kernel's support).
-pub const WEIGHT_EPSILON: f64 = 1e-30;
+pub(crate) const WEIGHT_EPSILON: f64 = 1e-30;
 /// Smallest `sin theta` the texel solid angle uses at the poles (filtered importance
 /// sampling's level choice; the equirectangular texel shrinks to nothing there).
-pub const POLE_SIN_MIN: f64 = 1e-4;
+pub(crate) const POLE_SIN_MIN: f64 = 1e-4;
 
 /// Round to f16 and back: the value a `Rgba16Float` texel holds.
 fn f16_round(v: f32) -> f32 {
@@ -95,7 +95,7 @@ impl Level {
 
     /// Bilinear at `uv` as a linear sampler reads it: texel centres at half-integers, `u`
     /// repeating, `v` clamped to the edge.
-    pub fn bilinear(&self, uv: DVec2) -> DVec3 {
+    pub(crate) fn bilinear(&self, uv: DVec2) -> DVec3 {
         let x = uv.x * self.width as f64 - 0.5;
         let y = uv.y * self.height as f64 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
@@ -112,7 +112,7 @@ impl Level {
     }
 
     /// The solid angle of a texel of row `j`.
-    pub fn texel_solid_angle(&self, j: u32) -> f64 {
+    pub(crate) fn texel_solid_angle(&self, j: u32) -> f64 {
         let h = self.height as f64;
         let (t0, t1) = (PI * j as f64 / h, PI * (j + 1) as f64 / h);
         2.0 * PI / self.width as f64 * (t0.cos() - t1.cos())
@@ -279,7 +279,7 @@ pub fn convolved_roughness(layer: u32) -> f64 {
 }
 
 /// The roughness of specular layer `layer`.
-pub fn specular_roughness(layer: u32) -> f64 {
+pub(crate) fn specular_roughness(layer: u32) -> f64 {
     layer as f64 / (SPECULAR_LEVELS - 1) as f64
 }
 
@@ -294,7 +294,7 @@ pub fn specular_direction(n: DVec3, r: DVec3, roughness: f64) -> DVec3 {
 }
 
 /// `kernel_at` of `prefilter.wgsl`: layer `layer` of `kernels` at `t` (0 below the horizon).
-pub fn kernel_at(kernels: &[f32], layer: u32, t: f64) -> f64 {
+pub(crate) fn kernel_at(kernels: &[f32], layer: u32, t: f64) -> f64 {
     if t <= 0.0 {
         return 0.0;
     }
@@ -317,7 +317,7 @@ pub fn radical_inverse(i: u32) -> f64 {
 /// `int L D G / 4 dw`, so this weighting makes the split sum exact at normal incidence
 /// (measured against Monte Carlo: the `n.l` weighting left rough balls under the studio
 /// 20 % off where they face the camera).
-pub fn prefilter_specular(
+pub(crate) fn prefilter_specular(
     chain: &MipChain,
     r: DVec3,
     roughness: f64,
@@ -392,7 +392,7 @@ pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3
 /// `specular_samples` of `prefilter.wgsl`: GGX samples per texel of specular layer
 /// `layer`: the rough layers are small (`specular_mip`) and read levels no coarser than
 /// [`FIS_MIN_WIDTH`], so they take more samples at little cost.
-pub fn specular_samples(layer: u32) -> u32 {
+pub(crate) fn specular_samples(layer: u32) -> u32 {
     match layer {
         0 | 1 => SPECULAR_SAMPLES,
         2 => 2 * SPECULAR_SAMPLES,
@@ -411,7 +411,7 @@ pub(crate) fn fis_max_level(chain: &MipChain) -> u32 {
 }
 
 /// Size of the specular texture's level 0 for a map `width` wide.
-pub fn specular_size(width: u32) -> (u32, u32) {
+pub(crate) fn specular_size(width: u32) -> (u32, u32) {
     let w = width.clamp(2, SPECULAR_WIDTH);
     (w, w / 2)
 }
@@ -420,7 +420,7 @@ pub fn specular_size(width: u32) -> (u32, u32) {
 /// in a texture of `levels` mip levels: roughness 0 and 1/6 at full size, 1/3 at half,
 /// rougher at a quarter (the GGX lobe at roughness 1/2 is about 14 degrees wide, 10 texels
 /// of a 64-wide layer), so the rough layers cost a sixteenth of the samples.
-pub fn specular_mip(layer: u32, levels: u32) -> u32 {
+pub(crate) fn specular_mip(layer: u32, levels: u32) -> u32 {
     let m = match layer {
         0 | 1 => 0,
         2 => 1,
@@ -518,7 +518,7 @@ impl Prefiltered {
 
     /// `env_irradiance` of `environment.wgsl`: irradiance about map-frame normal `n`, over
     /// pi (the radiance of a white Lambertian surface).
-    pub fn irradiance(&self, n: DVec3) -> DVec3 {
+    pub(crate) fn irradiance(&self, n: DVec3) -> DVec3 {
         self.convolved[0].bilinear(direction_to_uv(n))
     }
 
@@ -538,7 +538,7 @@ impl Prefiltered {
 
 /// Where a map's mip chain is built, for [`crate::environment::EnvMap::check_chain_memory`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ChainOn {
+pub(crate) enum ChainOn {
     /// The GPU renderer's path, once the map is read: its mip chain (RGBA f32 values, 16 a
     /// texel and a third more for the smaller levels: 21.3), the texture (f16, 8 and a
     /// third: 10.7; lavapipe keeps it in the host's memory), and level 0's f16 upload bytes
@@ -553,7 +553,7 @@ pub enum ChainOn {
 
 impl ChainOn {
     /// Bytes a map texel adds on this path (see the variants).
-    pub fn bytes_per_texel(self) -> u64 {
+    pub(crate) fn bytes_per_texel(self) -> u64 {
         match self {
             ChainOn::Gpu => 48,
             ChainOn::Cpu => 22,

@@ -18,7 +18,7 @@ pub const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
 /// neighbour is, so every texel rectangle the map lights has a positive density. The
 /// density per solid angle is `p_ij W H / (2 pi^2 sin theta)` (the equirectangular
 /// Jacobian), exactly.
-pub struct EnvSampler<'a> {
+pub(crate) struct EnvSampler<'a> {
     env: &'a Environment,
     width: usize,
     height: usize,
@@ -34,7 +34,7 @@ pub struct EnvSampler<'a> {
 impl<'a> EnvSampler<'a> {
     /// `None` for a map that needs no sampler: constant (cosine and VNDF sampling suit a
     /// uniform environment) or black.
-    pub fn new(env: &'a Environment) -> Option<Self> {
+    pub(crate) fn new(env: &'a Environment) -> Option<Self> {
         let map = &env.map;
         let first = map.texels()[0];
         if env.intensity <= 0.0 || map.texels().iter().all(|t| t == &first) {
@@ -90,7 +90,7 @@ impl<'a> EnvSampler<'a> {
 
     /// A world direction from four uniform numbers in `[0, 1)`; `None` in the rare case
     /// rounding lands on a texel of zero weight.
-    pub fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
+    pub(crate) fn sample(&self, u: [f64; 4]) -> Option<DVec3> {
         let target = u[0] * self.total;
         let j = self
             .marginal
@@ -112,7 +112,7 @@ impl<'a> EnvSampler<'a> {
     }
 
     /// The density per solid angle of [`EnvSampler::sample`] at world direction `l`.
-    pub fn pdf(&self, l: DVec3) -> f64 {
+    pub(crate) fn pdf(&self, l: DVec3) -> f64 {
         let d = self.env.to_map(l);
         let uv = direction_to_uv(d);
         let (w, h) = (self.width as f64, self.height as f64);
@@ -128,7 +128,7 @@ impl<'a> EnvSampler<'a> {
 /// normalised. `None` where the CPU estimator draws no direction from the map (a constant
 /// or black map), so the GPU combines the same strategies.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LuminanceCdf {
+pub(crate) struct LuminanceCdf {
     /// Texels across.
     pub width: u32,
     /// Texels down.
@@ -145,7 +145,7 @@ pub struct LuminanceCdf {
 
 impl LuminanceCdf {
     /// The tables of `env`'s luminance sampler (`None`: no sampler, see the type).
-    pub fn of(env: &Environment) -> Option<Self> {
+    pub(crate) fn of(env: &Environment) -> Option<Self> {
         let s = EnvSampler::new(env)?;
         let (w, h) = (s.width, s.height);
         let marginal = s.marginal.iter().map(|&c| (c / s.total) as f32).collect();
@@ -173,7 +173,7 @@ impl LuminanceCdf {
 impl LuminanceCdf {
     /// The tables as group 1's `env_cdf` holds them (`bindings.wgsl`): the width and the
     /// height, then the marginal, the rows' CDFs and the texels' probabilities.
-    pub fn gpu_words(&self) -> Vec<f32> {
+    pub(crate) fn gpu_words(&self) -> Vec<f32> {
         let mut words = Vec::with_capacity(2 + self.marginal.len() + 2 * self.texel.len());
         words.push(self.width as f32);
         words.push(self.height as f32);
@@ -187,7 +187,7 @@ impl LuminanceCdf {
     /// direction from four uniform numbers (each exact in f32: the lobe's 24-bit points), a
     /// row by the marginal, a texel by its row's CDF, a point uniformly in the texel's
     /// `(u, v)` rectangle; `None` where rounding lands on a texel of zero weight.
-    pub fn luminance_sample(&self, u: [f64; 4]) -> Option<DVec3> {
+    pub(crate) fn luminance_sample(&self, u: [f64; 4]) -> Option<DVec3> {
         let (w, h) = (self.width as usize, self.height as usize);
         let j = self
             .marginal
@@ -207,7 +207,7 @@ impl LuminanceCdf {
 
     /// `luminance_density` of `lighting.wgsl`: the density per solid angle of
     /// [`LuminanceCdf::luminance_sample`] at map-frame direction `d`.
-    pub fn luminance_density(&self, d: DVec3) -> f64 {
+    pub(crate) fn luminance_density(&self, d: DVec3) -> f64 {
         let (w, h) = (f64::from(self.width), f64::from(self.height));
         let uv = direction_to_uv(d);
         let i = ((uv.x * w).floor() as i64).rem_euclid(i64::from(self.width)) as usize;
