@@ -2,14 +2,14 @@
 //! be a copy's destination (GL); elsewhere a texture copy does it.
 
 /// The blit's pipeline, for one surface format.
-pub struct Blit {
+pub(crate) struct Blit {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
 }
 
 impl Blit {
     /// The blit's pipeline drawing into surfaces of `format`.
-    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+    pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("blit"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
@@ -45,7 +45,7 @@ impl Blit {
     }
 
     /// Records the draw of `from` over all of `to` (same size).
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,

@@ -15,7 +15,7 @@ use super::{save, App};
 
 /// What the next drawn frame writes besides a PNG screenshot.
 #[derive(Default)]
-pub struct Pending {
+pub(crate) struct Pending {
     /// The scene area's linear radiance, to this EXR.
     pub exr: Option<PathBuf>,
     /// The scene, to this scene file.
@@ -191,7 +191,7 @@ fn save_scene(
 }
 
 /// `shadeballs-<seconds since 1970>.<extension>` in the working folder.
-pub fn timestamped(extension: &str) -> PathBuf {
+pub(crate) fn timestamped(extension: &str) -> PathBuf {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());

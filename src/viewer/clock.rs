@@ -8,7 +8,7 @@ use std::time::Instant;
 const RECENT: usize = 31;
 
 #[derive(Default)]
-pub struct FrameClock {
+pub(crate) struct FrameClock {
     recent_draw_ms: VecDeque<f64>,
     draw_ms: Vec<f64>,
     interval_ms: Vec<f64>,
@@ -17,7 +17,7 @@ pub struct FrameClock {
 
 impl FrameClock {
     /// A frame that started at `start` has been shown.
-    pub fn shown(&mut self, start: Instant) {
+    pub(crate) fn shown(&mut self, start: Instant) {
         let ms = start.elapsed().as_secs_f64() * 1e3;
         if let Some(previous) = self.last_start {
             self.interval_ms
@@ -32,22 +32,22 @@ impl FrameClock {
     }
 
     /// Median draw time of the last frames, milliseconds.
-    pub fn recent_draw_ms(&mut self) -> Option<f64> {
+    pub(crate) fn recent_draw_ms(&mut self) -> Option<f64> {
         median(self.recent_draw_ms.make_contiguous())
     }
 
     /// Whether the recent frames fill their window (until then each frame moves the median).
-    pub fn settled(&self) -> bool {
+    pub(crate) fn settled(&self) -> bool {
         self.recent_draw_ms.len() >= RECENT
     }
 
     /// Median draw time of every frame, milliseconds.
-    pub fn draw_ms(&self) -> Option<f64> {
+    pub(crate) fn draw_ms(&self) -> Option<f64> {
         median(&self.draw_ms)
     }
 
     /// Median time between the starts of consecutive frames, milliseconds.
-    pub fn interval_ms(&self) -> Option<f64> {
+    pub(crate) fn interval_ms(&self) -> Option<f64> {
         median(&self.interval_ms)
     }
 }

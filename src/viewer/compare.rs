@@ -26,7 +26,7 @@ pub enum Side {
 
 impl Side {
     /// Every side, in the order the help and the panel list them.
-    pub const ALL: [Side; 7] = [
+    pub(crate) const ALL: [Side; 7] = [
         Side::Scene,
         Side::On,
         Side::Off,
@@ -37,7 +37,7 @@ impl Side {
     ];
 
     /// The name the command line and the panel use.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Side::Scene => "scene",
             Side::On => "on",
@@ -74,7 +74,7 @@ impl Side {
 crate::named_enum!(Side, "comparison side");
 
 /// The difference view's scales: `|a - b|` of the displayed values times this, clamped to 1.
-pub const DIFFERENCE_SCALES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
+pub(crate) const DIFFERENCE_SCALES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
 
 /// How the two sides are shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,7 +117,7 @@ impl Compare {
     }
 
     /// The two scenes the comparison draws from `scene`.
-    pub fn scenes(&self, scene: &Scene) -> (Scene, Scene) {
+    pub(crate) fn scenes(&self, scene: &Scene) -> (Scene, Scene) {
         (self.left.apply(scene), self.right.apply(scene))
     }
 
@@ -129,7 +129,7 @@ impl Compare {
     }
 
     /// The split that puts the line at pixel column `x` of a scene area `width` wide.
-    pub fn split_at(x: f64, width: u32) -> f64 {
+    pub(crate) fn split_at(x: f64, width: u32) -> f64 {
         (x / width.max(1) as f64).clamp(0.0, 1.0)
     }
 
@@ -146,16 +146,10 @@ impl Compare {
             _ => [(0, width), (0, width)],
         }
     }
-
-    /// Whether the comparison has truth balls on either side (they accumulate).
-    pub fn has_truth(&self, scene: &Scene) -> bool {
-        let (a, b) = self.scenes(scene);
-        a.has_truth() || b.has_truth()
-    }
 }
 
 /// `--compare A,B`: two side names separated by a comma.
-pub fn parse_sides(s: &str) -> Result<(Side, Side), String> {
+pub(crate) fn parse_sides(s: &str) -> Result<(Side, Side), String> {
     let names: Vec<&str> = Side::ALL.iter().map(|s| s.name()).collect();
     let fail = || {
         format!(
@@ -172,7 +166,7 @@ pub fn parse_sides(s: &str) -> Result<(Side, Side), String> {
 /// side (0 to 1, the average of the three channels after tone mapping and the transfer
 /// curve, as the window shows them) and their ratio `a / b`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BallNumbers {
+pub(crate) struct BallNumbers {
     /// The ball's index in the scene.
     pub index: usize,
     /// Its roughness.
@@ -184,7 +178,7 @@ pub struct BallNumbers {
 
 impl BallNumbers {
     /// `a / b`, where both are known and `b` is not 0.
-    pub fn ratio(&self) -> Option<f64> {
+    pub(crate) fn ratio(&self) -> Option<f64> {
         match self.mean {
             [Some(a), Some(b)] if b > 0.0 => Some(a / b),
             _ => None,
@@ -196,7 +190,7 @@ impl BallNumbers {
 /// row 0 at the top) drawn from `scene`: a pixel counts for the ball its centre's primary
 /// ray meets first, so antialiased edges are left out only where the ray misses. `None`
 /// for a ball with no pixel.
-pub fn ball_means(scene: &Scene, rgba: &[u8], width: u32, height: u32) -> Vec<Option<f64>> {
+pub(crate) fn ball_means(scene: &Scene, rgba: &[u8], width: u32, height: u32) -> Vec<Option<f64>> {
     let mut sums = vec![(0.0f64, 0u64); scene.balls.len()];
     if scene.camera.problem().is_some() || rgba.len() != 4 * width as usize * height as usize {
         return vec![None; scene.balls.len()];
@@ -246,7 +240,7 @@ fn hit(o: glam::DVec3, d: glam::DVec3, c: glam::DVec3, r: f64) -> Option<f64> {
 
 /// Each ball's numbers from the two sides' images (`a` and `b`, RGBA8 of `sizes[0]` and
 /// `sizes[1]`), drawn from the comparison `c` of `scene`.
-pub fn numbers(
+pub(crate) fn numbers(
     c: &Compare,
     scene: &Scene,
     (a, b): (&[u8], &[u8]),
@@ -269,7 +263,7 @@ pub fn numbers(
 
 /// The numbers as CSV, a header and a line a ball: `ball,x,y,roughness,a,b,mean_a,mean_b,
 /// ratio` (the sides' names, empty cells where a value is unknown).
-pub fn numbers_csv(c: &Compare, scene: &Scene, numbers: &[BallNumbers]) -> String {
+pub(crate) fn numbers_csv(c: &Compare, scene: &Scene, numbers: &[BallNumbers]) -> String {
     let mut out = String::from("ball,x,y,roughness,a,b,mean_a,mean_b,ratio_a_over_b\n");
     let cell = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6}"));
     for n in numbers {

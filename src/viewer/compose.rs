@@ -29,11 +29,11 @@ use super::difference::Difference;
 
 /// Most lobe samples a pixel the viewer sums while nothing changes (`ibl_method = "lobe"`):
 /// past it, an unchanged scene is not drawn again and the idle viewer goes idle.
-pub const LOBE_SAMPLE_CAP: u32 = 4096;
+pub(crate) const LOBE_SAMPLE_CAP: u32 = 4096;
 
 /// Whether `r`'s lobe image is under [`LOBE_SAMPLE_CAP`] (its latest scene uses the lobe):
 /// the scene image is drawn again while it is.
-pub fn lobe_open(r: &Renderer) -> bool {
+pub(crate) fn lobe_open(r: &Renderer) -> bool {
     r.lobe_samples().is_some_and(|n| n < LOBE_SAMPLE_CAP)
 }
 
@@ -44,7 +44,7 @@ fn fits(t: &Option<wgpu::Texture>, size: (u32, u32), format: wgpu::TextureFormat
 }
 
 /// What the panel drew this frame, in egui's terms.
-pub struct Overlay {
+pub(crate) struct Overlay {
     /// The chart's labels, drawn into the scene image over the balls (its own renderer).
     pub labels: Vec<egui::ClippedPrimitive>,
     /// The panel (and any popup).
@@ -110,7 +110,7 @@ impl PartialEq for MapKey {
 }
 
 #[derive(Default)]
-pub struct Layers {
+pub(crate) struct Layers {
     scene_image: Option<wgpu::Texture>,
     scene_key: Option<SceneKey>,
     frame_image: Option<wgpu::Texture>,
@@ -127,14 +127,14 @@ pub struct Layers {
 
 impl Layers {
     /// A comparison's two side images as last drawn (`None` before the first comparison).
-    pub fn sides(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
+    pub(crate) fn sides(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
         self.sides.as_ref().map(|(a, b)| (a, b))
     }
 
     /// Whether the next [`Layers::update`] at `size` in `format` draws the panel again:
     /// egui's output `changed`, reaches over the scene area (not `panel_only`), or the frame
     /// image does not hold the latest panel at that size.
-    pub fn panel_due(
+    pub(crate) fn panel_due(
         &self,
         changed: bool,
         panel_only: bool,
@@ -148,7 +148,7 @@ impl Layers {
     /// comparison of it, drawn with `renderers.1` for its right side), drawn in its
     /// `scene_width` left columns, and `overlay`; returns the frame image.
     #[allow(clippy::too_many_arguments)]
-    pub fn update(
+    pub(crate) fn update(
         &mut self,
         renderers: (&mut Renderer, Option<&mut Renderer>),
         (egui, egui_labels): (&mut egui_wgpu::Renderer, &mut egui_wgpu::Renderer),
@@ -360,7 +360,7 @@ fn draw_egui(
 }
 
 /// Copies the top-left `width x height` of `from` into `to`.
-pub fn copy(
+pub(crate) fn copy(
     encoder: &mut wgpu::CommandEncoder,
     from: &wgpu::Texture,
     to: &wgpu::Texture,

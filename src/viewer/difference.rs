@@ -19,7 +19,7 @@ const STOPS: [[f32; 3]; 5] = [
 
 /// The ramp's colour at `t` (clamped to `[0, 1]`): the CPU mirror of `difference_colour` in
 /// `shaders/difference.wgsl`, in f32 as there.
-pub fn difference_colour(t: f32) -> [f32; 3] {
+pub(crate) fn difference_colour(t: f32) -> [f32; 3] {
     let x = t.clamp(0.0, 1.0) * 4.0;
     let i = (x as usize).min(3);
     let f = x - i as f32;
@@ -112,7 +112,7 @@ pub fn colour_bar_row(row: u32, rows: u32) -> [u8; 3] {
 /// at the bottom) as egui shapes over a scene area `width x height` pixels at `ppp`
 /// pixels a point, off `obstacles` where there is room ([`colour_bar_rect`]): one
 /// rectangle a pixel row, so that its colours are the ramp's exactly.
-pub fn colour_bar(
+pub(crate) fn colour_bar(
     painter: &egui::Painter,
     (width, height): (u32, u32),
     ppp: f32,
@@ -167,7 +167,7 @@ pub fn colour_bar(
 
 /// The difference pass: a full-screen triangle over the scene area whose fragments difference
 /// the two scene images' texels.
-pub struct Difference {
+pub(crate) struct Difference {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -175,7 +175,7 @@ pub struct Difference {
 
 impl Difference {
     /// The pass writing into `format` images (their non-sRGB view: the bytes themselves).
-    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+    pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("difference"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/difference.wgsl").into()),
@@ -249,7 +249,7 @@ impl Difference {
     /// Records the difference of `a` and `b` at `scale` into the top-left `width x height`
     /// of `to` (the rest of `to` is left as it is).
     #[allow(clippy::too_many_arguments)]
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,

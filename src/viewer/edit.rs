@@ -12,12 +12,12 @@ use crate::scene::{grid_position, Ball, Light, Material, Model, Scene};
 use crate::scene::{REFERENCE_ALBEDO_SRGB, REFERENCE_RADIUS};
 
 /// Most balls per row the panel offers (two rows stay within [`crate::scene::MAX_BALLS`]).
-pub const MAX_BALLS_PER_ROW: u32 = 32;
+pub(crate) const MAX_BALLS_PER_ROW: u32 = 32;
 
 /// The materials the panel offers. Metal F0 values are linear RGB from Real-Time Rendering,
 /// 4th ed. (Akenine-Möller et al. 2018), Table 9.2; copper is the homework's sRGB albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MaterialChoice {
+pub(crate) enum MaterialChoice {
     /// Each ball keeps the material its scene gave it.
     AsScene,
     /// The homework's copper: sRGB albedo (0.7216, 0.451, 0.2) decoded with `pow 2.2`.
@@ -50,7 +50,7 @@ pub enum MaterialChoice {
 
 impl MaterialChoice {
     /// Every choice the panel lists (custom with the homework copper's F0 to start from).
-    pub fn all() -> [MaterialChoice; 10] {
+    pub(crate) fn all() -> [MaterialChoice; 10] {
         [
             MaterialChoice::AsScene,
             MaterialChoice::Copper,
@@ -70,7 +70,7 @@ impl MaterialChoice {
     }
 
     /// The choice's label in the panel.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             MaterialChoice::AsScene => "as in the scene",
             MaterialChoice::Copper => "copper (homework)",
@@ -86,7 +86,7 @@ impl MaterialChoice {
     }
 
     /// The material this choice names; `None` for [`MaterialChoice::AsScene`].
-    pub fn material(self) -> Option<Material> {
+    pub(crate) fn material(self) -> Option<Material> {
         let metal =
             |f0: [f64; 3]| Material::metal(DVec3::from_array(f0).clamp(DVec3::ZERO, DVec3::ONE));
         match self {
@@ -121,7 +121,7 @@ impl MaterialChoice {
 }
 
 /// Gives every ball `material`.
-pub fn set_material(scene: &mut Scene, material: Material) {
+pub(crate) fn set_material(scene: &mut Scene, material: Material) {
     for ball in &mut scene.balls {
         ball.material = material;
     }
@@ -129,7 +129,7 @@ pub fn set_material(scene: &mut Scene, material: Material) {
 
 /// "As in the scene": ball `i` gets `originals[i]`, the material the scene file gave it
 /// (the first of them for balls past its count, a grid's); no change with none.
-pub fn restore_materials(scene: &mut Scene, originals: &[Material]) {
+pub(crate) fn restore_materials(scene: &mut Scene, originals: &[Material]) {
     for (i, ball) in scene.balls.iter_mut().enumerate() {
         if let Some(m) = originals.get(i).or(originals.first()) {
             ball.material = *m;
@@ -138,7 +138,7 @@ pub fn restore_materials(scene: &mut Scene, originals: &[Material]) {
 }
 
 /// Rows of balls: indices grouped by the height of their centres, top row first.
-pub fn rows(scene: &Scene) -> Vec<Vec<usize>> {
+pub(crate) fn rows(scene: &Scene) -> Vec<Vec<usize>> {
     let mut heights: Vec<f64> = scene.balls.iter().map(|b| b.center.y).collect();
     heights.sort_by(|a, b| b.total_cmp(a));
     heights.dedup();
@@ -153,13 +153,13 @@ pub fn rows(scene: &Scene) -> Vec<Vec<usize>> {
 }
 
 /// Whether every ball of `row` (indices from [`rows`]) has the term.
-pub fn row_has_term(scene: &Scene, row: &[usize]) -> bool {
+pub(crate) fn row_has_term(scene: &Scene, row: &[usize]) -> bool {
     row.iter().all(|&i| scene.balls[i].model.has_term())
 }
 
 /// Turns the term on (the scene's, [`Scene::term`]) or off (model `none`) for the balls
 /// of `row`; the truth stays the truth.
-pub fn set_row_term(scene: &mut Scene, row: &[usize], on: bool) {
+pub(crate) fn set_row_term(scene: &mut Scene, row: &[usize], on: bool) {
     let model = term_model(scene, on);
     for &i in row {
         if scene.balls[i].model != Model::Truth {
@@ -195,7 +195,7 @@ fn term_model(scene: &Scene, on: bool) -> Model {
 /// row, top row with the term; the reference scene's spacing and radius up to five balls,
 /// both shrunk in proportion beyond, so that a row is no wider than the reference's.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Grid {
+pub(crate) struct Grid {
     /// Balls per row (clamped to `1..=MAX_BALLS_PER_ROW`).
     pub per_row: u32,
     /// Roughness of a row's first ball (column 0, on the right; clamped to `[0, 1]`).
@@ -206,14 +206,14 @@ pub struct Grid {
 
 impl Grid {
     /// The reference scene's grid: five balls, roughness 0.15 to 0.95.
-    pub const REFERENCE: Grid = Grid {
+    pub(crate) const REFERENCE: Grid = Grid {
         per_row: 5,
         low: 0.15,
         high: 0.95,
     };
 
     /// The balls of this grid, all made of `material`.
-    pub fn balls(&self, material: Material) -> Vec<Ball> {
+    pub(crate) fn balls(&self, material: Material) -> Vec<Ball> {
         let n = self.per_row.clamp(1, MAX_BALLS_PER_ROW);
         // The reference row: centre x = 20, spacing 80, five balls of radius 35, 390 wide.
         let centre_x = grid_position(0, 2).x;
@@ -256,7 +256,7 @@ impl Grid {
 /// The light the panel edits: a direction by azimuth (about +y, 0 = towards +z, the camera
 /// side) and elevation (above the horizon), and a white intensity.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightControl {
+pub(crate) struct LightControl {
     /// Angle about +y in degrees, 0 towards +z.
     pub azimuth_deg: f64,
     /// Angle above the horizon in degrees.
@@ -267,7 +267,7 @@ pub struct LightControl {
 
 impl LightControl {
     /// The control describing the scene's first light (zero intensity when it has none).
-    pub fn of(scene: &Scene) -> Self {
+    pub(crate) fn of(scene: &Scene) -> Self {
         match scene.lights.first() {
             Some(light) => {
                 let d = light.direction;
@@ -286,7 +286,7 @@ impl LightControl {
     }
 
     /// The scene's lights under this control: one white light, or none at zero intensity.
-    pub fn lights(&self) -> Vec<Light> {
+    pub(crate) fn lights(&self) -> Vec<Light> {
         // Zero, negative or NaN: no light.
         if self.intensity.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Vec::new();
@@ -309,7 +309,7 @@ const FURNACE_RADIANCE: DVec3 = DVec3::ONE;
 /// The lighting the furnace replaced: the lights, the uniform environment radiance, the
 /// environment map and the background.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SavedLighting {
+pub(crate) struct SavedLighting {
     /// The scene's lights.
     pub lights: Vec<Light>,
     /// The uniform environment radiance.
@@ -336,7 +336,7 @@ impl Default for SavedLighting {
 /// environment map off and the background showing the environment, or back to the
 /// lighting in `saved` (which holds it while the furnace is on; no lights, no environment
 /// and no map when nothing was saved, as for a scene file that is the furnace).
-pub fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Option<SavedLighting>) {
+pub(crate) fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Option<SavedLighting>) {
     if on == is_furnace(scene) {
         return;
     }
@@ -360,7 +360,7 @@ pub fn set_furnace(scene: &mut Scene, on: bool, saved: &mut Option<SavedLighting
 
 /// Whether the scene is the white furnace: the furnace's uniform environment, shown as
 /// the background, and no lights and no environment map.
-pub fn is_furnace(scene: &Scene) -> bool {
+pub(crate) fn is_furnace(scene: &Scene) -> bool {
     scene.environment == FURNACE_RADIANCE
         && scene.lights.is_empty()
         && scene.environment_map.is_none()
@@ -369,7 +369,7 @@ pub fn is_furnace(scene: &Scene) -> bool {
 
 /// The environment picker's choices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EnvironmentChoice {
+pub(crate) enum EnvironmentChoice {
     /// No map: the scene's uniform radiance.
     Uniform,
     /// A generated built-in map.
@@ -380,7 +380,7 @@ pub enum EnvironmentChoice {
 
 impl EnvironmentChoice {
     /// What lights `scene` now.
-    pub fn of(scene: &Scene) -> Self {
+    pub(crate) fn of(scene: &Scene) -> Self {
         match scene.environment_map.as_ref().map(|e| &e.source) {
             None => EnvironmentChoice::Uniform,
             Some(Source::Builtin(b)) => EnvironmentChoice::Builtin(*b),
@@ -389,7 +389,7 @@ impl EnvironmentChoice {
     }
 
     /// The choice's label in the panel.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             EnvironmentChoice::Uniform => "uniform",
             EnvironmentChoice::Builtin(b) => b.name(),
@@ -403,7 +403,7 @@ impl EnvironmentChoice {
 /// that the renderer knows it again), and the latest map's rotation and intensity (a new
 /// choice keeps them).
 #[derive(Clone, Debug)]
-pub struct EnvironmentControl {
+pub(crate) struct EnvironmentControl {
     /// The uniform radiance "uniform" restores (the scene's as loaded, or as it was when a
     /// map was chosen).
     pub uniform: DVec3,
@@ -417,7 +417,7 @@ pub struct EnvironmentControl {
 
 impl EnvironmentControl {
     /// The control for `scene` as loaded (a built-in it came with counts as generated).
-    pub fn of(scene: &Scene) -> Self {
+    pub(crate) fn of(scene: &Scene) -> Self {
         let map = scene.environment_map.as_ref();
         let builtins = match map {
             Some(Environment {
@@ -437,7 +437,7 @@ impl EnvironmentControl {
 
     /// The choices the picker lists: uniform, the built-ins, and the file if the scene came
     /// with one.
-    pub fn choices(&self) -> Vec<EnvironmentChoice> {
+    pub(crate) fn choices(&self) -> Vec<EnvironmentChoice> {
         let mut all = vec![EnvironmentChoice::Uniform];
         all.extend(Builtin::ALL.map(EnvironmentChoice::Builtin));
         if self.file.is_some() {
@@ -447,7 +447,7 @@ impl EnvironmentControl {
     }
 
     /// Built-in `b`'s map: generated on the first call, the same `Arc` after.
-    pub fn builtin_map(&mut self, b: Builtin) -> Arc<EnvMap> {
+    pub(crate) fn builtin_map(&mut self, b: Builtin) -> Arc<EnvMap> {
         if let Some((_, map)) = self.builtins.iter().find(|(c, _)| *c == b) {
             return map.clone();
         }
@@ -457,7 +457,8 @@ impl EnvironmentControl {
     }
 
     /// How many built-ins have been generated.
-    pub fn builtins_generated(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn builtins_generated(&self) -> usize {
         self.builtins.len()
     }
 }
@@ -466,7 +467,7 @@ impl EnvironmentControl {
 /// intensity and zeroes the uniform radiance (kept in `control` for "uniform" to restore,
 /// as a scene file with a map leaves it black); "uniform" removes the map. Choosing what is
 /// already shown, or the file when the scene came with none, changes nothing.
-pub fn set_environment(
+pub(crate) fn set_environment(
     scene: &mut Scene,
     choice: EnvironmentChoice,
     control: &mut EnvironmentControl,
@@ -505,7 +506,7 @@ pub fn set_environment(
 /// `.exr` at `path` and lights `scene` with it, as the picker's "file (as loaded)" (which
 /// it becomes from then on), with the latest map's rotation and intensity. An error (a
 /// missing or bad file, or the furnace on: it has no map) leaves everything as it was.
-pub fn load_map_file(
+pub(crate) fn load_map_file(
     scene: &mut Scene,
     path: &std::path::Path,
     control: &mut EnvironmentControl,
@@ -532,7 +533,7 @@ pub fn load_map_file(
 
 /// Turns the scene's environment map (if any) to `degrees` about `+y`; the map itself is
 /// kept (the same `Arc`: nothing is prefiltered again).
-pub fn set_map_rotation(scene: &mut Scene, degrees: f64) {
+pub(crate) fn set_map_rotation(scene: &mut Scene, degrees: f64) {
     if let Some(e) = &mut scene.environment_map {
         e.rotation_deg = degrees;
     }
@@ -540,7 +541,7 @@ pub fn set_map_rotation(scene: &mut Scene, degrees: f64) {
 
 /// Scales the scene's environment map (if any) by `intensity` (negative or NaN: 0); the map
 /// itself is kept.
-pub fn set_map_intensity(scene: &mut Scene, intensity: f64) {
+pub(crate) fn set_map_intensity(scene: &mut Scene, intensity: f64) {
     if let Some(e) = &mut scene.environment_map {
         // At most what keeps the map within the scene's bound on radiance (issue 38, 1).
         e.intensity = intensity

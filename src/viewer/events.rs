@@ -12,7 +12,7 @@ use super::{edit, orbit, App};
 
 /// How near the wipe's split line (in pixels, either side) a press grabs it instead of
 /// orbiting.
-pub const SPLIT_GRAB_PX: f64 = 8.0;
+pub(crate) const SPLIT_GRAB_PX: f64 = 8.0;
 
 impl App {
     /// Keys that act on the scene (egui has not taken the keyboard).

@@ -12,7 +12,7 @@ use crate::scene::Scene;
 /// image (its height over 45): a label that would have to shrink further to fit its room
 /// (columns squeezed together by an orbit, balls shrunk by zooming out) is left out rather
 /// than drawn too small to read. A PNG keeps the layout's own rule (down to 8 px).
-pub const READABLE_FRACTION: f32 = labels::READABLE_FRACTION;
+pub(crate) const READABLE_FRACTION: f32 = labels::READABLE_FRACTION;
 
 /// The smallest font size in pixels the viewer draws a label of layout size `size_px` at.
 pub fn readable_px(size_px: f32) -> f32 {
@@ -23,7 +23,7 @@ pub fn readable_px(size_px: f32) -> f32 {
 /// points, `window_height` pixels tall (the scene image is `floor(free_width * ppp)` pixels
 /// wide, as the viewer sizes it). Called inside the frame's `run_ui`, so that the glyphs
 /// it lays out reach the font atlas in this frame's texture changes.
-pub fn shapes(
+pub(crate) fn shapes(
     ui: &egui::Ui,
     scene: &Scene,
     free_width: f32,
@@ -40,7 +40,7 @@ pub fn shapes(
 
 /// `layout`'s labels (laid out for an image `width x height` pixels) as egui shapes, the
 /// image's left edge at pixel column `x0` of the scene area and nothing drawn outside it.
-pub fn paint(
+pub(crate) fn paint(
     ui: &egui::Ui,
     layout: &Labels,
     x0: u32,

@@ -8,7 +8,7 @@
 //! changes (winit waits for events), except in `--frames` mode, which
 //! draws the given number of frames back to back, saves the window and exits.
 
-pub mod blit;
+pub(crate) mod blit;
 mod capture;
 mod clock;
 pub mod compare;
@@ -17,14 +17,17 @@ pub mod difference;
 pub mod edit;
 mod events;
 pub mod labels;
-pub mod orbit;
+pub(crate) mod orbit;
 mod overlay;
 mod panel;
 
-pub use panel::PANEL_WIDTH;
-pub mod save;
+pub(crate) use panel::PANEL_WIDTH;
+pub(crate) mod save;
 mod state;
-pub use state::surface_format;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
+#[cfg(test)]
+pub(crate) use state::surface_format;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -43,12 +46,12 @@ use panel::{Controls, Stats};
 use state::{Frame, State};
 
 /// Camera turn per frame in `--orbit` mode, radians (a full turn in about 300 frames).
-pub const ORBIT_STEP: f64 = 0.02;
+pub(crate) const ORBIT_STEP: f64 = 0.02;
 /// How often the panel's figures are updated (each update draws the panel again).
 const STATS_PERIOD: Duration = Duration::from_millis(500);
 
 /// What `shadeballs view` was asked for.
-pub struct ViewOptions {
+pub(crate) struct ViewOptions {
     /// The scene shown first (the panel edits it).
     pub scene: Scene,
     /// The GPU backend to open (not [`Backend::Cpu`]: the viewer needs a GPU).
@@ -70,7 +73,7 @@ pub struct ViewOptions {
 }
 
 /// What a `--frames` run measured.
-pub struct Report {
+pub(crate) struct Report {
     /// Frames drawn.
     pub frames: u32,
     /// How many of the frames shaded the balls (the others reused the last image of them).
@@ -93,7 +96,7 @@ pub struct Report {
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are drawn).
-pub fn run(options: ViewOptions) -> Result<Report> {
+pub(crate) fn run(options: ViewOptions) -> Result<Report> {
     let Some(backends) = options.backend.wgpu_backends() else {
         return Err(Error::Invalid {
             what: "backend",

@@ -6,17 +6,17 @@ use glam::DVec3;
 use crate::scene::Camera;
 
 /// Radians of turn per pixel of mouse drag.
-pub const RADIANS_PER_PIXEL: f64 = 0.006;
+pub(crate) const RADIANS_PER_PIXEL: f64 = 0.006;
 /// Highest elevation of the camera above (or below) its target, in degrees.
-pub const MAX_PITCH_DEG: f64 = 85.0;
+pub(crate) const MAX_PITCH_DEG: f64 = 85.0;
 /// Zoom factor per scroll line (distance multiplied by this for each line towards the scene).
-pub const ZOOM_PER_LINE: f64 = 0.9;
+pub(crate) const ZOOM_PER_LINE: f64 = 0.9;
 /// Distance limits as multiples of the starting distance.
-pub const ZOOM_RANGE: (f64, f64) = (0.05, 20.0);
+pub(crate) const ZOOM_RANGE: (f64, f64) = (0.05, 20.0);
 
 /// The camera turned by `yaw` radians about `+y` through the target and raised by `pitch`
 /// radians, its distance kept.
-pub fn orbit(camera: &Camera, yaw: f64, pitch: f64) -> Camera {
+pub(crate) fn orbit(camera: &Camera, yaw: f64, pitch: f64) -> Camera {
     let offset = camera.position - camera.target;
     let distance = offset.length();
     let current_yaw = offset.x.atan2(offset.z);
@@ -35,7 +35,7 @@ pub fn orbit(camera: &Camera, yaw: f64, pitch: f64) -> Camera {
 
 /// The camera moved along its line of sight by `ZOOM_PER_LINE ^ lines`, its distance kept
 /// within [`ZOOM_RANGE`] of `home_distance`.
-pub fn zoom(camera: &Camera, lines: f64, home_distance: f64) -> Camera {
+pub(crate) fn zoom(camera: &Camera, lines: f64, home_distance: f64) -> Camera {
     let offset = camera.position - camera.target;
     let distance = offset.length() * ZOOM_PER_LINE.powf(lines);
     let distance = distance.clamp(home_distance * ZOOM_RANGE.0, home_distance * ZOOM_RANGE.1);

@@ -11,14 +11,14 @@ use crate::labels::{ball_rects, layout_rows_at, Align, Label, Labels, Rect, RowS
 use crate::scene::Scene;
 
 /// Half the split line's width in pixels (the line covers `split - 1..split + 1`).
-pub const SPLIT_HALF_WIDTH_PX: u32 = 1;
+pub(crate) const SPLIT_HALF_WIDTH_PX: u32 = 1;
 
 /// The shapes over the scene area (the window's left `free_width` points, `window_height`
 /// pixels tall) for `scene`, or for its comparison: each side's labels where the scene has
 /// them on, with its tag (`A · on`, `B · off`) and, in a wipe, B's row labels at the right
 /// of its chart (its left part is A's); the wipe's split line or the side-by-side
 /// divider; the difference's colour bar, off the balls and labels.
-pub fn shapes(
+pub(crate) fn shapes(
     ui: &egui::Ui,
     scene: &Scene,
     compare: Option<&Compare>,

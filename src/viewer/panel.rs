@@ -17,12 +17,12 @@ use super::edit::{
 };
 
 /// The panel's width in points (egui's logical pixels).
-pub const PANEL_WIDTH: f32 = 300.0;
+pub(crate) const PANEL_WIDTH: f32 = 300.0;
 /// Largest table side the panel offers (the bake grows as the square).
-pub const MAX_PANEL_TABLE_SIDE: usize = 512;
+pub(crate) const MAX_PANEL_TABLE_SIDE: usize = 512;
 
 /// The panel's own state: choices that are not fields of the scene.
-pub struct Controls {
+pub(crate) struct Controls {
     pub material: MaterialChoice,
     /// `None` while the balls are the scene's own; a grid once the user asks for one.
     pub grid: Option<Grid>,
@@ -56,7 +56,7 @@ pub struct Controls {
 }
 
 impl Controls {
-    pub fn new(scene: &Scene, layout: &Layout, compare: Option<Compare>) -> Self {
+    pub(crate) fn new(scene: &Scene, layout: &Layout, compare: Option<Compare>) -> Self {
         Controls {
             map_path: String::new(),
             map_status: None,
@@ -81,14 +81,14 @@ impl Controls {
     }
 
     /// The table layout these controls ask for.
-    pub fn table_layout(&self) -> Layout {
+    pub(crate) fn table_layout(&self) -> Layout {
         Layout::of_kind(self.layout).with_size(self.table_size.0, self.table_size.1)
     }
 }
 
 /// The panel's buttons pressed this frame.
 #[derive(Default)]
-pub struct Requests {
+pub(crate) struct Requests {
     /// A PNG screenshot of the window (as key S).
     pub png: bool,
     /// The scene area's linear radiance as an EXR (as key E).
@@ -100,7 +100,7 @@ pub struct Requests {
 impl Controls {
     /// The file the buttons write with `extension`: the name field's (an extension typed
     /// in it replaced), else a time-stamped name in the current folder.
-    pub fn file_for(&self, extension: &str) -> std::path::PathBuf {
+    pub(crate) fn file_for(&self, extension: &str) -> std::path::PathBuf {
         let name = self.file_name.trim();
         if name.is_empty() {
             return super::capture::timestamped(extension);
@@ -110,7 +110,7 @@ impl Controls {
 }
 
 /// What the panel reports.
-pub struct Stats {
+pub(crate) struct Stats {
     /// Median wall time of recent frames, milliseconds.
     pub frame_ms: Option<f64>,
     /// The latest bake's wall time, milliseconds.
@@ -132,7 +132,7 @@ pub struct Stats {
 }
 
 /// Shows the panel on the right of `ui`.
-pub fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats: &Stats) {
+pub(crate) fn show(ui: &mut egui::Ui, scene: &mut Scene, controls: &mut Controls, stats: &Stats) {
     egui::Panel::right("settings")
         .exact_size(PANEL_WIDTH)
         .show(ui, |ui| {
@@ -571,7 +571,7 @@ fn ibl_method(ui: &mut egui::Ui, scene: &mut Scene) -> egui::Response {
 
 /// Loads the map file at `path` ([`edit::load_map_file`]) and says how it went, in the
 /// panel and on stderr.
-pub fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Path) {
+pub(crate) fn load_map(scene: &mut Scene, controls: &mut Controls, path: &std::path::Path) {
     let status = match edit::load_map_file(scene, path, &mut controls.environment) {
         Ok(()) => format!("map: {}", path.display()),
         Err(e) => {

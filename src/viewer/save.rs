@@ -22,7 +22,7 @@ const SEARCH_ULPS: u64 = 64;
 /// The scene file text of `scene`: a header comment (what saved it, and the `render`
 /// command that draws the viewer's scene area), then every key, `size` the scene area's
 /// (which `render` draws and `view` opens beside its panel when no flag sets a size).
-pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
+pub(crate) fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     let mut out = String::new();
     let (w, h) = size;
     // `write!` into a String cannot fail.
@@ -57,7 +57,7 @@ pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
 /// `scene` as its file, saved at scene area `size`, loads back: a map file's path made
 /// absolute, as the file names it (issue 38, 3: a relative path from `--environment` or a
 /// relative scene's `map`), and `size` its size (the `size` key, issue 39).
-pub fn as_written(scene: &Scene, size: (u32, u32)) -> Scene {
+pub(crate) fn as_written(scene: &Scene, size: (u32, u32)) -> Scene {
     let mut scene = scene.clone();
     scene.size = Some(size);
     if let Some(e) = &mut scene.environment_map {

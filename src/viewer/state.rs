@@ -17,7 +17,7 @@ use super::compare::Compare;
 use super::compose::{self, lobe_open, Layers, Overlay, LOBE_SAMPLE_CAP};
 
 /// How a frame went.
-pub enum Frame {
+pub(crate) enum Frame {
     /// Drawn and presented; with the window's pixels (RGBA8, the whole window) if asked.
     Shown(Option<Vec<u8>>),
     /// Nothing drawn: the window is minimised or occluded (its restoring event redraws).
@@ -26,7 +26,7 @@ pub enum Frame {
     Retry,
 }
 
-pub struct State {
+pub(crate) struct State {
     pub window: Arc<Window>,
     instance: wgpu::Instance,
     surface: wgpu::Surface<'static>,
@@ -48,7 +48,7 @@ pub struct State {
 
 impl State {
     /// Opens a device that can present to `window` (through `instance`).
-    pub fn new(
+    pub(crate) fn new(
         instance: wgpu::Instance,
         backends: wgpu::Backends,
         window: Arc<Window>,
@@ -92,13 +92,13 @@ impl State {
     }
 
     /// The window's size in pixels as configured (zero while minimised).
-    pub fn size(&self) -> (u32, u32) {
+    pub(crate) fn size(&self) -> (u32, u32) {
         (self.config.width, self.config.height)
     }
 
     /// Follows a window resize; a zero size (minimised) leaves the surface unconfigured
     /// until the window is restored.
-    pub fn resize(&mut self, width: u32, height: u32) {
+    pub(crate) fn resize(&mut self, width: u32, height: u32) {
         let max = self.renderer.gpu().device.limits().max_texture_dimension_2d;
         self.config.width = width.min(max);
         self.config.height = height.min(max);
@@ -125,7 +125,7 @@ impl State {
     /// the panel over the rest, and presents; `capture` also returns the window's pixels.
     /// egui's texture changes are applied whether or not the frame is shown: egui sends
     /// each only once.
-    pub fn draw(
+    pub(crate) fn draw(
         &mut self,
         scene: (&Scene, Option<&Compare>),
         scene_width: u32,
@@ -228,13 +228,13 @@ impl State {
 
     /// Whether the next frame draws the panel again ([`Layers::panel_due`] at the window's
     /// size): only then does it need egui's output tessellated.
-    pub fn panel_due(&self, changed: bool, panel_only: bool) -> bool {
+    pub(crate) fn panel_due(&self, changed: bool, panel_only: bool) -> bool {
         self.layers
             .panel_due(changed, panel_only, self.size(), self.config.format)
     }
 
     /// The renderer of a comparison's right side, made if it is not yet.
-    pub fn second_renderer(&mut self) -> &mut Renderer {
+    pub(crate) fn second_renderer(&mut self) -> &mut Renderer {
         let gpu = self.renderer.gpu();
         let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
         let bake = self.renderer.bake_config();
@@ -248,7 +248,7 @@ impl State {
     /// Whether truth balls of `scene` (or of either side of its comparison) are still
     /// accumulating: each draw of the unchanged scene adds an estimate a pixel, up to the
     /// headless cap.
-    pub fn truth_accumulating(&self, scene: &Scene, compare: Option<&Compare>) -> bool {
+    pub(crate) fn truth_accumulating(&self, scene: &Scene, compare: Option<&Compare>) -> bool {
         let open = |r: Option<&Renderer>, s: &Scene| {
             s.has_truth()
                 && r.is_none_or(|r| {
@@ -268,7 +268,7 @@ impl State {
     /// Whether the lobe's image of the latest scene drawn (or of either side of the
     /// comparison `compare`) is still converging: each draw of the unchanged scene adds
     /// `ibl_samples` samples a pixel, up to [`LOBE_SAMPLE_CAP`].
-    pub fn lobe_converging(&self, compare: Option<&Compare>) -> bool {
+    pub(crate) fn lobe_converging(&self, compare: Option<&Compare>) -> bool {
         lobe_open(&self.renderer)
             || (compare.is_some() && self.second.as_ref().is_some_and(lobe_open))
     }
@@ -276,7 +276,7 @@ impl State {
     /// The comparison `c`'s numbers a ball ([`super::compare::numbers`]), measured from
     /// its two side images as the latest frame drew them in a scene area `scene_width`
     /// wide; `None` before a comparison was drawn.
-    pub fn ball_numbers(
+    pub(crate) fn ball_numbers(
         &self,
         scene: &Scene,
         c: &Compare,
@@ -307,7 +307,7 @@ impl State {
 
     /// How many times the balls were shaded, and the panel drawn (frames that change
     /// only one of them reuse the other).
-    pub fn draws(&self) -> (u64, u64) {
+    pub(crate) fn draws(&self) -> (u64, u64) {
         (self.layers.scene_draws, self.layers.panel_draws)
     }
 }
@@ -362,7 +362,7 @@ fn surface_config(
 
 /// The surface format the viewer draws into, of those `offered`: 8-bit RGBA or BGRA,
 /// without an sRGB suffix where one is offered, else with it.
-pub fn surface_format(offered: &[wgpu::TextureFormat]) -> Option<wgpu::TextureFormat> {
+pub(crate) fn surface_format(offered: &[wgpu::TextureFormat]) -> Option<wgpu::TextureFormat> {
     use wgpu::TextureFormat as F;
     let pick = |wanted: [F; 2]| offered.iter().copied().find(|f| wanted.contains(f));
     pick([F::Bgra8Unorm, F::Rgba8Unorm]).or_else(|| pick([F::Bgra8UnormSrgb, F::Rgba8UnormSrgb]))
