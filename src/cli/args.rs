@@ -54,7 +54,7 @@ value_enum!(
 
 /// `--aa`: a switch spelled `on` or `off`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OnOff {
+pub(crate) enum OnOff {
     /// On.
     On,
     /// Off.
@@ -63,10 +63,10 @@ pub enum OnOff {
 
 impl OnOff {
     /// Every value, in the order the help lists them.
-    pub const ALL: [OnOff; 2] = [OnOff::On, OnOff::Off];
+    pub(crate) const ALL: [OnOff; 2] = [OnOff::On, OnOff::Off];
 
     /// The name the command line uses.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             OnOff::On => "on",
             OnOff::Off => "off",
@@ -74,14 +74,14 @@ impl OnOff {
     }
 
     /// Whether it is on.
-    pub fn is_on(self) -> bool {
+    pub(crate) fn is_on(self) -> bool {
         self == OnOff::On
     }
 }
 
 /// `--background`: what the pixels no ball covers show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BackgroundArg {
+pub(crate) enum BackgroundArg {
     /// The environment along the pixel's ray.
     Environment,
     /// Black.
@@ -90,10 +90,10 @@ pub enum BackgroundArg {
 
 impl BackgroundArg {
     /// Every value, in the order the help lists them.
-    pub const ALL: [BackgroundArg; 2] = [BackgroundArg::Environment, BackgroundArg::Black];
+    pub(crate) const ALL: [BackgroundArg; 2] = [BackgroundArg::Environment, BackgroundArg::Black];
 
     /// The name the command line uses.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             BackgroundArg::Environment => "environment",
             BackgroundArg::Black => "black",
@@ -101,7 +101,7 @@ impl BackgroundArg {
     }
 
     /// The scene's background it stands for.
-    pub fn background(self) -> Background {
+    pub(crate) fn background(self) -> Background {
         match self {
             BackgroundArg::Environment => Background::Environment,
             BackgroundArg::Black => Background::Black,
@@ -185,7 +185,7 @@ pub struct SceneArgs {
     /// OpenPBR and Blender read it) or substrate (the albedo under the coating). Default:
     /// the scene's `base_reading`, else apparent.
     #[arg(long, value_name = "apparent|substrate")]
-    pub base_reading: Option<crate::scene::BaseReading>,
+    pub(crate) base_reading: Option<crate::scene::BaseReading>,
     /// A built-in environment name or a .hdr/.exr path (the help names the built-ins).
     #[arg(long, value_name = "NAME|FILE", help = environment_help())]
     pub environment: Option<String>,
@@ -206,7 +206,7 @@ pub struct SceneArgs {
     pub ibl_samples: Option<u32>,
     /// What the pixels no ball covers show (default: the scene's, else environment).
     #[arg(long)]
-    pub background: Option<BackgroundArg>,
+    pub(crate) background: Option<BackgroundArg>,
     /// Draw the chart's labels: the roughness under each column, the row's model at its
     /// left, a caption line (preset, G, environment); into a .png (never an .exr) and the
     /// viewer. Default: the scene's `labels` (on in the built-in scenes).
@@ -220,7 +220,7 @@ pub struct SceneArgs {
     /// (default: the scene's, else on; off: one ray through each pixel's centre, as the
     /// truth always traces).
     #[arg(long, value_name = "on|off")]
-    pub aa: Option<OnOff>,
+    pub(crate) aa: Option<OnOff>,
     /// Tone mapper of .png pictures and the window (default: the scene's `tone_map`, else
     /// the preset's: accurate khronos-neutral with the sRGB curve, games202 reinhard with
     /// gamma 2.2). An .exr stays linear radiance, before exposure and tone mapping.
@@ -231,7 +231,7 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// The scene file's scene (or the showcase, `render`'s and `view`'s default), with the
     /// overrides applied.
-    pub fn load(&self) -> crate::Result<crate::scene::Scene> {
+    pub(crate) fn load(&self) -> crate::Result<crate::scene::Scene> {
         self.load_or(crate::scene::Scene::showcase)
     }
 
@@ -300,7 +300,7 @@ impl SceneArgs {
 }
 
 /// The warning for a `--geometry` the preset does not use (games202 always uses schlick).
-pub fn ignored_geometry(preset: Preset, geometry: Option<Geometry>) -> Option<String> {
+pub(crate) fn ignored_geometry(preset: Preset, geometry: Option<Geometry>) -> Option<String> {
     let (Some(fixed), Some(asked)) = (preset.geometry(), geometry) else {
         return None;
     };
@@ -363,7 +363,7 @@ pub struct RenderArgs {
 
 /// Flags of `shadeballs environment`.
 #[derive(clap::Args)]
-pub struct EnvironmentArgs {
+pub(crate) struct EnvironmentArgs {
     /// The built-in to write.
     #[arg(long)]
     pub name: Builtin,
@@ -378,7 +378,7 @@ pub struct EnvironmentArgs {
 }
 
 /// `environment --width`: an even whole number in `2..=MAX_BUILTIN_WIDTH`.
-pub fn parse_map_width(s: &str) -> Result<u32, String> {
+pub(crate) fn parse_map_width(s: &str) -> Result<u32, String> {
     let max = crate::environment::builtin::MAX_BUILTIN_WIDTH;
     let n: i64 = s
         .trim()
@@ -421,7 +421,7 @@ pub struct ProbeArgs {
 
 /// Flags of `shadeballs view`.
 #[derive(clap::Args)]
-pub struct ViewArgs {
+pub(crate) struct ViewArgs {
     /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -471,14 +471,14 @@ pub struct ViewArgs {
 
 /// `view --backend`: the GPU backends alone (auto, vulkan, gl), so that `view --help`
 /// lists what the viewer takes, not render's CPU renderers.
-pub fn view_backend_parser() -> impl clap::builder::TypedValueParser<Value = Backend> {
+pub(crate) fn view_backend_parser() -> impl clap::builder::TypedValueParser<Value = Backend> {
     let names = [Backend::Auto, Backend::Vulkan, Backend::Gl].map(Backend::name);
     use clap::builder::TypedValueParser as _;
     clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<Backend>())
 }
 
 /// `view --split`: a number in `[0, 1]`.
-pub fn parse_split(s: &str) -> Result<f64, String> {
+pub(crate) fn parse_split(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
         _ => Err(format!("'{s}' is not a split in 0..=1")),
@@ -486,7 +486,7 @@ pub fn parse_split(s: &str) -> Result<f64, String> {
 }
 
 /// `view --difference`: one of [`crate::viewer::compare::DIFFERENCE_SCALES`].
-pub fn parse_difference_scale(s: &str) -> Result<u32, String> {
+pub(crate) fn parse_difference_scale(s: &str) -> Result<u32, String> {
     let scales = crate::viewer::compare::DIFFERENCE_SCALES;
     match s.trim().parse::<u32>() {
         Ok(v) if scales.contains(&v) => Ok(v),
@@ -497,10 +497,10 @@ pub fn parse_difference_scale(s: &str) -> Result<u32, String> {
 }
 
 /// Largest table side accepted (wgpu's guaranteed 2-D texture limit is 8192).
-pub const MAX_TABLE_SIDE: usize = 8192;
+pub(crate) const MAX_TABLE_SIDE: usize = 8192;
 
 /// `--size`: `N` or `MUxR`, each side a whole number in `2..=MAX_TABLE_SIDE`.
-pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let one = |t: &str| -> Result<usize, String> {
         let n: usize = t
             .trim()
@@ -519,12 +519,12 @@ pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
 
 /// Largest image or window side `render` and `view` accept: lavapipe's and most GPUs'
 /// largest 2-D texture (the scene file's `size` keeps to the same).
-pub use crate::scene::MAX_IMAGE_SIDE;
+pub(crate) use crate::scene::MAX_IMAGE_SIDE;
 
 /// The size `render` draws (or `view`'s window, `panel` pixels added to the width of a
 /// scene's `size`): each of `--width`/`--height` given, else the scene's `size`, else
 /// 1280 x 720.
-pub fn picture_size(
+pub(crate) fn picture_size(
     (width, height): (Option<u32>, Option<u32>),
     scene: Option<(u32, u32)>,
     panel: u32,
@@ -538,7 +538,7 @@ pub fn picture_size(
 /// `--width` / `--height` of `render` and `view`: a whole number in
 /// `1..=MAX_IMAGE_SIDE` (one rule for both; the device's own limit is checked when it is
 /// open).
-pub fn parse_side(s: &str) -> Result<u32, String> {
+pub(crate) fn parse_side(s: &str) -> Result<u32, String> {
     let n: i64 = s
         .trim()
         .parse()
@@ -552,7 +552,7 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
 }
 
 /// `--stderr`: a fraction (`0.005`) or a percentage (`0.5%`) in `[MIN_STDERR, 1]`.
-pub fn parse_stderr(s: &str) -> Result<f64, String> {
+pub(crate) fn parse_stderr(s: &str) -> Result<f64, String> {
     let (number, scale) = match s.trim().strip_suffix('%') {
         Some(p) => (p.trim(), 0.01),
         None => (s.trim(), 1.0),
@@ -568,7 +568,7 @@ pub fn parse_stderr(s: &str) -> Result<f64, String> {
 }
 
 /// `probe --backend`: a GPU backend (the probe runs the shader's own reads on the GPU).
-pub fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
+pub(crate) fn parse_gpu_backend(s: &str) -> Result<Backend, String> {
     match s.parse::<Backend>() {
         Ok(Backend::Cpu | Backend::Montecarlo | Backend::MontecarloCpu | Backend::Truth) => {
             Err("the probe runs on the GPU: use auto, vulkan or gl".to_string())

@@ -5,7 +5,7 @@ use std::time::Instant;
 use super::args::BakeArgs;
 use crate::lut::{self, io::write_tables, BakeConfig, Layout, Method};
 
-pub fn run(args: BakeArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: BakeArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
     super::guard::check_out(&args.out, &[])?;
     let mut layout = Layout::of_kind(args.layout);
@@ -66,7 +66,7 @@ const PROGRESS_EVERY_S: u64 = 10;
 /// machine (docs/reliability.md, "Reliability"): the Chebyshev bake runs 425 quadratures
 /// whatever the table size, the quadrature one per texel, Monte Carlo one estimate of
 /// `samples` points per texel. Within a factor of 2 or so on that machine.
-pub fn estimated_seconds(config: &BakeConfig) -> f64 {
+pub(crate) fn estimated_seconds(config: &BakeConfig) -> f64 {
     let samples = config.samples as f64;
     let texels = config.layout.texels() as f64;
     match config.method {

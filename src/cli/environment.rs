@@ -10,7 +10,7 @@ use crate::display::{to_rgba8_pixel, DisplayTransform};
 use crate::environment::{self, EnvMap};
 use crate::scene::Preset;
 
-pub fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
     let kind = crate::output::extension(&args.out);
     if !matches!(kind.as_str(), "exr" | "hdr" | "png") {
         return Err(crate::Error::Format {
@@ -49,7 +49,7 @@ pub fn run(args: EnvironmentArgs) -> anyhow::Result<()> {
 /// The map as an opaque RGBA8 picture, each texel through the display transform of the
 /// default (accurate) preset at exposure 1 ([`to_rgba8_pixel`]): what `render
 /// --background environment` shows of it in the default scene, unwrapped.
-pub fn preview(map: &EnvMap) -> Vec<u8> {
+pub(crate) fn preview(map: &EnvMap) -> Vec<u8> {
     let preset = Preset::default();
     let display = DisplayTransform {
         tone_map: preset.tone_map(),

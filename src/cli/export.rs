@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 /// The languages naga writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Lang {
+pub(crate) enum Lang {
     /// WGSL, as the crate's renderer composes it (one flat file).
     Wgsl,
     /// GLSL 4.50 (desktop), a fragment shader (`.frag`).
@@ -20,7 +20,7 @@ pub enum Lang {
 
 /// Flags of `shadeballs export-shader`.
 #[derive(clap::Args)]
-pub struct ExportShaderArgs {
+pub(crate) struct ExportShaderArgs {
     /// The language to write.
     #[arg(long)]
     pub lang: Lang,
@@ -30,9 +30,9 @@ pub struct ExportShaderArgs {
 }
 
 /// The entry point the exported program has.
-pub const ENTRY_POINT: &str = "fs_ball";
+pub(crate) const ENTRY_POINT: &str = "fs_ball";
 
-pub fn run(args: ExportShaderArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: ExportShaderArgs) -> anyhow::Result<()> {
     crate::output::check_output_path(&args.out)?;
     // Issue 38: the file's folder takes a new file before the program is translated.
     super::guard::check_out(&args.out, &[])?;
@@ -51,7 +51,7 @@ pub fn run(args: ExportShaderArgs) -> anyhow::Result<()> {
 }
 
 /// The program in `lang`, or naga's reason on one line.
-pub fn translate(lang: Lang) -> Result<String, String> {
+pub(crate) fn translate(lang: Lang) -> Result<String, String> {
     use naga::back;
     let source = crate::wgsl::export::ball_program();
     let module = naga::front::wgsl::parse_str(&source).map_err(|e| e.emit_to_string(&source))?;

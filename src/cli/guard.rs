@@ -14,11 +14,11 @@ use crate::output;
 use crate::scene::Scene;
 
 /// A file a command reads or writes, with the flag (or role) that names it.
-pub type Named = (String, PathBuf);
+pub(crate) type Named = (String, PathBuf);
 
 /// The files `args` names that the command reads, before the scene is read (`--scene`,
 /// and `--environment` where it is a file), and with `scene` its map's file.
-pub fn scene_inputs(args: &SceneArgs, scene: Option<&Scene>) -> Vec<Named> {
+pub(crate) fn scene_inputs(args: &SceneArgs, scene: Option<&Scene>) -> Vec<Named> {
     let mut inputs = Vec::new();
     if let Some(path) = &args.scene {
         inputs.push(("the scene file --scene".to_string(), path.clone()));
@@ -43,7 +43,7 @@ pub fn scene_inputs(args: &SceneArgs, scene: Option<&Scene>) -> Vec<Named> {
 
 /// The files beside the glTF file `path` that it names (its buffers, which a read opens,
 /// and its images): inputs too ([`crate::import::external_files`]).
-pub fn gltf_files(path: &Path) -> Vec<Named> {
+pub(crate) fn gltf_files(path: &Path) -> Vec<Named> {
     crate::import::external_files(path)
         .into_iter()
         .map(|(what, file)| (format!("the glTF file's {what}"), file))
@@ -51,7 +51,7 @@ pub fn gltf_files(path: &Path) -> Vec<Named> {
 }
 
 /// The outputs among `named` that are given.
-pub fn outputs(named: &[(&str, Option<&Path>)]) -> Vec<Named> {
+pub(crate) fn outputs(named: &[(&str, Option<&Path>)]) -> Vec<Named> {
     named
         .iter()
         .filter_map(|(what, p)| p.map(|p| (what.to_string(), p.to_path_buf())))
@@ -61,7 +61,7 @@ pub fn outputs(named: &[(&str, Option<&Path>)]) -> Vec<Named> {
 /// Refuses, in one line, an output that is (or links to, or is a hard link of) one of
 /// `inputs` or another output: writing it would destroy the input, or one output would
 /// replace the other.
-pub fn refuse_overlaps(outputs: &[Named], inputs: &[Named]) -> Result<()> {
+pub(crate) fn refuse_overlaps(outputs: &[Named], inputs: &[Named]) -> Result<()> {
     for (i, (what, out)) in outputs.iter().enumerate() {
         for (other, path) in outputs[..i].iter().chain(inputs) {
             if same_file(out, path) {
@@ -82,7 +82,7 @@ pub fn refuse_overlaps(outputs: &[Named], inputs: &[Named]) -> Result<()> {
 
 /// [`refuse_overlaps`] and [`probe_folders`] for a command of one output, `--out`, and
 /// `inputs` (`bake`, `environment`, `probe`, `import`, `export-shader`).
-pub fn check_out(out: &Path, inputs: &[Named]) -> Result<()> {
+pub(crate) fn check_out(out: &Path, inputs: &[Named]) -> Result<()> {
     let outputs = outputs(&[("--out", Some(out))]);
     refuse_overlaps(&outputs, inputs)?;
     probe_folders(&outputs)
@@ -91,7 +91,7 @@ pub fn check_out(out: &Path, inputs: &[Named]) -> Result<()> {
 /// Checks that each output's folder (the folder of the file its links lead to) takes a new
 /// file, by making one there and removing it: a folder the user cannot write in, or a
 /// read-only file system, is refused before the work, not after it.
-pub fn probe_folders(outputs: &[Named]) -> Result<()> {
+pub(crate) fn probe_folders(outputs: &[Named]) -> Result<()> {
     for (_, path) in outputs {
         let target = output::follow_links(path)?;
         let dir = output::folder_of(&target);
@@ -123,7 +123,7 @@ pub fn probe_folders(outputs: &[Named]) -> Result<()> {
 
 /// Refuses a camera whose pixels the GPU's f32 rays cannot resolve at `w x h`
 /// ([`crate::scene::Camera::gpu_problem`]; issue 38, 4).
-pub fn check_f32_camera(scene: &Scene, w: u32, h: u32) -> Result<()> {
+pub(crate) fn check_f32_camera(scene: &Scene, w: u32, h: u32) -> Result<()> {
     match scene.camera.gpu_problem(w, h) {
         Some(message) => Err(Error::Invalid {
             what: "camera",
@@ -136,7 +136,11 @@ pub fn check_f32_camera(scene: &Scene, w: u32, h: u32) -> Result<()> {
 /// Why `--ibl-frames frames` does nothing for `scene`, where it does nothing (issue 38, 9:
 /// ignored silently, or 8 frames drawn for nothing): `on_gpu` is whether a GPU backend
 /// draws the scene (only it accumulates lobe frames).
-pub fn ibl_frames_ignored(frames: Option<u32>, on_gpu: bool, scene: &Scene) -> Option<String> {
+pub(crate) fn ibl_frames_ignored(
+    frames: Option<u32>,
+    on_gpu: bool,
+    scene: &Scene,
+) -> Option<String> {
     let frames = frames.filter(|&n| n > 1)?;
     let why = if !on_gpu {
         "only a GPU backend (auto, vulkan, gl) accumulates lobe frames"

@@ -8,7 +8,7 @@ use crate::import::{self, Imported};
 
 /// Flags of `shadeballs import`.
 #[derive(clap::Args)]
-pub struct ImportArgs {
+pub(crate) struct ImportArgs {
     /// The glTF file: .gltf (its buffers beside it) or .glb.
     pub file: PathBuf,
     /// The scene file to write (.toml): one ball per sphere the file places (else one per
@@ -20,7 +20,7 @@ pub struct ImportArgs {
 /// The render size the scene file's header suggests.
 const SIZE: (u32, u32) = (1280, 720);
 
-pub fn run(args: ImportArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: ImportArgs) -> anyhow::Result<()> {
     if crate::output::extension(&args.out) != "toml" {
         return Err(crate::Error::Format {
             path: args.out,
@@ -61,7 +61,7 @@ pub fn run(args: ImportArgs) -> anyhow::Result<()> {
 }
 
 /// Each notice on stderr, one line each.
-pub fn print_notices(imported: &Imported) {
+pub(crate) fn print_notices(imported: &Imported) {
     for n in &imported.notices {
         eprintln!("notice: {}", crate::error::one_line(n));
     }
@@ -70,7 +70,7 @@ pub fn print_notices(imported: &Imported) {
 /// The scene file of `imported`: the viewer's exact writer (every value loads back to the
 /// same double), a header naming the source, and before each ball a comment naming its
 /// material and node.
-pub fn scene_text(imported: &Imported, source: &std::path::Path) -> Result<String, String> {
+pub(crate) fn scene_text(imported: &Imported, source: &std::path::Path) -> Result<String, String> {
     let text = crate::viewer::save::scene_toml(&imported.scene, SIZE)?;
     let (_, body) = text.split_once('\n').unwrap_or(("", &text));
     let mut out = format!(

@@ -14,11 +14,11 @@ static STOPPABLE: AtomicUsize = AtomicUsize::new(0);
 static STOP: AtomicI32 = AtomicI32::new(0);
 
 /// Held while a render that stops cleanly runs.
-pub struct Stoppable(());
+pub(crate) struct Stoppable(());
 
 impl Stoppable {
     /// Marks a render that stops cleanly as running.
-    pub fn start() -> Self {
+    pub(crate) fn start() -> Self {
         STOPPABLE.fetch_add(1, Ordering::SeqCst);
         Stoppable(())
     }
@@ -32,7 +32,7 @@ impl Drop for Stoppable {
 
 /// For the binary's signal thread: whether a render takes `signal` as a request to stop
 /// after its pass (true only for the first signal while one runs); false: exit now.
-pub fn request_stop(signal: i32) -> bool {
+pub(crate) fn request_stop(signal: i32) -> bool {
     STOPPABLE.load(Ordering::SeqCst) > 0
         && STOP
             .compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst)
@@ -40,7 +40,7 @@ pub fn request_stop(signal: i32) -> bool {
 }
 
 /// The signal that asked the render to stop, if one did.
-pub fn stop_requested() -> Option<i32> {
+pub(crate) fn stop_requested() -> Option<i32> {
     match STOP.load(Ordering::SeqCst) {
         0 => None,
         s => Some(s),
@@ -48,7 +48,7 @@ pub fn stop_requested() -> Option<i32> {
 }
 
 /// The name of signal `signal` (`SIGINT`, `SIGTERM`, else its number).
-pub fn signal_name(signal: i32) -> String {
+pub(crate) fn signal_name(signal: i32) -> String {
     match signal {
         2 => "SIGINT".to_string(),
         15 => "SIGTERM".to_string(),
@@ -59,7 +59,7 @@ pub fn signal_name(signal: i32) -> String {
 /// A render stopped by a signal after writing what it had: the command's error (one line)
 /// and its exit status, 128 + the signal's number.
 #[derive(Debug)]
-pub struct Interrupted {
+pub(crate) struct Interrupted {
     /// The signal.
     pub signal: i32,
     /// Samples a pixel in the image written.
@@ -70,7 +70,7 @@ pub struct Interrupted {
 
 impl Interrupted {
     /// The exit status: 128 + the signal's number.
-    pub fn exit_status(&self) -> u8 {
+    pub(crate) fn exit_status(&self) -> u8 {
         (128 + self.signal).clamp(0, 255) as u8
     }
 }

@@ -11,7 +11,7 @@ mod environment;
 mod export;
 mod guard;
 mod import;
-pub mod interrupt;
+pub(crate) mod interrupt;
 mod probe;
 pub mod process;
 pub mod progress;

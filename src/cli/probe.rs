@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::gpu::{Gpu, Renderer};
 use crate::{output, scene};
 
-pub fn run(args: ProbeArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: ProbeArgs) -> anyhow::Result<()> {
     output::check_output_path(&args.out)?;
     let scene = args
         .scene

@@ -5,12 +5,12 @@
 use crate::cpu::TruthProgress;
 
 /// Characters of the bar between its brackets.
-pub const BAR_WIDTH: usize = 24;
+pub(crate) const BAR_WIDTH: usize = 24;
 
 /// The fraction of the render done after `p`: the larger of the samples done against the
 /// cap `spp` and, with a `target` standard error, of the samples the target needs (the
 /// error falls as `1 / sqrt(spp)`, so it needs `spp (worst / target)^2`). In `[0, 1]`.
-pub fn fraction_done(p: &TruthProgress, spp: u32, target: Option<f64>) -> f64 {
+pub(crate) fn fraction_done(p: &TruthProgress, spp: u32, target: Option<f64>) -> f64 {
     let by_count = f64::from(p.spp) / f64::from(spp.max(1));
     let by_error = match (target, p.worst_stderr) {
         // A worst error of 0 (every ball black and noiseless) has reached any target.
@@ -24,13 +24,13 @@ pub fn fraction_done(p: &TruthProgress, spp: u32, target: Option<f64>) -> f64 {
 /// Seconds left after `p` at the rate so far (`None` before any time or work is measured):
 /// the render's passes cost the same per sample, so the time left is the time so far times
 /// the work left over the work done.
-pub fn seconds_left(p: &TruthProgress, spp: u32, target: Option<f64>) -> Option<f64> {
+pub(crate) fn seconds_left(p: &TruthProgress, spp: u32, target: Option<f64>) -> Option<f64> {
     let f = fraction_done(p, spp, target);
     (f > 0.0 && p.seconds > 0.0).then(|| p.seconds * (1.0 - f) / f)
 }
 
 /// `s` seconds for a person: "12 s", "3 min 05 s", "2 h 05 min".
-pub fn duration(s: f64) -> String {
+pub(crate) fn duration(s: f64) -> String {
     let s = s.max(0.0).round() as u64;
     match s {
         0..60 => format!("{s} s"),
@@ -40,7 +40,7 @@ pub fn duration(s: f64) -> String {
 }
 
 /// `[####....]` filled to `fraction` of [`BAR_WIDTH`].
-pub fn bar(fraction: f64) -> String {
+pub(crate) fn bar(fraction: f64) -> String {
     let filled = ((fraction.clamp(0.0, 1.0) * BAR_WIDTH as f64).round() as usize).min(BAR_WIDTH);
     format!("[{}{}]", "#".repeat(filled), ".".repeat(BAR_WIDTH - filled))
 }
@@ -73,7 +73,7 @@ pub fn line(p: &TruthProgress, spp: u32, target: Option<f64>, terminal: bool) ->
 }
 
 /// The render's last line: the samples a pixel, the worst ball's error and the time taken.
-pub fn summary(p: &TruthProgress) -> String {
+pub(crate) fn summary(p: &TruthProgress) -> String {
     let worst = p
         .worst_stderr
         .map_or("n/a".to_string(), |s| format!("{:.3} %", 100.0 * s));
@@ -82,3 +82,8 @@ pub fn summary(p: &TruthProgress) -> String {
         p.spp, p.seconds
     )
 }
+
+// Tests that need the crate's internals (moved from the suite); with the command line's
+// features only, so `cargo test --no-default-features --lib` runs them once.
+#[cfg(all(test, feature = "cli"))]
+mod tests;

@@ -14,7 +14,7 @@ use crate::output::{self, image_kind, write_exr, write_png, ImageKind};
 use crate::render::{self as dispatch, Output, Pixels, Request};
 use crate::scene::Scene;
 
-pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut phases = Phases(start, String::new());
     let kind = image_kind(&args.out)?;
@@ -279,7 +279,7 @@ fn samples_note(what: &str, spp: u32) -> String {
 }
 
 /// The sidecar of a truth `.exr`: `NAME.stderr.exr` beside `NAME.exr`.
-pub fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
+pub(crate) fn stderr_path(out: &std::path::Path) -> std::path::PathBuf {
     let stem = out
         .file_stem()
         .map_or_else(Default::default, |s| s.to_os_string());

@@ -5,7 +5,7 @@ use super::guard;
 use crate::output::{self, image_kind};
 use crate::viewer::compare::{Compare, View};
 
-pub fn run(args: ViewArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: ViewArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.screenshot {
         output::check_output_path(path)?;
         image_kind(path)?;

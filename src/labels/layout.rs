@@ -88,7 +88,7 @@ fn groups(seen: &[Seen], centre: fn(&Seen) -> f32, half: fn(&Seen) -> f32) -> Ve
 
 /// Which side of the chart the row labels go.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowSide {
+pub(crate) enum RowSide {
     /// At the left of each row's leftmost ball, right-aligned (every picture's).
     Left,
     /// At the right of its rightmost ball, left-aligned (a comparison's right side, whose
@@ -105,7 +105,7 @@ pub fn layout(scene: &Scene, width: u32, height: u32) -> Labels {
 }
 
 /// As [`layout`], the row labels on the side `rows`.
-pub fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> Labels {
+pub(crate) fn layout_rows_at(scene: &Scene, width: u32, height: u32, rows: RowSide) -> Labels {
     let rects = ball_rects(scene, width, height);
     let seen: Vec<Seen> = rects
         .iter()

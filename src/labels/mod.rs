@@ -17,10 +17,16 @@
 mod layout;
 #[cfg(feature = "labels")]
 mod raster;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 
-pub use layout::{ball_rects, layout, layout_rows_at, RowSide};
+pub use layout::ball_rects;
+pub use layout::layout;
+pub(crate) use layout::{layout_rows_at, RowSide};
 #[cfg(feature = "labels")]
-pub use raster::{draw_labels, text_width};
+pub use raster::draw_labels;
+#[cfg(feature = "labels")]
+pub use raster::text_width;
 
 use std::borrow::Cow;
 
@@ -30,18 +36,18 @@ use crate::scene::{Ball, Model, Scene};
 /// ascent minus its descent, [`Label::size_px`]).
 pub(crate) const FONT_PX_PER_HEIGHT: f32 = 1.0 / 45.0;
 /// The smallest font drawn: a label that fits its room only smaller is left out.
-pub const MIN_FONT_PX: f32 = 8.0;
+pub(crate) const MIN_FONT_PX: f32 = 8.0;
 /// The fraction of a label's preferred size below which its text is wrapped onto lines
 /// of their own where they fit larger ([`Label::fit`]); the viewer draws no label smaller
 /// than this fraction at all.
 pub const READABLE_FRACTION: f32 = 0.75;
 /// The fewest characters a label cut short with an ellipsis keeps ([`Label::ellipsis`]):
 /// where fewer fit, it is shrunk whole or left out.
-pub const MIN_SHORTENED_CHARS: usize = 3;
+pub(crate) const MIN_SHORTENED_CHARS: usize = 3;
 /// The dark outline's width around the glyphs, per pixel of font size.
 pub(crate) const OUTLINE_PER_FONT_PX: f32 = 0.07;
 /// Free pixels kept around a label's outline (for the glyphs' anti-aliased edges).
-pub const EDGE_PX: f32 = 1.0;
+pub(crate) const EDGE_PX: f32 = 1.0;
 /// The gap between a ball's bounds and its label, per pixel of font size.
 pub(crate) const GAP_PER_FONT_PX: f32 = 0.4;
 
@@ -130,7 +136,7 @@ impl Label {
     /// [`Label::size_px`] (a line's width grows in proportion to its font size). The font
     /// shrinks until the text with its outline fits the room; `None` when that needs a font
     /// under [`MIN_FONT_PX`], or for an empty text or a bad width.
-    pub fn place(&self, width_at_size: f32) -> Option<Placement> {
+    pub(crate) fn place(&self, width_at_size: f32) -> Option<Placement> {
         if self.text.trim().is_empty()
             || !(width_at_size.is_finite() && width_at_size > 0.0)
             || !(self.size_px.is_finite() && self.size_px > 0.0)
@@ -287,7 +293,8 @@ impl Labels {
     }
 
     /// Whether there is no label at all.
-    pub fn is_empty(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_empty(&self) -> bool {
         self.iter().next().is_none()
     }
 }
@@ -298,7 +305,7 @@ pub(crate) const ROW_LABEL_SEPARATOR: &str = " \u{b7} ";
 /// The text at the left of the row a ball heads: what the ball's model is, after its
 /// material where it is not all metal (`IOR 1.5 · Kulla-Conty`, `metallic 0.5 ·
 /// Kulla-Conty`). The one place that names a row's model.
-pub fn row_label(ball: &Ball) -> String {
+pub(crate) fn row_label(ball: &Ball) -> String {
     let model = match ball.model {
         Model::None => "no term",
         Model::KullaConty => "Kulla-Conty",
@@ -363,7 +370,7 @@ pub fn column_label(roughness: &[f64]) -> String {
 
 /// The text under a column with clear coats: the balls' roughness and the coats'
 /// (`r = 0.4 · coat r = 0.1`).
-pub fn column_label_with_coat(roughness: &[f64], coat_roughness: &[f64]) -> String {
+pub(crate) fn column_label_with_coat(roughness: &[f64], coat_roughness: &[f64]) -> String {
     format!(
         "{} \u{b7} coat r = {}",
         column_label(roughness),

@@ -25,7 +25,7 @@ use crate::brdf::{f_schlick, fresnel_dielectric};
 
 /// A ball's material under its clear coat, as the walk sees it.
 #[derive(Clone, Copy, Debug)]
-pub struct Layered {
+pub(crate) struct Layered {
     /// The coat's interface (roughness and relative index).
     pub coat: Coating,
     /// The coat's weight in `[0, 1]`.
@@ -46,7 +46,7 @@ impl Layered {
     /// One path arriving from the outside direction `wi` (`wi.z > 0`): its exit direction
     /// and per-channel weight, or `None` where it ended inside (Russian roulette, or cut at
     /// [`MAX_ORDER`]).
-    pub fn sample(&self, wi: DVec3, rng: &mut Rng) -> Option<(DVec3, [f64; 3])> {
+    pub(crate) fn sample(&self, wi: DVec3, rng: &mut Rng) -> Option<(DVec3, [f64; 3])> {
         let mut w = [1.0; 3];
         let dir = if rng.uniform() < self.weight {
             self.through_coat(wi, &mut w, rng)?
@@ -57,7 +57,7 @@ impl Layered {
     }
 
     /// The bare base's exit from `wi` (its own frame), weights multiplied into `w`.
-    pub fn base(&self, wi: DVec3, w: &mut [f64; 3], rng: &mut Rng) -> Option<DVec3> {
+    pub(crate) fn base(&self, wi: DVec3, w: &mut [f64; 3], rng: &mut Rng) -> Option<DVec3> {
         if rng.uniform() < self.metallic {
             conductor_exit(&self.metal, wi, &self.f0, w, rng)
         } else {
@@ -121,7 +121,8 @@ impl Layered {
 
     /// The directional albedo at `mu` per channel by `paths` walks: the mean and its
     /// standard error.
-    pub fn albedo(&self, mu: f64, paths: u32, rng: &mut Rng) -> ([f64; 3], [f64; 3]) {
+    #[cfg(test)]
+    pub(crate) fn albedo(&self, mu: f64, paths: u32, rng: &mut Rng) -> ([f64; 3], [f64; 3]) {
         let wi = super::incident(mu);
         let (mut sum, mut sum2) = ([0.0; 3], [0.0; 3]);
         for _ in 0..paths {
@@ -145,7 +146,7 @@ impl Layered {
 /// probability `G1`, else hits again): the exit direction from `wi`, the Fresnel of each
 /// event (Schlick's, `f0` per channel) multiplied into `w`; `None` where Russian roulette
 /// ended it or it was cut at [`MAX_ORDER`].
-pub fn conductor_exit(
+pub(crate) fn conductor_exit(
     s: &Microsurface,
     wi: DVec3,
     f0: &[f64; 3],

@@ -22,11 +22,13 @@ use glam::DVec3;
 use super::microsurface::{reflect, Microsurface};
 use super::rng::Rng;
 use super::{MAX_CHANNELS, MAX_ORDER, RR_BELOW};
-use crate::brdf::{d_ggx, f_avg_dielectric, fresnel_dielectric, DIV_EPSILON};
+#[cfg(test)]
+use crate::brdf::f_avg_dielectric;
+use crate::brdf::{d_ggx, fresnel_dielectric, DIV_EPSILON};
 
 /// A rough dielectric interface of relative index `eta` over a Lambertian base.
 #[derive(Clone, Copy, Debug)]
-pub struct Coating {
+pub(crate) struct Coating {
     /// The interface's microsurface (its roughness).
     pub surface: Microsurface,
     /// The coating medium's index over the outside's (`> 0`; 1 is no interface at all).
@@ -34,7 +36,7 @@ pub struct Coating {
 }
 
 /// What a walk reports as it goes ([`Coating::walk`]); each method ignores it by default.
-pub trait Visit {
+pub(crate) trait Visit {
     /// The path leaves upward along `dir` (outside frame) after `order` interface events,
     /// with per-channel `weights`.
     fn exit(&mut self, _order: u32, _dir: DVec3, _weights: &[f64]) {}
@@ -105,9 +107,10 @@ impl<F: FnMut(u32, DVec3, &[f64])> Visit for Gather<'_, F> {
 }
 
 /// One scattering event on the interface, for next-event estimation.
-pub struct Event<'a> {
+pub(crate) struct Event<'a> {
     coating: &'a Coating,
-    /// The event's order (1 for the first).
+    /// The event's order (1 for the first; no caller reads it yet).
+    #[allow(dead_code)]
     pub order: u32,
     /// Whether the path arrived from inside the coating.
     pub inside: bool,
@@ -133,7 +136,7 @@ impl Event<'_> {
     /// inside, the transmission's, times the escape from the flipped height. With a
     /// directional light of radiance `L` along `l`, `weights * towards(l) * L` is this
     /// event's share of the light (Heitz et al. 2016's next-event estimation).
-    pub fn towards(&self, l: DVec3) -> f64 {
+    pub(crate) fn towards(&self, l: DVec3) -> f64 {
         let s = &self.coating.surface;
         if self.inside {
             // In the inside frame the outside lies at -z: leave along -l, then escape
@@ -154,7 +157,7 @@ impl Event<'_> {
 /// `h = -(wi + eta wo) / |wi + eta wo|` (turned up),
 /// `p = (1 - F(wi.h)) D_wi(h) eta^2 |wo.h| / (wi.h + eta wo.h)^2`, `D_wi(h) = max(0, wi.h)
 /// D(h) / A(wi)` the normals visible from `wi`. Zero where `h` does not separate the two.
-pub fn transmission_phase(s: &Microsurface, wi: DVec3, wo: DVec3, eta: f64) -> f64 {
+pub(crate) fn transmission_phase(s: &Microsurface, wi: DVec3, wo: DVec3, eta: f64) -> f64 {
     let sum = wi + eta * wo;
     let len = sum.length();
     if len <= DIV_EPSILON {
@@ -182,7 +185,7 @@ enum Side {
 
 impl Coating {
     /// The coating of `roughness` (clamped like everywhere) and relative index `eta`.
-    pub fn new(roughness: f64, eta: f64) -> Self {
+    pub(crate) fn new(roughness: f64, eta: f64) -> Self {
         Coating {
             surface: Microsurface::new(roughness),
             eta,
@@ -203,7 +206,7 @@ impl Coating {
     /// base's estimate is 1 path by path; where the base absorbs, a path whose largest
     /// weight falls below [`RR_BELOW`] plays Russian roulette (survive with probability
     /// `max / RR_BELOW`, weights scaled up by its inverse).
-    pub fn trace(
+    pub(crate) fn trace(
         &self,
         wi: DVec3,
         base: &[f64],
@@ -216,7 +219,7 @@ impl Coating {
 
     /// [`Coating::trace`] reporting every step to `visit`: the exit, each interface event
     /// and each arrival at the base.
-    pub fn walk(
+    pub(crate) fn walk(
         &self,
         wi: DVec3,
         base: &[f64],
@@ -290,7 +293,7 @@ impl Coating {
     /// Whether light arriving from the outside direction `l` reaches the base (one draw):
     /// the walk from `l` over a black base, stopped at its first arrival. Its mean is the
     /// coating's transmittance `tau(l)`, interface's multiple scattering included.
-    pub fn reaches_base(&self, l: DVec3, rng: &mut Rng) -> bool {
+    pub(crate) fn reaches_base(&self, l: DVec3, rng: &mut Rng) -> bool {
         struct First(bool);
         impl Visit for First {
             fn base(&mut self, _: &[f64], _: &mut Rng) {
@@ -311,7 +314,7 @@ impl Coating {
     /// weight times `rho tau(l) mu_l / (pi eta^2)`; before the first arrival, next-event
     /// estimation at each interface event ([`Event::towards`]) adds the paths that never
     /// reach it. No delta lobe is sampled, so a smooth coating is no harder than a rough one.
-    pub fn estimate(
+    pub(crate) fn estimate(
         &self,
         wi: DVec3,
         base: &[f64],
@@ -334,7 +337,14 @@ impl Coating {
     /// The directional albedo at `mu` (the fraction of light arriving at cosine `mu` that
     /// the coated base reflects), per channel of `base`, by `paths` walks: the mean and its
     /// standard error per channel.
-    pub fn albedo(&self, mu: f64, base: &[f64], paths: u32, rng: &mut Rng) -> (Vec<f64>, Vec<f64>) {
+    #[cfg(test)]
+    pub(crate) fn albedo(
+        &self,
+        mu: f64,
+        base: &[f64],
+        paths: u32,
+        rng: &mut Rng,
+    ) -> (Vec<f64>, Vec<f64>) {
         let wi = super::incident(mu);
         let n = base.len().min(MAX_CHANNELS);
         let (mut sum, mut sum2) = (vec![0.0; n], vec![0.0; n]);
@@ -366,7 +376,8 @@ impl Coating {
 /// `T_in = (1 - F_avg(eta)) / eta^2` at each arrival and is reflected back with `1 - T_in`,
 /// so the internal reflections sum to `F(mu) + (1 - F(mu)) rho T_in / (1 - rho (1 - T_in))`.
 /// With `rho = 1` it is exactly 1. The closed form the walk's smooth limit must meet.
-pub fn smooth_coating_albedo(mu: f64, eta: f64, rho: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn smooth_coating_albedo(mu: f64, eta: f64, rho: f64) -> f64 {
     let f = fresnel_dielectric(mu, eta);
     let t_in = (1.0 - f_avg_dielectric(eta)) / (eta * eta).max(crate::brdf::DIV_EPSILON);
     let denominator = (1.0 - rho * (1.0 - t_in)).max(crate::brdf::DIV_EPSILON);
@@ -392,7 +403,7 @@ pub(crate) fn russian_roulette(w: &mut [f64], rng: &mut Rng) -> bool {
 /// Snell's refraction of the ray direction `dir` (arriving: `dir.m < 0`) through a
 /// microfacet of unit normal `m` into the side of relative index `eta = n_t / n_i`:
 /// `t = dir / eta + (cos_i / eta - cos_t) m`; `None` past the critical angle.
-pub fn refract(dir: DVec3, m: DVec3, eta: f64) -> Option<DVec3> {
+pub(crate) fn refract(dir: DVec3, m: DVec3, eta: f64) -> Option<DVec3> {
     let cos_i = (-dir.dot(m)).clamp(0.0, 1.0);
     let r = 1.0 / eta.max(crate::brdf::DIV_EPSILON);
     let sin2_t = r * r * (1.0 - cos_i * cos_i);

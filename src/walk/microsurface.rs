@@ -37,7 +37,7 @@ impl Microsurface {
     /// The anisotropic surface of `alpha_t` along `x` and `alpha_b` along `y`
     /// (`brdf::anisotropic_alphas`). With equal alphas it walks through the anisotropic
     /// formulas all the same (the law "anisotropy 0 is the isotropic walk" compares them).
-    pub fn anisotropic(alpha_t: f64, alpha_b: f64) -> Self {
+    pub(crate) fn anisotropic(alpha_t: f64, alpha_b: f64) -> Self {
         Self {
             alpha: alpha_t,
             alpha_b,
@@ -70,7 +70,7 @@ impl Microsurface {
     }
 
     /// GGX's `D(h)` of the surface at unit local `h`.
-    pub fn d(&self, h: DVec3) -> f64 {
+    pub(crate) fn d(&self, h: DVec3) -> f64 {
         if self.isotropic() {
             d_ggx(h.z, self.alpha)
         } else {
@@ -150,6 +150,6 @@ impl Microsurface {
 }
 
 /// Mirror reflection of the ray direction `dir` about the microfacet normal `m`.
-pub fn reflect(dir: DVec3, m: DVec3) -> DVec3 {
+pub(crate) fn reflect(dir: DVec3, m: DVec3) -> DVec3 {
     dir - 2.0 * dir.dot(m) * m
 }

@@ -12,11 +12,13 @@
 //! weight and always continues with the weight scaled by `1 - G1`, down to a Russian
 //! roulette.
 
-pub mod clearcoat;
-pub mod coating;
+pub(crate) mod clearcoat;
+pub(crate) mod coating;
 pub mod microsurface;
 pub mod rng;
 pub mod single;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 
 use glam::DVec3;
 
@@ -33,9 +35,11 @@ pub trait Reflectance {
 
 /// The exact Fresnel of a dielectric interface of this relative index (`n_t / n_i`;
 /// [`crate::brdf::fresnel_dielectric`]).
+#[cfg(test)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dielectric(pub f64);
+pub(crate) struct Dielectric(pub f64);
 
+#[cfg(test)]
 impl Reflectance for Dielectric {
     fn eval(&self, cos: f64) -> f64 {
         crate::brdf::fresnel_dielectric(cos, self.0)
@@ -44,7 +48,7 @@ impl Reflectance for Dielectric {
 
 /// Schlick's approximation with this `F0` (what the renderer's `f_micro` uses).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Schlick(pub f64);
+pub(crate) struct Schlick(pub f64);
 
 impl Reflectance for Schlick {
     fn eval(&self, cos: f64) -> f64 {
@@ -57,7 +61,7 @@ pub const MAX_CHANNELS: usize = 16;
 
 /// Below this common weight a path plays Russian roulette: it survives with probability
 /// `weight / RR_BELOW` and then carries `RR_BELOW`.
-pub const RR_BELOW: f64 = 0.05;
+pub(crate) const RR_BELOW: f64 = 0.05;
 
 /// Scattering events after which a path is cut (and counted): never reached in practice,
 /// a guard against a walk stuck at the bottom of the surface.

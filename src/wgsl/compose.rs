@@ -386,7 +386,7 @@ impl State<'_> {
 /// `modules` it imports, directly or not, under the shader defs `defs`: the imported
 /// modules first, each once, in the order the imports are met (depth first), then the
 /// root's own text.
-pub fn compose(
+pub(crate) fn compose(
     file: &str,
     root: &str,
     defs: &[&str],
@@ -426,7 +426,7 @@ pub fn compose(
 }
 
 /// Composes the module of import path `path` of `modules` as a program's root.
-pub fn compose_module(
+pub(crate) fn compose_module(
     path: &str,
     defs: &[&str],
     modules: &[Module],

@@ -23,7 +23,7 @@
 /// The coating row (`coating_row`, 12 `vec4`s: E_F at `sqrt(mu) = k / 47`) is
 /// `lut::coating_row` of the ball's roughness and index ([`crate::lut::COATING_ROW_LEN`]
 /// values).
-pub const BALL_FRAGMENT: &str = r#"
+pub(crate) const BALL_FRAGMENT: &str = r#"
 const EXPORT_COATING_ROW_LEN: u32 = 48u;
 
 struct BallUniforms {
@@ -114,7 +114,7 @@ fn fs_ball(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 "#;
 
 /// The whole WGSL program: the library, then [`BALL_FRAGMENT`].
-pub fn ball_program() -> String {
+pub(crate) fn ball_program() -> String {
     format!("{}\n{BALL_FRAGMENT}", super::KULLA_CONTY)
 }
 

@@ -89,11 +89,21 @@ naga::valid::Validator::new(Default::default(), naga::valid::Capabilities::all()
 //! ```
 
 mod compose;
-pub mod export;
+pub(crate) mod export;
+// The programs (build.rs composes them, the tests read them) and the modules.
+#[allow(dead_code)]
 mod modules;
+#[cfg(all(test, feature = "cli"))]
+mod tests;
 
-pub use compose::{ComposeError, Composed, Module};
-pub use modules::{Program, KULLA_CONTY_ROOT, MODULES, OUTPUT_BITS, PROGRAMS};
+pub use compose::ComposeError;
+pub use compose::Composed;
+pub use compose::Module;
+#[cfg(test)]
+pub(crate) use modules::Program;
+pub use modules::MODULES;
+#[cfg(test)]
+pub(crate) use modules::{OUTPUT_BITS, PROGRAMS};
 
 /// The WGSL library, composed at build time from `shadeballs::constants` (the constants
 /// and `struct LutParams`), `shadeballs::brdf` (the BRDF terms) and `shadeballs::lut` (the

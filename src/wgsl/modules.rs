@@ -47,12 +47,12 @@ pub const MODULES: [Module; 19] = [
 
 /// The shader def of the modules that write to an `Rgba32Uint` target: the fragment entry
 /// points return the bits of linear radiance (`Colour` and `output_value` in `screen.wgsl`).
-pub const OUTPUT_BITS: &str = "OUTPUT_BITS";
+pub(crate) const OUTPUT_BITS: &str = "OUTPUT_BITS";
 
 /// A program: a shader module the renderer creates, the composition of `root` under
 /// `defs`; `name` is its file in the build's output (`NAME.wgsl`).
 #[derive(Clone, Copy, Debug)]
-pub struct Program {
+pub(crate) struct Program {
     /// The file name in the build's output, without `.wgsl`.
     pub name: &'static str,
     /// The import path of the root module.
@@ -62,62 +62,62 @@ pub struct Program {
 }
 
 /// The ball renderer's module for float and display targets.
-pub const BALLS: Program = Program {
+pub(crate) const BALLS: Program = Program {
     name: "balls",
     root: "shadeballs::balls",
     defs: &[],
 };
 /// The ball renderer's module for an `Rgba32Uint` target.
-pub const BALLS_BITS: Program = Program {
+pub(crate) const BALLS_BITS: Program = Program {
     name: "balls_bits",
     root: "shadeballs::balls",
     defs: &[OUTPUT_BITS],
 };
 /// The truth's module (accumulation and resolve) for float and display targets.
-pub const TRUTH: Program = Program {
+pub(crate) const TRUTH: Program = Program {
     name: "truth",
     root: "shadeballs::walk",
     defs: &[],
 };
 /// The truth's module for an `Rgba32Uint` target (its resolve writes bits).
-pub const TRUTH_BITS: Program = Program {
+pub(crate) const TRUTH_BITS: Program = Program {
     name: "truth_bits",
     root: "shadeballs::walk",
     defs: &[OUTPUT_BITS],
 };
 /// The Monte Carlo of the model (`--backend montecarlo` on the GPU).
-pub const MONTECARLO: Program = Program {
+pub(crate) const MONTECARLO: Program = Program {
     name: "montecarlo",
     root: "shadeballs::montecarlo",
     defs: &[],
 };
 /// The lobe's progressive image: its frames summed on the GPU and their mean resolved.
-pub const ACCUMULATE: Program = Program {
+pub(crate) const ACCUMULATE: Program = Program {
     name: "accumulate",
     root: "shadeballs::accumulate",
     defs: &[],
 };
 /// The lobe's progressive image for an `Rgba32Uint` target (its resolve writes bits).
-pub const ACCUMULATE_BITS: Program = Program {
+pub(crate) const ACCUMULATE_BITS: Program = Program {
     name: "accumulate_bits",
     root: "shadeballs::accumulate",
     defs: &[OUTPUT_BITS],
 };
 /// The table probe.
-pub const PROBE: Program = Program {
+pub(crate) const PROBE: Program = Program {
     name: "probe",
     root: "shadeballs::probe",
     defs: &[],
 };
 /// The environment prefilter (compute).
-pub const PREFILTER: Program = Program {
+pub(crate) const PREFILTER: Program = Program {
     name: "prefilter",
     root: "shadeballs::prefilter",
     defs: &[],
 };
 
 /// Every program the build composes.
-pub const PROGRAMS: [Program; 9] = [
+pub(crate) const PROGRAMS: [Program; 9] = [
     BALLS,
     BALLS_BITS,
     TRUTH,
@@ -130,7 +130,7 @@ pub const PROGRAMS: [Program; 9] = [
 ];
 
 /// The root of [`crate::wgsl::KULLA_CONTY`]: the library's functions and the table reads.
-pub const KULLA_CONTY_ROOT: &str = "#import shadeballs::constants
+pub(crate) const KULLA_CONTY_ROOT: &str = "#import shadeballs::constants
 #import shadeballs::brdf
 #import shadeballs::lut
 ";

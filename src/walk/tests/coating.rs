@@ -3,13 +3,13 @@
 //! laws that can fail: the white furnace, no interface at IOR 1, the first event's single
 //! scattering, and the smooth limit's closed form.
 
-use glam::DVec3;
-use shadeballs::brdf::{
+use crate::brdf::{
     f0_from_ior, f_avg_dielectric, f_avg_inside, f_schlick, fresnel_dielectric, Geometry,
 };
-use shadeballs::walk::coating::{refract, smooth_coating_albedo, Coating};
-use shadeballs::walk::single::{single_albedo, Rules};
-use shadeballs::walk::{incident, Dielectric, Rng, MAX_CHANNELS};
+use crate::walk::coating::{refract, smooth_coating_albedo, Coating};
+use crate::walk::single::{single_albedo, Rules};
+use crate::walk::{incident, Dielectric, Rng, MAX_CHANNELS};
+use glam::DVec3;
 
 /// Roughness values and relative indices of the furnace goal (issue 25's list).
 const ROUGHNESS: [f64; 5] = [0.05, 0.25, 0.5, 0.75, 1.0];
@@ -219,14 +219,14 @@ fn smooth_limit_is_the_closed_form() {
 fn e_spec(rules: &Rules, mu: f64, r: f64, eta: f64) -> f64 {
     let g = Geometry::SmithCorrelated;
     let single = single_albedo(rules, mu, r, &[Dielectric(eta)], &[g])[0][0];
-    let e_avg = shadeballs::lut::e_avg_reference(r, g);
-    let f_add = shadeballs::brdf::f_add_accurate(f_avg_dielectric(eta), e_avg);
-    single + f_add * (1.0 - shadeballs::lut::e_reference(mu, r, g))
+    let e_avg = crate::lut::e_avg_reference(r, g);
+    let f_add = crate::brdf::f_add_accurate(f_avg_dielectric(eta), e_avg);
+    single + f_add * (1.0 - crate::lut::e_reference(mu, r, g))
 }
 
 /// `2 int_0^1 E_spec(mu) mu dmu` by Gauss-Legendre in `mu`.
 fn e_spec_avg(rules: &Rules, r: f64, eta: f64) -> f64 {
-    let (x, w) = shadeballs::lut::gauss_legendre_unit(24);
+    let (x, w) = crate::lut::gauss_legendre_unit(24);
     x.iter()
         .zip(&w)
         .map(|(&mu, wk)| 2.0 * wk * mu * e_spec(rules, mu, r, eta))
@@ -240,7 +240,7 @@ fn layering_forms_in_the_white_furnace() {
     // integral in closed form: 2 pi int g(mu) mu dmu over a form's (1 - E_spec(mu_i))
     // factor is (1 - E_spec_avg)); the constant one does not. Reciprocity: the two
     // reciprocal forms are symmetric in the directions, the view-only one is not.
-    use shadeballs::brdf::{
+    use crate::brdf::{
         f_base_constant, f_base_physical, f_base_reciprocal, f_base_view_only, substrate_albedo,
     };
     use std::f64::consts::PI;
@@ -298,13 +298,13 @@ fn physical_form_against_the_walk() {
     // interface's multiple scattering, at least 4x closer than today's constant form
     // (measured: 5.4 % at worst, against 1.2x to 1.7x too bright). The report is printed
     // (`cargo test --release --test suite -- coating::physical --nocapture`).
-    use shadeballs::brdf::f_avg_schlick;
+    use crate::brdf::f_avg_schlick;
     let rules = Rules::default();
     let eta = 1.5;
     let mut report = String::new();
     for r in [0.15, 0.5, 0.9] {
         let avg = e_spec_avg(&rules, r, eta);
-        let f_in = shadeballs::brdf::coating_inside_reflectance(avg, eta);
+        let f_in = crate::brdf::coating_inside_reflectance(avg, eta);
         for rho in [0.8, 0.5, 0.3, 0.1] {
             for mu in [0.3, 0.6, 0.9] {
                 let e_o = e_spec(&rules, mu, r, eta);
@@ -383,7 +383,7 @@ fn next_event_estimation_meets_the_smooth_closed_form() {
     // rho (1 - F(mu_i)) (1 - F(mu_o)) / (pi eta^2 (1 - rho F_in)) mu_i per unit radiance.
     use std::f64::consts::PI;
     let (eta, rho) = (1.5, 0.5);
-    let f_in = shadeballs::brdf::f_avg_inside(eta);
+    let f_in = crate::brdf::f_avg_inside(eta);
     let coating = Coating::new(0.02, eta);
     for (mu_o, mu_i) in [(0.8f64, 0.5f64), (0.4, 0.9)] {
         // Out of the plane of incidence (azimuth 73 degrees from the mirror side).
