@@ -14,11 +14,11 @@ use glam::DVec3;
 /// are clamped to it): every curve has reached its white long before (Reinhard's
 /// `c / (c + 1)` is within 1e-6 of 1, the others saturate below 20), and its squares and
 /// products stay far inside f32.
-pub const MAX_DISPLAY_RADIANCE: f64 = 1.0e6;
+pub(crate) const MAX_DISPLAY_RADIANCE: f64 = 1.0e6;
 
 /// Below this `p + 1 - 2 K_s` is never (it is at least `1 - K_s` for `p >= K_s`); the
 /// divisions of [`tone_map_khronos_neutral`] and ACES' fit are guarded with it anyway.
-pub const DISPLAY_EPSILON: f64 = 1e-9;
+pub(crate) const DISPLAY_EPSILON: f64 = 1e-9;
 
 /// A tone mapper: how exposed linear radiance becomes display-linear values in `[0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -41,7 +41,7 @@ pub enum ToneMap {
 
 impl ToneMap {
     /// Every tone mapper, in the order the help and the viewer list them.
-    pub const ALL: [ToneMap; 5] = [
+    pub(crate) const ALL: [ToneMap; 5] = [
         ToneMap::Reinhard,
         ToneMap::Aces,
         ToneMap::Agx,
@@ -50,7 +50,7 @@ impl ToneMap {
     ];
 
     /// The name used on the command line and in scene files.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ToneMap::Reinhard => "reinhard",
             ToneMap::Aces => "aces",
@@ -62,7 +62,7 @@ impl ToneMap {
 
     /// The value of the `TONE_MAP` override (`TONE_MAP_*` in `types.wgsl`, generated from
     /// this by tests/suite/boundary.rs): its index in [`ToneMap::ALL`].
-    pub fn code(self) -> u32 {
+    pub(crate) fn code(self) -> u32 {
         ToneMap::ALL.iter().position(|&t| t == self).unwrap_or(0) as u32
     }
 }
@@ -80,10 +80,10 @@ pub enum Transfer {
 
 impl Transfer {
     /// Every transfer curve, in a fixed order.
-    pub const ALL: [Transfer; 2] = [Transfer::Srgb, Transfer::Gamma22];
+    pub(crate) const ALL: [Transfer; 2] = [Transfer::Srgb, Transfer::Gamma22];
 
     /// The name used in scene files.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Transfer::Srgb => "srgb",
             Transfer::Gamma22 => "gamma-2.2",
@@ -92,7 +92,7 @@ impl Transfer {
 
     /// The value of the `TRANSFER` override (`TRANSFER_*` in `types.wgsl`): its index in
     /// [`Transfer::ALL`].
-    pub fn code(self) -> u32 {
+    pub(crate) fn code(self) -> u32 {
         Transfer::ALL.iter().position(|&t| t == self).unwrap_or(0) as u32
     }
 }
@@ -111,7 +111,7 @@ pub struct DisplayTransform {
 
 impl DisplayTransform {
     /// The homework's display: Reinhard, then gamma 1/2.2 (docs/design/reference-scene.md).
-    pub const HOMEWORK: DisplayTransform = DisplayTransform {
+    pub(crate) const HOMEWORK: DisplayTransform = DisplayTransform {
         tone_map: ToneMap::Reinhard,
         transfer: Transfer::Gamma22,
     };
@@ -119,7 +119,7 @@ impl DisplayTransform {
 
 /// The encoded display value of linear `radiance` under `exposure`: `exposure`, the tone
 /// mapper, the transfer curve (`display_value` of `screen.wgsl`).
-pub fn display_value(radiance: DVec3, exposure: f64, display: DisplayTransform) -> DVec3 {
+pub(crate) fn display_value(radiance: DVec3, exposure: f64, display: DisplayTransform) -> DVec3 {
     let mapped = apply_tone_map(exposed(radiance, exposure), display.tone_map);
     encode_transfer(mapped, display.transfer)
 }
@@ -135,7 +135,7 @@ pub fn tone_map(radiance: f64, exposure: f64) -> f64 {
 /// (`srgb`, whose hardware encodes what the shader writes) that value decoded with the sRGB
 /// curve, so the stored bytes are the same (`target_value` of `screen.wgsl`). Under the
 /// sRGB transfer curve that is the tone-mapped value itself.
-pub fn target_value(
+pub(crate) fn target_value(
     radiance: DVec3,
     exposure: f64,
     display: DisplayTransform,
@@ -151,7 +151,7 @@ pub fn target_value(
 
 /// `radiance * exposure` clamped to `[0, MAX_DISPLAY_RADIANCE]`, NaN to 0 (`exposed` of
 /// `screen.wgsl`).
-pub fn exposed(radiance: DVec3, exposure: f64) -> DVec3 {
+pub(crate) fn exposed(radiance: DVec3, exposure: f64) -> DVec3 {
     (radiance * exposure).map(|c| {
         if c.is_nan() {
             0.0
@@ -163,7 +163,7 @@ pub fn exposed(radiance: DVec3, exposure: f64) -> DVec3 {
 
 /// Exposed radiance `c` (non-negative, finite) through the tone mapper `mapper`, clamped
 /// to `[0, 1]`.
-pub fn apply_tone_map(c: DVec3, mapper: ToneMap) -> DVec3 {
+pub(crate) fn apply_tone_map(c: DVec3, mapper: ToneMap) -> DVec3 {
     let mapped = match mapper {
         ToneMap::Reinhard => tone_map_reinhard(c),
         ToneMap::Aces => tone_map_aces(c),
@@ -176,14 +176,14 @@ pub fn apply_tone_map(c: DVec3, mapper: ToneMap) -> DVec3 {
 
 /// Reinhard, Stark, Shirley and Ferwerda 2002, "Photographic Tone Reproduction for Digital
 /// Images", eq. 3 (`L / (1 + L)`), per channel.
-pub fn tone_map_reinhard(c: DVec3) -> DVec3 {
+pub(crate) fn tone_map_reinhard(c: DVec3) -> DVec3 {
     c / (c + 1.0)
 }
 
 /// Stephen Hill's fit of the ACES reference rendering transform and sRGB output transform
 /// (BakingLab `ACES.hlsl`, 2016): `M_out * rrt_odt_fit(M_in * c)`, the rows of each matrix
 /// below as Hill gives them.
-pub fn tone_map_aces(c: DVec3) -> DVec3 {
+pub(crate) fn tone_map_aces(c: DVec3) -> DVec3 {
     let input = [
         [0.59719, 0.35458, 0.04823],
         [0.07600, 0.90834, 0.01566],
@@ -205,7 +205,7 @@ pub fn tone_map_aces(c: DVec3) -> DVec3 {
 /// outset matrix. The sigmoid's output is display-encoded for a 2.2 power (Sobotka's
 /// configuration), so it is decoded with `pow 2.2` to the display-linear value the
 /// transfer curve then encodes.
-pub fn tone_map_agx(c: DVec3) -> DVec3 {
+pub(crate) fn tone_map_agx(c: DVec3) -> DVec3 {
     let inset = [
         [0.842479062253094, 0.0784335999999992, 0.0792237451477643],
         [0.0423282422610123, 0.878468636469772, 0.0791661274605434],
@@ -230,18 +230,18 @@ pub fn tone_map_agx(c: DVec3) -> DVec3 {
 }
 
 /// AgX's darkest encoded exposure, in EV (`log2`) of the inset radiance.
-pub const AGX_MIN_EV: f64 = -12.47393;
+pub(crate) const AGX_MIN_EV: f64 = -12.47393;
 /// AgX's brightest encoded exposure, in EV.
-pub const AGX_MAX_EV: f64 = 4.026069;
+pub(crate) const AGX_MAX_EV: f64 = 4.026069;
 /// The inset radiance below which AgX takes no `log2` (black is its floor, `AGX_MIN_EV`).
-pub const AGX_LOG_FLOOR: f64 = 1e-10;
+pub(crate) const AGX_LOG_FLOOR: f64 = 1e-10;
 
 /// Khronos PBR Neutral (the specification in KhronosGroup/ToneMapping, `PBR_Neutral`,
 /// 2024): `F90 = 0.04`, `K_s = 0.8 - F90`, `K_d = 0.15`. An offset `f` (`x - x^2 / (4 F90)`
 /// below `x = min(rgb) = 2 F90`, else `F90`) is taken off; where the peak `p` of the rest
 /// exceeds `K_s`, it is compressed to `p_n = 1 - (1 - K_s)^2 / (p + 1 - 2 K_s)` and the
 /// colour desaturated towards `p_n` with weight `1 - 1 / (K_d (p - p_n) + 1)`.
-pub fn tone_map_khronos_neutral(c: DVec3) -> DVec3 {
+pub(crate) fn tone_map_khronos_neutral(c: DVec3) -> DVec3 {
     let (f90, k_d) = (0.04, 0.15);
     let k_s = 0.8 - f90;
     let x = c.min_element();
@@ -272,7 +272,7 @@ fn rows_times(m: [[f64; 3]; 3], v: DVec3) -> DVec3 {
 }
 
 /// Display-linear `v` (in `[0, 1]`) through the transfer curve `t`.
-pub fn encode_transfer(v: DVec3, t: Transfer) -> DVec3 {
+pub(crate) fn encode_transfer(v: DVec3, t: Transfer) -> DVec3 {
     match t {
         Transfer::Srgb => v.map(encode_srgb),
         Transfer::Gamma22 => v.powf(1.0 / 2.2),
@@ -281,7 +281,7 @@ pub fn encode_transfer(v: DVec3, t: Transfer) -> DVec3 {
 
 /// The sRGB encoding of IEC 61966-2-1:1999: `12.92 v` up to `v = 0.0031308`, else
 /// `1.055 v^(1/2.4) - 0.055`.
-pub fn encode_srgb(v: f64) -> f64 {
+pub(crate) fn encode_srgb(v: f64) -> f64 {
     if v <= 0.0031308 {
         12.92 * v
     } else {
@@ -291,7 +291,7 @@ pub fn encode_srgb(v: f64) -> f64 {
 
 /// The sRGB decoding of IEC 61966-2-1:1999, the inverse of [`encode_srgb`]: `v / 12.92` up
 /// to `v = 0.04045`, else `((v + 0.055) / 1.055)^2.4`.
-pub fn decode_srgb(v: f64) -> f64 {
+pub(crate) fn decode_srgb(v: f64) -> f64 {
     if v <= 0.04045 {
         v / 12.92
     } else {
@@ -300,7 +300,7 @@ pub fn decode_srgb(v: f64) -> f64 {
 }
 
 /// A display value in [0, 1] as an 8-bit unorm (round to nearest, as the GPU stores it).
-pub fn to_unorm8(v: f64) -> u8 {
+pub(crate) fn to_unorm8(v: f64) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 

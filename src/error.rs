@@ -174,11 +174,11 @@ fn no_adapter_hint(message: &str) -> &'static str {
 
 /// The words of [`crate::memory::short_for_driver`] that [`Error::NoAdapter`]'s message and the
 /// command line's advice look for.
-pub const SHORT_OF_MEMORY: &str = "for want of memory";
+pub(crate) const SHORT_OF_MEMORY: &str = "for want of memory";
 
 /// A number for a message, in the shortest form that reads back as it (`{:?}`), but with an
 /// exponent from 1e6 up and below 1e-4 (`1e13`, not `10000000000000.0`; issue 38, 9).
-pub fn short_number(v: f64) -> String {
+pub(crate) fn short_number(v: f64) -> String {
     let a = v.abs();
     if a.is_finite() && a != 0.0 && !(1e-4..1e6).contains(&a) {
         format!("{v:e}")
@@ -188,7 +188,7 @@ pub fn short_number(v: f64) -> String {
 }
 
 /// [`short_number`] of each component: `[1e13, 0.0, 0.0]`.
-pub fn short_numbers(v: &[f64]) -> String {
+pub(crate) fn short_numbers(v: &[f64]) -> String {
     let parts: Vec<String> = v.iter().map(|&c| short_number(c)).collect();
     format!("[{}]", parts.join(", "))
 }

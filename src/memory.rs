@@ -5,17 +5,12 @@ use crate::error::{Error, Result};
 
 /// Bytes this process can still allocate, as far as Linux says: the least of the system's
 /// `MemAvailable` (`/proc/meminfo`), the cgroup's `memory.max - memory.current` (a
-/// container's limit) and the address-space limit (`ulimit -v`) less what is mapped now.
-/// `None` where none of these can be read (another OS).
-pub fn available() -> Option<u64> {
-    available_bound().map(|(bytes, _)| bytes)
-}
-
-/// [`available`], and what bounds it for a message (issue 38, 8: the figure alone, which
-/// follows what is mapped when it is read, looked arbitrary against the limit):
-/// `MemAvailable`, `the cgroup's memory.max 2.00 GB less 1.20 GB in use` or `ulimit -v
-/// 0.41 GB less 0.16 GB mapped`.
-pub fn available_bound() -> Option<(u64, String)> {
+/// container's limit) and the address-space limit (`ulimit -v`) less what is mapped now;
+/// `None` where none of these can be read (another OS). With it, what bounds it for a
+/// message (issue 38, 8: the figure alone, which follows what is mapped when it is read,
+/// looked arbitrary against the limit): `MemAvailable`, `the cgroup's memory.max 2.00 GB
+/// less 1.20 GB in use` or `ulimit -v 0.41 GB less 0.16 GB mapped`.
+pub(crate) fn available_bound() -> Option<(u64, String)> {
     let read = |p: &str| std::fs::read_to_string(p).ok();
     // "Key:   123 kB" lines.
     let kb = |text: &str, key: &str| -> Option<u64> {
@@ -71,17 +66,17 @@ fn gb(bytes: u64) -> String {
 
 /// What the GPU path needs besides the bytes it counts: the driver (lavapipe compiles its
 /// shaders with LLVM in this process), tables, encoder buffers.
-pub const GPU_MARGIN: u64 = 256 << 20;
+pub(crate) const GPU_MARGIN: u64 = 256 << 20;
 
 /// What the CPU renderers need besides the bytes they count: the worker threads' stacks
 /// and allocator arenas, tables, encoder buffers (issue 38, 8: the CPU had the GPU's
 /// margin, and a 160x90 render was refused under a limit it renders in). Measured in
 /// docs/reliability.md ("Issue 38").
-pub const CPU_MARGIN: u64 = 64 << 20;
+pub(crate) const CPU_MARGIN: u64 = 64 << 20;
 
 /// Fails in one line when `what` needs more than the memory available: `need` bytes, and
 /// the GPU path's margin ([`GPU_MARGIN`]).
-pub fn check(what: &str, need: u64) -> Result<()> {
+pub(crate) fn check(what: &str, need: u64) -> Result<()> {
     check_with_margin(what, need, GPU_MARGIN)
 }
 
@@ -89,14 +84,14 @@ pub fn check(what: &str, need: u64) -> Result<()> {
 /// the worker threads (rayon's pool) and has each allocate once, so that what is mapped
 /// counts their stacks and their allocator arenas (glibc reserves 64 MiB of address space
 /// an arena, which `ulimit -v` counts): the margin then holds only what the render adds.
-pub fn check_on_cpu(what: &str, need: u64) -> Result<()> {
+pub(crate) fn check_on_cpu(what: &str, need: u64) -> Result<()> {
     rayon::broadcast(|_| std::hint::black_box(vec![0u8; 64]));
     check_with_margin(what, need, CPU_MARGIN)
 }
 
 /// Fails in one line when `what` needs more than the memory available: `need` bytes, and
 /// `margin` for the rest of the process.
-pub fn check_with_margin(what: &str, need: u64, margin: u64) -> Result<()> {
+pub(crate) fn check_with_margin(what: &str, need: u64, margin: u64) -> Result<()> {
     let Some((available, bound)) = available_bound() else {
         return Ok(());
     };
@@ -117,11 +112,11 @@ pub fn check_with_margin(what: &str, need: u64, margin: u64) -> Result<()> {
 /// Memory below which a GPU driver that fails to start, or loses its device, may have
 /// done so for want of memory: lavapipe maps several hundred MB of address space (LLVM)
 /// before it draws anything.
-pub const DRIVER_NEEDS: u64 = 1 << 30;
+pub(crate) const DRIVER_NEEDS: u64 = 1 << 30;
 
 /// Where memory is short for a GPU driver ([`DRIVER_NEEDS`]), what a message about its
 /// failure should say instead of advising a driver package (issue 38, 8).
-pub fn short_for_driver() -> Option<String> {
+pub(crate) fn short_for_driver() -> Option<String> {
     let (available, bound) = available_bound()?;
     (available < DRIVER_NEEDS).then(|| {
         format!(

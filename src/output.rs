@@ -35,7 +35,7 @@ fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 /// Removes every temporary file a write of this process has open now, and returns how many
 /// it removed. For a signal handler that then exits: a write still running fails to rename
 /// its file, which is gone.
-pub fn remove_temp_files_in_flight() -> usize {
+pub(crate) fn remove_temp_files_in_flight() -> usize {
     let mut files = in_flight();
     files
         .drain(..)
@@ -98,7 +98,7 @@ pub(crate) fn check_output_path(path: &Path) -> Result<()> {
 }
 
 /// Bytes a file name may have (Linux's `NAME_MAX`, that of ext4, XFS, Btrfs, tmpfs).
-pub const NAME_MAX: usize = 255;
+pub(crate) const NAME_MAX: usize = 255;
 
 /// Checks, before any work, that `path` can be an output folder: it is one, or does not
 /// exist yet (it is made later); a file there is refused in one line.
@@ -186,7 +186,7 @@ fn remove_stale_temp_files(dir: &Path, name: &str) {
 /// [`Staged::commit`] renames it; dropped uncommitted, it is removed. Several staged files
 /// commit together ([`commit_all`]), so a failed write of any leaves every old file.
 #[must_use = "a staged file is removed unless committed"]
-pub struct Staged {
+pub(crate) struct Staged {
     path: PathBuf,
     tmp: PathBuf,
     target: PathBuf,
@@ -195,7 +195,7 @@ pub struct Staged {
 
 impl Staged {
     /// Renames the temporary file over its target.
-    pub fn commit(mut self) -> Result<()> {
+    pub(crate) fn commit(mut self) -> Result<()> {
         let result =
             std::fs::rename(&self.tmp, &self.target).map_err(|e| write_error(&self.path, e));
         self.committed = result.is_ok();
@@ -215,7 +215,7 @@ impl Drop for Staged {
 /// Renames every staged file over its target, in order. They are all written by then, so
 /// only a rename can fail (it does not for files in one folder short of the disk being
 /// yanked): the files not yet renamed are removed.
-pub fn commit_all(files: Vec<Staged>) -> Result<()> {
+pub(crate) fn commit_all(files: Vec<Staged>) -> Result<()> {
     for f in files {
         f.commit()?;
     }
@@ -227,7 +227,7 @@ pub fn commit_all(files: Vec<Staged>) -> Result<()> {
 /// target is replaced, the link kept); an existing file keeps its permissions. A failed
 /// write, or one interrupted by a signal the binary handles, leaves no temporary file;
 /// one killed outright leaves `.NAME.tmp-PID`, which the next write of that name removes.
-pub fn stage_with(
+pub(crate) fn stage_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<Staged> {
@@ -266,7 +266,7 @@ pub fn stage_with(
 }
 
 /// Writes `path` atomically: [`stage_with`], then [`Staged::commit`].
-pub fn write_atomic_with(
+pub(crate) fn write_atomic_with(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<()> {
@@ -281,7 +281,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 }
 
 /// The lower-case extension of `path`, or "" when it has none.
-pub fn extension(path: &Path) -> String {
+pub(crate) fn extension(path: &Path) -> String {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default()
@@ -332,7 +332,7 @@ impl<W: std::io::Seek> std::io::Seek for Recording<'_, W> {
 #[cfg(feature = "image-files")]
 /// Encodes `image` in `format` straight into the temporary file ([`stage_with`]): no
 /// encoded copy is held in memory.
-pub fn stage_image(
+pub(crate) fn stage_image(
     path: &Path,
     image: &image::DynamicImage,
     format: image::ImageFormat,
@@ -367,7 +367,7 @@ pub fn write_image(
 
 /// What an output path asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ImageKind {
+pub(crate) enum ImageKind {
     /// `.png`: display values, RGBA8.
     Png,
     /// `.exr`: linear radiance, RGBA f32.
@@ -375,7 +375,7 @@ pub enum ImageKind {
 }
 
 /// The kind of image `path` names by its extension, or an error naming the choices.
-pub fn image_kind(path: &Path) -> Result<ImageKind> {
+pub(crate) fn image_kind(path: &Path) -> Result<ImageKind> {
     match extension(path).as_str() {
         "png" => Ok(ImageKind::Png),
         "exr" => Ok(ImageKind::Exr),
@@ -417,7 +417,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: Vec<u8>) -> Result<
 #[cfg(feature = "image-files")]
 /// [`write_png`] with a `Comment` text chunk holding `note` (what the picture is, as the
 /// samples a pixel of a truth render; `png`'s encoder, since `image`'s writes no text).
-pub fn write_png_noted(
+pub(crate) fn write_png_noted(
     path: &Path,
     width: u32,
     height: u32,
@@ -453,7 +453,7 @@ pub fn write_png_noted(
 #[cfg(feature = "image-files")]
 /// [`stage_exr`] with a `comment` text attribute holding `note` (`exr`'s encoder, since
 /// `image`'s writes no attributes), losslessly compressed.
-pub fn stage_exr_noted(
+pub(crate) fn stage_exr_noted(
     path: &Path,
     width: u32,
     height: u32,
@@ -504,14 +504,14 @@ pub fn stage_exr_noted(
 
 #[cfg(feature = "image-files")]
 /// Writes RGBA f32 linear radiance as OpenEXR.
-pub fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<()> {
+pub(crate) fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<()> {
     stage_exr(path, width, height, rgba)?.commit()
 }
 
 #[cfg(feature = "image-files")]
 /// Encodes RGBA f32 linear radiance as OpenEXR into `path`'s temporary file
 /// ([`stage_image`]), for [`commit_all`] with the files that go with it.
-pub fn stage_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<Staged> {
+pub(crate) fn stage_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<Staged> {
     let image =
         image::Rgba32FImage::from_raw(width, height, rgba).ok_or_else(|| Error::Encode {
             path: path.to_path_buf(),

@@ -20,7 +20,7 @@ use crate::scene::Scene;
 
 /// Samples per pixel of the Monte Carlo backends without `spp` (and of the truth without a
 /// target standard error).
-pub const DEFAULT_SPP: u32 = 64;
+pub(crate) const DEFAULT_SPP: u32 = 64;
 
 /// The GPU renderer of `backend`, or `None` for the CPU: a CPU backend, or `auto` with no
 /// adapter; with the warning or notice of a fallback, for the front end to print.

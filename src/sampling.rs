@@ -23,7 +23,7 @@ pub struct Frame {
 
 /// The orthonormal frame about unit `n` (Duff et al. 2017, "Building an Orthonormal Basis,
 /// Revisited", JCGT 6(1)).
-pub fn duff_frame(n: DVec3) -> Frame {
+pub(crate) fn duff_frame(n: DVec3) -> Frame {
     let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
@@ -41,11 +41,11 @@ impl Frame {
     }
     /// The frame of the orthonormal `t`, `b`, `n` (a ball's tangent field:
     /// `brdf::ball_tangent`).
-    pub fn from_axes(t: DVec3, b: DVec3, n: DVec3) -> Self {
+    pub(crate) fn from_axes(t: DVec3, b: DVec3, n: DVec3) -> Self {
         Frame { t, b, n }
     }
     /// The tangent and the bitangent.
-    pub fn tangents(&self) -> (DVec3, DVec3) {
+    pub(crate) fn tangents(&self) -> (DVec3, DVec3) {
         (self.t, self.b)
     }
     /// `w` in the frame (normal `+z`).
@@ -83,7 +83,12 @@ pub fn vndf_density(mu_o: f64, n_dot_h: f64, alpha: f64) -> f64 {
 
 /// [`sample_vndf`] of anisotropic GGX, `alpha_t` along local `x` and `alpha_b` along `y`
 /// (Heitz 2018's listing 1 takes the two alphas: the stretch is per axis).
-pub fn sample_vndf_aniso(v: DVec3, (alpha_t, alpha_b): (f64, f64), u1: f64, u2: f64) -> DVec3 {
+pub(crate) fn sample_vndf_aniso(
+    v: DVec3,
+    (alpha_t, alpha_b): (f64, f64),
+    u1: f64,
+    u2: f64,
+) -> DVec3 {
     let vh = DVec3::new(alpha_t * v.x, alpha_b * v.y, v.z.max(0.0));
     let vh = vh / vh.length().max(DIV_EPSILON);
     let lensq = vh.x * vh.x + vh.y * vh.y;
@@ -107,7 +112,7 @@ pub fn sample_vndf_aniso(v: DVec3, (alpha_t, alpha_b): (f64, f64), u1: f64, u2: 
 /// The density per solid angle of [`sample_vndf_aniso`]'s direction with local half
 /// vector `h`, local `v`: `G1(v) D(h) / (4 v_z)`, `G1(v) / v_z = 2 / (v_z + sqrt(v_z^2 +
 /// alpha_t^2 v_x^2 + alpha_b^2 v_y^2))` (exact anisotropic Smith G1), finite at grazing `v`.
-pub fn vndf_density_aniso(v: DVec3, h: DVec3, (alpha_t, alpha_b): (f64, f64)) -> f64 {
+pub(crate) fn vndf_density_aniso(v: DVec3, h: DVec3, (alpha_t, alpha_b): (f64, f64)) -> f64 {
     let c = v.z.clamp(0.0, 1.0);
     let (x, y) = (alpha_t * v.x, alpha_b * v.y);
     let root = (c * c + x * x + y * y).sqrt();
@@ -117,7 +122,7 @@ pub fn vndf_density_aniso(v: DVec3, h: DVec3, (alpha_t, alpha_b): (f64, f64)) ->
 
 /// A cosine-distributed direction about `+z` (Malley's method: the unit disk projected up),
 /// density `mu_i / pi`.
-pub fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
+pub(crate) fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
     let r = u1.sqrt();
     let phi = 2.0 * PI * u2;
     DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
@@ -127,7 +132,7 @@ pub fn sample_cosine(u1: f64, u2: f64) -> DVec3 {
 /// of a `w x h` equirectangular map with probability `p_texel`, then uniformly in its
 /// `(u, v)` rectangle: `p_texel w h / (2 pi^2 sin theta)`, the mapping's Jacobian (Pharr,
 /// Jakob & Humphreys, *Physically Based Rendering*, 3rd ed., 2016, section 14.2.4).
-pub fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f64 {
+pub(crate) fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f64 {
     let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
     p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
 }
@@ -136,7 +141,7 @@ pub fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f64 {
 /// *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford,
 /// section 9.2.2, one sample a strategy): `f L mu_i / sum_k pdf_k(l)`, the integrand over the
 /// sum of every strategy's density at `l`; 0 where that sum is not positive.
-pub fn balance_estimate(integrand: DVec3, pdf_sum: f64) -> DVec3 {
+pub(crate) fn balance_estimate(integrand: DVec3, pdf_sum: f64) -> DVec3 {
     if pdf_sum > DIV_EPSILON {
         integrand / pdf_sum
     } else {
@@ -146,6 +151,10 @@ pub fn balance_estimate(integrand: DVec3, pdf_sum: f64) -> DVec3 {
 
 /// Radiance arriving from world direction `d`: the uniform `environment` plus the `map`'s
 /// radiance along `d` (none without a map).
-pub fn arriving(d: DVec3, environment: DVec3, map: Option<impl Fn(DVec3) -> DVec3>) -> DVec3 {
+pub(crate) fn arriving(
+    d: DVec3,
+    environment: DVec3,
+    map: Option<impl Fn(DVec3) -> DVec3>,
+) -> DVec3 {
     environment + map.map_or(DVec3::ZERO, |m| m(d))
 }

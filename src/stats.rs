@@ -10,7 +10,7 @@ use crate::scene::Scene;
 
 /// A count for a message, its noun singular for one: `1 sample`, `16 samples` (issue 38, 9:
 /// "1 samples").
-pub fn count(n: impl Into<u64>, noun: &str) -> String {
+pub(crate) fn count(n: impl Into<u64>, noun: &str) -> String {
     match n.into() {
         1 => format!("1 {noun}"),
         n => format!("{n} {noun}s"),
@@ -92,7 +92,7 @@ impl MonteCarloImage {
     /// `Y(std_error)` bounds the standard error of the luminance from above), skipping
     /// pixels whose mean luminance is below [`DIV_EPSILON`]. `None` when `spp < 2` (no
     /// variance estimate) or no covered pixel counts.
-    pub fn mean_relative_std_error(&self) -> Option<f64> {
+    pub(crate) fn mean_relative_std_error(&self) -> Option<f64> {
         if self.spp < 2 {
             return None;
         }
@@ -112,7 +112,7 @@ impl MonteCarloImage {
 /// What the Monte Carlo estimators refuse (`crate::cpu::render_montecarlo` and the GPU's): `spp` outside
 /// `1..=MAX_SPP`, a map whose rotation or intensity is not finite (or whose intensity is
 /// negative).
-pub fn check_montecarlo_inputs(scene: &Scene, spp: u32) -> Result<()> {
+pub(crate) fn check_montecarlo_inputs(scene: &Scene, spp: u32) -> Result<()> {
     if !(1..=MAX_SPP).contains(&spp) {
         return Err(Error::Invalid {
             what: "samples per pixel",

@@ -11,7 +11,7 @@ use super::{alpha_from_roughness, Geometry, DIV_EPSILON};
 /// `KHR_materials_anisotropy` defines them (its "Individual Lights" section):
 /// `alpha_t = mix(alpha, 1, anisotropy^2)`, `alpha_b = alpha`, `alpha = roughness^2`
 /// after the roughness clamp. `anisotropy = 0` gives the isotropic pair.
-pub fn anisotropic_alphas(roughness: f64, anisotropy: f64) -> (f64, f64) {
+pub(crate) fn anisotropic_alphas(roughness: f64, anisotropy: f64) -> (f64, f64) {
     let alpha = alpha_from_roughness(roughness);
     let k = anisotropy.clamp(0.0, 1.0);
     let k2 = k * k;
@@ -20,7 +20,7 @@ pub fn anisotropic_alphas(roughness: f64, anisotropy: f64) -> (f64, f64) {
 
 /// The isotropic-equivalent roughness of the pair, what engines feed the isotropic
 /// multiple-scattering term: `alpha = sqrt(alpha_t alpha_b)`, roughness `sqrt(alpha)`.
-pub fn isotropic_roughness(alpha_t: f64, alpha_b: f64) -> f64 {
+pub(crate) fn isotropic_roughness(alpha_t: f64, alpha_b: f64) -> f64 {
     (alpha_t * alpha_b).max(0.0).sqrt().sqrt()
 }
 
@@ -28,7 +28,7 @@ pub fn isotropic_roughness(alpha_t: f64, alpha_b: f64) -> f64 {
 /// Microfacet-Based BRDFs", JCGT 3(2), its anisotropic GGX): `D(h) = 1 / (pi alpha_t alpha_b ((h_x / alpha_t)^2 +
 /// (h_y / alpha_b)^2 + h_z^2)^2)` for a unit local `h`; 0 below the horizon. Equals
 /// [`super::d_ggx`] when `alpha_t = alpha_b`.
-pub fn d_ggx_aniso(h: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
+pub(crate) fn d_ggx_aniso(h: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
     if h.z <= 0.0 {
         return 0.0;
     }
@@ -43,7 +43,7 @@ pub fn d_ggx_aniso(h: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
 /// `alpha_o^2 = alpha_t^2 cos^2 phi + alpha_b^2 sin^2 phi`): `(-1 + sqrt(1 + a))/2`,
 /// `a = (alpha_t^2 w_x^2 + alpha_b^2 w_y^2) / w_z^2`, written `a / (2 (1 + sqrt(1 + a)))`
 /// against cancellation, as [`super::lambda_smith`]. `w_z <= 0` gives +infinity.
-pub fn lambda_smith_aniso(w: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
+pub(crate) fn lambda_smith_aniso(w: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
     let z2 = w.z.max(0.0) * w.z.max(0.0);
     if z2 <= 0.0 {
         return f64::INFINITY;
@@ -57,7 +57,13 @@ pub fn lambda_smith_aniso(w: glam::DVec3, alpha_t: f64, alpha_b: f64) -> f64 {
 /// [`super::g_smith_correlated`]),
 /// separable Smith `1 / ((1 + Lambda(o)) (1 + Lambda(i)))`, or Schlick-GGX at the
 /// isotropic-equivalent roughness (Schlick's form has no anisotropic version).
-pub fn g_aniso(o: glam::DVec3, i: glam::DVec3, alpha_t: f64, alpha_b: f64, g: Geometry) -> f64 {
+pub(crate) fn g_aniso(
+    o: glam::DVec3,
+    i: glam::DVec3,
+    alpha_t: f64,
+    alpha_b: f64,
+    g: Geometry,
+) -> f64 {
     match g {
         Geometry::SmithCorrelated => {
             1.0 / (1.0
@@ -74,7 +80,7 @@ pub fn g_aniso(o: glam::DVec3, i: glam::DVec3, alpha_t: f64, alpha_b: f64, g: Ge
 
 /// The single-scattering Cook-Torrance BRDF of the anisotropic lobe, `F G D / (4 mu_i
 /// mu_o)`, for local `o`, `i` and their unit half vector `h`; 0 below the horizon.
-pub fn f_micro_aniso(
+pub(crate) fn f_micro_aniso(
     fresnel: f64,
     o: glam::DVec3,
     i: glam::DVec3,
@@ -96,7 +102,10 @@ pub fn f_micro_aniso(
 /// latitude about the world's vertical axis `+y`, as on a ball turned on a lathe,
 /// `normalize(y x n)`, with the bitangent `n x t` along the meridian. At the poles, where
 /// `y x n` vanishes (squared length at most [`DIV_EPSILON`]), the tangent is `+x`. Returns `(t, b)`.
-pub fn ball_tangent(n: glam::DVec3, (cos_r, sin_r): (f64, f64)) -> (glam::DVec3, glam::DVec3) {
+pub(crate) fn ball_tangent(
+    n: glam::DVec3,
+    (cos_r, sin_r): (f64, f64),
+) -> (glam::DVec3, glam::DVec3) {
     use glam::DVec3;
     let around = DVec3::new(n.z, 0.0, -n.x);
     let len2 = around.length_squared();
@@ -115,7 +124,7 @@ pub fn ball_tangent(n: glam::DVec3, (cos_r, sin_r): (f64, f64)) -> (glam::DVec3,
 /// bent reflection vector): `n` bent towards the normal of the plane through the
 /// lobe's rough direction (the tangent `t`, `alpha_t`) facing `v`, by `1 - (1 - s (1 - r))^4`, the strength `s` and roughness `r`
 /// recovered from the pair (`alpha_b = r^2`, `alpha_t = mix(alpha_b, 1, s^2)`).
-pub fn anisotropic_bent_normal(
+pub(crate) fn anisotropic_bent_normal(
     n: glam::DVec3,
     v: glam::DVec3,
     t: glam::DVec3,

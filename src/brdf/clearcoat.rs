@@ -26,7 +26,7 @@ use super::DIV_EPSILON;
 /// ([`super::coating_inside_reflectance`]): the internal reflections between the coat and a
 /// base of average albedo `a_avg` summed, and the radiance's `1 / eta^2` on leaving the
 /// denser coat.
-pub fn clearcoat_inside_scale(a_avg: f64, e_coat_avg: f64, eta: f64) -> f64 {
+pub(crate) fn clearcoat_inside_scale(a_avg: f64, e_coat_avg: f64, eta: f64) -> f64 {
     let f_in = super::coating_inside_reflectance(e_coat_avg, eta);
     1.0 / ((eta * eta) * (1.0 - a_avg * f_in)).max(DIV_EPSILON)
 }
@@ -34,12 +34,12 @@ pub fn clearcoat_inside_scale(a_avg: f64, e_coat_avg: f64, eta: f64) -> f64 {
 /// The share of the base's light under the physical coat of weight `weight` for light
 /// arriving with the coat's transmission `1 - e_coat_i`: `(1 - weight) + weight out (1 -
 /// e_coat_i)`, `out = (1 - E_c(mu_o)) clearcoat_inside_scale` the view's part.
-pub fn clearcoat_through_physical(weight: f64, out: f64, e_coat_i: f64) -> f64 {
+pub(crate) fn clearcoat_through_physical(weight: f64, out: f64, e_coat_i: f64) -> f64 {
     (1.0 - weight) + weight * out * (1.0 - e_coat_i)
 }
 
 /// The share of the base's light under an engine's coat of weight `weight`: `1 - weight F`,
 /// `F` the coat's Fresnel at `v.h` (Filament) or at `n.v` (glTF).
-pub fn clearcoat_through_engine(weight: f64, fresnel: f64) -> f64 {
+pub(crate) fn clearcoat_through_engine(weight: f64, fresnel: f64) -> f64 {
     1.0 - weight * fresnel
 }

@@ -37,7 +37,7 @@ pub fn f_avg_games202(r: f64, g: f64) -> f64 {
 /// `n_i`, with `eta = n_t / n_i` the relative index of the other side: `g^2 = eta^2 - 1 +
 /// c^2`; `F = (g - c)^2 / (2 (g + c)^2) (1 + ((c (g + c) - 1) / (c (g - c) + 1))^2)`, and 1
 /// past the critical angle (`g^2 < 0`, total internal reflection).
-pub fn fresnel_dielectric(cos_theta: f64, eta: f64) -> f64 {
+pub(crate) fn fresnel_dielectric(cos_theta: f64, eta: f64) -> f64 {
     let c = cos_theta.abs().min(1.0);
     let g2 = eta * eta - 1.0 + c * c;
     if g2 < 0.0 {
@@ -67,7 +67,7 @@ const F_AVG_INTERVALS: usize = 1024;
 /// `eta >= 1` the integrand is smooth in `mu`; for `eta < 1`, F is 1 below the critical
 /// cosine `mu_c = sqrt(1 - eta^2)` (that part is `mu_c^2`) and has a square-root kink
 /// there, which the substitution `g = sqrt(eta^2 - 1 + mu^2)` (`mu dmu = g dg`) removes.
-pub fn f_avg_dielectric(eta: f64) -> f64 {
+pub(crate) fn f_avg_dielectric(eta: f64) -> f64 {
     if eta >= 1.0 {
         simpson(|mu| 2.0 * fresnel_dielectric(mu, eta) * mu, 0.0, 1.0)
     } else {
@@ -91,14 +91,15 @@ fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
 /// (over its outside) for light arriving from within, total internal reflection included:
 /// `1 - (1 - F_avg(eta)) / eta^2` (reciprocity across the interface: radiance crossing it
 /// is divided by `eta^2`), 0.5963 at `eta = 1.5`. Equals [`f_avg_dielectric`]`(1 / eta)`.
-pub fn f_avg_inside(eta: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn f_avg_inside(eta: f64) -> f64 {
     1.0 - (1.0 - f_avg_dielectric(eta)) / (eta * eta).max(super::DIV_EPSILON)
 }
 
 /// Which Fresnel a dielectric coating uses: the preset's choice (`accurate`: the exact
 /// one; `games202`: Schlick's of the same index).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum DielectricFresnel {
+pub(crate) enum DielectricFresnel {
     /// [`fresnel_dielectric`].
     Exact,
     /// [`f_schlick`] with `F0 = f0_from_ior(eta)`.
@@ -106,7 +107,7 @@ pub enum DielectricFresnel {
 }
 
 /// The coating's Fresnel at cosine `cos_theta` for relative index `eta`, in `form`.
-pub fn f_dielectric(cos_theta: f64, eta: f64, form: DielectricFresnel) -> f64 {
+pub(crate) fn f_dielectric(cos_theta: f64, eta: f64, form: DielectricFresnel) -> f64 {
     match form {
         DielectricFresnel::Exact => fresnel_dielectric(cos_theta, eta),
         DielectricFresnel::Schlick => f_schlick(f0_from_ior(eta), cos_theta),

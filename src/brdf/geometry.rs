@@ -36,7 +36,7 @@ impl Geometry {
     }
 
     /// `G(mu_o, mu_i)` for this variant at `roughness` (clamped like everywhere else).
-    pub fn g(self, mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
+    pub(crate) fn g(self, mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
         match self {
             Geometry::Schlick => g_schlick(mu_o, mu_i, roughness),
             Geometry::Smith => g_smith(mu_o, mu_i, roughness),
@@ -47,13 +47,13 @@ impl Geometry {
 
 /// Schlick-GGX G1 (Schlick 1994, eq. 19, with Karis 2013's `k = alpha / 2`):
 /// `G1(c) = c / (c (1 - k) + k)`.
-pub fn g1_schlick(c: f64, k: f64) -> f64 {
+pub(crate) fn g1_schlick(c: f64, k: f64) -> f64 {
     let c = c.max(0.0);
     c / (c * (1.0 - k) + k).max(DIV_EPSILON)
 }
 
 /// Separable Schlick-GGX: `G = G1(mu_o) G1(mu_i)`, `k = roughness^2 / 2`.
-pub fn g_schlick(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
+pub(crate) fn g_schlick(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
     let k = alpha_from_roughness(roughness) / 2.0;
     g1_schlick(mu_o, k) * g1_schlick(mu_i, k)
 }
@@ -62,7 +62,7 @@ pub fn g_schlick(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
 /// written as `alpha^2 tan^2 / (2 (1 + sqrt(1 + alpha^2 tan^2)))` to avoid cancellation
 /// when `alpha tan` is small, with `sin^2 = (1 - c)(1 + c)` (exact `1 - c` near the
 /// normal, as in [`super::d_ggx`]). `c = 0` gives +infinity (fully masked).
-pub fn lambda_smith(c: f64, alpha: f64) -> f64 {
+pub(crate) fn lambda_smith(c: f64, alpha: f64) -> f64 {
     let c = c.clamp(0.0, 1.0);
     let c2 = c * c;
     if c2 <= 0.0 {
@@ -74,20 +74,20 @@ pub fn lambda_smith(c: f64, alpha: f64) -> f64 {
 
 /// Exact Smith G1 for GGX (Walter et al. 2007, eq. 34): `2 / (1 + sqrt(1 + alpha^2 tan^2))`,
 /// written as `2c / (c + sqrt(c^2 + alpha^2 (1 - c^2)))`, which is finite at `c = 0`.
-pub fn g1_smith(c: f64, alpha: f64) -> f64 {
+pub(crate) fn g1_smith(c: f64, alpha: f64) -> f64 {
     let c = c.clamp(0.0, 1.0);
     let root = (c * c + alpha * alpha * (1.0 - c * c)).sqrt();
     2.0 * c / (c + root).max(DIV_EPSILON)
 }
 
 /// Separable Smith: `G = G1(mu_o) G1(mu_i)`.
-pub fn g_smith(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
+pub(crate) fn g_smith(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
     let alpha = alpha_from_roughness(roughness);
     g1_smith(mu_o, alpha) * g1_smith(mu_i, alpha)
 }
 
 /// Height-correlated Smith (Heitz 2014, eq. 99): `G = 1 / (1 + Lambda(mu_o) + Lambda(mu_i))`.
-pub fn g_smith_correlated(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
+pub(crate) fn g_smith_correlated(mu_o: f64, mu_i: f64, roughness: f64) -> f64 {
     let alpha = alpha_from_roughness(roughness);
     1.0 / (1.0 + lambda_smith(mu_o, alpha) + lambda_smith(mu_i, alpha))
 }

@@ -50,7 +50,7 @@ pub fn f_add_games202(f_avg: f64, e_avg: f64) -> f64 {
 /// terms for `F_avg`, `E_avg` in [0, 1], so it never cancels. The direct form loses all
 /// digits as `F_avg -> 1` with small `E_avg` (measured in f32 before: 1.7e-5 absolute error
 /// in `f_add`); it reaches 0 only at `F_avg = 1, E_avg = 0`, where the guard makes 0/0 a 0.
-pub fn f_add_denominator(f_avg: f64, e_avg: f64) -> f64 {
+pub(crate) fn f_add_denominator(f_avg: f64, e_avg: f64) -> f64 {
     ((1.0 - f_avg) + f_avg * e_avg).max(DIV_EPSILON)
 }
 

@@ -16,28 +16,38 @@ mod kulla_conty;
 mod layering;
 mod ndf;
 
-pub use anisotropy::{
-    anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso, g_aniso,
+pub(crate) use anisotropy::{
+    anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso,
     isotropic_roughness, lambda_smith_aniso,
 };
-pub use clearcoat::{clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical};
-pub use compensation::{term_fdez_aguera, term_turquin};
-pub use fresnel::{
-    f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,
-    f_schlick, fresnel_dielectric, DielectricFresnel, GAMES202_EDGE_TINT,
+pub(crate) use clearcoat::{
+    clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical,
 };
-pub use geometry::{
-    g1_schlick, g1_smith, g_schlick, g_smith, g_smith_correlated, lambda_smith, Geometry,
-};
-pub use kulla_conty::{
-    f_add_accurate, f_add_denominator, f_add_games202, f_add_preset, f_ms, f_ms_norm, FAvgForm,
-};
-pub use layering::{
+pub(crate) use compensation::{term_fdez_aguera, term_turquin};
+pub use fresnel::f0_from_ior;
+pub use fresnel::f_avg_games202;
+#[cfg(test)]
+pub(crate) use fresnel::f_avg_inside;
+pub use fresnel::f_avg_schlick;
+pub use fresnel::f_schlick;
+pub use fresnel::GAMES202_EDGE_TINT;
+pub(crate) use fresnel::{f_avg_dielectric, f_dielectric, fresnel_dielectric, DielectricFresnel};
+pub use geometry::Geometry;
+#[cfg(test)]
+pub(crate) use geometry::{g1_schlick, g_smith, g_smith_correlated};
+pub(crate) use geometry::{g1_smith, g_schlick, lambda_smith};
+pub use kulla_conty::f_add_accurate;
+pub use kulla_conty::f_add_games202;
+pub use kulla_conty::f_add_preset;
+pub use kulla_conty::f_ms;
+pub use kulla_conty::f_ms_norm;
+pub use kulla_conty::FAvgForm;
+pub(crate) use layering::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     coating_inside_reflectance, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
     f_base_view_only, substrate_albedo,
 };
-pub use ndf::{d_ggx, visible_normal, visible_normal_aniso};
+pub(crate) use ndf::{d_ggx, visible_normal, visible_normal_aniso};
 
 /// Smallest roughness the model evaluates. Roughness 0 makes GGX a delta (alpha = 0, a
 /// division by zero at the mirror direction); every layer clamps to this value first, so
@@ -52,7 +62,7 @@ pub const DIV_EPSILON: f64 = 1e-12;
 
 /// The roughness the model actually uses: clamped to `[ROUGHNESS_MIN, 1]`.
 /// NaN is mapped to 1 (the most diffuse lobe) rather than propagated.
-pub fn roughness_clamped(roughness: f64) -> f64 {
+pub(crate) fn roughness_clamped(roughness: f64) -> f64 {
     if roughness.is_nan() {
         return 1.0;
     }

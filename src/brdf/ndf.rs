@@ -14,7 +14,7 @@ use super::DIV_EPSILON;
 /// rounding of the square, which in f32 is 6e-8, a third of the denominator's
 /// `alpha^2 = 1.6e-7` at the roughness clamp (measured in the shader: 1.7e-4 relative
 /// error in D near the peak before, see docs/reliability.md "Reliability").
-pub fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
+pub(crate) fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
     if n_dot_h <= 0.0 {
         return 0.0;
     }
@@ -34,14 +34,14 @@ pub fn d_ggx(n_dot_h: f64, alpha: f64) -> f64 {
 /// projected visible hemisphere (`p2 -> (1 - s) sqrt(1 - p1^2) + s p2`, `s = (1 + z) / 2`),
 /// lift it and unstretch. The walk draws the disk point at random; the coating's tables
 /// (`lut::coating`) take it from a quadrature rule.
-pub fn visible_normal(alpha: f64, wi: glam::DVec3, p1: f64, p2: f64) -> glam::DVec3 {
+pub(crate) fn visible_normal(alpha: f64, wi: glam::DVec3, p1: f64, p2: f64) -> glam::DVec3 {
     visible_normal_aniso((alpha, alpha), wi, p1, p2)
 }
 
 /// [`visible_normal`] of anisotropic GGX (`alpha_t` along local `x`, `alpha_b` along `y`):
 /// the same construction with the stretch `(alpha_t, alpha_b)` (Heitz 2018, as Heitz et
 /// al. 2016 stretch the walk's microsurface).
-pub fn visible_normal_aniso(
+pub(crate) fn visible_normal_aniso(
     (alpha_t, alpha_b): (f64, f64),
     wi: glam::DVec3,
     p1: f64,

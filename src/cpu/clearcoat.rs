@@ -14,7 +14,7 @@ use crate::scene::{Ball, CoatForm, Scene};
 
 /// What `clearcoat_begin` forms once per pixel (`ClearcoatPoint` of `clearcoat.wgsl`).
 #[derive(Clone, Copy, Debug)]
-pub struct ClearcoatPoint {
+pub(crate) struct ClearcoatPoint {
     row: [f32; COATING_ROW_LEN],
     c: ClearcoatConstants,
     fresnel_form: crate::brdf::DielectricFresnel,
@@ -34,7 +34,7 @@ pub struct ClearcoatPoint {
 impl ClearcoatPoint {
     /// `clearcoat_begin`: ball `b`'s coat `coat` at unit normal `n` towards `v`, `ms_ball`
     /// the ball's term weight.
-    pub fn new(
+    pub(crate) fn new(
         scene: &Scene,
         b: &Ball,
         coat: &Clearcoat,
@@ -107,7 +107,7 @@ impl ClearcoatPoint {
 
     /// `clearcoat_through`: the share of the base's light from a light at cosine `mu_i`
     /// (`v_dot_h` the view's cosine to the half vector) that comes through the coat.
-    pub fn through(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> DVec3 {
+    pub(crate) fn through(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> DVec3 {
         let w = self.c.weight;
         match self.c.form {
             CoatForm::Filament => {
@@ -124,7 +124,7 @@ impl ClearcoatPoint {
     }
 
     /// `clearcoat_environment`: the share of uniform light and the map that comes through.
-    pub fn environment(&self) -> DVec3 {
+    pub(crate) fn environment(&self) -> DVec3 {
         self.environment
     }
 }

@@ -22,7 +22,7 @@ use crate::scene::{Ball, Layering, Scene};
 /// per-ball members and its per-pixel reads at the view), for its light loop and the
 /// Monte Carlo of the model (`montecarlo::model_brdf`).
 #[derive(Clone, Copy, Debug)]
-pub struct CoatingPoint {
+pub(crate) struct CoatingPoint {
     row: [f32; COATING_ROW_LEN],
     constants: CoatingConstants,
     layering: Layering,
@@ -49,7 +49,7 @@ pub struct CoatingPoint {
 
 /// The coating's BRDF at one light direction, by part.
 #[derive(Clone, Copy, Debug)]
-pub struct CoatingBrdf {
+pub(crate) struct CoatingBrdf {
     /// The interface's single scattering.
     pub spec: f64,
     /// The term's lobe, weighted by `ms`.
@@ -60,7 +60,13 @@ pub struct CoatingBrdf {
 
 impl CoatingPoint {
     /// Ball `b`'s coating `coat` seen at unit normal `n` from `v`, with E from `e`.
-    pub fn new(scene: &Scene, b: &Ball, coat: &Coat, (n, v): (DVec3, DVec3), e: &TableSet) -> Self {
+    pub(crate) fn new(
+        scene: &Scene,
+        b: &Ball,
+        coat: &Coat,
+        (n, v): (DVec3, DVec3),
+        e: &TableSet,
+    ) -> Self {
         let Coat {
             row,
             constants,
@@ -107,13 +113,13 @@ impl CoatingPoint {
     }
 
     /// The coating's directional albedo at the view: `E_spec(mu_o)` and the base's.
-    pub fn albedo(&self) -> DVec3 {
+    pub(crate) fn albedo(&self) -> DVec3 {
         DVec3::splat(self.e_spec_o) + self.base_o
     }
 
     /// The coating's BRDF towards unit light direction `l` (`mu_i = n.l > 0`), `h` their
     /// half vector, `e` the tables (the light loop of `shade_coating`).
-    pub fn brdf(&self, (v, l): (DVec3, DVec3), n: DVec3, e: &TableSet) -> CoatingBrdf {
+    pub(crate) fn brdf(&self, (v, l): (DVec3, DVec3), n: DVec3, e: &TableSet) -> CoatingBrdf {
         let mu_i = n.dot(l);
         let h = (v + l).normalize();
         let eta = self.constants.eta;

@@ -34,7 +34,7 @@ pub(crate) struct LobeSamples {
 impl LobeSamples {
     /// The samples of pixel `(px, py)` at frame `frame` under `scene`'s method (`None`
     /// under the split sum).
-    pub fn of(scene: &Scene, (px, py): (u32, u32), frame: u32) -> Option<Self> {
+    pub(crate) fn of(scene: &Scene, (px, py): (u32, u32), frame: u32) -> Option<Self> {
         (scene.ibl_method == IblMethod::Lobe).then(|| {
             let count = scene
                 .ibl_samples

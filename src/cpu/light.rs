@@ -47,7 +47,7 @@ pub struct CpuEnvironment {
     /// The map's luminance tables, as the GPU binds them for the lobe mode (`None` for a
     /// map without, a constant one, and where the scene draws with the split sum: the
     /// tables of a large map take hundreds of MB that the split sum never reads).
-    pub luminance: Option<LuminanceCdf>,
+    pub(crate) luminance: Option<LuminanceCdf>,
 }
 
 impl CpuEnvironment {
@@ -82,7 +82,7 @@ impl CpuEnvironment {
 
     /// `background_radiance`'s map part in `footprint.wgsl`: the map along world direction `d`
     /// (level 0, bilinear), times the intensity.
-    pub fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
+    pub(crate) fn background(&self, environment: &Environment, d: DVec3) -> DVec3 {
         let uv = crate::environment::direction_to_uv(environment.to_map(d));
         self.intensity(environment) * self.chain.levels[0].bilinear(uv)
     }

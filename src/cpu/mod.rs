@@ -3,24 +3,29 @@
 //! the same table reads (`Tables::lut_e`, the f32 arithmetic of the shader). It is the
 //! truth the GPU image is tested against, and the fallback when there is no adapter.
 
-pub mod clearcoat;
-pub mod coating;
+pub(crate) mod clearcoat;
+pub(crate) mod coating;
 mod forms;
 mod light;
 mod model;
 pub mod montecarlo;
 mod shade;
-pub mod truth;
+pub(crate) mod truth;
 
 use glam::DVec3;
 use rayon::prelude::*;
 
 pub use light::CpuEnvironment;
-pub use montecarlo::{render_montecarlo, render_montecarlo_part, MonteCarloImage, Part};
-pub use shade::{intersect_sphere, shade, shade_environment_map, PointTerms};
-pub use truth::{
-    render_radiance_with_truth, render_truth, BallMean, TruthImage, TruthProgress, TruthSettings,
-};
+pub use montecarlo::render_montecarlo;
+pub use montecarlo::render_montecarlo_part;
+pub use montecarlo::MonteCarloImage;
+pub use montecarlo::Part;
+pub use shade::intersect_sphere;
+pub use shade::shade;
+pub use truth::render_truth;
+pub use truth::TruthProgress;
+pub use truth::TruthSettings;
+pub(crate) use truth::{render_radiance_with_truth, TruthImage};
 
 use forms::{Forms, LobeSamples};
 use shade::shade_point;
@@ -48,7 +53,7 @@ pub fn render_radiance(scene: &Scene, prepared: &Prepared, width: u32, height: u
 /// the sample indices `lobe_frame N .. (lobe_frame + 1) N` of each pixel's sequence, as
 /// `gpu::Renderer::set_lobe_frame`); the same image as [`render_radiance`] under the split
 /// sum.
-pub fn render_radiance_at_lobe_frame(
+pub(crate) fn render_radiance_at_lobe_frame(
     scene: &Scene,
     prepared: &Prepared,
     width: u32,
@@ -140,7 +145,7 @@ pub(crate) struct BallView {
 impl BallView {
     /// The pixel's radiance from the ball's `lo` and the background's
     /// ([`footprint_radiance`]).
-    pub fn mix(&self, lo: DVec3, background: impl FnOnce() -> DVec3) -> DVec3 {
+    pub(crate) fn mix(&self, lo: DVec3, background: impl FnOnce() -> DVec3) -> DVec3 {
         footprint_radiance(&self.footprint, lo, background)
     }
 }
@@ -150,7 +155,7 @@ impl BallView {
 /// of the ray the ball is shaded along and of the ray the background is seen along, and
 /// the fraction of the pixel the ball covers (1: the centre ray alone).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Footprint {
+pub(crate) struct Footprint {
     /// Distance along the shading ray.
     pub t: f64,
     /// Image position of the ray the ball is shaded along.
@@ -167,7 +172,7 @@ pub struct Footprint {
 /// direction, `dd = (dD - d (d . dD)) / |D|` (`dD = 2 right / w` or `-2 up / h`), and the
 /// perpendicular `P = oc - (oc . d) d` moves by `dP = -(oc . dd) d - (oc . d) dd`, its
 /// length by `P . dP / |P|`.
-pub fn ray_distance(
+pub(crate) fn ray_distance(
     basis: &CameraBasis,
     size: (u32, u32),
     q: (f64, f64),
@@ -198,7 +203,7 @@ pub fn ray_distance(
 /// where `n . q <= s` (`n` a unit vector or 0), the integral of the square's chord across
 /// `n` (a trapezoid; Gupta and Sproull, "Filtering edges for gray-scale displays",
 /// SIGGRAPH 1981, for a box filter).
-pub fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
+pub(crate) fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
     let eps = crate::brdf::DIV_EPSILON;
     let (a, b) = (n.0.abs().max(n.1.abs()), n.0.abs().min(n.1.abs()));
     let (h, k) = (0.5 * (a + b), 0.5 * (a - b));
@@ -227,7 +232,7 @@ pub fn box_coverage(s: f64, n: (f64, f64)) -> f64 {
 /// has no silhouette to linearise across the pixel (the covered part's centroid can miss
 /// it, leaving a knife edge, `n.v = 0`, that f32 and f64 shade apart): it is shaded along
 /// the centre ray, as without antialiasing (issue 28, finding 6).
-pub fn straddles_silhouette(
+pub(crate) fn straddles_silhouette(
     basis: &CameraBasis,
     size: (u32, u32),
     distance: f64,
@@ -245,7 +250,7 @@ pub fn straddles_silhouette(
 /// ([`box_coverage`]) and the centroids of the covered and uncovered parts along its
 /// normal: the rays the ball and the background are seen along. A pixel covered whole
 /// keeps the centre ray alone.
-pub fn ball_footprint(
+pub(crate) fn ball_footprint(
     basis: &CameraBasis,
     size: (u32, u32),
     antialias: bool,
@@ -299,7 +304,11 @@ pub fn ball_footprint(
 /// `footprint_radiance` of `balls.wgsl`: the ball's radiance `lo` (shaded along the ray
 /// through `f.hit`) mixed with the background's (along the ray through `f.miss`, asked
 /// only where the ball does not cover the whole pixel) by the coverage, in linear radiance.
-pub fn footprint_radiance(f: &Footprint, lo: DVec3, background: impl FnOnce() -> DVec3) -> DVec3 {
+pub(crate) fn footprint_radiance(
+    f: &Footprint,
+    lo: DVec3,
+    background: impl FnOnce() -> DVec3,
+) -> DVec3 {
     if f.coverage < 1.0 {
         // WGSL's mix(a, b, t) = a (1 - t) + b t.
         background() * (1.0 - f.coverage) + lo * f.coverage
@@ -309,7 +318,7 @@ pub fn footprint_radiance(f: &Footprint, lo: DVec3, background: impl FnOnce() ->
 }
 
 /// Side of the CPU renderer's screen bins, in pixels.
-pub const BIN_PX: u32 = 16;
+pub(crate) const BIN_PX: u32 = 16;
 
 /// The balls that may cover each bin of the image: each ball's pixel rectangle (from its
 /// padded bounds) and, per bin, the indices of the balls whose rectangle meets it, in

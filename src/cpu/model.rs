@@ -23,7 +23,7 @@ use crate::stats::Part;
 /// One visible surface point: the ball's model and what does not depend on the incident
 /// direction (E(mu_o), E_avg, f_add, the diffuse weight), formed once per pixel.
 #[derive(Clone, Copy, Debug)]
-pub struct ShadingPoint {
+pub(crate) struct ShadingPoint {
     /// Unit surface normal.
     pub n: DVec3,
     /// Unit direction towards the eye.
@@ -64,14 +64,14 @@ impl ShadingPoint {
     /// Ball `b` seen at unit normal `n` from unit direction `v`, under `scene`'s preset
     /// and geometry and the ball's model, with E and E_avg from `e` (its coating formed
     /// for the call: [`ShadingPoint::with_coat`] takes one formed once per ball).
-    pub fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
+    pub(crate) fn new(scene: &Scene, b: &Ball, n: DVec3, v: DVec3, e: &TableSet) -> Self {
         let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
         let coat = Coat::of_ball(scene, b, e, &rows);
         Self::with_coat(scene, (b, coat.as_ref()), (n, v), e)
     }
 
     /// [`ShadingPoint::new`] with the ball's coating `coat` (`None` for an all-metal ball).
-    pub fn with_coat(
+    pub(crate) fn with_coat(
         scene: &Scene,
         (b, coat): (&Ball, Option<&Coat>),
         (n, v): (DVec3, DVec3),
@@ -105,7 +105,7 @@ impl ShadingPoint {
 
     /// The point with `FssEss = F0 A + B` from the split sum's table (`A = E - B` with E
     /// from the tables, as `split_sum_scale` in `environment.wgsl`).
-    pub fn with_split_sum(mut self, split: &SplitSum) -> Self {
+    pub(crate) fn with_split_sum(mut self, split: &SplitSum) -> Self {
         let bias = split.bias_at(self.mu_o as f32, self.roughness as f32) as f64;
         let e_o = 1.0 - self.loss_o;
         self.fss_ess = self.f0 * e_o + (DVec3::ONE - self.f0) * bias;
@@ -131,7 +131,7 @@ impl ShadingPoint {
 ///   `F_avg = F0 + (1 - F0) / 21`, `FssEss = F0 A + B` from the split sum's table
 ///   ([`ShadingPoint::with_split_sum`], which [`super::render_montecarlo`] applies; without it
 ///   `F_avg E(mu_o)`).
-pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
+pub(crate) fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
     let mu_i = p.n.dot(l);
     if mu_i <= 0.0 || p.mu_o <= 0.0 {
         return DVec3::ZERO;

@@ -30,10 +30,11 @@ use crate::walk::Rng;
 pub use crate::stats::MAX_SPP;
 
 pub use crate::environment::sampler::LUMINANCE;
-pub use crate::stats::{MonteCarloImage, Part};
+pub use crate::stats::MonteCarloImage;
+pub use crate::stats::Part;
 
 use super::model::pdf_vndf_lobe;
-pub use super::model::{model_brdf, ShadingPoint};
+pub(crate) use super::model::{model_brdf, ShadingPoint};
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator

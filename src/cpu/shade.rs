@@ -146,8 +146,9 @@ fn shade_base(
 /// What `shade` forms once per pixel and the environment map's part takes from it, as
 /// `lighting.wgsl` hands them to `shade_environment_map`.
 #[derive(Clone, Copy, Debug)]
-pub struct PointTerms {
-    /// `max(n.v, 0)`.
+pub(crate) struct PointTerms {
+    /// `max(n.v, 0)` (the WGSL twin's member; no Rust code reads it).
+    #[allow(dead_code)]
     pub mu_o: f64,
     /// `1 - E(mu_o)` as read.
     pub loss_o: f64,
@@ -265,7 +266,7 @@ pub(super) fn shade_with_terms(
 /// `shade_environment_map` of `lighting.wgsl`: radiance leaving ball `b`'s metal at normal
 /// `n` towards `v` lit by the scene's environment map (zero without one), from the terms
 /// [`shade`] formed at the point.
-pub fn shade_environment_map(
+pub(crate) fn shade_environment_map(
     scene: &Scene,
     b: &Ball,
     n: DVec3,

@@ -50,7 +50,7 @@ use crate::walk::{trace, Reflectance, Rng, Schlick};
 
 /// Smallest relative standard error `--stderr` accepts (0.01 %): below it a render of the
 /// reference scene would need more than [`MAX_SPP`] estimates a pixel.
-pub const MIN_STDERR: f64 = 1e-4;
+pub(crate) const MIN_STDERR: f64 = 1e-4;
 
 /// Nodes of the tabulated single-scattering albedo over `mu` (uniform, linear
 /// interpolation: within 1e-4 of the quadrature between nodes at the roughness clamp).
@@ -711,7 +711,7 @@ fn check_clearcoat_lights(scene: &Scene, every_ball: bool) -> Result<()> {
 /// The CPU reference renderer's image of a scene with truth balls: every other ball as
 /// [`super::render_radiance`] shades it, the truth balls by the walk with `settings`
 /// (`every_ball` is ignored).
-pub fn render_radiance_with_truth(
+pub(crate) fn render_radiance_with_truth(
     scene: &Scene,
     prepared: &Prepared,
     width: u32,

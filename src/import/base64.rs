@@ -14,7 +14,7 @@ fn value(c: u8) -> Option<u32> {
 }
 
 /// The bytes `text` encodes, or why it is not base64.
-pub fn decode(text: &str) -> Result<Vec<u8>, String> {
+pub(crate) fn decode(text: &str) -> Result<Vec<u8>, String> {
     let body = text.trim_end_matches('=');
     if text.len() - body.len() > 2 {
         return Err("more than two '=' of padding".to_string());

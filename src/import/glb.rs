@@ -14,7 +14,7 @@ const HEADER: usize = 12;
 const CHUNK_HEADER: usize = 8;
 
 /// The parts of a `.glb`: its JSON chunk and its binary chunk, if any.
-pub struct Glb<'a> {
+pub(crate) struct Glb<'a> {
     /// The JSON chunk's bytes (trailing space padding included: JSON ignores it).
     pub json: &'a [u8],
     /// The `BIN` chunk's bytes (buffer 0 of a buffer without `uri`).
@@ -28,12 +28,12 @@ fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
 
 /// Whether `bytes` start as a `.glb` does (its magic): a `.gltf` named `.glb` or the
 /// reverse is read by what it holds.
-pub fn is_glb(bytes: &[u8]) -> bool {
+pub(crate) fn is_glb(bytes: &[u8]) -> bool {
     u32_at(bytes, 0) == Some(MAGIC)
 }
 
 /// Splits a `.glb` into its chunks, or says what is broken.
-pub fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
+pub(crate) fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
     let header = |what: &str| format!("not a .glb: {what}");
     if bytes.len() < HEADER {
         return Err(header(&format!(
@@ -103,7 +103,7 @@ pub fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
 
 /// A `.glb` of `json` (padded with spaces) and `bin` (padded with zeros), for the tests.
 #[cfg(test)]
-pub fn assemble(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
+pub(crate) fn assemble(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let pad = |n: usize| (4 - n % 4) % 4;
     let mut out = Vec::new();
     let json_len = json.len() + pad(json.len());

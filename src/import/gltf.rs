@@ -30,10 +30,10 @@ use crate::scene::{Ball, Camera, Material, Model, Scene, DEFAULT_IOR, IOR_RANGE,
 
 /// Largest glTF file read (a `.gltf`'s JSON or a whole `.glb`), and largest external buffer
 /// read when a position accessor has no bounds.
-pub const MAX_GLTF_BYTES: u64 = 256 << 20;
+pub(crate) const MAX_GLTF_BYTES: u64 = 256 << 20;
 
 /// The extensions read (a file may require these).
-pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+pub(crate) const SUPPORTED_EXTENSIONS: [&str; 5] = [
     "KHR_materials_ior",
     "KHR_materials_clearcoat",
     "KHR_materials_specular",
@@ -44,7 +44,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
 /// How far a mesh's bounds may be from a cube and still be a sphere: the largest side
 /// minus the smallest, over the largest (a tessellated sphere's bounds differ by about the
 /// cosine of half its smallest angle step: 1.2e-4 in MetalRoughSpheresNoTextures).
-pub const CUBE_TOLERANCE: f64 = 1e-3;
+pub(crate) const CUBE_TOLERANCE: f64 = 1e-3;
 
 /// How far a node's transform may be from a translation and a uniform scale, relative to
 /// the scale (a rotation of 1e-6 radians moves a ball by a millionth of its distance).
@@ -108,7 +108,7 @@ pub struct GltfMaterial {
 
 impl GltfMaterial {
     /// The specification's default material: white, metallic 1, roughness 1.
-    pub fn default_material() -> Self {
+    pub(crate) fn default_material() -> Self {
         GltfMaterial {
             index: None,
             name: "default".to_string(),
@@ -129,21 +129,21 @@ impl GltfMaterial {
 
     /// `KHR_materials_specular`'s dielectric `F0`:
     /// `min(((ior - 1) / (ior + 1))^2 specularColorFactor, 1) specularFactor`.
-    pub fn dielectric_f0(&self) -> DVec3 {
+    pub(crate) fn dielectric_f0(&self) -> DVec3 {
         let f0 = crate::brdf::f0_from_ior(self.ior);
         (DVec3::splat(f0) * self.specular_colour).min(DVec3::ONE) * self.specular_factor
     }
 
     /// Whether `KHR_materials_specular` changes the dielectric (a factor or colour other
     /// than 1).
-    pub fn has_specular(&self) -> bool {
+    pub(crate) fn has_specular(&self) -> bool {
         self.specular_factor != 1.0 || self.specular_colour != DVec3::ONE
     }
 
     /// The index of the ball's coating: `ior` itself without `KHR_materials_specular`, else
     /// the index whose `F0` is the mean of [`GltfMaterial::dielectric_f0`] (exact for a
     /// grey specular colour).
-    pub fn coating_ior(&self) -> f64 {
+    pub(crate) fn coating_ior(&self) -> f64 {
         if !self.has_specular() {
             return self.ior;
         }
@@ -161,7 +161,7 @@ impl GltfMaterial {
     /// `metallic` and [`GltfMaterial::coating_ior`], its metal's lobe anisotropic as
     /// `KHR_materials_anisotropy` asks (the rotation brought into `(-pi, pi]`; a material
     /// without metal keeps an isotropic lobe: the import's notice says so).
-    pub fn material(&self) -> Material {
+    pub(crate) fn material(&self) -> Material {
         let m = Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
             .with_clearcoat(self.clearcoat);
         if self.anisotropy_strength > 0.0 && m.has_metal() {
@@ -176,7 +176,7 @@ impl GltfMaterial {
 
 /// The index of refraction whose normal-incidence reflectance is `f0`:
 /// `(1 + sqrt(F0)) / (1 - sqrt(F0))`, the inverse of `brdf::f0_from_ior`.
-pub fn ior_from_f0(f0: f64) -> f64 {
+pub(crate) fn ior_from_f0(f0: f64) -> f64 {
     let s = f0.clamp(0.0, 1.0).sqrt();
     (1.0 + s) / (1.0 - s).max(crate::brdf::DIV_EPSILON)
 }
@@ -221,7 +221,7 @@ pub fn load(path: &Path) -> Result<Imported> {
 
 /// Reads a glTF file's `bytes` (a `.gltf`'s JSON or a `.glb`), its external buffers
 /// relative to `folder`; errors name `path`.
-pub fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Imported> {
+pub(crate) fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Imported> {
     read(bytes, folder).map_err(|message| Error::Scene {
         path: path.to_path_buf(),
         message: crate::error::one_line(&message),
@@ -233,7 +233,7 @@ pub fn parse(bytes: &[u8], folder: Option<&Path>, path: &Path) -> Result<Importe
 /// part of the asset), each with what it is: the inputs an output must not replace
 /// (issue 38, finding 2). Empty where the file cannot be read or is not glTF ([`load`]
 /// says why then); `data:` URIs name no file.
-pub fn external_files(path: &Path) -> Vec<(&'static str, PathBuf)> {
+pub(crate) fn external_files(path: &Path) -> Vec<(&'static str, PathBuf)> {
     if !std::fs::metadata(path).is_ok_and(|m| m.len() <= MAX_GLTF_BYTES) {
         return Vec::new();
     }

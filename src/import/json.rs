@@ -4,17 +4,21 @@
 use serde_json::{Map, Value};
 
 /// An error: `at: message`.
-pub fn err(at: &str, message: impl std::fmt::Display) -> String {
+pub(crate) fn err(at: &str, message: impl std::fmt::Display) -> String {
     format!("{at}: {message}")
 }
 
 /// The object at `v` (`at` names it), or an error.
-pub fn object<'a>(v: &'a Value, at: &str) -> Result<&'a Map<String, Value>, String> {
+pub(crate) fn object<'a>(v: &'a Value, at: &str) -> Result<&'a Map<String, Value>, String> {
     v.as_object().ok_or_else(|| err(at, "is not a JSON object"))
 }
 
 /// The array under `key` of `obj` (empty when absent), or an error when it is no array.
-pub fn array<'a>(obj: &'a Map<String, Value>, key: &str, at: &str) -> Result<&'a [Value], String> {
+pub(crate) fn array<'a>(
+    obj: &'a Map<String, Value>,
+    key: &str,
+    at: &str,
+) -> Result<&'a [Value], String> {
     match obj.get(key) {
         None => Ok(&[]),
         Some(Value::Array(a)) => Ok(a),
@@ -23,7 +27,7 @@ pub fn array<'a>(obj: &'a Map<String, Value>, key: &str, at: &str) -> Result<&'a
 }
 
 /// The number under `key` of `obj`, `default` when absent, within `[lo, hi]`.
-pub fn number(
+pub(crate) fn number(
     obj: &Map<String, Value>,
     key: &str,
     at: &str,
@@ -44,7 +48,7 @@ pub fn number(
 }
 
 /// The `N` numbers under `key` of `obj`, `default` when absent, each within `[lo, hi]`.
-pub fn numbers<const N: usize>(
+pub(crate) fn numbers<const N: usize>(
     obj: &Map<String, Value>,
     key: &str,
     at: &str,
@@ -77,7 +81,7 @@ pub fn numbers<const N: usize>(
 
 /// The index under `key` of `obj` (`None` when absent) into a list of `len` items called
 /// `what`.
-pub fn index(
+pub(crate) fn index(
     obj: &Map<String, Value>,
     key: &str,
     at: &str,
@@ -100,6 +104,6 @@ pub fn index(
 }
 
 /// The string under `key` of `obj`, if any.
-pub fn string<'a>(obj: &'a Map<String, Value>, key: &str) -> Option<&'a str> {
+pub(crate) fn string<'a>(obj: &'a Map<String, Value>, key: &str) -> Option<&'a str> {
     obj.get(key).and_then(Value::as_str)
 }

@@ -8,16 +8,17 @@ mod glb;
 mod gltf;
 mod json;
 
-pub use gltf::{
-    external_files, ior_from_f0, load, parse, GltfMaterial, Imported, CUBE_TOLERANCE,
-    MAX_GLTF_BYTES, SUPPORTED_EXTENSIONS,
-};
+pub use gltf::load;
+#[cfg(test)]
+pub(crate) use gltf::parse;
+pub use gltf::GltfMaterial;
+pub(crate) use gltf::{external_files, Imported};
 
 use std::path::Path;
 
 /// Whether `path` names a glTF file (`.gltf` or `.glb`, any case): what `render --scene`
 /// and `view --scene` read with [`load`] instead of as a TOML scene.
-pub fn is_gltf(path: &Path) -> bool {
+pub(crate) fn is_gltf(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))

@@ -16,7 +16,7 @@ use crate::scene::{Ball, CoatForm, Layering, Scene};
 /// What a ball's clear coat takes that is constant over the ball, formed once per ball on
 /// the CPU (the GPU's `Ball.clearcoat*`; `cpu::clearcoat`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ClearcoatConstants {
+pub(crate) struct ClearcoatConstants {
     /// The coat's weight.
     pub weight: f64,
     /// The coat's roughness.
@@ -43,7 +43,12 @@ pub struct ClearcoatConstants {
 impl ClearcoatConstants {
     /// Ball `b`'s coat constants, from its row of `rows` and E read from `e`; `None`
     /// without a coat.
-    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+    pub(crate) fn of_ball(
+        scene: &Scene,
+        b: &Ball,
+        e: &TableSet,
+        rows: &CoatingRows,
+    ) -> Option<Self> {
         let key = scene.clearcoat_key(b)?;
         let row = rows.row(&key).expect("every clear coat's row is baked");
         let coat = b.material.clearcoat;
@@ -94,7 +99,12 @@ impl ClearcoatConstants {
 /// (without its coat), per channel, as the renderers' uniform-light shading gives it: the
 /// metal's `F_avg E_avg + f_add (1 - E_avg)` and the dielectric's `E_spec_avg` plus its
 /// base's average under the scene's layering form, mixed by `metallic`.
-pub fn base_average_albedo(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> DVec3 {
+pub(crate) fn base_average_albedo(
+    scene: &Scene,
+    b: &Ball,
+    e: &TableSet,
+    rows: &CoatingRows,
+) -> DVec3 {
     let ms = if b.model.has_term() { 1.0 } else { 0.0 };
     let m = &b.material;
     let e_avg = 1.0 - f64::from(e.lut_loss_avg(b.roughness as f32));
@@ -128,7 +138,7 @@ pub fn base_average_albedo(scene: &Scene, b: &Ball, e: &TableSet, rows: &Coating
 /// A ball's clear coat as the CPU's shading reads it, formed once per ball (as the GPU's
 /// uniforms are): its row and its constants, in f32 as the GPU holds them.
 #[derive(Clone, Copy, Debug)]
-pub struct Clearcoat {
+pub(crate) struct Clearcoat {
     /// The coat's row of the coating rows.
     pub row: [f32; COATING_ROW_LEN],
     /// Its constants, each rounded to f32.
@@ -138,7 +148,12 @@ pub struct Clearcoat {
 impl Clearcoat {
     /// Ball `b`'s clear coat, from its row of `rows` and E read from `e`; `None` without
     /// one.
-    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+    pub(crate) fn of_ball(
+        scene: &Scene,
+        b: &Ball,
+        e: &TableSet,
+        rows: &CoatingRows,
+    ) -> Option<Self> {
         let c = ClearcoatConstants::of_ball(scene, b, e, rows)?;
         let key = scene.clearcoat_key(b)?;
         let f32_of = |x: f64| x as f32 as f64;

@@ -11,7 +11,7 @@ use crate::scene::{Ball, Preset, Scene};
 /// on the CPU (the GPU's `Ball.eta`, `coat_f_add`, `coat_f_avg`, `e_spec_avg`;
 /// `cpu::coating`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct CoatingConstants {
+pub(crate) struct CoatingConstants {
     /// The coating's relative index.
     pub eta: f64,
     /// Kulla-Conty's `f_add` of the coating, from its average Fresnel (0 without the term).
@@ -31,7 +31,7 @@ impl CoatingConstants {
     /// Ball `b`'s constants as both renderers form them, once per ball: from its row of
     /// `rows`, with E and E_avg read from `e` as the shader reads them, and its term;
     /// `None` for an all-metal ball.
-    pub fn of_ball(
+    pub(crate) fn of_ball(
         scene: &Scene,
         b: &Ball,
         e: &crate::lut::TableSet,
@@ -57,7 +57,7 @@ impl CoatingConstants {
     /// The constants of a coating of index `eta` read from `row`, for a ball whose term
     /// weight is `ms` and term `term`, with the preset `preset`; `e_avg` is `E_avg` at the
     /// ball's roughness as the shader reads it and `loss(mu)` its `1 - E(mu)` read.
-    pub fn new(
+    pub(crate) fn new(
         eta: f64,
         row: &[f32; crate::lut::COATING_ROW_LEN],
         preset: Preset,
@@ -107,7 +107,7 @@ impl CoatingConstants {
 /// `E_spec(mu)` with the ball's term (weight `ms`), from its single scattering `e_f` and
 /// `loss = 1 - E(mu)`: Kulla-Conty's `e_f + f_add loss`, Turquin's `e_f (1 + F0 (1 / E -
 /// 1))`, Fdez-Aguera's `e_f + FmsEms`.
-pub fn coating_spec_albedo(
+pub(crate) fn coating_spec_albedo(
     e_f: f64,
     loss: f64,
     f0: f64,

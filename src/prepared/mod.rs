@@ -12,16 +12,16 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-pub use clearcoat::{base_average_albedo, Clearcoat, ClearcoatConstants};
-pub use coat::{coating_spec_albedo, CoatingConstants};
-pub use substrate::{base_albedo, substrate_albedo, substrate_albedo_with, with_substrates};
+pub(crate) use clearcoat::{Clearcoat, ClearcoatConstants};
+pub(crate) use coat::{coating_spec_albedo, CoatingConstants};
+pub(crate) use substrate::{base_albedo, with_substrates};
 
 use crate::lut::{CoatingKey, CoatingRows, TableSet, COATING_ROW_LEN};
 use crate::scene::{Ball, Scene, MAX_BALLS};
 
 /// Coating rows baked before, by key: what a renderer keeps between frames so that a
 /// scene's rows are baked once ([`Prepared::with_cache`]).
-pub type CoatingCache = HashMap<CoatingKey, [f32; COATING_ROW_LEN]>;
+pub(crate) type CoatingCache = HashMap<CoatingKey, [f32; COATING_ROW_LEN]>;
 
 /// What a frame of one scene reads besides the scene: the tables, the coating rows of its
 /// dielectrics (`lut::coating`) and each ball's coating ([`Coat`]), index for index with
@@ -54,7 +54,7 @@ impl Prepared {
     }
 
     /// [`Prepared::new`] taking the rows already in `cache` and adding those it bakes.
-    pub fn with_cache(scene: &Scene, tables: &TableSet, cache: &mut CoatingCache) -> Self {
+    pub(crate) fn with_cache(scene: &Scene, tables: &TableSet, cache: &mut CoatingCache) -> Self {
         let coating = CoatingRows::bake(
             scene
                 .balls
@@ -84,22 +84,22 @@ impl Prepared {
     }
 
     /// The tables E and E_avg are read from.
-    pub fn tables(&self) -> &TableSet {
+    pub(crate) fn tables(&self) -> &TableSet {
         &self.tables
     }
 
     /// The coating rows of the scene's dielectrics.
-    pub fn coating_rows(&self) -> &CoatingRows {
+    pub(crate) fn coating_rows(&self) -> &CoatingRows {
         &self.coating
     }
 
     /// Ball `k`'s clear coat; `None` without one.
-    pub fn clearcoat(&self, k: usize) -> Option<&Clearcoat> {
+    pub(crate) fn clearcoat(&self, k: usize) -> Option<&Clearcoat> {
         self.clearcoats.get(k).and_then(Option::as_ref)
     }
 
     /// Ball `k`'s coating; `None` for an all-metal ball.
-    pub fn coat(&self, k: usize) -> Option<&Coat> {
+    pub(crate) fn coat(&self, k: usize) -> Option<&Coat> {
         self.coats.get(k).and_then(Option::as_ref)
     }
 }
@@ -108,7 +108,7 @@ impl Prepared {
 /// constants, in f32 as the GPU holds them, and the base's albedo as the shading takes it
 /// ([`base_albedo`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Coat {
+pub(crate) struct Coat {
     /// The ball's coating row.
     pub row: [f32; COATING_ROW_LEN],
     /// Its constants, each rounded to f32.
@@ -120,7 +120,12 @@ pub struct Coat {
 impl Coat {
     /// Ball `b`'s coat, from its row of `rows` and E read from `e`; `None` for an all-metal
     /// ball. A ball of no scene (a single point's shading) takes rows baked for it alone.
-    pub fn of_ball(scene: &Scene, b: &Ball, e: &TableSet, rows: &CoatingRows) -> Option<Self> {
+    pub(crate) fn of_ball(
+        scene: &Scene,
+        b: &Ball,
+        e: &TableSet,
+        rows: &CoatingRows,
+    ) -> Option<Self> {
         let c = CoatingConstants::of_ball(scene, b, e, rows)?;
         let key = scene.coating_key(b)?;
         let f32_of = |x: f64| x as f32 as f64;

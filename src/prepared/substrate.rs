@@ -20,7 +20,7 @@ use crate::scene::{Ball, BaseReading, Layering, Model, Scene, MAX_BALLS};
 /// `diffuse` under [`BaseReading::Substrate`] (or for an all-metal ball), else the albedo
 /// solved from it with the coating's Kulla-Conty `E_spec_avg` read from `e` and `row`
 /// (the ball's coating row) as the shader reads them.
-pub fn substrate_albedo(
+pub(crate) fn substrate_albedo(
     scene: &Scene,
     b: &Ball,
     e: &TableSet,
@@ -33,7 +33,7 @@ pub fn substrate_albedo(
 /// formed them (`CoatingConstants::of_ball`): a Kulla-Conty ball's are the ones the
 /// reading takes, so its `E_spec_avg` is not formed twice (an `F_avg` integral per ball
 /// per frame).
-pub fn substrate_albedo_with(
+pub(crate) fn substrate_albedo_with(
     scene: &Scene,
     b: &Ball,
     e: &TableSet,
@@ -74,7 +74,7 @@ pub fn substrate_albedo_with(
 /// truth (the walk goes through a substrate), else `diffuse` as it is (the engines' forms
 /// weight the colour a viewer sees); `own`: the ball's coating constants where the caller
 /// has them ([`substrate_albedo_with`]).
-pub fn base_albedo(
+pub(crate) fn base_albedo(
     scene: &Scene,
     b: &Ball,
     e: &TableSet,
@@ -91,7 +91,7 @@ pub fn base_albedo(
 /// `scene` with every dielectric's base replaced by the substrate albedo its reading
 /// implies ([`substrate_albedo`], from the tables and coating rows `prepared` for it) and
 /// the reading set to [`BaseReading::Substrate`]: what the random walks take (`cpu::truth`).
-pub fn with_substrates(scene: &Scene, prepared: &Prepared) -> Scene {
+pub(crate) fn with_substrates(scene: &Scene, prepared: &Prepared) -> Scene {
     if scene.base_reading == BaseReading::Substrate {
         return scene.clone();
     }
