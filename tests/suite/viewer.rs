@@ -1754,7 +1754,7 @@ fn lobe_stops_at_its_cap_and_the_viewer_goes_idle() {
         // mode's multiple importance sampling, issue 37): at 185x270 a frame took 2.5 to
         // 4.4 s on lavapipe (2 loaded cores), half that here, about 20 to 35 s to the cap;
         // then idle, which the wait sees as the process's CPU time standing still.
-        until_idle(pid, Duration::from_secs(120));
+        until_idle(pid, Duration::from_secs(240));
     });
     assert_eq!(reported(&stderr, "lobe: "), 4096, "{stderr}");
     let frames = reported(&stderr, "viewed ");
