@@ -2,6 +2,8 @@
 // (GL): a full-screen triangle whose fragments load the texel under them, unfiltered, so
 // that the window gets the frame image's exact bytes.
 
+#define_import_path shadeballs::blit
+
 @group(0) @binding(0) var frame_image: texture_2d<f32>;
 
 @vertex

@@ -4,6 +4,8 @@
 // full step or more). `src/viewer/difference.rs` holds the CPU mirror of `difference_colour`
 // (the colour bar's colours) and of the whole pixel (the tests').
 
+#define_import_path shadeballs::difference
+
 struct DifferenceParams {
     // |a - b| is multiplied by this before the ramp (1 at its top).
     scale: f32,

@@ -67,6 +67,8 @@ pub(crate) fn entry_points(program: &Program) -> &'static [&'static str] {
         "shadeballs::accumulate" => &[VS_MAIN, FS_LOBE_ACCUMULATE, FS_LOBE_RESOLVE],
         "shadeballs::probe" => &[PROBE_MAIN, PROBE_ROWS],
         "shadeballs::prefilter" => &[SPECULAR_MAIN, CONVOLVED_MAIN],
+        "shadeballs::blit" => &["blit_vs", "blit_fs"],
+        "shadeballs::difference" => &["difference_vs", "difference_fs"],
         _ => &[],
     }
 }
@@ -91,6 +93,8 @@ pub(crate) fn source(program: &Program) -> Option<&'static str> {
         "accumulate_bits" => composed!("accumulate_bits"),
         "probe" => composed!("probe"),
         "prefilter" => composed!("prefilter"),
+        "blit" => composed!("blit"),
+        "difference" => composed!("difference"),
         _ => return None,
     })
 }
@@ -140,6 +144,16 @@ pub(crate) fn prefilter_source() -> &'static str {
 /// The table probe: `probe.wgsl` and its imports.
 pub(crate) fn probe_source() -> &'static str {
     composed!("probe")
+}
+
+/// The viewer's blit into a GL window (`blit.wgsl`).
+pub(crate) fn blit_source() -> &'static str {
+    composed!("blit")
+}
+
+/// The viewer's difference view (`difference.wgsl`).
+pub(crate) fn difference_source() -> &'static str {
+    composed!("difference")
 }
 
 /// The `geometry` argument of the WGSL `geometry_g` and `f_micro` for `g`, and the value of

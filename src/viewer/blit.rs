@@ -12,7 +12,7 @@ impl Blit {
     pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("blit"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(crate::gpu::shaders::blit_source().into()),
         });
         let layout = crate::gpu::texture_load_layout(device, "blit");
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -178,7 +178,7 @@ impl Difference {
     pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("difference"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/difference.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(crate::gpu::shaders::difference_source().into()),
         });
         let texture = |binding| wgpu::BindGroupLayoutEntry {
             binding,

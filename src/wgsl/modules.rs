@@ -22,8 +22,8 @@ macro_rules! module {
 /// stages, rays and output the ball renderer and the truth share), `footprint` (a pixel's
 /// antialiased footprint and the background, the ball renderer's and the Monte Carlo's), and the roots `balls`,
 /// `walk` (the truth), `montecarlo` (the model's Monte Carlo), `accumulate` (the lobe's
-/// progressive image), `probe`, `prefilter`.
-pub const MODULES: [Module; 19] = [
+/// progressive image), `probe`, `prefilter`, and the viewer's `blit` and `difference`.
+pub const MODULES: [Module; 21] = [
     module!("constants"),
     module!("brdf"),
     module!("lut"),
@@ -43,6 +43,8 @@ pub const MODULES: [Module; 19] = [
     module!("accumulate"),
     module!("probe"),
     module!("prefilter"),
+    module!("blit"),
+    module!("difference"),
 ];
 
 /// The shader def of the modules that write to an `Rgba32Uint` target: the fragment entry
@@ -116,8 +118,21 @@ pub(crate) const PREFILTER: Program = Program {
     defs: &[],
 };
 
+/// The viewer's copy of its frame image into a GL window.
+pub(crate) const BLIT: Program = Program {
+    name: "blit",
+    root: "shadeballs::blit",
+    defs: &[],
+};
+/// The viewer's difference view of two scene images.
+pub(crate) const DIFFERENCE: Program = Program {
+    name: "difference",
+    root: "shadeballs::difference",
+    defs: &[],
+};
+
 /// Every program the build composes.
-pub(crate) const PROGRAMS: [Program; 9] = [
+pub(crate) const PROGRAMS: [Program; 11] = [
     BALLS,
     BALLS_BITS,
     TRUTH,
@@ -127,6 +142,8 @@ pub(crate) const PROGRAMS: [Program; 9] = [
     ACCUMULATE_BITS,
     PROBE,
     PREFILTER,
+    BLIT,
+    DIFFERENCE,
 ];
 
 /// The root of [`crate::wgsl::KULLA_CONTY`]: the library's functions and the table reads.

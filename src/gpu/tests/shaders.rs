@@ -24,7 +24,6 @@ fn modules_parse_and_validate() {
         validate(program.name, source);
     }
     validate("the flat library", wgsl::KULLA_CONTY);
-    validate("viewer blit", include_str!("../../../shaders/blit.wgsl"));
 }
 
 #[test]

@@ -542,12 +542,12 @@ fn comparison_sides_and_split() {
     }
 }
 
-/// `shaders/difference.wgsl` parses and validates, and its ramp's CPU mirror starts at
-/// black and ends at its last stop.
+/// `shaders/difference.wgsl`, composed, parses and validates, and its ramp's CPU mirror
+/// starts at black and ends at its last stop.
 #[test]
 fn difference_shader_validates_and_its_ramp_spans_black_to_pale_yellow() {
     use crate::viewer::difference::{difference_colour, difference_pixel};
-    let source = include_str!("../../../shaders/difference.wgsl");
+    let source = crate::gpu::shaders::difference_source();
     let module = naga::front::wgsl::parse_str(source).unwrap();
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
