@@ -61,7 +61,7 @@ impl ToneMap {
     }
 
     /// The value of the `TONE_MAP` override (`TONE_MAP_*` in `types.wgsl`, generated from
-    /// this by tests/suite/boundary.rs): its index in [`ToneMap::ALL`].
+    /// this by src/gpu/tests/boundary.rs): its index in [`ToneMap::ALL`].
     pub(crate) fn code(self) -> u32 {
         ToneMap::ALL.iter().position(|&t| t == self).unwrap_or(0) as u32
     }

@@ -55,15 +55,6 @@ pub mod cli;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 
-// The crate's own tests that need its internals (`gpu::tests`, ...) share the suite's GPU
-// and image helpers (tests/suite/pixels.rs, one copy), which name the crate `shadeballs`.
-#[cfg(all(test, feature = "cli"))]
-extern crate self as shadeballs;
-#[cfg(all(test, feature = "cli"))]
-#[allow(dead_code)] // the suite's helpers: the crate's tests use some of them
-#[path = "../tests/suite/pixels.rs"]
-mod pixels;
-
 /// The glam a [`Scene`]'s vectors are (`glam::DVec3`): a host builds scenes with it, no
 /// version of its own to match.
 pub use glam;
@@ -76,3 +67,12 @@ pub use error::{Error, Result};
 pub use gpu::{Gpu, GpuTables, Renderer, Target};
 pub use lut::{bake, BakeConfig, Layout, LayoutKind, LutParams, Storage, Tables};
 pub use scene::Scene;
+
+// The crate's own tests that need its internals (`gpu::tests`, ...) share the suite's GPU
+// and image helpers (tests/suite/pixels.rs, one copy), which name the crate `shadeballs`.
+#[cfg(all(test, feature = "cli"))]
+extern crate self as shadeballs;
+#[cfg(all(test, feature = "cli"))]
+#[allow(dead_code)] // the suite's helpers: the crate's tests use some of them
+#[path = "../tests/suite/pixels.rs"]
+mod pixels;

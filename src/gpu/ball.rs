@@ -6,7 +6,7 @@
 //! the ball from the vertex buffer to the fragment stage ([`wgsl`]: `struct Ball`, the
 //! vertex input `BallIn`, the flat varyings `BallOut`, `ball_out` and `ball_of`), which
 //! `shaders/types.wgsl` holds between the markers of the generated constants
-//! (tests/suite/boundary.rs checks the text and, with naga, the layout against `vs_ball`).
+//! (src/gpu/tests/boundary.rs checks the text and, with naga, the layout against `vs_ball`).
 //! Adding a member is its line in the list, its value in `uniforms::balls`, and the
 //! blessed block.
 //!

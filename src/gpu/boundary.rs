@@ -1,6 +1,6 @@
 //! The CPU/GPU boundary's Rust side as data: every struct the shaders read from a uniform
 //! or storage buffer, by its WGSL name, with the size, member offsets and member types of
-//! its Rust twin (`size_of`, `offset_of`, [`WgslType`]). tests/suite/boundary.rs compares
+//! its Rust twin (`size_of`, `offset_of`, [`WgslType`]). src/gpu/tests/boundary.rs compares
 //! them with naga's layout of the composed programs, member by member.
 
 use std::mem::{offset_of, size_of};
@@ -71,7 +71,7 @@ macro_rules! layout {
 }
 
 /// The WGSL [`BALL_MEMBERS`] generate (`gpu::ball`), line by line: what `types.wgsl`
-/// holds between the ball's markers (tests/suite/boundary.rs).
+/// holds between the ball's markers (src/gpu/tests/boundary.rs).
 pub(crate) fn ball_wgsl() -> Vec<String> {
     super::ball::wgsl(BALL_MEMBERS)
 }

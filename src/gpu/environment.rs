@@ -19,7 +19,7 @@ use crate::scene::Scene;
 /// backend, and a storage format the compute passes can write.
 pub(crate) const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// Mirrors `EnvUniform` in `types.wgsl` (member for member: tests/suite/boundary.rs).
+/// Mirrors `EnvUniform` in `types.wgsl` (member for member: src/gpu/tests/boundary.rs).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct EnvUniform {

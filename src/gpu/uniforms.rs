@@ -1,6 +1,6 @@
 //! The shader data's Rust side: `Globals`, `Ball`, `Light` of `shaders/types.wgsl`, member
 //! for member (every vector of three followed by a scalar, every member 4-byte aligned
-//! within 16-byte rows, so the WGSL layout is the `repr(C)` one; tests/suite/boundary.rs
+//! within 16-byte rows, so the WGSL layout is the `repr(C)` one; src/gpu/tests/boundary.rs
 //! compares naga's layout of each with these).
 
 use bytemuck::{Pod, Zeroable};
@@ -252,7 +252,7 @@ pub(crate) fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
 }
 
 /// The code of each layering form in `Ball.layering`, and the WGSL constant `LAYERING_*`
-/// of `types.wgsl` generated from it (tests/suite/boundary.rs).
+/// of `types.wgsl` generated from it (src/gpu/tests/boundary.rs).
 pub(crate) const LAYERING_CODES: [(u32, Layering); 5] = [
     (0, Layering::Constant),
     (1, Layering::Gltf),
@@ -270,7 +270,7 @@ pub(crate) fn layering_code(form: Layering) -> u32 {
 }
 
 /// The code of each coat form in `Ball.clearcoat_form`, and the WGSL constant
-/// `COAT_FORM_*` of `types.wgsl` generated from it (tests/suite/boundary.rs).
+/// `COAT_FORM_*` of `types.wgsl` generated from it (src/gpu/tests/boundary.rs).
 pub(crate) const COAT_FORM_CODES: [(u32, CoatForm); 3] = [
     (0, CoatForm::Physical),
     (1, CoatForm::Filament),
@@ -298,7 +298,7 @@ pub(crate) fn term_code(model: Model) -> u32 {
 }
 
 /// The code of each term in `Ball.term`, and the WGSL constant `TERM_*` of `types.wgsl`
-/// generated from it (tests/suite/boundary.rs).
+/// generated from it (src/gpu/tests/boundary.rs).
 pub(crate) const TERM_CODES: [(u32, IblTerm); 3] = [
     (1, IblTerm::KullaConty),
     (2, IblTerm::Turquin),

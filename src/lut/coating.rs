@@ -18,7 +18,7 @@
 //! smooth except where the reflected direction crosses the horizon, so a tensor
 //! Gauss-Legendre rule of [`COATING_NODES`] nodes a side integrates it (the disk's `p2`
 //! symmetry across the plane of `o` halves the azimuth). Its error against the precise quadrature of
-//! `walk::single_albedo`, and the read's, are measured in `tests/suite/materials.rs`.
+//! `walk::single_albedo`, and the read's, are measured in `src/scene/tests/materials.rs`.
 
 use std::collections::HashMap;
 

@@ -299,7 +299,7 @@ pub(crate) const DEFAULT_R_SIZE: usize = 64;
 /// 131 KB as R32G32_SFLOAT. A plain bilinear read ([`super::plain`]) of it is within 1e-3
 /// of the reference on average but not at grazing mu and low roughness, where a linear
 /// mu axis needs texels 4.6e-4 apart: docs/accuracy.md, "Tables for engines (KTX2,
-/// uniform layout)", states its error and that of 64 x 64 (`tests/suite/ktx2.rs` holds
+/// uniform layout)", states its error and that of 64 x 64 (`src/lut/ktx2/tests.rs` holds
 /// them). [`UNIFORM_PRECISE_MU_SIZE`] x [`UNIFORM_PRECISE_R_SIZE`] is the size for 1e-3
 /// everywhere.
 pub const UNIFORM_MU_SIZE: usize = 128;
@@ -308,7 +308,7 @@ pub const UNIFORM_R_SIZE: usize = 128;
 
 /// The smallest [`LayoutKind::Uniform`] size (mu x roughness) whose plain bilinear read
 /// ([`super::plain`]) stays within 1e-3 of the reference over mu in `[0, 1]` and roughness
-/// in `[0.1, 1]`, chosen by measurement (`tests/suite/ktx2.rs`), for Schlick and
+/// in `[0.1, 1]`, chosen by measurement (`src/lut/ktx2/tests.rs`), for Schlick and
 /// height-correlated Smith G, with f32 filter weights and with the 8-bit fractional
 /// weights of real GPUs' samplers. The error lives at grazing mu and roughness 0.1, where a
 /// linear mu axis needs texels 4.6e-4 apart, and between rows there. With f32 weights

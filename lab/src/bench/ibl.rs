@@ -115,7 +115,7 @@ pub fn errors_by_roughness(
 
 /// The Monte Carlo of `part` of `scene`'s model: on the GPU where the renderer can
 /// (`Renderer::render_montecarlo_part`, which equals the CPU's within 3 standard errors:
-/// tests/suite/montecarlo.rs), else on the CPU. Both trace pixel centres.
+/// src/gpu/tests/montecarlo.rs), else on the CPU. Both trace pixel centres.
 fn montecarlo(
     renderer: &mut Renderer,
     (scene, e): (&Scene, &shadeballs::lut::TableSet),

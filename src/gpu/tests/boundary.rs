@@ -15,11 +15,11 @@ use crate::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
 use crate::lut::{self, EAvgRead, MuAxis};
 use crate::wgsl::PROGRAMS;
 
-const BEGIN: &str = "// generated from the Rust constants by tests/suite/boundary.rs: do not edit";
+const BEGIN: &str = "// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit";
 const END: &str = "// end of the generated constants";
 /// The markers of the ball's block in `types.wgsl` (`boundary::ball_wgsl`).
 const BALL_BEGIN: &str =
-    "// generated from gpu::uniforms::BALL_MEMBERS by tests/suite/boundary.rs: do not edit";
+    "// generated from gpu::uniforms::BALL_MEMBERS by src/gpu/tests/boundary.rs: do not edit";
 const BALL_END: &str = "// end of the generated ball";
 
 /// A WGSL constant's name, type and value, and the Rust item it comes from.
