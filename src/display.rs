@@ -2,7 +2,7 @@
 //! ([`Transfer`]), mirrored function for function by `shaders/screen.wgsl` (each WGSL
 //! function of the same name, in f32): what both renderers apply to linear radiance for a
 //! PNG or a window. On an sRGB target (`*Srgb` formats) the GPU writes the display value
-//! decoded to linear ([`target_value`]) and the hardware encodes it, so that the target
+//! decoded to linear (`target_value`) and the hardware encodes it, so that the target
 //! holds the same display value as a plain `*Unorm` one (docs/design/library.md, "Colour").
 //!
 //! Each curve clamps its input to `[0, MAX_DISPLAY_RADIANCE]` after exposure (NaN to 0),
@@ -124,8 +124,8 @@ pub(crate) fn display_value(radiance: DVec3, exposure: f64, display: DisplayTran
     encode_transfer(mapped, display.transfer)
 }
 
-/// The homework's display transform for one channel: [`display_value`] under
-/// [`DisplayTransform::HOMEWORK`] (exposure, Reinhard `c / (c + 1)`, gamma 1/2.2), which
+/// The homework's display transform for one channel: `display_value` under
+/// `DisplayTransform::HOMEWORK` (exposure, Reinhard `c / (c + 1)`, gamma 1/2.2), which
 /// works channel by channel.
 pub fn tone_map(radiance: f64, exposure: f64) -> f64 {
     display_value(DVec3::splat(radiance), exposure, DisplayTransform::HOMEWORK).x
@@ -304,8 +304,8 @@ pub(crate) fn to_unorm8(v: f64) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-/// The RGBA8 pixel of linear `radiance` (alpha 255): [`display_value`], each channel as
-/// [`to_unorm8`].
+/// The RGBA8 pixel of linear `radiance` (alpha 255): `display_value`, each channel as
+/// `to_unorm8`.
 pub fn to_rgba8_pixel(radiance: DVec3, exposure: f64, display: DisplayTransform) -> [u8; 4] {
     let v = display_value(radiance, exposure, display);
     [to_unorm8(v.x), to_unorm8(v.y), to_unorm8(v.z), 255]

@@ -273,7 +273,7 @@ pub(crate) fn write_atomic_with(
     stage_with(path, write)?.commit()
 }
 
-/// Writes `bytes` to `path` atomically ([`write_atomic_with`]).
+/// Writes `bytes` to `path` atomically (`write_atomic_with`).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_with(path, |w| {
         w.write_all(bytes).map_err(|e| write_error(path, e))
@@ -356,7 +356,7 @@ pub(crate) fn stage_image(
 }
 
 #[cfg(feature = "image-files")]
-/// Encodes `image` in `format` and renames it over `path` ([`stage_image`]).
+/// Encodes `image` in `format` and renames it over `path` (`stage_image`).
 pub fn write_image(
     path: &Path,
     image: &image::DynamicImage,

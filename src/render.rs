@@ -68,7 +68,7 @@ pub struct Request {
     /// Display pixels (a `.png`), linear radiance in f32 (an `.exr`) or in full.
     pub output: Output,
     /// Samples a pixel of the Monte Carlo, the truth and the truth balls (default
-    /// [`DEFAULT_SPP`]).
+    /// `DEFAULT_SPP`).
     pub spp: Option<u32>,
     /// The sampled backends' seed.
     pub seed: u64,

@@ -1,8 +1,8 @@
 //! The sampling maths once, the f64 twin of `shaders/sampling.wgsl` name for name: the
-//! orthonormal frame about a normal ([`duff_frame`]), GGX's visible normals reflected
+//! orthonormal frame about a normal (`duff_frame`), GGX's visible normals reflected
 //! ([`sample_vndf`]) and their density ([`vndf_density`]), the cosine hemisphere
-//! ([`sample_cosine`]), the equirectangular map's density ([`equirect_density`]), the balance
-//! heuristic ([`balance_estimate`]) and the radiance arriving along a direction ([`arriving`]). The
+//! (`sample_cosine`), the equirectangular map's density (`equirect_density`), the balance
+//! heuristic (`balance_estimate`) and the radiance arriving along a direction (`arriving`). The
 //! lobe (`cpu::shade`), the Monte Carlo (`cpu::montecarlo`), the truth (`cpu::truth`) and
 //! the prefilter's twin (`environment::prefilter`) take them from here. Above the maths
 //! (`brdf`) alone.
@@ -35,7 +35,7 @@ pub(crate) fn duff_frame(n: DVec3) -> Frame {
 }
 
 impl Frame {
-    /// The frame about unit `n` ([`duff_frame`]).
+    /// The frame about unit `n` (`duff_frame`).
     pub fn new(n: DVec3) -> Self {
         duff_frame(n)
     }
@@ -63,7 +63,7 @@ impl Frame {
 /// Visible Normals", JCGT 7(4), listing 1): stretch `v` to the hemisphere configuration,
 /// sample the projected disk, warp to the visible half, unstretch. May lie below the
 /// horizon (the caller's `mu_i <= 0` gives it no weight). The walk's visible normal
-/// ([`crate::brdf::visible_normal`]) takes `v` on either side of the horizon; this one
+/// (`crate::brdf::visible_normal`) takes `v` on either side of the horizon; this one
 /// clamps it to the upper side, as the shaders' lobe does.
 pub fn sample_vndf(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     sample_vndf_aniso(v, (alpha, alpha), u1, u2)

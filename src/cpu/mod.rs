@@ -40,8 +40,8 @@ use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALL
 /// ball's coating is the one prepared.
 ///
 /// Each pixel intersects only the balls whose screen-space bounds cover it (the bounds the
-/// GPU's quads use, [`CameraBasis::sphere_bounds`], widened by the same
-/// [`crate::scene::BOUNDS_PAD_PX`], or [`crate::scene::AA_BOUNDS_PAD_PX`] with antialiasing), found through square screen bins of [`BIN_PX`] pixels: the cost
+/// GPU's quads use, `CameraBasis::sphere_bounds`, widened by the same
+/// `crate::scene::BOUNDS_PAD_PX`, or `crate::scene::AA_BOUNDS_PAD_PX` with antialiasing), found through square screen bins of `BIN_PX` pixels: the cost
 /// follows the pixels the balls cover, not their number. Candidates are tried in index
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
@@ -479,13 +479,13 @@ pub fn surface_normal(p: DVec3, d: DVec3) -> DVec3 {
 }
 
 /// RGBA8 of `radiance` (alpha 255) through the homework's display transform (Reinhard,
-/// gamma 1/2.2: [`DisplayTransform::HOMEWORK`]); [`to_display_rgba8`] takes any.
+/// gamma 1/2.2: `DisplayTransform::HOMEWORK`); [`to_display_rgba8`] takes any.
 pub fn to_rgba8(radiance: &[DVec3], exposure: f64) -> Vec<u8> {
     to_display_rgba8(radiance, exposure, DisplayTransform::HOMEWORK)
 }
 
 /// RGBA8 of `radiance` (alpha 255) through the display transform `display` under
-/// `exposure` ([`crate::display::display_value`], as the GPU's `target_value` into an
+/// `exposure` (`crate::display::display_value`, as the GPU's `target_value` into an
 /// `Rgba8Unorm` target).
 pub fn to_display_rgba8(radiance: &[DVec3], exposure: f64, display: DisplayTransform) -> Vec<u8> {
     radiance

@@ -71,7 +71,7 @@ pub struct TruthSettings {
     pub max_order: u32,
     /// Every ball by the walk (`--backend truth`), or only those whose model is
     /// [`Model::Truth`] (the others' pixels are left uncovered, for
-    /// [`render_radiance_with_truth`] to fill).
+    /// `render_radiance_with_truth` to fill).
     pub every_ball: bool,
 }
 

@@ -133,11 +133,11 @@ fn open_regular(path: &Path) -> Result<File> {
 
 #[cfg(feature = "image-files")]
 /// Reads the equirectangular map at `path` (`.hdr` or `.exr`): 2:1, at most
-/// [`MAX_MAP_TEXELS`], and within the memory available ([`crate::memory::check`] of
-/// [`super::load_bytes_per_texel`]), all checked from the header, before decoding; the
+/// `MAX_MAP_TEXELS`, and within the memory available (`crate::memory::check` of
+/// `super::load_bytes_per_texel`), all checked from the header, before decoding; the
 /// file is opened once, and only a regular file is. NaN, infinite and negative channels
 /// are clamped (NaN and negative to 0, -inf to 0, +inf to the largest finite channel of
-/// the map, or 0 if none), counted in the [`MapStats`], and reported in one `log::warn!`
+/// the map, or 0 if none), counted in the `MapStats`, and reported in one `log::warn!`
 /// line.
 pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     let format = format_of(path).ok_or_else(|| {
@@ -256,7 +256,7 @@ pub(crate) fn clamp_texels(texels: &mut [[f32; 3]]) -> MapStats {
 
 #[cfg(feature = "image-files")]
 /// Writes `map` to `path` (`.hdr` or `.exr`, f32 RGB), atomically
-/// ([`output::write_atomic_with`]: a failed write leaves no partial file).
+/// (`output::write_atomic_with`: a failed write leaves no partial file).
 pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
     let format = format_of(path).ok_or_else(|| Error::Format {
         path: path.to_path_buf(),
@@ -275,13 +275,13 @@ pub fn save(map: &EnvMap, path: &Path) -> Result<()> {
 /// Without the crate feature `image-files` this build decodes no map file: every path is
 /// one error saying so (built-in maps and maps made in code still work).
 #[cfg(not(feature = "image-files"))]
-pub(crate) fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
+pub fn load(path: &Path) -> Result<(EnvMap, MapStats)> {
     Err(error(path, WITHOUT_IMAGE_FILES))
 }
 
 /// Without the crate feature `image-files` this build encodes no map file.
 #[cfg(not(feature = "image-files"))]
-pub(crate) fn save(_map: &EnvMap, path: &Path) -> Result<()> {
+pub fn save(_map: &EnvMap, path: &Path) -> Result<()> {
     Err(error(path, WITHOUT_IMAGE_FILES))
 }
 

@@ -126,7 +126,7 @@ pub(crate) fn zonal_nodes(bands: usize) -> usize {
 
 /// The Funk-Hecke factors `Lambda_l = 2 pi int_0^1 k(t) P_l(t) dt` of a zonal kernel that is
 /// zero below the horizon (`k(t)` for `t` in `[0, 1]`), `l` in `0..bands`: Gauss-Legendre
-/// with [`zonal_nodes`] nodes, the Legendre polynomials by Bonnet's recurrence
+/// with `zonal_nodes` nodes, the Legendre polynomials by Bonnet's recurrence
 /// `l P_l = (2l - 1) t P_(l-1) - (l - 1) P_(l-2)`.
 pub fn zonal_coefficients(kernel: impl Fn(f64) -> f64, bands: usize) -> Vec<f64> {
     let (nodes, weights) = gauss_legendre_unit(zonal_nodes(bands));

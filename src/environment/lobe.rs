@@ -140,7 +140,7 @@ pub fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: [u32; 2]) -> (
 /// `0.5 log2(Omega_s / Omega_p) + LOBE_LOD_BIAS`, `Omega_s = 1 / (count pdf)` the solid
 /// angle the sample stands for among `count` samples, `Omega_p` a base-level texel's about
 /// map-frame direction `d` (`2 pi^2 sin(theta) / (w h)` of a `w x h` equirectangular map,
-/// `sin(theta)` at least [`POLE_SIN_MIN`]); clamped to `[0, max_level]`.
+/// `sin(theta)` at least `POLE_SIN_MIN`); clamped to `[0, max_level]`.
 pub fn lobe_lod(pdf: f64, count: f64, d: DVec3, size: (f64, f64), max_level: f64) -> f64 {
     let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt().max(POLE_SIN_MIN);
     let omega_p = 2.0 * PI * PI * sin_theta / (size.0 * size.1);

@@ -41,7 +41,7 @@ use crate::error::{Error, Result};
 
 /// An equirectangular map of linear RGB radiance, `width x height` texels, row-major, row
 /// 0 at the top. Every texel is finite and non-negative (the loaders clamp and count bad
-/// ones, [`MapStats`]).
+/// ones, `MapStats`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvMap {
     width: u32,
@@ -53,7 +53,7 @@ pub struct EnvMap {
 
 impl EnvMap {
     /// A map of `width x height` texels. Errors when a side is zero, the count does not
-    /// match, the map exceeds [`MAX_MAP_TEXELS`], or a texel is negative, NaN or infinite.
+    /// match, the map exceeds `MAX_MAP_TEXELS`, or a texel is negative, NaN or infinite.
     pub fn new(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Result<Self> {
         let invalid = |message: String| Error::Invalid {
             what: "environment map",
@@ -202,7 +202,7 @@ pub(crate) fn direction_to_uv(d: DVec3) -> DVec2 {
     DVec2::new(u, v)
 }
 
-/// The unit direction at `(u, v)` (the inverse of [`direction_to_uv`]).
+/// The unit direction at `(u, v)` (the inverse of `direction_to_uv`).
 pub fn uv_to_direction(uv: DVec2) -> DVec3 {
     let phi = (uv.x - 0.5) * 2.0 * PI;
     let theta = uv.y * PI;
@@ -292,7 +292,7 @@ pub struct Environment {
 }
 
 impl Environment {
-    /// A built-in map generated at [`builtin::DEFAULT_BUILTIN_WIDTH`], not turned, intensity
+    /// A built-in map generated at `builtin::DEFAULT_BUILTIN_WIDTH`, not turned, intensity
     /// 1.
     pub fn builtin(b: Builtin) -> Self {
         Environment {
@@ -304,7 +304,7 @@ impl Environment {
     }
 
     /// The map in the file at `path` ([`load`]), not turned, intensity 1; refused where its
-    /// brightest texel is beyond the scene's bound on radiance ([`check_map_radiance`]).
+    /// brightest texel is beyond the scene's bound on radiance (`check_map_radiance`).
     pub fn from_file(path: &std::path::Path) -> Result<Self> {
         let (map, _stats) = load(path)?;
         check_map_radiance(map.peak(), 1.0).map_err(|message| Error::Environment {

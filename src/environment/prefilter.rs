@@ -6,10 +6,10 @@
 //!
 //! Three products, each a weighted average of the map, so a uniform map gives back its
 //! radiance exactly (the furnace holds through the whole path):
-//! - **specular**: [`SPECULAR_LEVELS`] layers, layer `k` the map convolved with the GGX lobe of
+//! - **specular**: `SPECULAR_LEVELS` layers, layer `k` the map convolved with the GGX lobe of
 //!   roughness `k / (SPECULAR_LEVELS - 1)` seen with `n = v = R` (Karis 2013, "Real Shading in
 //!   Unreal Engine 4": the split sum's first factor), by [`SPECULAR_SAMPLES`] GGX samples
-//!   weighted by `G(1, n.l)` (not Karis's `n.l`: [`prefilter_specular`] says why), each read from the mip level its solid angle covers (filtered
+//!   weighted by `G(1, n.l)` (not Karis's `n.l`: `prefilter_specular` says why), each read from the mip level its solid angle covers (filtered
 //!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
 //!   Importance Sampling"); a read interpolates linearly between the two layers around the
 //!   ball's roughness;
@@ -20,7 +20,7 @@
 //!   roughness `(j - 1) / (CONVOLVED_LEVELS - 1)`: the integral `int (1 - E(mu_i)) mu_i L dw_i`
 //!   of the term's lobe divided by its uniform-environment value `pi (1 - E_avg)`.
 //!   The convolution is a direct sum over the texels of the mip level
-//!   [`CONVOLUTION_SOURCE_WIDTH`] wide, so it has no band limit (spherical harmonics, the
+//!   `CONVOLUTION_SOURCE_WIDTH` wide, so it has no band limit (spherical harmonics, the
 //!   alternative, need 9 to 13 bands at roughness 0.3 to 0.5: docs/design/environment.md,
 //!   "Harmonics or a map per roughness").
 
@@ -42,7 +42,7 @@ pub(crate) const SPECULAR_WIDTH: u32 = 256;
 /// `SPECULAR_WIDTH >> level` wide.
 pub(crate) const SPECULAR_MIP_LEVELS: u32 = 3;
 /// GGX samples per texel of the sharpest prefiltered layer (roughness 1/6); rougher
-/// layers take more ([`specular_samples`]).
+/// layers take more (`specular_samples`).
 pub const SPECULAR_SAMPLES: u32 = 64;
 /// Added to filtered importance sampling's level (Krivanek & Colbert suggest 1: a
 /// smoother result with fewer samples, at the price of a wider lobe).
@@ -126,12 +126,12 @@ impl Level {
 pub struct MipChain {
     /// Level 0 (the map) first, down to 1 texel on the shorter side.
     pub levels: Vec<Level>,
-    /// The map's [`EnvMap::f16_scale`]: every level holds the map's radiance divided by it,
+    /// The map's `EnvMap::f16_scale`: every level holds the map's radiance divided by it,
     /// and a read multiplies it back (on the GPU it is folded into the uniform's intensity).
     pub scale: f32,
     /// Texel channels that f16 cannot hold once divided by the scale: non-zero values
     /// below its smallest subnormal, flushed to 0 (the scale keeps every value under
-    /// [`F16_MAX`], so none is clipped at the top).
+    /// `F16_MAX`, so none is clipped at the top).
     pub clamped: u64,
 }
 
@@ -205,7 +205,7 @@ impl MipChain {
         a.lerp(self.levels[l0 + 1].bilinear(uv), f)
     }
 
-    /// The level the convolutions sum over ([`CONVOLUTION_SOURCE_WIDTH`]).
+    /// The level the convolutions sum over (`CONVOLUTION_SOURCE_WIDTH`).
     pub fn convolution_source(&self) -> u32 {
         self.levels
             .iter()
@@ -254,7 +254,7 @@ fn downsample(l: &Level) -> Option<Level> {
     })
 }
 
-/// The zonal kernels of the convolved layers, [`KERNEL_SIZE`] samples each over `t` in
+/// The zonal kernels of the convolved layers, `KERNEL_SIZE` samples each over `t` in
 /// `[0, 1]`: layer 0 the cosine `t`, layer `j` the Kulla-Conty `(1 - E(t)) t` at roughness
 /// `(j - 1) / (CONVOLVED_LEVELS - 1)`, E as the shader reads it from `tables`.
 pub fn kernels(tables: &Tables) -> Vec<f32> {
@@ -439,8 +439,8 @@ pub(crate) fn specular_mip_levels(width: u32) -> u32 {
 /// The prefiltered layers (every value rounded to f16, as the GPU stores them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prefiltered {
-    /// [`SPECULAR_LEVELS`] layers, layer `k` of [`specular_size`] halved
-    /// [`specular_mip`]`(k)` times.
+    /// `SPECULAR_LEVELS` layers, layer `k` of `specular_size` halved
+    /// `specular_mip``(k)` times.
     pub specular: Vec<Level>,
     /// `1 + CONVOLVED_LEVELS` layers, [`CONVOLVED_WIDTH`] wide: irradiance, then the
     /// multiple-scattering kernels.

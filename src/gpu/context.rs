@@ -77,7 +77,7 @@ crate::named_enum!(Backend, "backend");
 /// A device and its queue, and the adapter when this crate opened the device.
 pub struct Gpu {
     /// The adapter the device was opened on; `None` for a host's device
-    /// ([`Gpu::from_device`]).
+    /// (`Gpu::from_device`).
     pub adapter: Option<wgpu::Adapter>,
     /// The device the renderer creates its resources on.
     pub device: wgpu::Device,

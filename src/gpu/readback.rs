@@ -96,7 +96,7 @@ pub(crate) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Resul
     read_prefix(device, buffer, buffer.size())
 }
 
-/// As [`read_buffer`], the first `len` bytes only.
+/// As `read_buffer`, the first `len` bytes only.
 pub fn read_prefix(device: &wgpu::Device, buffer: &wgpu::Buffer, len: u64) -> Result<Vec<u8>> {
     let slice = buffer.slice(..len);
     let (tx, rx) = std::sync::mpsc::channel();

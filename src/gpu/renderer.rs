@@ -44,7 +44,7 @@ mod progressive;
 pub struct Target<'a> {
     /// The view drawn into (a render attachment).
     pub view: &'a wgpu::TextureView,
-    /// The view's format (linear radiance where [`crate::gpu::is_linear`], else tone-mapped).
+    /// The view's format (linear radiance where `crate::gpu::is_linear`, else tone-mapped).
     pub format: wgpu::TextureFormat,
     /// Width of the image in pixels, from the texture's left edge.
     pub width: u32,
@@ -88,7 +88,7 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: [`Gpu::from_device`]).
+    /// A renderer on `gpu` (its own device: [`Gpu::new`]; or a host's: `Gpu::from_device`).
     pub fn new(gpu: Gpu) -> Self {
         let bindings = Bindings::new(&gpu.device);
         let environment = PrefilteredMaps::new(&gpu.device);
@@ -321,7 +321,7 @@ impl Renderer {
 
     /// Draws `scene` into `target` and submits. Truth balls (`model = "truth"`) are path
     /// traced: each draw of an unchanged scene at the same size adds one estimate a pixel
-    /// to their sums and shows the mean ([`Renderer::truth_samples`]).
+    /// to their sums and shows the mean (`Renderer::truth_samples`).
     pub fn render(&mut self, scene: &Scene, target: Target<'_>) -> Result<()> {
         self.gpu.check()?;
         self.check_truth_supported(scene)?;

@@ -1,8 +1,8 @@
 //! The renderer's WGSL programs and their entry points. Each program is a root module of
 //! `shaders/` composed with the modules it imports under its shader defs
-//! ([`crate::wgsl::PROGRAMS`]), at build time (`build.rs`): the ball renderer, the truth,
+//! (`crate::wgsl::PROGRAMS`), at build time (`build.rs`): the ball renderer, the truth,
 //! the table probe and the environment prefilter. Variants the entry points share are
-//! override constants chosen per pipeline ([`overrides_for`]); the target's output type
+//! override constants chosen per pipeline (`overrides_for`); the target's output type
 //! (`OUTPUT_BITS`) is a shader def, one module per choice.
 
 #[cfg(test)]
@@ -181,7 +181,7 @@ pub(crate) fn fresnel_id(form: crate::brdf::DielectricFresnel) -> u32 {
 }
 
 /// Pipeline-time constants for every override the modules declare without a default;
-/// `mu_axis` is that of the tables the pipeline reads (`MU_AXIS`, [`MuAxis::id`]).
+/// `mu_axis` is that of the tables the pipeline reads (`MU_AXIS`, `MuAxis::id`).
 pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'static str, f64); 3] {
     [
         ("GEOMETRY", geometry_id(geometry) as f64),

@@ -11,15 +11,15 @@ use crate::lut::{LutParams, TableSet};
 use crate::prepared::{ClearcoatConstants, CoatingConstants, Prepared};
 use crate::scene::{CoatForm, Layering, Model, Scene, MAX_BALLS, MAX_LIGHTS};
 
-/// The per-frame uniforms: `Globals` of `types.wgsl` ([`globals`]).
+/// The per-frame uniforms: `Globals` of `types.wgsl` (`globals`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Globals {
-    /// xyz: the eye, always 0: the balls are uploaded relative to it ([`balls`]); w: 1.
+    /// xyz: the eye, always 0: the balls are uploaded relative to it (`balls`); w: 1.
     pub cam_origin: [f32; 4],
     /// xyz: unit view direction; w: 0.
     pub cam_forward: [f32; 4],
-    /// xyz: right scaled by `tan(vfov / 2) * aspect` ([`crate::scene::CameraBasis::right`]);
+    /// xyz: right scaled by `tan(vfov / 2) * aspect` (`crate::scene::CameraBasis::right`);
     /// w: 0.
     pub cam_right: [f32; 4],
     /// xyz: up scaled by `tan(vfov / 2)`; w: 0.
@@ -30,7 +30,7 @@ pub struct Globals {
     pub size: [f32; 4],
     /// Ball count and light count (at most `MAX_BALLS` and `MAX_LIGHTS`), 0, 0.
     pub counts: [u32; 4],
-    /// How the bound tables are read ([`TableSet::lut_params`]).
+    /// How the bound tables are read (`TableSet::lut_params`).
     pub lut: LutParams,
 }
 

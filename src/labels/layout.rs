@@ -20,7 +20,7 @@ const ZOOMED_FONT_PX: f32 = 10.0;
 
 /// Each ball's screen bounds in pixels of a `width x height` image, padded so that every
 /// pixel the ball covers lies inside; `None` for a ball off screen; the whole image for a
-/// ball the camera is inside or beside (exact bounds: [`crate::scene::CameraBasis::sphere_bounds`]).
+/// ball the camera is inside or beside (exact bounds: `crate::scene::CameraBasis::sphere_bounds`).
 pub fn ball_rects(scene: &Scene, width: u32, height: u32) -> Vec<Option<Rect>> {
     if width == 0 || height == 0 || scene.camera.problem().is_some() {
         return vec![None; scene.balls.len()];

@@ -5,7 +5,7 @@
 //! Two halves, so that any drawer uses the same places:
 //! - *where* ([`layout`], always built): from a [`Scene`] and the image size, a [`Labels`]
 //!   of [`Label`]s, each a text with the room it may take in pixels (never over a ball) and
-//!   a preferred font size; [`Label::place`] shrinks the text to its room, or drops it.
+//!   a preferred font size; `Label::place` shrinks the text to its room, or drops it.
 //!   Another picture (a comparison chart) builds its own [`Labels`] by hand.
 //! - *drawing*: `draw_labels` (feature `labels`) rasterises them into an RGBA8 image with
 //!   `ab_glyph` and the Ubuntu Light font of `epaint_default_fonts`; the viewer paints the
@@ -108,7 +108,7 @@ pub struct Label {
     /// How the text sits in its room: horizontally, vertically.
     pub align: [Align; 2],
     /// The preferred font size in pixels (the height of a line); smaller if the text does
-    /// not fit its room ([`Label::place`]).
+    /// not fit its room (`Label::place`).
     pub size_px: f32,
     /// The same text wrapped, one label a line with its own room (a row's model under its
     /// material): drawn instead of this label where the one line would shrink below
@@ -127,7 +127,7 @@ pub struct Placement {
     pub size_px: f32,
     /// The text's own box: its width at that size by one line's height.
     pub text: Rect,
-    /// The text's box with the outline and [`EDGE_PX`] around it: inside the room.
+    /// The text's box with the outline and `EDGE_PX` around it: inside the room.
     pub outer: Rect,
 }
 
@@ -272,7 +272,7 @@ impl Label {
 pub struct Labels {
     /// Under each column of balls: its roughness, left to right.
     pub columns: Vec<Label>,
-    /// At the left of each row of balls: its model ([`row_label`]), top to bottom.
+    /// At the left of each row of balls: its model (`row_label`), top to bottom.
     pub rows: Vec<Label>,
     /// The caption line(s): preset, geometry term and environment ([`caption`]).
     pub caption: Vec<Label>,

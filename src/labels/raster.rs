@@ -55,7 +55,7 @@ fn line(font: &FontRef<'_>, text: &str, size_px: f32) -> (Vec<ab_glyph::Glyph>, 
 }
 
 /// Draws `labels` into `rgba`, a `width x height` RGBA8 image (rows top to bottom), each
-/// label fitted to its room ([`Label::place`]) and nothing drawn outside its room: the
+/// label fitted to its room (`Label::place`) and nothing drawn outside its room: the
 /// number drawn. An error for a buffer of the wrong length; labels that do not fit are
 /// left out.
 pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) -> Result<usize> {

@@ -10,8 +10,8 @@
 //! `R16G16_SFLOAT` (83), unorm8 `R8G8_UNORM` (16). One level, one layer, one face, no
 //! supercompression, a basic Data Format Descriptor for the format (Khronos Data Format
 //! Specification 1.3, linear transfer, BT.709 primaries as the reference tools write), and
-//! a key/value block with `KTXwriter` = `shadeballs <version>` and [`LAYOUT_KEY`]: the layout
-//! as plain-text `key=value` lines ([`layout_text`]), so that a reader needs nothing else to
+//! a key/value block with `KTXwriter` = `shadeballs <version>` and `LAYOUT_KEY`: the layout
+//! as plain-text `key=value` lines (`layout_text`), so that a reader needs nothing else to
 //! read the table correctly. Row `j` (roughness texel `j`) is stored `j`-th, row 0 first; the
 //! file carries no `KTXorientation` key, the layout text says it in words.
 //!

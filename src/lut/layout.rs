@@ -232,9 +232,9 @@ pub enum LayoutKind {
     /// For engines that will not port our read: linear mu, roughness linear over `[0, 1]`,
     /// texel centres on the end points, f32, E_avg read linearly; a plain bilinear
     /// `textureSample` with clamp-to-edge at `uv = (mu (N-1)/N + 0.5/N, r (M-1)/M + 0.5/M)`
-    /// reads it ([`super::plain`]). Its default size ([`UNIFORM_MU_SIZE`] x
-    /// [`UNIFORM_R_SIZE`], 128 x 128) is the engines'; [`UNIFORM_PRECISE_MU_SIZE`] x
-    /// [`UNIFORM_PRECISE_R_SIZE`] keeps a plain read within 1e-3 of the reference at
+    /// reads it (`super::plain`). Its default size ([`UNIFORM_MU_SIZE`] x
+    /// [`UNIFORM_R_SIZE`], 128 x 128) is the engines'; `UNIFORM_PRECISE_MU_SIZE` x
+    /// `UNIFORM_PRECISE_R_SIZE` keeps a plain read within 1e-3 of the reference at
     /// roughness >= 0.1, with f32 or 8-bit filter weights.
     Uniform,
 }
@@ -296,11 +296,11 @@ pub(crate) const DEFAULT_R_SIZE: usize = 64;
 
 /// Default size of the [`LayoutKind::Uniform`] layout (mu x roughness): 128 x 128, the
 /// size engines ship such tables at (32^2 to 128^2; Filament's DFG table is 128 x 128),
-/// 131 KB as R32G32_SFLOAT. A plain bilinear read ([`super::plain`]) of it is within 1e-3
+/// 131 KB as R32G32_SFLOAT. A plain bilinear read (`super::plain`) of it is within 1e-3
 /// of the reference on average but not at grazing mu and low roughness, where a linear
 /// mu axis needs texels 4.6e-4 apart: docs/accuracy.md, "Tables for engines (KTX2,
 /// uniform layout)", states its error and that of 64 x 64 (`src/lut/ktx2/tests.rs` holds
-/// them). [`UNIFORM_PRECISE_MU_SIZE`] x [`UNIFORM_PRECISE_R_SIZE`] is the size for 1e-3
+/// them). `UNIFORM_PRECISE_MU_SIZE` x `UNIFORM_PRECISE_R_SIZE` is the size for 1e-3
 /// everywhere.
 pub const UNIFORM_MU_SIZE: usize = 128;
 /// Default roughness rows of the [`LayoutKind::Uniform`] layout (see [`UNIFORM_MU_SIZE`]).
@@ -444,7 +444,7 @@ impl Layout {
 /// buffer (48 bytes), so a host uploads it with `bytemuck::bytes_of`.
 ///
 /// Texel `i` of an axis of `n` texels sits where `x * scale + bias = i` (the module docs'
-/// texel-centre convention); `x` is the mu axis's coordinate of mu ([`MuAxis::coord`], by
+/// texel-centre convention); `x` is the mu axis's coordinate of mu (`MuAxis::coord`, by
 /// `mu_axis`) or the roughness coordinate `(roughness - r_min) / (1 - r_min)`.
 ///
 /// ```
@@ -462,7 +462,7 @@ impl Layout {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LutParams {
-    /// Scale of the mu axis ([`Layout::scale_bias`] of `mu_size`).
+    /// Scale of the mu axis (`Layout::scale_bias` of `mu_size`).
     pub mu_scale: f32,
     /// Bias of the mu axis.
     pub mu_bias: f32,
@@ -475,9 +475,9 @@ pub struct LutParams {
     pub mu_size: u32,
     /// Texels along roughness (rows).
     pub r_size: u32,
-    /// [`MuAxis::id`]: `MU_AXIS_LINEAR`, `MU_AXIS_SQRT` or `MU_AXIS_WARPED` in the WGSL.
+    /// `MuAxis::id`: `MU_AXIS_LINEAR`, `MU_AXIS_SQRT` or `MU_AXIS_WARPED` in the WGSL.
     pub mu_axis: u32,
-    /// [`EAvgRead::id`]: `E_AVG_READ_LINEAR` or `E_AVG_READ_POWER_LAW`.
+    /// `EAvgRead::id`: `E_AVG_READ_LINEAR` or `E_AVG_READ_POWER_LAW`.
     pub e_avg_read: u32,
     /// Roughness of the first row (the roughness axis spans `[r_min, 1]`).
     pub r_min: f32,

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use super::{roughness_coord, BakeConfig, Layout, LutParams, MuAxis, RowKey, RowSet, Tables};
 
 /// Which tables a frame reads, holding `R` for a scene's rows and `F` for the 2-D table:
-/// the baked tables by default ([`TableSet`]), their keys in [`TableKey`].
+/// the baked tables by default ([`TableSet`]), their keys in `TableKey`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum TableSet<R = Arc<RowSet>, F = Arc<Tables>> {
     /// Nothing reads E: nothing baked (the GPU binds a one-texel placeholder).

@@ -24,7 +24,7 @@ use crate::scene::{Ball, Scene, MAX_BALLS};
 pub(crate) type CoatingCache = HashMap<CoatingKey, [f32; COATING_ROW_LEN]>;
 
 /// What a frame of one scene reads besides the scene: the tables, the coating rows of its
-/// dielectrics (`lut::coating`) and each ball's coating ([`Coat`]), index for index with
+/// dielectrics (`lut::coating`) and each ball's coating (`Coat`), index for index with
 /// `scene.balls` (up to [`MAX_BALLS`]). Made for one scene; a frame of another scene
 /// needs its own.
 #[derive(Clone, Debug)]

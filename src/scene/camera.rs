@@ -15,7 +15,7 @@ pub struct Camera {
     /// The narrowest aspect (width / height) at which `vfov_deg` holds: a narrower image
     /// keeps the horizontal field of view an image of this aspect has and widens the
     /// vertical one, so that what fits across the frame at this aspect fits at any
-    /// ([`Camera::tan_half_vfov`]). `None`: `vfov_deg` holds at every aspect (a narrow
+    /// (`Camera::tan_half_vfov`). `None`: `vfov_deg` holds at every aspect (a narrow
     /// image crops the sides). A chart's scenes set it; the homework's keep `None`.
     pub min_aspect: Option<f64>,
 }

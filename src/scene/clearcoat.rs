@@ -12,7 +12,7 @@ pub(crate) const DEFAULT_CLEARCOAT_IOR: f64 = 1.5;
 
 /// A clear coat: `weight` in `[0, 1]` (OpenPBR's `coat_weight`, glTF's `clearcoat`: a
 /// share `1 - weight` of the surface is bare), the coat's `roughness` in `[0, 1]` and its
-/// index `ior` (in [`super::IOR_RANGE`]). Weight 0 (the default) is no coat.
+/// index `ior` (in `super::IOR_RANGE`). Weight 0 (the default) is no coat.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClearCoat {
     /// How much of the surface the coat covers, in `[0, 1]`.

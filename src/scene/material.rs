@@ -32,7 +32,7 @@ pub struct Material {
     /// The anisotropy's direction, radians counter-clockwise from the ball's tangent
     /// (`brdf::ball_tangent`; glTF's `anisotropyRotation`).
     pub anisotropy_rotation: f64,
-    /// The clear coat over the whole material ([`super::ClearCoat::NONE`]: none).
+    /// The clear coat over the whole material (`super::ClearCoat::NONE`: none).
     pub clearcoat: super::ClearCoat,
 }
 

@@ -87,7 +87,7 @@ pub enum View {
     /// `|left - right|` of the displayed values (the largest channel's), times `scale`,
     /// in the colour ramp of `difference.rs`, with a colour bar.
     Difference {
-        /// One of [`DIFFERENCE_SCALES`].
+        /// One of `DIFFERENCE_SCALES`.
         scale: u32,
     },
 }

@@ -1,6 +1,6 @@
 //! The difference view (`shaders/difference.wgsl`): two scene images' displayed values
 //! differenced per pixel (the largest channel's `|a - b|`), scaled, in a colour ramp; the
-//! ramp's CPU mirror ([`difference_colour`], the colour bar's colours) and the colour bar
+//! ramp's CPU mirror (`difference_colour`, the colour bar's colours) and the colour bar
 //! with its legend, as egui shapes drawn into the scene image with the labels.
 
 use egui::epaint::ClippedShape;

@@ -1,5 +1,5 @@
 //! The chart's labels in the viewer: laid out by [`crate::labels::layout`] in the same
-//! rooms as a PNG's and fitted by [`crate::labels::Label::place`], set in egui's own Ubuntu
+//! rooms as a PNG's and fitted by `crate::labels::Label::place`, set in egui's own Ubuntu
 //! Light: light text over a dark outline (the text drawn at eight offsets in dark first).
 //! They are egui shapes of their own, drawn into the scene image right after the balls
 //! (`compose.rs`), so that a frame that does not shade the balls again does not draw them

@@ -4,7 +4,7 @@
 //!
 //! `App` is winit's application (its events, keys and mouse in `events`); `state::State`
 //! holds the GPU resources and `compose` the cached images a frame is made of; [`edit`] and
-//! [`orbit`] are the pure scene edits the controls make. Nothing is drawn while nothing
+//! `orbit` are the pure scene edits the controls make. Nothing is drawn while nothing
 //! changes (winit waits for events), except in `--frames` mode, which
 //! draws the given number of frames back to back, saves the window and exits.
 

@@ -4,7 +4,7 @@
 //! truth the models are measured against. The library's part: the microsurface
 //! ([`microsurface`]), one path at a time ([`trace`]), its seeded generator ([`rng`]) and
 //! the exact single scattering by quadrature ([`single`]), and the walk through a rough
-//! dielectric coating over a Lambertian base ([`coating`], the truth for plastics); the truth renderer
+//! dielectric coating over a Lambertian base (`coating`, the truth for plastics); the truth renderer
 //! (`cpu::render_truth`) and the study (`shadeballs-lab truth`, feature `lab`) build on it.
 //!
 //! Variance reduction (unbiased, so the expectation is the paper's walk): an upward ray

@@ -70,7 +70,7 @@ impl Renderer {
     /// [`Renderer::render_hdr`] averaged over frames `0..frames` of the lobe's samples
     /// (`ibl_method = "lobe"`: the estimate of `frames * ibl_samples` samples a pixel;
     /// `render --ibl-frames`): the sums started again, `frames - 1` frames added on the GPU
-    /// ([`Renderer::accumulate_lobe`]), waiting for the device every `FRAMES_IN_FLIGHT` frames,
+    /// (`Renderer::accumulate_lobe`), waiting for the device every `FRAMES_IN_FLIGHT` frames,
     /// then the last added and the mean resolved into a 32-bit target read back once. A
     /// scene whose balls use no lobe is drawn once. The renderer's lobe frame
     /// ([`Renderer::set_lobe_frame`], which the sums do not read) is 0 afterwards. Errors

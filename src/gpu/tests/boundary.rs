@@ -15,7 +15,8 @@ use crate::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
 use crate::lut::{self, EAvgRead, MuAxis};
 use crate::wgsl::PROGRAMS;
 
-const BEGIN: &str = "// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit";
+const BEGIN: &str =
+    "// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit";
 const END: &str = "// end of the generated constants";
 /// The markers of the ball's block in `types.wgsl` (`boundary::ball_wgsl`).
 const BALL_BEGIN: &str =
