@@ -351,6 +351,7 @@ impl Environment {
 
     /// A direction of the map's frame in the world: turned by `+rotation_deg` about `+y`
     /// (the inverse of [`Environment::to_map`]).
+    #[allow(clippy::wrong_self_convention)] // the inverse of `to_map`, named so
     pub(crate) fn from_map(&self, map: DVec3) -> DVec3 {
         let (s, c) = self.rotation_deg.to_radians().sin_cos();
         DVec3::new(c * map.x + s * map.z, map.y, -s * map.x + c * map.z)

@@ -39,11 +39,11 @@ pub(crate) const OUTPUTS: [&str; 19] = [
 const STRIDE_OUT: usize = 20;
 
 const ENTRY: &str = r#"
-#import crate::constants
-#import crate::brdf
-#import crate::lut
-#import crate::types
-#import crate::bindings
+#import shadeballs::constants
+#import shadeballs::brdf
+#import shadeballs::lut
+#import shadeballs::types
+#import shadeballs::bindings
 
 @group(1) @binding(0) var<storage, read> eval_in: array<f32>;
 @group(1) @binding(1) var<storage, read_write> eval_out: array<f32>;

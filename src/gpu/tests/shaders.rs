@@ -162,19 +162,19 @@ fn every_module_a_program_imports_serves_its_pipelines() {
         );
     }
     // The ball renderer's modules do not carry the truth's walk.
-    let balls = wgsl::compose_module("crate::balls", &[]).expect("composes");
-    assert!(!balls.modules.contains(&"crate::walk"));
+    let balls = wgsl::compose_module("shadeballs::balls", &[]).expect("composes");
+    assert!(!balls.modules.contains(&"shadeballs::walk"));
 }
 
 #[test]
 fn a_module_no_pipeline_uses_is_found() {
     // Control: the walk imported into the ball renderer serves none of its entry points.
-    let root = "#import crate::walk\n#import crate::balls\n";
+    let root = "#import shadeballs::walk\n#import shadeballs::balls\n";
     let composed = wgsl::compose("balls and walk", root, &[]).expect("composes");
     let program = wgsl::PROGRAMS[0];
-    assert_eq!(program.root, "crate::balls");
+    assert_eq!(program.root, "shadeballs::balls");
     let unused = unused_modules(&program, &composed.source, &composed.modules);
-    assert_eq!(unused, ["crate::walk"]);
+    assert_eq!(unused, ["shadeballs::walk"]);
 }
 
 #[test]
@@ -228,7 +228,9 @@ fn wgsl_mirrors_the_rust_function_names() {
 
 #[test]
 fn brdf_functions_cite_their_source() {
-    let brdf = wgsl::module("crate::brdf").expect("the brdf module").source;
+    let brdf = wgsl::module("shadeballs::brdf")
+        .expect("the brdf module")
+        .source;
     for (name, source) in [
         ("d_ggx", "Walter et al. 2007"),
         ("g1_schlick", "Schlick 1994"),
@@ -414,11 +416,11 @@ fn every_module_imports_each_name_it_uses() {
         .collect();
     assert!(missing.is_empty(), "not imported: {missing:?}");
     // Control: brdf.wgsl without LAMBDA_MAX in its import list.
-    let brdf = wgsl::module("crate::brdf").expect("brdf").source;
+    let brdf = wgsl::module("shadeballs::brdf").expect("brdf").source;
     let cut = brdf.replace(", LAMBDA_MAX}", "}");
     assert_ne!(cut, brdf, "brdf.wgsl's imports moved: update this test");
     assert_eq!(
-        missing_imports("crate::brdf", &cut),
-        ["crate::brdf uses crate::constants::LAMBDA_MAX"]
+        missing_imports("shadeballs::brdf", &cut),
+        ["shadeballs::brdf uses shadeballs::constants::LAMBDA_MAX"]
     );
 }
