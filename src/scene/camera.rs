@@ -39,7 +39,7 @@ pub struct CameraBasis {
 impl Camera {
     /// The reference scene's camera (docs/design/reference-scene.md, "The balls, the light
     /// and the camera").
-    pub(crate) fn reference() -> Self {
+    pub fn reference() -> Self {
         Camera {
             position: DVec3::new(0.0, 80.0, 300.0),
             target: DVec3::ZERO,
