@@ -143,6 +143,30 @@ impl ClearcoatPoint {
     pub fn environment_lobe(&self) -> DVec3 {
         self.environment_lobe
     }
+
+    /// The coat's own BRDF towards the light `l` under its form, times its weight (the
+    /// lights' loop of `shade_clearcoat`; 0 with `l` or `v` below the horizon).
+    pub fn brdf(&self, (n, v, l): (DVec3, DVec3, DVec3), e: &TableSet, geometry: Geometry) -> f64 {
+        let c = &self.c;
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 || self.mu_o <= 0.0 {
+            return 0.0;
+        }
+        let h = (v + l).normalize();
+        let fresnel = match c.form {
+            CoatForm::Gltf => 1.0,
+            _ => f_dielectric(v.dot(h), c.eta, self.fresnel_form),
+        };
+        let mut spec = f_micro(fresnel, self.mu_o, mu_i, n.dot(h), c.roughness, geometry);
+        if c.form == CoatForm::Gltf {
+            spec *= self.fresnel_o;
+        }
+        if self.ms > 0.0 {
+            let loss_i = loss(e, mu_i, c.roughness);
+            spec += self.ms * c.f_add * f_ms(self.loss_o, loss_i, c.ms_norm);
+        }
+        c.weight * spec
+    }
 }
 
 /// `shade_clearcoat` of `clearcoat.wgsl`: the coat's own radiance at unit normal `n`
@@ -159,29 +183,11 @@ pub(super) fn shade_clearcoat(
     if let Some(map) = map {
         lo += shade_clearcoat_map(scene, p, (n, v), map);
     }
-    let mu_o = p.mu_o;
+    let mut lights = DVec3::ZERO;
     for light in &scene.lights {
-        let l = light.direction;
-        let mu_i = n.dot(l);
-        if mu_i <= 0.0 || mu_o <= 0.0 {
-            continue;
-        }
-        let h = (v + l).normalize();
-        let fresnel = match c.form {
-            CoatForm::Gltf => 1.0,
-            _ => f_dielectric(v.dot(h), c.eta, p.fresnel_form),
-        };
-        let mut spec = f_micro(fresnel, mu_o, mu_i, n.dot(h), c.roughness, geometry);
-        if c.form == CoatForm::Gltf {
-            spec *= p.fresnel_o;
-        }
-        if p.ms > 0.0 {
-            let loss_i = loss(e, mu_i, c.roughness);
-            spec += p.ms * c.f_add * f_ms(p.loss_o, loss_i, c.ms_norm);
-        }
-        lo += spec * light.radiance * mu_i;
+        lights += p.brdf((n, v, light.direction), e, geometry) * light.radiance * n.dot(light.direction);
     }
-    c.weight * lo
+    c.weight * lo + lights
 }
 
 /// `shade_clearcoat_map` of `clearcoat.wgsl`.
