@@ -13,7 +13,10 @@
 //! `A_avg` and the coat's inside reflectance `F_in = 1 - (1 - E_c_avg) / eta^2`:
 //! `f = f_c + (1 - E_c(mu_o)) (1 - E_c(mu_i)) f_base / (eta^2 (1 - A_avg F_in))`.
 //! A white base (`A = 1` at every angle) then reflects everything under uniform light, as
-//! [`crate::brdf::f_base_physical`] does for the Lambertian substrate.
+//! [`crate::brdf::f_base_physical`] does for the Lambertian substrate. That sum treats the
+//! base's light as Lambertian; a glossy base's (a metal's lobe, a plastic's specular) leaves
+//! mostly through the coat's escape cone on its first way up, with the share
+//! [`clearcoat_escape`], and takes [`clearcoat_lobe_scale`] instead.
 //!
 //! The engines' forms, for comparison, conserve no energy: Filament's (the clear coat of
 //! "Physically Based Rendering in Filament", Guy and Agopian) attenuates the base by `1 -
@@ -243,11 +246,17 @@ mod tests {
         for a in [0.0, 0.4, 0.9] {
             let lobe = clearcoat_lobe_scale(a, x_d, e_avg, eta);
             let inside = clearcoat_inside_scale(a, e_avg, eta);
-            assert!((lobe - inside).abs() < 1e-12, "A {a}: {lobe} against {inside}");
+            assert!(
+                (lobe - inside).abs() < 1e-12,
+                "A {a}: {lobe} against {inside}"
+            );
         }
         for x in [0.0, 0.5, 1.0] {
             let white = clearcoat_lobe_scale(1.0, x, e_avg, eta);
-            assert!((white * (1.0 - e_avg) - 1.0).abs() < 1e-12, "X {x}: {white}");
+            assert!(
+                (white * (1.0 - e_avg) - 1.0).abs() < 1e-12,
+                "X {x}: {white}"
+            );
         }
         let nodes = [0.1, 0.5, 0.75, 0.96];
         let packed = clearcoat_escape_pack(nodes);

@@ -77,8 +77,7 @@ impl ClearcoatPoint {
                 let (a, e_avg, eta) = (c.base_avg, c.e_avg, c.eta);
                 let escape = clearcoat_escape_at(c.escape, mu_o);
                 let out = (1.0 - e_o) * a.map(|a| clearcoat_inside_scale(a, e_avg, eta));
-                let out_lobe =
-                    (1.0 - e_o) * a.map(|a| clearcoat_lobe_scale(a, escape, e_avg, eta));
+                let out_lobe = (1.0 - e_o) * a.map(|a| clearcoat_lobe_scale(a, escape, e_avg, eta));
                 let through = |o: DVec3| o.map(|o| clearcoat_through_physical(w, o, 1.0 - e_avg));
                 (e_o, (out, out_lobe), (through(out), through(out_lobe)))
             }
@@ -185,7 +184,8 @@ pub(super) fn shade_clearcoat(
     }
     let mut lights = DVec3::ZERO;
     for light in &scene.lights {
-        lights += p.brdf((n, v, light.direction), e, geometry) * light.radiance * n.dot(light.direction);
+        lights +=
+            p.brdf((n, v, light.direction), e, geometry) * light.radiance * n.dot(light.direction);
     }
     c.weight * lo + lights
 }

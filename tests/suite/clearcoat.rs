@@ -440,7 +440,9 @@ fn clearcoat_forms_against_the_truth() {
     // The physical model integrated over the map by sampling (the Monte Carlo backend's
     // estimator of its BRDF: no split sum), at SHADEBALLS_COAT_MC samples per pixel: the
     // model's own error apart from the light integration's (docs/design/coat.md).
-    let mc_spp = std::env::var("SHADEBALLS_COAT_MC").ok().and_then(|s| s.parse().ok());
+    let mc_spp = std::env::var("SHADEBALLS_COAT_MC")
+        .ok()
+        .and_then(|s| s.parse().ok());
     if let Some(mc_spp) = mc_spp {
         let scene = Scene {
             coat_form: CoatForm::Physical,
@@ -459,7 +461,10 @@ fn clearcoat_forms_against_the_truth() {
             }
             line += &format!(" {:+.1}", 100.0 * signed.element_sum() / 3.0);
         }
-        println!("{line} | mean of the balls' worst channel {:.1} %", 100.0 * worst);
+        println!(
+            "{line} | mean of the balls' worst channel {:.1} %",
+            100.0 * worst
+        );
     }
     let noise = t_err
         .iter()
@@ -503,8 +508,8 @@ fn clearcoat_refused_where_not_shaded() {
     let scene = crate::cli_render::scene_file("clearcoat.toml");
     for (args, expect) in [
         (
-            vec!["--backend", "montecarlo-cpu"],
-            "do not shade a clear coat",
+            vec!["--backend", "montecarlo"],
+            "does not shade a clear coat",
         ),
         (vec!["--coat-form", "matte"], "coat form"),
     ] {
@@ -525,6 +530,14 @@ fn clearcoat_refused_where_not_shaded() {
         "render", "--scene", &scene, "--out", png, "--width", "64", "--height", "36",
     ];
     all.extend(["--coat-form", "gltf"]);
+    let (ok, stderr) = crate::cli::shadeballs(&all);
+    assert!(ok && std::path::Path::new(png).exists(), "{stderr}");
+    // The CPU Monte Carlo estimator shades a coat.
+    std::fs::remove_file(png).unwrap();
+    let mut all = vec![
+        "render", "--scene", &scene, "--out", png, "--width", "32", "--height", "18",
+    ];
+    all.extend(["--backend", "montecarlo-cpu", "--spp", "2"]);
     let (ok, stderr) = crate::cli::shadeballs(&all);
     assert!(ok && std::path::Path::new(png).exists(), "{stderr}");
 }
