@@ -92,7 +92,7 @@ fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
 /// `1 - (1 - F_avg(eta)) / eta^2` (reciprocity across the interface: radiance crossing it
 /// is divided by `eta^2`), 0.5963 at `eta = 1.5`. Equals [`f_avg_dielectric`]`(1 / eta)`.
 #[cfg(test)]
-pub(crate) fn f_avg_inside(eta: f64) -> f64 {
+pub fn f_avg_inside(eta: f64) -> f64 {
     1.0 - (1.0 - f_avg_dielectric(eta)) / (eta * eta).max(super::DIV_EPSILON)
 }
 

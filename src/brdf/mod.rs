@@ -20,8 +20,10 @@ pub(crate) use anisotropy::{
     anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso,
     isotropic_roughness, lambda_smith_aniso,
 };
+pub use clearcoat::clearcoat_escape_nodes;
 pub(crate) use clearcoat::{
-    clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical,
+    clearcoat_escape_at, clearcoat_escape_pack, clearcoat_inside_scale, clearcoat_lobe_scale,
+    clearcoat_through_engine, clearcoat_through_physical,
 };
 pub(crate) use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::f0_from_ior;

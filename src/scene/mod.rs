@@ -104,7 +104,7 @@ impl Ball {
     /// The roughness every isotropic part of the ball's shading reads
     /// ([`Material::shading_roughness`]): `roughness`, or an anisotropic lobe's isotropic
     /// equivalent.
-    pub(crate) fn shading_roughness(&self) -> f64 {
+    pub fn shading_roughness(&self) -> f64 {
         self.material.shading_roughness(self.roughness)
     }
 }
