@@ -55,7 +55,7 @@ pub(crate) fn clearcoat_lobe_scale(a_avg: f64, escape: f64, e_coat_avg: f64, eta
 /// [0, 1].
 pub(crate) const CLEARCOAT_ESCAPE_NODES: usize = 4;
 
-/// [`CLEARCOAT_ESCAPE_NODES`] values of `X` for a base lobe of `alpha_base` under a coat
+/// `CLEARCOAT_ESCAPE_NODES` values of `X` for a base lobe of `alpha_base` under a coat
 /// of `alpha_coat`, index `eta` and average albedo `e_coat_avg`.
 pub fn clearcoat_escape_nodes(
     alpha_base: f64,

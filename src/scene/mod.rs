@@ -102,7 +102,7 @@ pub struct Ball {
 
 impl Ball {
     /// The roughness every isotropic part of the ball's shading reads
-    /// ([`Material::shading_roughness`]): `roughness`, or an anisotropic lobe's isotropic
+    /// (`Material::shading_roughness`): `roughness`, or an anisotropic lobe's isotropic
     /// equivalent.
     pub fn shading_roughness(&self) -> f64 {
         self.material.shading_roughness(self.roughness)
