@@ -109,6 +109,11 @@ super::ball::gpu_ball! {
         clearcoat_fresnel: u32,
         /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
         clearcoat_pad: u32,
+        /// Linear radiance the surface emits ([`crate::scene::Material::emission`]; 0:
+        /// none), added where a ray first meets the ball.
+        emission: [f32; 3],
+        /// Padding: the ball fills whole 16-byte rows.
+        emission_pad: f32,
     }
 }
 
@@ -246,6 +251,8 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                     scene.coat_form.fresnel(scene.preset.dielectric_fresnel()),
                 ),
                 clearcoat_pad: 0,
+                emission: v3(b.material.emission),
+                emission_pad: 0.0,
             }
         })
         .collect()
