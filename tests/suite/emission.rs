@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 use serde_json::json;
-use shadeballs::environment::IblMethod;
+use shadeballs::environment::{Builtin, IblMethod, Source};
 use shadeballs::lut::{bake, BakeConfig, TableSet};
 use shadeballs::prepared::Prepared;
 use shadeballs::scene::{Model, Scene};
@@ -17,6 +17,9 @@ use crate::cli::{shadeballs, temp_dir};
 /// The picture's size: small, the checks are per pixel.
 const W: u32 = 96;
 const H: u32 = 54;
+
+/// The width of the studio map the test lights the balls with.
+const STUDIO_WIDTH: u32 = 64;
 
 /// The glowing material's `emissiveFactor` and `emissiveStrength`.
 const FACTOR: [f64; 3] = [0.5, 0.25, 0.125];
@@ -56,6 +59,11 @@ fn imported() -> (Scene, DVec3) {
     let mut scene = imported.scene;
     scene.antialias = false;
     scene.labels = false;
+    // The import's studio map, generated small: the CPU prepares it per render, and a
+    // test's budget is seconds.
+    let studio = scene.environment_map.as_mut().unwrap();
+    assert_eq!(studio.source, Source::Builtin(Builtin::Studio));
+    studio.map = std::sync::Arc::new(Builtin::Studio.generate(STUDIO_WIDTH));
     let e = DVec3::from_array(FACTOR) * STRENGTH;
     assert_eq!(scene.balls[0].material.emission, DVec3::ZERO);
     assert_eq!(scene.balls[1].material.emission, e);
@@ -157,12 +165,16 @@ fn rgb(rgba: &[f32]) -> Vec<DVec3> {
 /// the CPU's within 1/255.
 #[test]
 fn an_imported_emissive_material_is_brighter_by_its_emission_in_every_backend() {
+    let clock = std::time::Instant::now();
+    let lap = |what: &str| println!("{what}: {:.2} s", clock.elapsed().as_secs_f64());
     let (scene, e) = imported();
+    lap("import");
     let unlit = dark(&scene);
     let t = tables(&scene);
     let cpu = |s: &Scene| shadeballs::cpu::render_radiance(s, &Prepared::new(s, &t), W, H);
     // The real-time renderer's CPU twin (split sum).
     brighter_by("CPU split sum", &scene, &cpu(&scene), &cpu(&unlit), e, 0.0);
+    lap("CPU split sum");
     // The lobe mode (the map's part sampled; the same samples with and without).
     let lobe = |s: &Scene| {
         let mut s = s.clone();
@@ -185,6 +197,7 @@ fn an_imported_emissive_material_is_brighter_by_its_emission_in_every_backend() 
             .mean
     };
     brighter_by("CPU Monte Carlo", &scene, &mc(&scene), &mc(&unlit), e, 0.0);
+    lap("CPU Monte Carlo");
     // The truth (the walk; emission added at the first hit).
     let truth = |s: &Scene| {
         let settings = shadeballs::cpu::TruthSettings {
@@ -198,6 +211,7 @@ fn an_imported_emissive_material_is_brighter_by_its_emission_in_every_backend() 
             .mean
     };
     brighter_by("CPU truth", &scene, &truth(&scene), &truth(&unlit), e, 0.0);
+    lap("CPU truth");
 
     // The GPU: the same differences in f32.
     let mut gpu = crate::pixels::vulkan();
@@ -206,16 +220,19 @@ fn an_imported_emissive_material_is_brighter_by_its_emission_in_every_backend() 
         |r: &mut shadeballs::gpu::Renderer, s: &Scene| rgb(&r.render_hdr(s, W, H).unwrap().rgba);
     let (a, b) = (hdr(&mut gpu, &scene), hdr(&mut gpu, &unlit));
     brighter_by("GPU split sum", &scene, &a, &b, e, f32_tolerance);
+    lap("GPU split sum");
     let lobe_hdr = |r: &mut shadeballs::gpu::Renderer, s: &Scene| {
         rgb(&r.render_lobe_hdr(&lobe(s), W, H, 2).unwrap().rgba)
     };
     let (a, b) = (lobe_hdr(&mut gpu, &scene), lobe_hdr(&mut gpu, &unlit));
     brighter_by("GPU lobe", &scene, &a, &b, e, f32_tolerance);
+    lap("GPU lobe");
     let gpu_mc = |r: &mut shadeballs::gpu::Renderer, s: &Scene| {
         r.render_montecarlo(s, (W, H), 64, 7).unwrap().mean
     };
     let (a, b) = (gpu_mc(&mut gpu, &scene), gpu_mc(&mut gpu, &unlit));
     brighter_by("GPU Monte Carlo", &scene, &a, &b, e, f32_tolerance);
+    lap("GPU Monte Carlo");
     let all_truth = |s: &Scene| {
         let mut s = s.clone();
         for b in &mut s.balls {
@@ -228,6 +245,7 @@ fn an_imported_emissive_material_is_brighter_by_its_emission_in_every_backend() 
     };
     let (a, b) = (gpu_truth(&mut gpu, &scene), gpu_truth(&mut gpu, &unlit));
     brighter_by("GPU truth", &scene, &a, &b, e, f32_tolerance);
+    lap("GPU truth");
 
     // After exposure and the tone map: the GPU's picture is the CPU's within 1/255, with
     // the emission and antialiasing on.

@@ -43,6 +43,11 @@ struct Readings {
     model: Vec<f64>,
     truth_noise: Vec<f64>,
     model_noise: Vec<f64>,
+    /// Per ball, the mean over the channels of each channel's relative error (the blue
+    /// channel, the darkest, weighs as much as the red): the split sum's and the model's
+    /// against the truth.
+    split_sum_channels: Vec<f64>,
+    model_channels: Vec<f64>,
 }
 
 fn readings(reading: BaseReading) -> Readings {
@@ -56,10 +61,11 @@ fn readings(reading: BaseReading) -> Readings {
     let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
         .map(|k| interior(&scene, k, w, h))
         .collect();
-    let mean = |image: &[DVec3]| -> Vec<f64> {
-        ball_means(image, &pixels)
-            .iter()
-            .map(|m| m.element_sum() / 3.0)
+    let mean = |rgb: &[DVec3]| -> Vec<f64> { rgb.iter().map(|m| m.element_sum() / 3.0).collect() };
+    let channels = |rgb: &[DVec3], truth: &[DVec3]| -> Vec<f64> {
+        rgb.iter()
+            .zip(truth)
+            .map(|(m, t)| ((*m - *t) / *t).element_sum() / 3.0)
             .collect()
     };
     // The standard error of a ball's mean (channels averaged; they share their paths, so
@@ -74,9 +80,12 @@ fn readings(reading: BaseReading) -> Readings {
             })
             .collect()
     };
-    let split_sum = mean(&shadeballs::cpu::render_radiance(&scene, &prepared, w, h));
+    let split_sum_rgb = ball_means(
+        &shadeballs::cpu::render_radiance(&scene, &prepared, w, h),
+        &pixels,
+    );
     let mc = shadeballs::cpu::render_montecarlo(&scene, &prepared, w, h, MODEL_SPP, 35).unwrap();
-    let model = mean(&mc.mean);
+    let model_rgb = ball_means(&mc.mean, &pixels);
     let settings = shadeballs::cpu::TruthSettings {
         spp: TRUTH_SPP,
         seed: 35,
@@ -85,10 +94,13 @@ fn readings(reading: BaseReading) -> Readings {
     let walked = shadeballs::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true)
         .unwrap()
         .image;
-    let truth = mean(&walked.mean);
+    let truth_rgb = ball_means(&walked.mean, &pixels);
+    let (truth, split_sum, model) = (mean(&truth_rgb), mean(&split_sum_rgb), mean(&model_rgb));
     Readings {
         truth_noise: noise(&walked.std_error, &truth),
         model_noise: noise(&mc.std_error, &model),
+        split_sum_channels: channels(&split_sum_rgb, &truth_rgb),
+        model_channels: channels(&model_rgb, &truth_rgb),
         truth,
         split_sum,
         model,
@@ -112,14 +124,15 @@ fn readings_per_ball_truth_split_sum_and_model() {
         SIZE.0, SIZE.1
     );
     println!(
-        "| roughness | reading | truth | split sum | model (Monte Carlo) | split sum vs model |"
+        "| roughness | reading | truth | split sum | model (Monte Carlo) | split sum vs model \
+         | channels' mean error: split sum, model |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for (k, r) in REFERENCE_ROUGHNESS.iter().enumerate() {
         for (name, x) in [("apparent", &apparent), ("substrate", &substrate)] {
             println!(
                 "| {r} | {name} | {:.4} ({:.2} %) | {:.4} ({:+.2} %) | {:.4} ({:+.2} %; {:.2} %) \
-                 | {:+.2} % |",
+                 | {:+.2} % | {:+.2} %, {:+.2} % |",
                 x.truth[k],
                 100.0 * x.truth_noise[k],
                 x.split_sum[k],
@@ -128,6 +141,8 @@ fn readings_per_ball_truth_split_sum_and_model() {
                 pct(x.model[k], x.truth[k]),
                 100.0 * x.model_noise[k],
                 pct(x.split_sum[k], x.model[k]),
+                100.0 * x.split_sum_channels[k],
+                100.0 * x.model_channels[k],
             );
         }
     }
