@@ -13,7 +13,7 @@
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
-#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
+#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
@@ -57,7 +57,7 @@ var<private> clearcoat_point: ClearcoatPoint;
 
 // Whether ball b has a clear coat.
 fn has_clearcoat(b: Ball) -> bool {
-    return b.clearcoat > 0.0;
+    return HAS_CLEARCOAT == 1u && b.clearcoat > 0.0;
 }
 
 // The coat's specular albedo E_c(mu) under the physical form: its row's E_F(mu) and its

@@ -12,7 +12,7 @@
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_through, clearcoat_environment}
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
@@ -118,7 +118,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     }
     // An anisotropic lobe (docs/design/anisotropy.md): the lights' single scattering in the
     // ball's tangent frame; `roughness` is its isotropic equivalent for the rest.
-    let aniso = b.anisotropy_alpha_t > b.anisotropy_alpha_b;
+    let aniso = has_anisotropy(b);
     var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
     if aniso {
         frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
@@ -183,7 +183,7 @@ fn shade_environment_map(
     let e_o = 1.0 - loss_o;
     // An anisotropic lobe reflects about its bent normal (anisotropic_bent_normal).
     var n_spec = n;
-    if b.anisotropy_alpha_t > b.anisotropy_alpha_b {
+    if has_anisotropy(b) {
         let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
         n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
     }
@@ -323,6 +323,12 @@ fn luminance_density(d: vec3<f32>, size: vec2<u32>) -> f32 {
     let i = u32(fi - f32(w) * floor(fi / f32(w))) % w;
     let j = min(u32(max(floor(uv.y * f32(h)), 0.0)), h - 1u);
     return equirect_density(env_cdf[2u + h + w * h + j * w + i], d, vec2<f32>(f32(w), f32(h)));
+}
+
+// Whether ball b's lobe is anisotropic (alpha_t > alpha_b); false wherever the pipeline
+// compiles the anisotropic code out (HAS_ANISOTROPY = 0: no ball it draws has one).
+fn has_anisotropy(b: Ball) -> bool {
+    return HAS_ANISOTROPY == 1u && b.anisotropy_alpha_t > b.anisotropy_alpha_b;
 }
 
 // The weight of ball b's multiple-scattering term under MS_TERM: 1 compiled in, the ball's

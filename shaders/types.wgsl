@@ -80,6 +80,13 @@ override DOMINANT_DIRECTION: u32 = 1u;
 // choice, so that no other term's branch is run (lavapipe runs both sides of a branch on
 // a varying, the Kulla-Conty term's two reads of the convolved layers included).
 override BALL_TERM: u32 = 0u;
+// 1 (default): the clear coat's code (clearcoat.wgsl, coating.wgsl has_clearcoat) and the
+// anisotropic lobe's (lighting.wgsl has_anisotropy), each a branch on the ball's own
+// members; 0: compiled out, as no ball the pipeline draws has one (src/gpu/plan.rs
+// Variant::clearcoat, Variant::anisotropy): lavapipe runs a branch on a varying whether
+// or not a ball takes it.
+override HAS_CLEARCOAT: u32 = 1u;
+override HAS_ANISOTROPY: u32 = 1u;
 
 // Which of a value's three shares the ball's term (TERM_*; src/gpu/uniforms.rs term_code)
 // takes: 1 Turquin's, 2 Fdez-Aguera's, 0 Kulla-Conty's. The one choice among the terms:

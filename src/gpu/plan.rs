@@ -103,6 +103,12 @@ pub struct Variant {
     /// The term of every ball the pipeline draws (`BALL_TERM`: its `TERM_*` code) where the
     /// term is compiled in and all of them share one, else 0 (each ball's own).
     pub ball_term: u32,
+    /// The clear coat's code compiled in (`HAS_CLEARCOAT`): some ball the pipeline draws
+    /// has a coat.
+    pub clearcoat: bool,
+    /// The anisotropic lobe's code compiled in (`HAS_ANISOTROPY`): some ball the pipeline
+    /// draws is anisotropic.
+    pub anisotropy: bool,
     /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
     /// [`Scene::display`]).
     pub display: DisplayTransform,
@@ -183,6 +189,8 @@ impl Plan {
             aa: scene.antialias,
             dominant: options.dominant_direction,
             ball_term: 0,
+            clearcoat: false,
+            anisotropy: false,
             display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
@@ -216,6 +224,20 @@ impl Plan {
             .filter(|(_, balls)| !balls.is_empty())
             .collect()
         };
+        // Each pipeline compiles in the layers its own balls have, and no other.
+        let draws = draws
+            .into_iter()
+            .map(|(v, drawn): (Variant, Vec<usize>)| {
+                let any =
+                    |has: fn(&crate::scene::Ball) -> bool| drawn.iter().any(|&k| has(&balls[k]));
+                let variant = Variant {
+                    clearcoat: any(|b| b.material.clearcoat.is_on()),
+                    anisotropy: any(|b| b.material.anisotropy > 0.0),
+                    ..v
+                };
+                (variant, drawn)
+            })
+            .collect();
         Plan {
             geometry,
             bake,
@@ -234,6 +256,8 @@ impl Plan {
                 aa: false,
                 dominant: options.dominant_direction,
                 ball_term: 0,
+                clearcoat: balls.iter().any(|b| b.material.clearcoat.is_on()),
+                anisotropy: balls.iter().any(|b| b.material.anisotropy > 0.0),
                 display,
             },
         }
@@ -277,6 +301,12 @@ impl fmt::Display for Variant {
         }
         if !self.dominant && self.ibl == 1 {
             write!(f, ", read along the mirror direction")?;
+        }
+        if self.clearcoat {
+            write!(f, ", clear coat")?;
+        }
+        if self.anisotropy {
+            write!(f, ", anisotropy")?;
         }
         Ok(())
     }

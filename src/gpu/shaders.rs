@@ -170,7 +170,7 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
 /// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `IBL_SAMPLES`, `AA`,
-/// `DOMINANT_DIRECTION`, `BALL_TERM`, the display
+/// `DOMINANT_DIRECTION`, `BALL_TERM`, `HAS_CLEARCOAT`, `HAS_ANISOTROPY`, the display
 /// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
 /// (`srgb`: the hardware encodes, so the shader writes linear).
 pub fn overrides_for(
@@ -179,7 +179,7 @@ pub fn overrides_for(
     mu_axis: MuAxis,
     variant: Variant,
     srgb: bool,
-) -> [(&'static str, f64); 14] {
+) -> [(&'static str, f64); 16] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -194,6 +194,8 @@ pub fn overrides_for(
         ("AA", flag(variant.aa)),
         ("DOMINANT_DIRECTION", flag(variant.dominant)),
         ("BALL_TERM", f64::from(variant.ball_term)),
+        ("HAS_CLEARCOAT", flag(variant.clearcoat)),
+        ("HAS_ANISOTROPY", flag(variant.anisotropy)),
         ("TONE_MAP", variant.display.tone_map.code() as f64),
         ("TRANSFER", variant.display.transfer.code() as f64),
         ("SRGB_TARGET", flag(srgb)),

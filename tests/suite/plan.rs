@@ -6,7 +6,7 @@ use shadeballs::gpu::{DrawOptions, Plan, TablePolicy, TermMode, Variant, MAX_PLA
 use shadeballs::lut::{
     self, accuracy::random_points, BakeConfig, RowKey, RowSet, TableKey, TableSet,
 };
-use shadeballs::scene::Scene;
+use shadeballs::scene::{ClearCoat, Scene};
 
 /// The default scene with every ball's term off (the lab's `no_term` too).
 pub fn no_term() -> Scene {
@@ -48,9 +48,49 @@ fn variant(term: TermMode) -> Variant {
         dominant: true,
         // The reference scene's top row has the Kulla-Conty term (code 1), its only one.
         ball_term: if term == TermMode::In { 1 } else { 0 },
+        clearcoat: false,
+        anisotropy: false,
         // The reference scene's display (the homework's).
         display: DisplayTransform::HOMEWORK,
     }
+}
+
+/// Each pipeline compiles in the clear coat's and the anisotropic lobe's code only where a
+/// ball it draws has one (`HAS_CLEARCOAT`, `HAS_ANISOTROPY`: lavapipe pays for a branch on
+/// a varying that no ball takes); the truth's variant has what any ball has.
+#[test]
+fn layers_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
+    let mut s = Scene::reference();
+    assert_eq!(
+        plan(&s).variants(),
+        vec![variant(TermMode::In), variant(TermMode::Out)],
+        "no ball has a layer"
+    );
+    // A coat on the top row's first ball (with the term), anisotropy on the bottom row's
+    // last (without it).
+    let coat = ClearCoat {
+        weight: 1.0,
+        ..ClearCoat::default()
+    };
+    s.balls[0].material = s.balls[0].material.with_clearcoat(coat);
+    let last = s.balls.len() - 1;
+    s.balls[last].material = s.balls[last].material.with_anisotropy(0.5, 0.0);
+    let p = plan(&s);
+    assert_eq!(
+        p.variants(),
+        vec![
+            Variant {
+                clearcoat: true,
+                ..variant(TermMode::In)
+            },
+            Variant {
+                anisotropy: true,
+                ..variant(TermMode::Out)
+            }
+        ],
+        "{p}"
+    );
+    assert!(p.truth_variant.clearcoat && p.truth_variant.anisotropy);
 }
 
 #[test]
@@ -108,6 +148,8 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             aa: true,
             dominant: true,
             ball_term: 0,
+            clearcoat: false,
+            anisotropy: false,
             display: DisplayTransform::HOMEWORK,
         }]
     );

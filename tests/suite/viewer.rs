@@ -111,6 +111,38 @@ pub fn wait(mut child: Child, limit: Duration) -> Output {
     child.wait_with_output().unwrap()
 }
 
+/// Waits until the process `pid` is idle: its CPU time, all threads together
+/// (`/proc/PID/stat`'s utime and stime, in clock ticks of 10 ms), grows by under
+/// `IDLE_TICKS` in each of two seconds in a row. Panics after `limit`.
+fn until_idle(pid: u32, limit: Duration) {
+    const IDLE_TICKS: u64 = 5;
+    let cpu_ticks = || -> u64 {
+        let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+        // The fields after the command name's closing parenthesis start at the 3rd
+        // (state): utime and stime, the 14th and 15th, are the 12th and 13th of these.
+        let fields: Vec<&str> = stat[stat.rfind(')').unwrap() + 1..]
+            .split_whitespace()
+            .collect();
+        fields[11].parse::<u64>().unwrap() + fields[12].parse::<u64>().unwrap()
+    };
+    let start = Instant::now();
+    let (mut last, mut quiet) = (cpu_ticks(), 0);
+    while quiet < 2 {
+        assert!(
+            start.elapsed() < limit,
+            "the viewer was still busy after {limit:?}"
+        );
+        std::thread::sleep(Duration::from_secs(1));
+        let now = cpu_ticks();
+        quiet = if now - last < IDLE_TICKS {
+            quiet + 1
+        } else {
+            0
+        };
+        last = now;
+    }
+}
+
 /// The scene area's size the viewer reports with its screenshot ("scene area WxH").
 fn scene_area(stderr: &str) -> (u32, u32) {
     let at = stderr
@@ -1716,12 +1748,13 @@ fn lobe_stops_at_its_cap_and_the_viewer_goes_idle() {
         "136",
     ];
     let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
+    let pid = child.id();
     let stderr = drive(&x, child, |_| {
         // 16 frames of a 185x136 scene area at 256 samples of each strategy (the lobe
         // mode's multiple importance sampling, issue 37): at 185x270 a frame took 2.5 to
         // 4.4 s on lavapipe (2 loaded cores), half that here, about 20 to 35 s to the cap;
-        // then idle.
-        std::thread::sleep(Duration::from_secs(60));
+        // then idle, which the wait sees as the process's CPU time standing still.
+        until_idle(pid, Duration::from_secs(240));
     });
     assert_eq!(reported(&stderr, "lobe: "), 4096, "{stderr}");
     let frames = reported(&stderr, "viewed ");
