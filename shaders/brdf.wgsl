@@ -367,11 +367,37 @@ fn f_dielectric(cos_theta: f32, eta: f32, form: u32) -> f32 {
     return fresnel_dielectric(cos_theta, eta);
 }
 
-// The share of the base's light under the physical clear coat of weight `weight`, light
-// arriving with the coat's transmission 1 - e_coat_i: (1 - weight) + weight out (1 -
-// e_coat_i), out per channel the view's part (src/brdf/clearcoat.rs).
-fn clearcoat_through_physical(weight: f32, out: vec3<f32>, e_coat_i: f32) -> vec3<f32> {
-    return vec3<f32>(1.0 - weight) + weight * out * (1.0 - e_coat_i);
+// The share of the base's light under the clear coat of weight `weight`, light arriving
+// with the coat's transmission t_coat_i: (1 - weight) + weight out t_coat_i, out per
+// channel the view's part (src/brdf/clearcoat.rs).
+fn clearcoat_through_physical(weight: f32, out: vec3<f32>, t_coat_i: f32) -> vec3<f32> {
+    return vec3<f32>(1.0 - weight) + weight * out * t_coat_i;
+}
+
+// A Lambertian base's light through the physical coat: 1 / (eta^2 (1 - A_avg F_in))
+// (src/brdf/clearcoat.rs clearcoat_inside_scale).
+fn clearcoat_inside_scale(a_avg: vec3<f32>, e_coat_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_coat_avg, eta);
+    return 1.0 / max((eta * eta) * (1.0 - a_avg * f_in), vec3<f32>(DIV_EPSILON));
+}
+
+// A glossy base's light through the physical coat, escaping with the share `escape` on
+// its first way up: (1 - (1 - X) (1 - A_avg) / (1 - A_avg F_in)) / (1 - E_c_avg)
+// (src/brdf/clearcoat.rs clearcoat_lobe_scale).
+fn clearcoat_lobe_scale(a_avg: vec3<f32>, escape: f32, e_coat_avg: f32, eta: f32) -> vec3<f32> {
+    let f_in = coating_inside_reflectance(e_coat_avg, eta);
+    let kept = (1.0 - escape) * (1.0 - a_avg) / max(1.0 - a_avg * f_in, vec3<f32>(DIV_EPSILON));
+    return (1.0 - kept) / max(1.0 - e_coat_avg, DIV_EPSILON);
+}
+
+// A ball's escape curve (four unorm8 nodes at sqrt(mu) = k / 3) read at mu, linear in
+// sqrt(mu) (src/brdf/clearcoat.rs clearcoat_escape_at).
+fn clearcoat_escape_at(packed: u32, mu: f32) -> f32 {
+    let nodes = unpack4x8unorm(packed);
+    let x = sqrt(clamp(mu, 0.0, 1.0)) * 3.0;
+    let k = min(u32(floor(x)), 2u);
+    let t = x - f32(k);
+    return nodes[k] + t * (nodes[k + 1u] - nodes[k]);
 }
 
 // The share of the base's light under an engine's clear coat: 1 - weight F.

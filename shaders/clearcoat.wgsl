@@ -6,6 +6,7 @@
 
 #define_import_path shadeballs::clearcoat
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, clearcoat_through_physical, clearcoat_through_engine}
+#import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, DOMINANT_DIRECTION}
@@ -28,22 +29,32 @@ fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
     }
     p.e_f_o = coating_albedo(b.clearcoat_row, mu_o);
     p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, b.clearcoat_fresnel);
-    p.out = vec3<f32>(0.0);
+    // The engines' forms: the base's light times 1 - w F, the same for every base.
+    p.out = vec3<f32>(1.0);
+    p.out_lobe = vec3<f32>(1.0);
+    p.environment = vec3<f32>(clearcoat_through_engine(w, p.fresnel_o));
     switch form {
         case COAT_FORM_FILAMENT: {
             p.albedo_o = p.e_f_o;
-            p.environment = vec3<f32>(clearcoat_through_engine(w, p.fresnel_o));
         }
         case COAT_FORM_GLTF: {
             p.albedo_o = p.fresnel_o * (1.0 - p.loss_o);
-            p.environment = vec3<f32>(clearcoat_through_engine(w, p.fresnel_o));
         }
         default: {
             let e_o = p.e_f_o + p.ms * b.clearcoat_f_add * p.loss_o;
             p.albedo_o = e_o;
-            p.out = (1.0 - e_o) * b.clearcoat_inside;
-            p.environment = clearcoat_through_physical(w, p.out, b.clearcoat_e_avg);
+            let a_avg = b.clearcoat_base_avg;
+            let e_avg = b.clearcoat_e_avg;
+            let eta = b.clearcoat_eta;
+            p.out = (1.0 - e_o) * clearcoat_inside_scale(a_avg, e_avg, eta);
+            let escape = clearcoat_escape_at(b.clearcoat_escape, mu_o);
+            p.out_lobe = (1.0 - e_o) * clearcoat_lobe_scale(a_avg, escape, e_avg, eta);
+            p.environment = clearcoat_through_physical(w, p.out, 1.0 - e_avg);
+            p.environment_lobe = clearcoat_through_physical(w, p.out_lobe, 1.0 - e_avg);
         }
+    }
+    if form == COAT_FORM_FILAMENT || form == COAT_FORM_GLTF {
+        p.environment_lobe = p.environment;
     }
     clearcoat_point = p;
 }

@@ -7,7 +7,7 @@
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
-#import shadeballs::brdf::{clearcoat_through_physical, clearcoat_through_engine}
+#import shadeballs::brdf::clearcoat_through_physical
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
@@ -33,13 +33,19 @@ fn coating_albedo(row: u32, mu: f32) -> f32 {
 // What a coated point forms once per pixel (clearcoat_begin), for the base's shading and
 // the coat's own.
 struct ClearcoatPoint {
-    // The physical form's view part of the base's weight, (1 - E_c(mu_o)) inside, per channel.
+    // The view's part of the weight of a Lambertian base's light: (1 - E_c(mu_o))
+    // clearcoat_inside_scale per channel (physical form), 1 (the engines').
     out: vec3<f32>,
+    // The same for a glossy base's light (a metal's lobe, a plastic's specular):
+    // (1 - E_c(mu_o)) clearcoat_lobe_scale (physical form), 1 (the engines').
+    out_lobe: vec3<f32>,
     // The coat's directional albedo at the view under its form: E_c(mu_o) (physical),
     // E_F(mu_o) (Filament's), F_c(mu_o) E(mu_o) (glTF's).
     albedo_o: f32,
-    // The base's weight under uniform light and the map.
+    // The Lambertian base's weight under uniform light and the map.
     environment: vec3<f32>,
+    // The glossy base's weight under uniform light and the map.
+    environment_lobe: vec3<f32>,
     // The coat's 1 - E(mu_o) (its Fresnel-free table).
     loss_o: f32,
     // The coat's single scattering E_F(mu_o), its row's.
@@ -70,35 +76,58 @@ fn clearcoat_albedo(b: Ball, mu: f32, ms: f32) -> f32 {
     return coating_albedo(b.clearcoat_row, mu) + ms * b.clearcoat_f_add * loss;
 }
 
-// The share of the base's light from a light at cosine mu_i (v_dot_h: the view's cosine
-// to the half vector) that comes through ball b's coat; 1 without a coat.
-fn clearcoat_through(b: Ball, mu_i: f32, v_dot_h: f32) -> vec3<f32> {
+// The coat's transmission of a light at cosine mu_i (v_dot_h: the view's cosine to the
+// half vector) under its form: 1 - E_c(mu_i) (physical), 1 - F_c(v.h) (Filament's),
+// 1 - F_c(n.v) (glTF's); 1 without a coat.
+fn clearcoat_in(b: Ball, mu_i: f32, v_dot_h: f32) -> f32 {
     if !has_clearcoat(b) {
-        return vec3<f32>(1.0);
+        return 1.0;
     }
-    let w = b.clearcoat;
     switch b.clearcoat_form {
         case COAT_FORM_FILAMENT: {
-            let fresnel = f_dielectric(v_dot_h, b.clearcoat_eta, b.clearcoat_fresnel);
-            return vec3<f32>(clearcoat_through_engine(w, fresnel));
+            return 1.0 - f_dielectric(v_dot_h, b.clearcoat_eta, b.clearcoat_fresnel);
         }
         case COAT_FORM_GLTF: {
-            return vec3<f32>(clearcoat_through_engine(w, clearcoat_point.fresnel_o));
+            return 1.0 - clearcoat_point.fresnel_o;
         }
         default: {
-            let e_i = clearcoat_albedo(b, mu_i, clearcoat_point.ms);
-            return clearcoat_through_physical(w, clearcoat_point.out, e_i);
+            return 1.0 - clearcoat_albedo(b, mu_i, clearcoat_point.ms);
         }
     }
 }
 
-// The share of the base's light from uniform light and the map that comes through ball
-// b's coat; 1 without a coat.
+// The share of a Lambertian base's light from a light the coat transmits with t_in
+// (clearcoat_in) that comes through ball b's coat; 1 without a coat.
+fn clearcoat_through(b: Ball, t_in: f32) -> vec3<f32> {
+    if !has_clearcoat(b) {
+        return vec3<f32>(1.0);
+    }
+    return clearcoat_through_physical(b.clearcoat, clearcoat_point.out, t_in);
+}
+
+// clearcoat_through for a glossy base's light.
+fn clearcoat_through_lobe(b: Ball, t_in: f32) -> vec3<f32> {
+    if !has_clearcoat(b) {
+        return vec3<f32>(1.0);
+    }
+    return clearcoat_through_physical(b.clearcoat, clearcoat_point.out_lobe, t_in);
+}
+
+// The share of a Lambertian base's light from uniform light and the map that comes
+// through ball b's coat; 1 without a coat.
 fn clearcoat_environment(b: Ball) -> vec3<f32> {
     if !has_clearcoat(b) {
         return vec3<f32>(1.0);
     }
     return clearcoat_point.environment;
+}
+
+// clearcoat_environment for a glossy base's light.
+fn clearcoat_environment_lobe(b: Ball) -> vec3<f32> {
+    if !has_clearcoat(b) {
+        return vec3<f32>(1.0);
+    }
+    return clearcoat_point.environment_lobe;
 }
 
 // The coating's specular albedo E_spec(mu) with the ball's term (weight ms): Kulla-Conty's
@@ -186,9 +215,13 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     let e_f_o = coating_albedo(b.coating_row, mu_o);
     let e_spec_o = coating_spec_albedo(e_f_o, loss_o, f0, f_add, ms, term);
     let base_o = coating_base_albedo(b, e_spec_o, f_dielectric(mu_o, eta, b.fresnel));
+    // The shares of uniform light and the map that a clear coat lets through (1 without):
+    // the specular's as a glossy base's, the base's as a Lambertian one's.
+    let through_lobe = clearcoat_environment_lobe(b);
+    let through_base = clearcoat_environment(b);
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
-        lo = globals.environment.xyz * (vec3<f32>(e_spec_o) + base_o);
+        lo = globals.environment.xyz * (e_spec_o * through_lobe + base_o * through_base);
     }
     // Fdez-Aguera's energy, formed once for every light (zero for the other terms).
     var fms_ems = 0.0;
@@ -197,10 +230,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     }
     // IBL = 2: the map's part is the whole model's (lighting.wgsl shade_environment_mis).
     if IBL == 1u {
-        lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o);
+        lo += shade_coating_map(b, n, v, e_f_o, loss_o, fms_ems, ms, base_o, through_lobe, through_base);
     }
-    // The share of uniform light and the map that a clear coat lets through (1 without).
-    lo *= clearcoat_environment(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -228,8 +259,10 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         if two_sided(b) {
             e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
         }
-        let f_r = vec3<f32>(spec + ms * lobe) + coating_base(b, e_spec_o, e_spec_i, fresnel);
-        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
+        let t_in = clearcoat_in(b, mu_i, dot(v, h));
+        let f_r = clearcoat_through_lobe(b, t_in) * (spec + ms * lobe)
+            + clearcoat_through(b, t_in) * coating_base(b, e_spec_o, e_spec_i, fresnel);
+        lo += f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }
@@ -248,6 +281,8 @@ fn shade_coating_map(
     fms_ems: f32,
     ms: f32,
     base_o: vec3<f32>,
+    through_lobe: vec3<f32>,
+    through_base: vec3<f32>,
 ) -> vec3<f32> {
     let roughness = b.roughness;
     let rotation = env.rotation;
@@ -259,17 +294,18 @@ fn shade_coating_map(
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let single = prefiltered * e_f_o;
-    var lo = single + base_o * irradiance;
+    var lobe = single;
     if ms > 0.0 {
         let term = b.term;
         let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
-        // Each share added to lo in its own arm, as the shader always summed it.
-        lo = by_term(
+        // Each share added to the lobe in its own arm, as the shader always summed it.
+        lobe = by_term(
             term,
-            lo + ms * b.coat_f_add * loss_o * multiple,
-            lo + ms * term_turquin(single, vec3<f32>(f0_from_ior(b.eta)), 1.0 - loss_o),
-            lo + ms * fms_ems * irradiance,
+            lobe + ms * b.coat_f_add * loss_o * multiple,
+            lobe + ms * term_turquin(single, vec3<f32>(f0_from_ior(b.eta)), 1.0 - loss_o),
+            lobe + ms * fms_ems * irradiance,
         );
     }
-    return lo;
+    // A clear coat's shares (1 without): the specular's and the base's.
+    return lobe * through_lobe + base_o * irradiance * through_base;
 }

@@ -14,7 +14,7 @@
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_through, clearcoat_environment}
+#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment, clearcoat_environment_lobe}
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
@@ -42,7 +42,10 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -
 fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     var map_part = vec3<f32>(0.0);
     if IBL == 2u {
-        map_part = shade_environment_mis(b, n, v, pixel) * clearcoat_environment(b);
+        // The whole model's map part takes the coat's shares mixed by metallic (the
+        // coating's specular is taken as its base's: the sampled sum is not split).
+        let through = mix(clearcoat_environment(b), clearcoat_environment_lobe(b), b.metallic);
+        map_part = shade_environment_mis(b, n, v, pixel) * through;
     }
     let metallic = b.metallic;
     if metallic >= 1.0 {
@@ -111,8 +114,9 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     if IBL == 1u {
         lo += shade_environment_map(b, n, v, loss_o, fss_ess, fms_ems, ms, f_add);
     }
-    // The share of uniform light and the map that a clear coat lets through (1 without).
-    lo *= clearcoat_environment(b);
+    // The share of uniform light and the map that a clear coat lets through (1 without):
+    // a glossy base's.
+    lo *= clearcoat_environment_lobe(b);
     if HAS_LIGHTS == 0u {
         return lo;
     }
@@ -151,7 +155,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
             );
         }
         let f_r = spec + lobe;
-        lo += clearcoat_through(b, mu_i, dot(v, h)) * f_r * lights[k].radiance.xyz * mu_i;
+        let through = clearcoat_through_lobe(b, clearcoat_in(b, mu_i, dot(v, h)));
+        lo += through * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;
 }

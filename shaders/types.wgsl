@@ -162,7 +162,7 @@ struct Ball {
     anisotropy_sin: f32,
     clearcoat_lut_row: vec3<f32>,
     clearcoat: f32,
-    clearcoat_inside: vec3<f32>,
+    clearcoat_base_avg: vec3<f32>,
     clearcoat_roughness: f32,
     clearcoat_eta: f32,
     clearcoat_f_add: f32,
@@ -171,7 +171,7 @@ struct Ball {
     clearcoat_row: u32,
     clearcoat_form: u32,
     clearcoat_fresnel: u32,
-    clearcoat_pad: u32,
+    clearcoat_escape: u32,
     emission: vec3<f32>,
     emission_pad: f32,
 }
@@ -266,7 +266,7 @@ fn ball_of(in: BallOut) -> Ball {
     b.anisotropy_sin = in.ball_9.w;
     b.clearcoat_lut_row = in.ball_10.xyz;
     b.clearcoat = in.ball_10.w;
-    b.clearcoat_inside = in.ball_11.xyz;
+    b.clearcoat_base_avg = in.ball_11.xyz;
     b.clearcoat_roughness = in.ball_11.w;
     b.clearcoat_eta = in.ball_12.x;
     b.clearcoat_f_add = in.ball_12.y;
@@ -275,7 +275,7 @@ fn ball_of(in: BallOut) -> Ball {
     b.clearcoat_row = in.ball_13.x;
     b.clearcoat_form = in.ball_13.y;
     b.clearcoat_fresnel = in.ball_13.z;
-    b.clearcoat_pad = in.ball_13.w;
+    b.clearcoat_escape = in.ball_13.w;
     b.emission = in.ball_14.xyz;
     b.emission_pad = in.ball_14.w;
     b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);

@@ -161,16 +161,15 @@ pub fn render(
     }
 }
 
-/// What no backend but the model's renderers and the CPU truth shades yet: a clear coat
-/// under the Monte Carlo backends, and a clear-coated truth ball on the GPU (walk.wgsl).
+/// What no backend but the model's renderers, the CPU Monte Carlo and the CPU truth
+/// shades yet: a clear coat under the GPU's Monte Carlo backend, and a clear-coated truth
+/// ball on the GPU (walk.wgsl).
 fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
     let coated = |b: &&crate::scene::Ball| b.material.clearcoat.is_on();
     let balls = &scene.balls[..scene.balls.len().min(crate::scene::MAX_BALLS)];
-    let message = if matches!(backend, Backend::Montecarlo | Backend::MontecarloCpu)
-        && balls.iter().any(|b| coated(&b))
-    {
-        "the Monte Carlo backends do not shade a clear coat yet (docs/design/coat.md): \
-         render with --backend auto, cpu or truth"
+    let message = if backend == Backend::Montecarlo && balls.iter().any(|b| coated(&b)) {
+        "the GPU's Monte Carlo backend does not shade a clear coat yet (docs/design/coat.md): \
+         render with --backend auto, cpu, montecarlo-cpu or truth"
     } else if gpu
         && backend != Backend::Truth
         && balls

@@ -20,7 +20,11 @@ pub use anisotropy::{
     anisotropic_alphas, anisotropic_bent_normal, ball_tangent, d_ggx_aniso, f_micro_aniso, g_aniso,
     isotropic_roughness, lambda_smith_aniso,
 };
-pub use clearcoat::{clearcoat_inside_scale, clearcoat_through_engine, clearcoat_through_physical};
+pub use clearcoat::{
+    clearcoat_escape, clearcoat_escape_at, clearcoat_escape_nodes, clearcoat_escape_pack,
+    clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_through_engine,
+    clearcoat_through_physical, CLEARCOAT_ESCAPE_NODES, CLEARCOAT_ESCAPE_SAMPLES,
+};
 pub use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::{
     f0_from_ior, f_avg_dielectric, f_avg_games202, f_avg_inside, f_avg_schlick, f_dielectric,

@@ -6,7 +6,8 @@ use glam::DVec3;
 
 use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
-    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
+    clearcoat_escape_at, clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_through_engine,
+    clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
 };
 use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
@@ -19,12 +20,16 @@ pub struct ClearcoatPoint {
     c: ClearcoatConstants,
     fresnel_form: crate::brdf::DielectricFresnel,
     mu_o: f64,
-    /// The physical form's view part of the base's weight, per channel.
+    /// The view's part of a Lambertian base's weight, per channel (1 under the engines').
     out: DVec3,
+    /// The view's part of a glossy base's weight, per channel (1 under the engines').
+    out_lobe: DVec3,
     /// The coat's directional albedo at the view under its form.
     albedo_o: f64,
-    /// The base's weight under uniform light and the map.
+    /// A Lambertian base's weight under uniform light and the map.
     environment: DVec3,
+    /// A glossy base's weight under uniform light and the map.
+    environment_lobe: DVec3,
     loss_o: f64,
     e_f_o: f64,
     fresnel_o: f64,
@@ -58,26 +63,23 @@ impl ClearcoatPoint {
         };
         let e_f_o = f64::from(coating_albedo(&coat.row, mu_o as f32));
         let fresnel_o = f_dielectric(mu_o, c.eta, c.fresnel);
-        let (albedo_o, out, environment) = match form {
-            CoatForm::Filament => (
-                e_f_o,
-                DVec3::ZERO,
-                DVec3::splat(clearcoat_through_engine(w, fresnel_o)),
-            ),
+        // The engines' forms: the base's light times 1 - w F, the same for every base.
+        let engine = DVec3::splat(clearcoat_through_engine(w, fresnel_o));
+        let (albedo_o, (out, out_lobe), (environment, environment_lobe)) = match form {
+            CoatForm::Filament => (e_f_o, (DVec3::ONE, DVec3::ONE), (engine, engine)),
             CoatForm::Gltf => (
                 fresnel_o * (1.0 - loss_o),
-                DVec3::ZERO,
-                DVec3::splat(clearcoat_through_engine(w, fresnel_o)),
+                (DVec3::ONE, DVec3::ONE),
+                (engine, engine),
             ),
             CoatForm::Physical => {
                 let e_o = e_f_o + ms * c.f_add * loss_o;
-                let out = (1.0 - e_o) * c.inside;
-                let through = |o: f64| clearcoat_through_physical(w, o, c.e_avg);
-                (
-                    e_o,
-                    out,
-                    DVec3::new(through(out.x), through(out.y), through(out.z)),
-                )
+                let (a, e_avg, eta) = (c.base_avg, c.e_avg, c.eta);
+                let escape = clearcoat_escape_at(c.escape, mu_o);
+                let out = (1.0 - e_o) * a.map(|a| clearcoat_inside_scale(a, e_avg, eta));
+                let out_lobe = (1.0 - e_o) * a.map(|a| clearcoat_lobe_scale(a, escape, e_avg, eta));
+                let through = |o: DVec3| o.map(|o| clearcoat_through_physical(w, o, 1.0 - e_avg));
+                (e_o, (out, out_lobe), (through(out), through(out_lobe)))
             }
         };
         ClearcoatPoint {
@@ -86,8 +88,10 @@ impl ClearcoatPoint {
             fresnel_form: c.fresnel,
             mu_o,
             out,
+            out_lobe,
             albedo_o,
             environment,
+            environment_lobe,
             loss_o,
             e_f_o,
             fresnel_o,
@@ -105,27 +109,62 @@ impl ClearcoatPoint {
         f64::from(coating_albedo(&self.row, mu as f32)) + self.ms * self.c.f_add * l
     }
 
-    /// `clearcoat_through`: the share of the base's light from a light at cosine `mu_i`
-    /// (`v_dot_h` the view's cosine to the half vector) that comes through the coat.
-    pub fn through(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> DVec3 {
-        let w = self.c.weight;
+    /// `clearcoat_in`: the coat's transmission of a light at cosine `mu_i` (`v_dot_h` the
+    /// view's cosine to the half vector) under its form.
+    pub fn transmit(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> f64 {
         match self.c.form {
-            CoatForm::Filament => {
-                let fresnel = f_dielectric(v_dot_h, self.c.eta, self.fresnel_form);
-                DVec3::splat(clearcoat_through_engine(w, fresnel))
-            }
-            CoatForm::Gltf => DVec3::splat(clearcoat_through_engine(w, self.fresnel_o)),
-            CoatForm::Physical => {
-                let e_i = self.albedo(e, mu_i);
-                let t = |o: f64| clearcoat_through_physical(w, o, e_i);
-                DVec3::new(t(self.out.x), t(self.out.y), t(self.out.z))
-            }
+            CoatForm::Filament => 1.0 - f_dielectric(v_dot_h, self.c.eta, self.fresnel_form),
+            CoatForm::Gltf => 1.0 - self.fresnel_o,
+            CoatForm::Physical => 1.0 - self.albedo(e, mu_i),
         }
     }
 
-    /// `clearcoat_environment`: the share of uniform light and the map that comes through.
+    /// `clearcoat_through`: the share of a Lambertian base's light from a light the coat
+    /// transmits with `t_in` ([`ClearcoatPoint::transmit`]) that comes through.
+    pub fn through(&self, t_in: f64) -> DVec3 {
+        self.out
+            .map(|o| clearcoat_through_physical(self.c.weight, o, t_in))
+    }
+
+    /// `clearcoat_through_lobe`: [`ClearcoatPoint::through`] for a glossy base's light.
+    pub fn through_lobe(&self, t_in: f64) -> DVec3 {
+        self.out_lobe
+            .map(|o| clearcoat_through_physical(self.c.weight, o, t_in))
+    }
+
+    /// `clearcoat_environment`: the share of uniform light and the map that comes
+    /// through, for a Lambertian base's light.
     pub fn environment(&self) -> DVec3 {
         self.environment
+    }
+
+    /// `clearcoat_environment_lobe`: the same for a glossy base's light.
+    pub fn environment_lobe(&self) -> DVec3 {
+        self.environment_lobe
+    }
+
+    /// The coat's own BRDF towards the light `l` under its form, times its weight (the
+    /// lights' loop of `shade_clearcoat`; 0 with `l` or `v` below the horizon).
+    pub fn brdf(&self, (n, v, l): (DVec3, DVec3, DVec3), e: &TableSet, geometry: Geometry) -> f64 {
+        let c = &self.c;
+        let mu_i = n.dot(l);
+        if mu_i <= 0.0 || self.mu_o <= 0.0 {
+            return 0.0;
+        }
+        let h = (v + l).normalize();
+        let fresnel = match c.form {
+            CoatForm::Gltf => 1.0,
+            _ => f_dielectric(v.dot(h), c.eta, self.fresnel_form),
+        };
+        let mut spec = f_micro(fresnel, self.mu_o, mu_i, n.dot(h), c.roughness, geometry);
+        if c.form == CoatForm::Gltf {
+            spec *= self.fresnel_o;
+        }
+        if self.ms > 0.0 {
+            let loss_i = loss(e, mu_i, c.roughness);
+            spec += self.ms * c.f_add * f_ms(self.loss_o, loss_i, c.ms_norm);
+        }
+        c.weight * spec
     }
 }
 
@@ -143,29 +182,12 @@ pub(super) fn shade_clearcoat(
     if let Some(map) = map {
         lo += shade_clearcoat_map(scene, p, (n, v), map);
     }
-    let mu_o = p.mu_o;
+    let mut lights = DVec3::ZERO;
     for light in &scene.lights {
-        let l = light.direction;
-        let mu_i = n.dot(l);
-        if mu_i <= 0.0 || mu_o <= 0.0 {
-            continue;
-        }
-        let h = (v + l).normalize();
-        let fresnel = match c.form {
-            CoatForm::Gltf => 1.0,
-            _ => f_dielectric(v.dot(h), c.eta, p.fresnel_form),
-        };
-        let mut spec = f_micro(fresnel, mu_o, mu_i, n.dot(h), c.roughness, geometry);
-        if c.form == CoatForm::Gltf {
-            spec *= p.fresnel_o;
-        }
-        if p.ms > 0.0 {
-            let loss_i = loss(e, mu_i, c.roughness);
-            spec += p.ms * c.f_add * f_ms(p.loss_o, loss_i, c.ms_norm);
-        }
-        lo += spec * light.radiance * mu_i;
+        lights +=
+            p.brdf((n, v, light.direction), e, geometry) * light.radiance * n.dot(light.direction);
     }
-    c.weight * lo
+    c.weight * lo + lights
 }
 
 /// `shade_clearcoat_map` of `clearcoat.wgsl`.

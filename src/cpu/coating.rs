@@ -192,14 +192,15 @@ pub(super) fn shade_coating(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let point = CoatingPoint::new(scene, b, coat, (n, v), e);
-    let mut lo = scene.environment * point.albedo();
+    // The shares of uniform light and the map that a clear coat lets through (1 without):
+    // the specular's as a glossy base's, the base's as a Lambertian one's.
+    let through = forms.coat.map_or((DVec3::ONE, DVec3::ONE), |c| {
+        (c.environment_lobe(), c.environment())
+    });
+    let mut lo = scene.environment * (point.e_spec_o * through.0 + point.base_o * through.1);
     // The lobe mode: the map's part is the whole model's (`shade::shade_environment_mis`).
     if let (Some(map), None) = (forms.map, forms.lobe) {
-        lo += shade_coating_map(scene, (b, &point), (n, v), map);
-    }
-    // The share of uniform light and the map that a clear coat lets through.
-    if let Some(coat) = &forms.coat {
-        lo *= coat.environment();
+        lo += shade_coating_map(scene, (b, &point), (n, v), map, through);
     }
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
@@ -207,11 +208,12 @@ pub(super) fn shade_coating(
             continue;
         }
         let f = point.brdf((v, light.direction), n, e);
-        let f_r = DVec3::splat(f.spec + f.multiple) + f.base;
-        let through = forms.coat.map_or(DVec3::ONE, |c| {
-            c.through(e, mu_i, v.dot((v + light.direction).normalize()))
+        let (lobe, base) = forms.coat.map_or((DVec3::ONE, DVec3::ONE), |c| {
+            let t_in = c.transmit(e, mu_i, v.dot((v + light.direction).normalize()));
+            (c.through_lobe(t_in), c.through(t_in))
         });
-        lo += through * f_r * light.radiance * mu_i;
+        let f_r = lobe * (f.spec + f.multiple) + base * f.base;
+        lo += f_r * light.radiance * mu_i;
     }
     lo
 }
@@ -223,6 +225,7 @@ fn shade_coating_map(
     (b, p): (&Ball, &CoatingPoint),
     (n, v): (DVec3, DVec3),
     map: &CpuEnvironment,
+    (through_lobe, through_base): (DVec3, DVec3),
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
         return DVec3::ZERO;
@@ -238,9 +241,9 @@ fn shade_coating_map(
             .prefiltered
             .specular(environment.to_map(dominant), roughness);
     let single = radiance * p.e_f_o;
-    let mut lo = single + p.base_o * irradiance;
+    let mut lobe = single;
     if p.ms > 0.0 {
-        lo += p.ms
+        lobe += p.ms
             * match p.term {
                 IblTerm::Turquin => single * term_turquin(1.0, p.f0, 1.0 - p.loss_o),
                 IblTerm::FdezAguera => p.fms_ems * irradiance,
@@ -252,5 +255,6 @@ fn shade_coating_map(
                 }
             };
     }
-    lo
+    // A clear coat's shares (1 without): the specular's and the base's.
+    lobe * through_lobe + p.base_o * irradiance * through_base
 }

@@ -8,6 +8,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::clearcoat::ClearcoatPoint;
 use super::coating::CoatingPoint;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use crate::brdf::{
@@ -58,6 +59,10 @@ pub struct ShadingPoint {
     /// An anisotropic metal lobe's tangent frame and `(alpha_t, alpha_b)`
     /// (docs/design/anisotropy.md); `roughness` is then its isotropic equivalent.
     pub anisotropy: Option<(Frame, (f64, f64))>,
+    /// The ball's clear coat at the point, where [`model_brdf`] takes it (the Monte Carlo
+    /// backend's; `None` where the caller weights the map's part itself, as the lobe mode
+    /// does).
+    pub clearcoat: Option<ClearcoatPoint>,
 }
 
 impl ShadingPoint {
@@ -100,6 +105,7 @@ impl ShadingPoint {
             fss_ess: per_channel(f0, f_avg_schlick) * (1.0 - loss(e, mu_o, roughness)),
             part: Part::Whole,
             anisotropy: anisotropic_frame(b, n),
+            clearcoat: None,
         }
     }
 
@@ -141,18 +147,33 @@ pub fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
     if len <= DIV_EPSILON {
         return DVec3::ZERO;
     }
+    let h = sum / len;
+    // A clear coat (docs/design/coat.md): its own lobe, and the base's light through it,
+    // a glossy base's (the metal, the coating's specular) and a Lambertian one's.
+    let (lobe, base, coat) = match &p.clearcoat {
+        Some(cc) => {
+            let t_in = cc.transmit(e, mu_i, p.v.dot(h));
+            let coat = match p.part {
+                Part::Whole => cc.brdf((p.n, p.v, l), e, p.geometry),
+                Part::Multiple => 0.0,
+            };
+            (cc.through_lobe(t_in), cc.through(t_in), coat)
+        }
+        None => (DVec3::ONE, DVec3::ONE, 0.0),
+    };
     let coating = p.coating.map(|c| {
         let f = c.brdf((p.v, l), p.n, e);
         match p.part {
-            Part::Whole => DVec3::splat(f.spec + f.multiple) + f.base,
-            Part::Multiple => DVec3::splat(f.multiple),
+            Part::Whole => lobe * (f.spec + f.multiple) + base * f.base,
+            Part::Multiple => lobe * f.multiple,
         }
     });
-    match coating {
+    let model = match coating {
         Some(c) if p.metallic <= 0.0 => c,
-        Some(c) => p.metallic * metal_brdf(p, l, sum / len, e) + (1.0 - p.metallic) * c,
-        None => metal_brdf(p, l, sum / len, e),
-    }
+        Some(c) => p.metallic * lobe * metal_brdf(p, l, h, e) + (1.0 - p.metallic) * c,
+        None => lobe * metal_brdf(p, l, h, e),
+    };
+    model + DVec3::splat(coat)
 }
 
 /// The metal's part of [`model_brdf`], `h` the half vector.

@@ -95,6 +95,10 @@ pub fn render_montecarlo_part(
                 let mut point =
                     ShadingPoint::with_coat(scene, (b, prepared.coat(view.k)), (n, -d), e);
                 point.part = part;
+                // A clear coat: its lobe and its shares of the base's light in the BRDF.
+                point.clearcoat = prepared
+                    .clearcoat(view.k)
+                    .map(|c| super::clearcoat::ClearcoatPoint::new(scene, b, c, (n, -d), e));
                 if let Some(split) = split {
                     point = point.with_split_sum(split);
                 }

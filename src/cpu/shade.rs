@@ -118,12 +118,17 @@ fn shade_base(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let metallic = b.material.metallic as f32 as f64;
-    // A clear coat weights the environment's part (the uniform's and the map's).
-    let through = forms.coat.map_or(DVec3::ONE, |c| c.environment());
-    // The lobe mode: the map's part is the whole model's, sampled once.
+    // A clear coat weights the environment's part (the uniform's and the map's): the
+    // metal's as a glossy base's light.
+    let through = forms.coat.map_or(DVec3::ONE, |c| c.environment_lobe());
+    // The lobe mode: the map's part is the whole model's, sampled once; the coat's shares
+    // mixed by metallic (the coating's specular taken as its base's).
     let map_part = match (forms.map, forms.lobe) {
         (Some(map), Some(lobe)) => {
-            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * through
+            let mixed = forms.coat.map_or(DVec3::ONE, |c| {
+                c.environment() + metallic * (c.environment_lobe() - c.environment())
+            });
+            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * mixed
         }
         _ => DVec3::ZERO,
     };
@@ -249,7 +254,7 @@ pub(super) fn shade_with_terms(
         let f_r = spec + ms * lobe;
         let through = forms
             .coat
-            .map_or(DVec3::ONE, |c| c.through(e, mu_i, v_dot_h));
+            .map_or(DVec3::ONE, |c| c.through_lobe(c.transmit(e, mu_i, v_dot_h)));
         lights += through * f_r * light.radiance * mu_i;
     }
     let terms = PointTerms {

@@ -89,8 +89,8 @@ super::ball::gpu_ball! {
         clearcoat_lut_row: [f32; 3],
         /// The clear coat's weight (0: no coat; [`ClearcoatConstants`]).
         clearcoat: f32,
-        /// The physical coat's `1 / (eta^2 (1 - A_avg F_in))` per channel (1 otherwise).
-        clearcoat_inside: [f32; 3],
+        /// The physical coat's base average albedo `A_avg` per channel (1 otherwise).
+        clearcoat_base_avg: [f32; 3],
         /// The clear coat's roughness.
         clearcoat_roughness: f32,
         /// The clear coat's index.
@@ -107,12 +107,14 @@ super::ball::gpu_ball! {
         clearcoat_form: u32,
         /// The clear coat's Fresnel (`FRESNEL_*`; [`crate::scene::CoatForm::fresnel`]).
         clearcoat_fresnel: u32,
-        /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
-        clearcoat_pad: u32,
+        /// The physical coat's escape curve, four unorm8 nodes
+        /// ([`crate::brdf::clearcoat_escape_pack`]; 0 otherwise). It also fills the
+        /// clear coat's 16-byte row.
+        clearcoat_escape: u32,
         /// Linear radiance the surface emits ([`crate::scene::Material::emission`]; 0:
         /// none), added where a ray first meets the ball.
         emission: [f32; 3],
-        /// Padding: the ball fills whole 16-byte rows.
+        /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
         emission_pad: f32,
     }
 }
@@ -239,7 +241,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 anisotropy_sin: anisotropy.3 as f32,
                 clearcoat_lut_row: tables.lut_row(cc_roughness),
                 clearcoat: cc(|c| c.weight),
-                clearcoat_inside: v3(clearcoat.map_or(glam::DVec3::ONE, |c| c.inside)),
+                clearcoat_base_avg: v3(clearcoat.map_or(glam::DVec3::ONE, |c| c.base_avg)),
                 clearcoat_roughness: cc_roughness,
                 clearcoat_eta: cc(|c| c.eta),
                 clearcoat_f_add: cc(|c| c.f_add),
@@ -250,7 +252,7 @@ pub fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 clearcoat_fresnel: crate::gpu::shaders::fresnel_id(
                     scene.coat_form.fresnel(scene.preset.dielectric_fresnel()),
                 ),
-                clearcoat_pad: 0,
+                clearcoat_escape: clearcoat.map_or(0, |c| c.escape),
                 emission: v3(b.material.emission),
                 emission_pad: 0.0,
             }

@@ -2,12 +2,15 @@
 //! constants ([`ClearcoatConstants`]: the GPU's `Ball.clearcoat*` members) and its row with
 //! them in f32 ([`Clearcoat`], what `cpu::clearcoat` reads).
 
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
 use glam::DVec3;
 
 use super::{base_albedo, CoatingConstants};
 use crate::brdf::{
-    base_albedo_physical, clearcoat_inside_scale, f_add_preset, f_avg_schlick, DielectricFresnel,
-    GAMES202_EDGE_TINT,
+    alpha_from_roughness, base_albedo_physical, clearcoat_escape_nodes, clearcoat_escape_pack,
+    f_add_preset, f_avg_schlick, DielectricFresnel, GAMES202_EDGE_TINT,
 };
 use crate::environment::IblTerm;
 use crate::lut::{CoatingRows, TableSet, COATING_ROW_LEN};
@@ -31,9 +34,13 @@ pub struct ClearcoatConstants {
     /// `E_c_avg`, the cosine-weighted average of the coat's specular albedo (its row and
     /// its term) as the shader reads it.
     pub e_avg: f64,
-    /// `1 / (eta^2 (1 - A_avg F_in))` per channel ([`clearcoat_inside_scale`]): the
-    /// internal reflections under the physical form (1 under the others).
-    pub inside: DVec3,
+    /// The base's average albedo `A_avg` per channel ([`base_average_albedo`]), which the
+    /// physical form's internal reflections take ([`crate::brdf::clearcoat_inside_scale`],
+    /// [`crate::brdf::clearcoat_lobe_scale`]; 1 under the others).
+    pub base_avg: DVec3,
+    /// The physical form's escape curve of the base's lobe, packed
+    /// ([`clearcoat_escape_nodes`], [`clearcoat_escape_pack`]; 0 under the others).
+    pub escape: u32,
     /// The form.
     pub form: CoatForm,
     /// The coat's Fresnel ([`CoatForm::fresnel`]).
@@ -65,12 +72,17 @@ impl ClearcoatConstants {
             1.0 - loss_avg,
             loss,
         );
-        let inside = if physical {
-            let a_avg = base_average_albedo(scene, b, e, rows);
-            let k = |a: f64| clearcoat_inside_scale(a, c.e_spec_avg, coat.ior);
-            DVec3::new(k(a_avg.x), k(a_avg.y), k(a_avg.z))
+        let (base_avg, escape) = if physical {
+            let alphas = (
+                alpha_from_roughness(b.shading_roughness()),
+                alpha_from_roughness(coat.roughness),
+            );
+            (
+                base_average_albedo(scene, b, e, rows),
+                escape_curve(alphas, coat.ior, c.e_spec_avg),
+            )
         } else {
-            DVec3::ONE
+            (DVec3::ONE, 0)
         };
         Some(ClearcoatConstants {
             weight: coat.weight,
@@ -83,11 +95,31 @@ impl ClearcoatConstants {
                 0.0
             },
             e_avg: c.e_spec_avg,
-            inside,
+            base_avg,
+            escape,
             form,
             fresnel: form.fresnel(scene.preset.dielectric_fresnel()),
         })
     }
+}
+
+/// The packed escape curve of a base lobe of `alphas.0` under a coat of `alphas.1`, index
+/// `eta` and average albedo `e_avg` ([`clearcoat_escape_nodes`]), formed once per
+/// distinct key in the process (a few hundred paths each: a scene's coats share a handful).
+fn escape_curve(alphas: (f64, f64), eta: f64, e_avg: f64) -> u32 {
+    type Cache = Mutex<HashMap<[u64; 4], u32>>;
+    static CURVES: OnceLock<Cache> = OnceLock::new();
+    let key = [alphas.0, alphas.1, eta, e_avg].map(f64::to_bits);
+    let curves = CURVES.get_or_init(Default::default);
+    if let Some(&c) = curves.lock().unwrap_or_else(|p| p.into_inner()).get(&key) {
+        return c;
+    }
+    let c = clearcoat_escape_pack(clearcoat_escape_nodes(alphas.0, alphas.1, eta, e_avg));
+    curves
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .insert(key, c);
+    c
 }
 
 /// The cosine-weighted average of ball `b`'s own directional albedo under uniform light
@@ -151,7 +183,7 @@ impl Clearcoat {
                 f_add: f32_of(c.f_add),
                 ms_norm: f32_of(c.ms_norm),
                 e_avg: f32_of(c.e_avg),
-                inside: c.inside.as_vec3().as_dvec3(),
+                base_avg: c.base_avg.as_vec3().as_dvec3(),
                 ..c
             },
         })

@@ -437,6 +437,35 @@ fn clearcoat_forms_against_the_truth() {
             worst_physical = beyond;
         }
     }
+    // The physical model integrated over the map by sampling (the Monte Carlo backend's
+    // estimator of its BRDF: no split sum), at SHADEBALLS_COAT_MC samples per pixel: the
+    // model's own error apart from the light integration's (docs/design/coat.md).
+    let mc_spp = std::env::var("SHADEBALLS_COAT_MC")
+        .ok()
+        .and_then(|s| s.parse().ok());
+    if let Some(mc_spp) = mc_spp {
+        let scene = Scene {
+            coat_form: CoatForm::Physical,
+            ..scene.clone()
+        };
+        let prepared = shadeballs::prepared::Prepared::new(&scene, &e);
+        let mc = shadeballs::cpu::render_montecarlo(&scene, &prepared, w, h, mc_spp, 37).unwrap();
+        let m_means = ball_means(&mc.mean, &pixels);
+        let mut line = "physical, sampled:".to_string();
+        let mut worst = 0.0;
+        for k in 0..scene.balls.len() {
+            let signed = (m_means[k] - t_means[k]) / t_means[k];
+            worst += signed.abs().max_element() / scene.balls.len() as f64;
+            if k % 4 == 0 {
+                line += " |";
+            }
+            line += &format!(" {:+.1}", 100.0 * signed.element_sum() / 3.0);
+        }
+        println!(
+            "{line} | mean of the balls' worst channel {:.1} %",
+            100.0 * worst
+        );
+    }
     let noise = t_err
         .iter()
         .zip(&t_means)
@@ -446,12 +475,10 @@ fn clearcoat_forms_against_the_truth() {
         "the truth at {spp} spp: largest relative standard error of a ball's mean {:.2} %",
         100.0 * noise
     );
-    // The 3 % goal is not met (docs/design/coat.md, "Against the truth": the internal
-    // reflections are summed as if the base were diffuse, which traps too much of a glossy
-    // base's light). Held here: the measured worst with room (21 % beyond the noise at 96
-    // spp), and the physical form closer to the truth than both engines' forms over the
-    // chart (the mean of the balls' worst channel; on the glossy metals Filament's is
-    // closer).
+    // The 3 % goal is not met on every ball (docs/design/coat.md, "Against the truth").
+    // Held here: the measured worst with room (6.8 % beyond the noise at 96 spp), and the
+    // physical form closer to the truth than both engines' forms over the chart (the mean
+    // of the balls' worst channel).
     let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len() as f64;
     let means: Vec<f64> = errors.iter().map(|e| mean(e)).collect();
     println!(
@@ -461,7 +488,7 @@ fn clearcoat_forms_against_the_truth() {
         100.0 * means[2]
     );
     assert!(
-        worst_physical <= 0.3,
+        worst_physical <= 0.15,
         "the physical coat is {:.1} % beyond the truth's noise",
         100.0 * worst_physical
     );
@@ -481,8 +508,8 @@ fn clearcoat_refused_where_not_shaded() {
     let scene = crate::cli_render::scene_file("clearcoat.toml");
     for (args, expect) in [
         (
-            vec!["--backend", "montecarlo-cpu"],
-            "do not shade a clear coat",
+            vec!["--backend", "montecarlo"],
+            "does not shade a clear coat",
         ),
         (vec!["--coat-form", "matte"], "coat form"),
     ] {
@@ -503,6 +530,14 @@ fn clearcoat_refused_where_not_shaded() {
         "render", "--scene", &scene, "--out", png, "--width", "64", "--height", "36",
     ];
     all.extend(["--coat-form", "gltf"]);
+    let (ok, stderr) = crate::cli::shadeballs(&all);
+    assert!(ok && std::path::Path::new(png).exists(), "{stderr}");
+    // The CPU Monte Carlo estimator shades a coat.
+    std::fs::remove_file(png).unwrap();
+    let mut all = vec![
+        "render", "--scene", &scene, "--out", png, "--width", "32", "--height", "18",
+    ];
+    all.extend(["--backend", "montecarlo-cpu", "--spp", "2"]);
     let (ok, stderr) = crate::cli::shadeballs(&all);
     assert!(ok && std::path::Path::new(png).exists(), "{stderr}");
 }
