@@ -27,13 +27,14 @@
 // where the map's part is the whole model's, sampled once (shade_environment_mis), and the
 // metal's and the coating's shading leave it out.
 // A clear coat (clearcoat.wgsl) adds its own lobe and weights the base's light by what it
-// lets through.
+// lets through. The ball's emission (Ball.emission, no part of the BRDF) is added last,
+// undimmed by a clear coat.
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     if has_clearcoat(b) {
         clearcoat_begin(b, n, v, term_weight(b));
-        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights);
+        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights) + b.emission;
     }
-    return shade_base(b, n, v, n_lights, pixel);
+    return shade_base(b, n, v, n_lights, pixel) + b.emission;
 }
 
 // The ball under its clear coat (all of it without one): the metal's and the coating's

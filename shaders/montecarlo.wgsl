@@ -18,7 +18,7 @@
 #import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, PART_WHOLE}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
 #import shadeballs::screen::{primary_ray, surface_normal, DEPTH_SCALE}
 #import shadeballs::footprint::{ball_footprint, background_radiance}
@@ -246,6 +246,10 @@ fn fs_montecarlo(in: BallOut) -> McFragment {
     p.part = mc.part;
     let drawn = estimate(b, p, &rng);
     var mean_b = direct(b, p, in.counts.y) + drawn.mean;
+    // The ball's emission, exact (no part of the BRDF: the term's lobe alone has none).
+    if mc.part == PART_WHOLE {
+        mean_b += b.emission;
+    }
     var m2_b = drawn.m2;
     // A loop of 0 or 1 iterations, as in ball_footprint: the background only where needed.
     for (var once = f.coverage < 1.0; once; once = false) {

@@ -172,6 +172,8 @@ struct Ball {
     clearcoat_form: u32,
     clearcoat_fresnel: u32,
     clearcoat_escape: u32,
+    emission: vec3<f32>,
+    emission_pad: f32,
 }
 
 // The ball's members as a quad's instance attributes (BallInstance::LAYOUT).
@@ -191,6 +193,7 @@ struct BallIn {
     @location(12) ball_11: vec4<f32>,
     @location(13) ball_12: vec4<f32>,
     @location(14) ball_13: vec4<u32>,
+    @location(15) ball_14: vec4<f32>,
 }
 
 // A quad's fragment: its ball as flat varyings (a fragment shades only its own
@@ -212,6 +215,7 @@ struct BallOut {
     @location(12) @interpolate(flat) ball_11: vec4<f32>,
     @location(13) @interpolate(flat) ball_12: vec4<f32>,
     @location(14) @interpolate(flat) ball_13: vec4<u32>,
+    @location(15) @interpolate(flat) ball_14: vec4<f32>,
 }
 
 fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
@@ -232,6 +236,7 @@ fn ball_out(in: BallIn, position: vec4<f32>, counts: vec2<u32>) -> BallOut {
     out.ball_11 = in.ball_11;
     out.ball_12 = in.ball_12;
     out.ball_13 = in.ball_13;
+    out.ball_14 = in.ball_14;
     return out;
 }
 
@@ -271,6 +276,8 @@ fn ball_of(in: BallOut) -> Ball {
     b.clearcoat_form = in.ball_13.y;
     b.clearcoat_fresnel = in.ball_13.z;
     b.clearcoat_escape = in.ball_13.w;
+    b.emission = in.ball_14.xyz;
+    b.emission_pad = in.ball_14.w;
     b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);
     return b;
 }

@@ -568,7 +568,8 @@ fn fs_truth(in: BallOut) -> TruthFragment {
     var rng = rng_seed(u32(p.x), u32(p.y), u32(previous.w));
     let b = ball_of(in);
     let n = surface_normal(ray[0] + t * ray[1] - b.center, ray[1]);
-    var x = shade_truth(b, n, -ray[1], in.counts.y, &rng);
+    // The ball's emission is added at the first hit: no part of the walk.
+    var x = shade_truth(b, n, -ray[1], in.counts.y, &rng) + b.emission;
     let finite = all(abs(x) < vec3<f32>(3.0e38));
     x = select(vec3<f32>(0.0), x, finite);
     var out: TruthFragment;

@@ -94,13 +94,8 @@ pub(crate) fn scene_text(imported: &Imported, source: &std::path::Path) -> Resul
             let node = node
                 .as_ref()
                 .map_or(String::new(), |n| format!(", node '{n}'"));
-            let emission = if m.emission() != glam::DVec3::ZERO {
-                format!("; emission {:?} not drawn", m.emission().to_array())
-            } else {
-                String::new()
-            };
             out.push_str(&format!(
-                "\n# Material '{}' ({index}{node}){emission}\n[[ball]]\n",
+                "\n# Material '{}' ({index}{node})\n[[ball]]\n",
                 m.name.replace('\n', " ")
             ));
         }

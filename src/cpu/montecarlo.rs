@@ -104,7 +104,12 @@ pub fn render_montecarlo_part(
                     point = point.with_split_sum(split);
                 }
                 let mut rng = Rng::new(&[seed, u64::from(px), u64::from(py)]);
-                let (mean, err) = lighting.estimate(&point, e, spp, &mut rng);
+                let (mut mean, err) = lighting.estimate(&point, e, spp, &mut rng);
+                // The ball's emission, exact (no part of the BRDF: the term's lobe alone
+                // has none).
+                if part == Part::Whole {
+                    mean += b.material.emission;
+                }
                 // The background is exact: only the ball's share is noisy.
                 let mean = view.mix(mean, || lighting.background(view.miss));
                 (mean, err * view.footprint.coverage, true)

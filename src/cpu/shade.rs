@@ -79,8 +79,9 @@ pub fn shade(
 /// `shade` of `lighting.wgsl`: radiance leaving ball `b` at unit normal `n` towards `v`,
 /// lit by the scene's lights, its uniform environment and its map (`forms.map`): the
 /// metal's and the coating's parts, each with its own term, mixed by `metallic` (an
-/// all-metal or all-dielectric ball shades one). `coat` is the ball's coating, formed once
-/// per ball (`None` for an all-metal ball).
+/// all-metal or all-dielectric ball shades one), plus the ball's emission (no part of the
+/// BRDF; a clear coat does not dim it). `coat` is the ball's coating, formed once per ball
+/// (`None` for an all-metal ball).
 pub(super) fn shade_point(
     scene: &Scene,
     (b, (coat, clearcoat)): (&Ball, Coats<'_>),
@@ -90,7 +91,7 @@ pub(super) fn shade_point(
     forms: &Forms<'_>,
 ) -> DVec3 {
     let Some(clearcoat) = clearcoat else {
-        return shade_base(scene, (b, coat), n, v, e, forms);
+        return shade_base(scene, (b, coat), n, v, e, forms) + b.material.emission;
     };
     let point = super::clearcoat::ClearcoatPoint::new(scene, b, clearcoat, (n, v), e);
     let forms = Forms {
@@ -100,6 +101,7 @@ pub(super) fn shade_point(
     };
     shade_base(scene, (b, coat), n, v, e, &forms)
         + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, (forms.map, forms.geometry))
+        + b.material.emission
 }
 
 /// A ball's coating and clear coat, each formed once per ball (`None` without one).

@@ -340,7 +340,8 @@ fn walked_pixels(
                 Some((t, k)) => {
                     let b = &balls[k];
                     let n = surface_normal(o + t * d - b.center, d);
-                    let fixed = single_fixed(scene, b, n, -d, e, &singles);
+                    // The ball's emission is added at the first hit: no part of the walk.
+                    let fixed = single_fixed(scene, b, n, -d, e, &singles) + b.material.emission;
                     covered[index] = true;
                     pixels.push(Pixel {
                         index,

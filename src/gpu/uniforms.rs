@@ -108,9 +108,14 @@ super::ball::gpu_ball! {
         /// The clear coat's Fresnel (`FRESNEL_*`; [`crate::scene::CoatForm::fresnel`]).
         clearcoat_fresnel: u32,
         /// The physical coat's escape curve, four unorm8 nodes
-        /// ([`crate::brdf::clearcoat_escape_pack`]; 0 otherwise). It also fills the ball's
-        /// last 16-byte row.
+        /// ([`crate::brdf::clearcoat_escape_pack`]; 0 otherwise). It also fills the
+        /// clear coat's 16-byte row.
         clearcoat_escape: u32,
+        /// Linear radiance the surface emits ([`crate::scene::Material::emission`]; 0:
+        /// none), added where a ray first meets the ball.
+        emission: [f32; 3],
+        /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
+        emission_pad: f32,
     }
 }
 
@@ -248,6 +253,8 @@ pub(crate) fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                     scene.coat_form.fresnel(scene.preset.dielectric_fresnel()),
                 ),
                 clearcoat_escape: clearcoat.map_or(0, |c| c.escape),
+                emission: v3(b.material.emission),
+                emission_pad: 0.0,
             }
         })
         .collect()

@@ -5,8 +5,8 @@
 //! `metallicFactor`, `roughnessFactor`, `KHR_materials_ior`'s `ior`,
 //! `KHR_materials_specular`'s `specularFactor` and `specularColorFactor` (as the
 //! specification's dielectric `F0`, whose index the coating takes) and
-//! `KHR_materials_emissive_strength` with `emissiveFactor` (kept on [`GltfMaterial`]; the
-//! renderers draw no emission, so a glowing material is a notice). Textures, alpha and any
+//! `KHR_materials_emissive_strength` with `emissiveFactor` (their product, the material's
+//! `emission`). Textures, alpha and any
 //! other extension are notices naming them; an extension in `extensionsRequired` that is not
 //! one of [`SUPPORTED_EXTENSIONS`] refuses the file.
 //!
@@ -152,7 +152,7 @@ impl GltfMaterial {
     }
 
     /// The emitted radiance the file asks for: `emissiveFactor` times
-    /// `emissiveStrength` (not drawn: the scene has no emission).
+    /// `emissiveStrength` (linear, as glTF's factors are): the material's `emission`.
     pub fn emission(&self) -> DVec3 {
         self.emissive * self.emissive_strength
     }
@@ -164,6 +164,10 @@ impl GltfMaterial {
     pub(crate) fn material(&self) -> Material {
         let m = Material::metallic_roughness(self.base_color, self.metallic, self.coating_ior())
             .with_clearcoat(self.clearcoat);
+        let m = Material {
+            emission: self.emission(),
+            ..m
+        };
         if self.anisotropy_strength > 0.0 && m.has_metal() {
             let pi = std::f64::consts::PI;
             let turn = pi - (pi - self.anisotropy_rotation).rem_euclid(2.0 * pi);
@@ -460,16 +464,14 @@ fn ball(m: &GltfMaterial, centre: DVec3, radius: f64) -> Ball {
     }
 }
 
-/// What a drawn material loses: its emission, its specular colour or factor where the
-/// coating cannot carry them.
+/// What a drawn material loses: its emission's dimming under a clear coat, its specular
+/// colour or factor where the coating cannot carry them.
 fn material_notices(m: &GltfMaterial, notices: &mut Vec<String>) {
-    let e = m.emission();
-    if e != DVec3::ZERO {
+    if m.emission() != DVec3::ZERO && m.clearcoat.is_on() {
         notices.push(format!(
-            "material '{}': emission {:?} (emissiveFactor x emissiveStrength) not drawn: the \
-             renderers have no emission",
-            m.name,
-            e.to_array()
+            "material '{}': its emission is drawn undimmed by the clear coat \
+             (KHR_materials_clearcoat dims it by the coat's Fresnel)",
+            m.name
         ));
     }
     if m.has_specular() && m.metallic < 1.0 {

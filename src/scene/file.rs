@@ -194,6 +194,9 @@ struct MaterialFile {
     clearcoat_roughness: Option<Roughness>,
     /// The clear coat's index of refraction (default 1.5).
     clearcoat_ior: Option<Ior>,
+    /// Linear radiance the surface emits, `[r, g, b]`, each finite and at least 0
+    /// (default 0: none; glTF's `emissiveFactor` x `emissiveStrength`).
+    emission: Option<Radiance>,
 }
 
 /// Reads and parses the scene file at `path`.
@@ -533,9 +536,11 @@ fn material_isotropic(m: Spanned<MaterialFile>) -> Spanned2<Material> {
             .clearcoat_ior
             .map_or(super::DEFAULT_CLEARCOAT_IOR, |i| i.0),
     };
+    let emission = m.emission.map_or(glam::DVec3::ZERO, |e| e.0);
     let material = material_base(Spanned::new(span.clone(), m))?;
     Ok(Material {
         clearcoat,
+        emission,
         ..material
     })
 }

@@ -34,6 +34,11 @@ pub struct Material {
     pub anisotropy_rotation: f64,
     /// The clear coat over the whole material (`super::ClearCoat::NONE`: none).
     pub clearcoat: super::ClearCoat,
+    /// Linear radiance the surface emits, the same towards every direction (glTF's
+    /// `emissiveFactor` x `KHR_materials_emissive_strength`; 0: none). It is added to the
+    /// light the ball reflects where a ray first meets it; it is no part of the BRDF
+    /// (docs/interop.md, "Emission").
+    pub emission: DVec3,
 }
 
 impl Material {
@@ -47,6 +52,7 @@ impl Material {
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
             clearcoat: super::ClearCoat::NONE,
+            emission: DVec3::ZERO,
         }
     }
 
@@ -73,6 +79,7 @@ impl Material {
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
             clearcoat: super::ClearCoat::NONE,
+            emission: DVec3::ZERO,
         }
     }
 
@@ -87,6 +94,7 @@ impl Material {
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
             clearcoat: super::ClearCoat::NONE,
+            emission: DVec3::ZERO,
         }
     }
 

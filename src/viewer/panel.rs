@@ -595,7 +595,36 @@ fn layers(ui: &mut egui::Ui, scene: &mut Scene) {
         .show(ui, |ui| {
             anisotropy(ui, scene);
             clearcoat(ui, scene);
+            emission(ui, scene);
         });
+}
+
+/// The emission of every ball (linear radiance per channel, at least 0; the first ball's
+/// shown, a change sets them all): added to the light the ball reflects
+/// (docs/interop.md, "Emission").
+fn emission(ui: &mut egui::Ui, scene: &mut Scene) {
+    let Some(first) = scene.balls.first() else {
+        return;
+    };
+    let mut e = first.material.emission.to_array();
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        ui.label("emission (linear)");
+        for c in &mut e {
+            changed |= ui
+                .add(
+                    egui::DragValue::new(c)
+                        .speed(0.01)
+                        .range(0.0..=crate::scene::MAX_MAGNITUDE),
+                )
+                .changed();
+        }
+    });
+    if changed {
+        for b in &mut scene.balls {
+            b.material.emission = glam::DVec3::from_array(e);
+        }
+    }
 }
 
 /// The Compare section (collapsed unless a comparison was asked for at start): on/off,

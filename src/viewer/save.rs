@@ -149,7 +149,10 @@ fn light(out: &mut String, light: &Light) -> Result<(), String> {
 }
 
 fn ball(out: &mut String, b: &Ball) -> Result<(), String> {
-    let material = anisotropic(material(&b.material)?, &b.material);
+    let material = emissive(
+        anisotropic(material(&b.material)?, &b.material),
+        &b.material,
+    );
     let label = b.label.map_or(String::new(), |l| {
         format!("label = {}\n", string(l.as_str()))
     });
@@ -177,6 +180,17 @@ fn anisotropic(table: String, m: &Material) -> String {
     );
     match table.strip_suffix(" }") {
         Some(head) => head.to_string() + &keys,
+        None => table,
+    }
+}
+
+/// The inline table `table` with the material's `emission` where it emits.
+fn emissive(table: String, m: &Material) -> String {
+    if m.emission == DVec3::ZERO {
+        return table;
+    }
+    match table.strip_suffix(" }") {
+        Some(head) => format!("{head}, emission = {} }}", vec3(m.emission)),
         None => table,
     }
 }

@@ -200,14 +200,11 @@ fn import_carries_every_value_over_exactly() {
         out.to_str().unwrap(),
     ]);
     assert!(ok, "{stderr}");
-    for named in [
-        "baseColorTexture",
-        "KHR_materials_sheen",
-        "emission",
-        "specularFactor",
-    ] {
+    for named in ["baseColorTexture", "KHR_materials_sheen", "specularFactor"] {
         assert!(stderr.contains(named), "no notice of {named}: {stderr}");
     }
+    // Emission is drawn now: no notice of it.
+    assert!(!stderr.contains("emission"), "{stderr}");
     let text = std::fs::read_to_string(&out).unwrap();
     for name in ["orange plastic", "glass-like", "grey specular", "lamp"] {
         assert!(text.contains(&format!("# Material '{name}'")), "{text}");
@@ -235,6 +232,11 @@ fn import_carries_every_value_over_exactly() {
     }
     assert_eq!(scene.balls[0].material.ior, 1.5);
     assert_eq!(scene.balls[1].material.ior, 1.33);
+    // emissiveFactor x emissiveStrength, the `emission` key; none elsewhere.
+    assert_eq!(scene.balls[3].material.emission, DVec3::new(4.0, 2.0, 1.0));
+    assert!(scene.balls[..3]
+        .iter()
+        .all(|b| b.material.emission == DVec3::ZERO));
     // KHR_materials_specular: F0 = min(((1.6 - 1) / 2.6)^2 x 1.5, 1) x 0.5, the coating's.
     let f0 = ((0.6f64 / 2.6).powi(2) * 1.5).min(1.0) * 0.5;
     let coating_f0 = shadeballs::brdf::f0_from_ior(scene.balls[2].material.ior);
