@@ -28,7 +28,6 @@ mod montecarlo;
 mod pixels;
 mod probe;
 mod props;
-mod reading_table;
 mod readme_library;
 mod readme_pictures;
 mod scene_gen;

@@ -9,4 +9,5 @@ mod base_reading;
 mod clamp;
 mod clearcoat;
 mod materials;
+mod reading_table;
 mod showcase;

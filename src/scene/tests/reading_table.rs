@@ -5,13 +5,13 @@
 //! backend, `cpu::render_montecarlo`), and the apparent reading over the substrate
 //! reading. Printed as a table with `--ignored --nocapture`.
 
+use crate::environment::{Builtin, Environment};
+use crate::lut::{bake, BakeConfig, TableSet};
+use crate::prepared::Prepared;
+use crate::scene::{srgb_decode, BaseReading, Material, Model, Scene, REFERENCE_ROUGHNESS};
 use glam::DVec3;
-use shadeballs::environment::{Builtin, Environment};
-use shadeballs::lut::{bake, BakeConfig, TableSet};
-use shadeballs::prepared::Prepared;
-use shadeballs::scene::{srgb_decode, BaseReading, Material, Model, Scene, REFERENCE_ROUGHNESS};
 
-use crate::materials::{ball_means, chart, interior};
+use super::materials::{ball_means, chart, interior};
 
 /// The picture's size: the truth traces one ray through each pixel's centre.
 const SIZE: (u32, u32) = (320, 180);
@@ -81,17 +81,17 @@ fn readings(reading: BaseReading) -> Readings {
             .collect()
     };
     let split_sum_rgb = ball_means(
-        &shadeballs::cpu::render_radiance(&scene, &prepared, w, h),
+        &crate::cpu::render_radiance(&scene, &prepared, w, h),
         &pixels,
     );
-    let mc = shadeballs::cpu::render_montecarlo(&scene, &prepared, w, h, MODEL_SPP, 35).unwrap();
+    let mc = crate::cpu::render_montecarlo(&scene, &prepared, w, h, MODEL_SPP, 35).unwrap();
     let model_rgb = ball_means(&mc.mean, &pixels);
-    let settings = shadeballs::cpu::TruthSettings {
+    let settings = crate::cpu::TruthSettings {
         spp: TRUTH_SPP,
         seed: 35,
         ..Default::default()
     };
-    let walked = shadeballs::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true)
+    let walked = crate::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true)
         .unwrap()
         .image;
     let truth_rgb = ball_means(&walked.mean, &pixels);
