@@ -10,7 +10,7 @@ mod bake;
 mod environment;
 mod export;
 mod guard;
-mod import;
+pub(crate) mod import;
 pub(crate) mod interrupt;
 mod probe;
 pub mod process;

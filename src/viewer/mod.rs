@@ -22,7 +22,7 @@ mod overlay;
 mod panel;
 
 pub(crate) use panel::PANEL_WIDTH;
-pub mod save;
+pub(crate) mod save;
 mod state;
 #[cfg(all(test, feature = "cli"))]
 mod tests;

@@ -22,7 +22,7 @@ const SEARCH_ULPS: u64 = 64;
 /// The scene file text of `scene`: a header comment (what saved it, and the `render`
 /// command that draws the viewer's scene area), then every key, `size` the scene area's
 /// (which `render` draws and `view` opens beside its panel when no flag sets a size).
-pub fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
+pub(crate) fn scene_toml(scene: &Scene, size: (u32, u32)) -> Result<String, String> {
     let mut out = String::new();
     let (w, h) = size;
     // `write!` into a String cannot fail.

@@ -130,7 +130,8 @@ impl Renderer {
 
     /// [`Renderer::render_hdr`] with the truth balls' image the mean of `spp` estimates a
     /// pixel (the sums started again from zero; the other balls as always).
-    pub fn render_truth_hdr(
+    #[cfg(test)]
+    pub(crate) fn render_truth_hdr(
         &mut self,
         scene: &Scene,
         width: u32,
@@ -144,6 +145,7 @@ impl Renderer {
     /// Starts the truth's sums again and adds `spp - 1` frames of estimates (the draw that
     /// follows adds the last). Waits for the device every [`FRAMES_IN_FLIGHT`] frames, so
     /// that no more are queued.
+    #[cfg(test)]
     fn accumulate_frames(
         &mut self,
         scene: &Scene,

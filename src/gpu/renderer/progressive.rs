@@ -122,7 +122,7 @@ impl Renderer {
     /// Adds the next frame of the lobe's samples of `scene` at `w x h` to the sums
     /// (starting them again if the scene changed) without drawing an image, and submits.
     /// A scene whose balls use no lobe does nothing.
-    pub fn accumulate_lobe(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
+    pub(crate) fn accumulate_lobe(&mut self, scene: &Scene, w: u32, h: u32) -> Result<()> {
         self.submit_scoped(|r, encoder| match r.start_lobe(scene, (w, h)) {
             Some(frames) => r.add_lobe_frame(scene, (w, h), frames, encoder).map(drop),
             None => Ok(()),
