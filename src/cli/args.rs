@@ -245,7 +245,7 @@ impl SceneArgs {
             // A glTF file: its materials and spheres (`shadeballs import`'s scene).
             Some(path) if crate::import::is_gltf(path) => {
                 let imported = crate::import::load(path)?;
-                super::import::print_notices(&imported);
+                super::print_import_notices(&imported);
                 imported.scene
             }
             Some(path) => crate::scene::load(path)?,

@@ -35,7 +35,7 @@ pub(crate) fn run(args: ImportArgs) -> anyhow::Result<()> {
     inputs.extend(super::guard::gltf_files(&args.file));
     super::guard::check_out(&args.out, &inputs)?;
     let imported = import::load(&args.file)?;
-    print_notices(&imported);
+    super::print_import_notices(&imported);
     let text = scene_text(&imported, &args.file).map_err(|message| crate::Error::Scene {
         path: args.file.clone(),
         message,
@@ -58,13 +58,6 @@ pub(crate) fn run(args: ImportArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     Ok(())
-}
-
-/// Each notice on stderr, one line each.
-pub(crate) fn print_notices(imported: &Imported) {
-    for n in &imported.notices {
-        eprintln!("notice: {}", crate::error::one_line(n));
-    }
 }
 
 /// The scene file of `imported`: the viewer's exact writer (every value loads back to the

@@ -166,3 +166,11 @@ pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
         _ => None,
     }
 }
+
+/// Each notice of a glTF import on stderr, one line each (`import`, and `render` / `view`
+/// with `--scene FILE.gltf`).
+pub(crate) fn print_import_notices(imported: &crate::import::Imported) {
+    for n in &imported.notices {
+        eprintln!("notice: {}", crate::error::one_line(n));
+    }
+}
