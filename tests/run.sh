@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The whole test suite of both crates (the library and binary at the root, the lab in lab/),
 # from a fresh Debian machine: installs what the tests need (Mesa's lavapipe Vulkan driver,
-# Xvfb and xdotool for the viewer test), then checks formatting, lints, the library alone
-# (no default features), the docs, and runs every test, the examples' and the doctests in
-# release mode (one build serves the tests and the programs; docs/design/machine.md,
-# "Build").
+# Xvfb and xdotool for the viewer test), then checks formatting, lints, the docs (the
+# library's also without default features), and runs every test, the examples' and the
+# doctests in release mode (one build serves the tests and the programs;
+# docs/design/machine.md, "Build").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -41,11 +41,11 @@ step() {
 
 step cargo fmt --all -- --check
 step cargo clippy --release --workspace --all-targets -- -D warnings
-# The library as another program links it: no winit, egui, clap or plotting crate, and
-# not the lab (this builds the root package alone), with its unit tests (a map or picture
-# file there is one error naming the feature). A separate `cargo build` of it took 110 to
-# 190 s of CI's 20 minutes and checked nothing this build and the docs' do not.
-step cargo test --release --no-default-features --lib -p shadeballs
+# The library as another program links it (no default features: no winit, egui, clap or
+# plotting crate) is built by the suite's readme_library test, the README's own host
+# program with a second one that checks a map file is refused naming the feature; its docs
+# below. A separate unit-test build of it cost about 120 s of CI's 20 minutes and ran the
+# same tests as the workspace's.
 export RUSTDOCFLAGS="-D warnings"
 step cargo doc --release --no-deps --workspace
 step cargo doc --release --no-deps --no-default-features -p shadeballs

@@ -289,28 +289,3 @@ pub fn save(_map: &EnvMap, path: &Path) -> Result<()> {
 #[cfg(not(feature = "image-files"))]
 const WITHOUT_IMAGE_FILES: &str =
     "this build reads and writes no .hdr or .exr files (the crate feature `image-files` is off)";
-
-#[cfg(all(test, not(feature = "image-files")))]
-mod without_image_files {
-    use super::*;
-
-    /// A build without image files refuses a map file by name, in one line, and writes
-    /// nothing (`tests/run.sh` runs the library's tests without default features).
-    #[test]
-    fn a_map_file_is_one_error_naming_the_feature() {
-        let path = std::env::temp_dir().join("shadeballs-no-image-files.hdr");
-        let err = load(&path).unwrap_err().to_string();
-        assert!(err.contains("image-files") && !err.contains('\n'), "{err}");
-        let map = crate::environment::Builtin::Sky.generate(16);
-        let err = save(&map, &path).unwrap_err().to_string();
-        assert!(err.contains("image-files"), "{err}");
-        assert!(!path.exists());
-        let tables = crate::lut::bake(&crate::lut::BakeConfig::default());
-        let png = std::env::temp_dir().join("shadeballs-no-image-files.png");
-        let err = crate::lut::io::write_tables(&tables, &png)
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("image-files"), "{err}");
-        assert!(!png.exists());
-    }
-}

@@ -2,9 +2,12 @@
 //! its `toml` dependency block and its `rust` program, taken from the README, make a crate
 //! of their own outside this workspace (an empty `[workspace]` table), the dependency's
 //! path pointed at this checkout and nothing else changed. It is built with this
-//! workspace's `Cargo.lock`, offline, into this workspace's target folder, so the library's
-//! no-default-features build (`tests/run.sh` makes it before the tests) is reused and only
-//! the host crate compiles; then it runs and must write its picture.
+//! workspace's `Cargo.lock`, offline, into this workspace's target folder; then it runs
+//! and must write its picture. The same host crate holds a second program,
+//! `without_image_files`: the library as the README's line builds it (no default features)
+//! refuses a map file by name, in one line, and writes nothing. This build is the one
+//! build of the library without default features that runs (tests/run.sh also documents
+//! it so).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -60,6 +63,12 @@ fn readme_library_program_builds_and_runs() {
     );
     std::fs::write(dir.join("Cargo.toml"), manifest).unwrap();
     std::fs::write(dir.join("src/main.rs"), program).unwrap();
+    std::fs::create_dir_all(dir.join("src/bin")).unwrap();
+    std::fs::write(
+        dir.join("src/bin/without_image_files.rs"),
+        WITHOUT_IMAGE_FILES,
+    )
+    .unwrap();
     std::fs::copy(root.join("Cargo.lock"), dir.join("Cargo.lock")).unwrap();
     let target = target_dir();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
@@ -107,5 +116,29 @@ fn readme_library_program_builds_and_runs() {
     let (left, right) = (half_sum(true), half_sum(false));
     println!("the README's picture: left half {left}, right half {right}");
     assert!(right > 0 && left > right, "left {left}, right {right}");
+
+    let out = Command::new(target.join("release").join("without_image_files"))
+        .arg(&dir)
+        .output()
+        .expect("run without_image_files");
+    assert!(
+        out.status.success(),
+        "the library without image files: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The host's second program: without the crate feature `image-files` a map file is one
+/// error naming the feature, on loading and on saving, and nothing is written.
+const WITHOUT_IMAGE_FILES: &str = r#"fn main() {
+    let dir = std::env::args().nth(1).expect("a folder");
+    let path = std::path::Path::new(&dir).join("map.hdr");
+    let err = shadeballs::environment::load(&path).unwrap_err().to_string();
+    assert!(err.contains("image-files") && !err.contains('\n'), "{err}");
+    let map = shadeballs::environment::Builtin::Sky.generate(16);
+    let err = shadeballs::environment::save(&map, &path).unwrap_err().to_string();
+    assert!(err.contains("image-files") && !err.contains('\n'), "{err}");
+    assert!(!path.exists(), "{} was written", path.display());
+}
+"#;

@@ -473,7 +473,7 @@ fn clearcoat_cost(renderer: &mut Renderer, repeats: usize, t: &mut Table) -> Res
         "clearcoat.toml".into(),
         "accurate".into(),
         format!(
-            "{count} E and coating rows, {} escape curves baked",
+            "{count} E and coating rows and {} escape curves baked",
             escapes.len()
         ),
         "-".into(),
