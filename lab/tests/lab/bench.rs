@@ -47,6 +47,7 @@ fn numeric(column: &str) -> bool {
 
 #[test]
 fn quick_bench_writes_well_formed_csv_markdown_and_png() {
+    let _turn = crate::quick_bench_turn();
     let dir = temp_dir("bench");
     // The startup sweep runs the `shadeballs` binary beside the lab's (cargo test
     // --workspace builds both).
@@ -362,6 +363,7 @@ fn per_ball_read_equals_the_full_read() {
 /// and frame tables; the harmonics table; the goals named in the summary.
 #[test]
 fn quick_ibl_bench_writes_its_tables_and_goals() {
+    let _turn = crate::quick_bench_turn();
     let dir = temp_dir("bench-ibl");
     let (ok, stderr) = lab(&[
         "bench",

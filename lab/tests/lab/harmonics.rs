@@ -195,6 +195,7 @@ fn harmonics_sweep_table() {
 /// The quick sweep runs and states both goals.
 #[test]
 fn harmonics_quick_sweep_states_its_goals() {
+    let _turn = crate::quick_bench_turn();
     let sweep = harmonics_sweep(true).unwrap();
     assert_eq!(sweep.tables.len(), 1);
     assert_eq!(sweep.tables[0].rows.len(), 2 * 4 * (6 + 3));

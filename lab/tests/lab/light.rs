@@ -66,6 +66,7 @@ fn assert_the_lobe_converges(cost: &[Vec<String>]) {
 
 #[test]
 fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
+    let _turn = crate::quick_bench_turn();
     let dir = temp_dir("bench-light");
     let (ok, stderr) = lab(&[
         "bench",

@@ -13,3 +13,13 @@ mod light;
 mod pixels;
 mod scale;
 mod truth;
+
+/// Held by each test that runs a `--quick` bench: `bench --quick` has a goal in seconds
+/// (under a minute on the 2-core machine), which a second bench on the same two cores
+/// would measure instead. The other tests still run beside them.
+pub static QUICK_BENCH: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Takes [`QUICK_BENCH`] (a test that panicked while holding it leaves it usable).
+pub fn quick_bench_turn() -> std::sync::MutexGuard<'static, ()> {
+    QUICK_BENCH.lock().unwrap_or_else(|e| e.into_inner())
+}
