@@ -7,58 +7,13 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 
-use shadeballs::labels::{self, ball_rects, draw_labels, layout, Label, Rect};
+use shadeballs::labels::{self, ball_rects, draw_labels, layout, Rect};
 
 use shadeballs::scene::{self, Scene};
 
 use crate::cli::{shadeballs, temp_dir};
 
 use crate::props::run;
-
-/// Checks the layout's promises for `scene` at `w x h`: every room inside the image, off
-/// every ball's padded bounds and off every other room.
-fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
-    let l = layout(scene, w, h);
-    let balls: Vec<Rect> = ball_rects(scene, w, h).into_iter().flatten().collect();
-    let image = Rect {
-        x0: 0.0,
-        y0: 0.0,
-        x1: w as f32,
-        y1: h as f32,
-    };
-    // Each label with its wrapped lines (alternatives to it, so they may share its room),
-    // tagged by the label they belong to.
-    let all: Vec<(usize, &Label)> = l
-        .iter()
-        .enumerate()
-        .flat_map(|(k, label)| {
-            std::iter::once((k, label)).chain(label.wrapped.iter().map(move |w| (k, w)))
-        })
-        .collect();
-    for (i, (k, label)) in all.iter().enumerate() {
-        let r = &label.room;
-        // A label whose one line found no room may still be drawn wrapped.
-        let empty_but_wrapped =
-            (r.width() == 0.0 || r.height() == 0.0) && !label.wrapped.is_empty();
-        let fine = image.contains(r) && r.width() > 0.0 && r.height() > 0.0;
-        if !(fine || empty_but_wrapped) {
-            return Err(format!("{w}x{h}: room {r:?} of {:?}", label.text));
-        }
-        if let Some(b) = balls.iter().find(|b| b.overlaps(r)) {
-            return Err(format!(
-                "{w}x{h}: {:?} in {r:?} over ball {b:?}",
-                label.text
-            ));
-        }
-        if let Some((_, o)) = all[i + 1..]
-            .iter()
-            .find(|(j, o)| j != k && o.room.overlaps(r))
-        {
-            return Err(format!("{w}x{h}: {:?} over {:?}", label.text, o.text));
-        }
-    }
-    Ok(())
-}
 
 /// Scene files: `labels` parses in every build, defaults to off, and a wrong type is a
 /// one-line error with its line and column.
@@ -104,7 +59,7 @@ fn ball_label_key_is_drawn_under_its_ball_and_shortened_to_its_column() {
     assert_eq!(s.balls[0].label.unwrap().as_str(), "gold");
     assert!(s.balls[2].label.is_none());
     let (w, h) = (1280, 720);
-    check_rooms(&s, w, h).unwrap();
+    crate::pixels::check_rooms(&s, w, h).unwrap();
     let l = layout(&s, w, h);
     assert_eq!(l.balls.len(), 2);
     assert_eq!(
@@ -156,7 +111,7 @@ fn fuzzed_scenes_lay_out_and_draw_without_panics() {
             return Ok(());
         };
         for (w, h) in [(9, 5), (400, 400), (1280, 720)] {
-            if let Err(e) = check_rooms(&scene, w, h) {
+            if let Err(e) = crate::pixels::check_rooms(&scene, w, h) {
                 return Err(TestCaseError::fail(format!("{e} for {text:?}")));
             }
             let mut rgba = vec![0u8; 4 * w as usize * h as usize];

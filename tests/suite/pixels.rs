@@ -159,3 +159,52 @@ pub fn mixed_scene() -> Scene {
     }
     scene
 }
+
+/// Checks the layout's promises for `scene` at `w x h`: every room inside the image, off
+/// every ball's padded bounds and off every other room (the suite's and the crate's label
+/// tests).
+pub fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
+    let l = shadeballs::labels::layout(scene, w, h);
+    let balls: Vec<shadeballs::labels::Rect> = shadeballs::labels::ball_rects(scene, w, h)
+        .into_iter()
+        .flatten()
+        .collect();
+    let image = shadeballs::labels::Rect {
+        x0: 0.0,
+        y0: 0.0,
+        x1: w as f32,
+        y1: h as f32,
+    };
+    // Each label with its wrapped lines (alternatives to it, so they may share its room),
+    // tagged by the label they belong to.
+    let all: Vec<(usize, &shadeballs::labels::Label)> = l
+        .iter()
+        .enumerate()
+        .flat_map(|(k, label)| {
+            std::iter::once((k, label)).chain(label.wrapped.iter().map(move |w| (k, w)))
+        })
+        .collect();
+    for (i, (k, label)) in all.iter().enumerate() {
+        let r = &label.room;
+        // A label whose one line found no room may still be drawn wrapped.
+        let empty_but_wrapped =
+            (r.width() == 0.0 || r.height() == 0.0) && !label.wrapped.is_empty();
+        let fine = image.contains(r) && r.width() > 0.0 && r.height() > 0.0;
+        if !(fine || empty_but_wrapped) {
+            return Err(format!("{w}x{h}: room {r:?} of {:?}", label.text));
+        }
+        if let Some(b) = balls.iter().find(|b| b.overlaps(r)) {
+            return Err(format!(
+                "{w}x{h}: {:?} in {r:?} over ball {b:?}",
+                label.text
+            ));
+        }
+        if let Some((_, o)) = all[i + 1..]
+            .iter()
+            .find(|(j, o)| j != k && o.room.overlaps(r))
+        {
+            return Err(format!("{w}x{h}: {:?} over {:?}", label.text, o.text));
+        }
+    }
+    Ok(())
+}

@@ -10,51 +10,6 @@ use crate::labels::{
 
 use crate::scene::{self, Camera, Model, Scene};
 
-/// Checks the layout's promises for `scene` at `w x h`: every room inside the image, off
-/// every ball's padded bounds and off every other room.
-fn check_rooms(scene: &Scene, w: u32, h: u32) -> Result<(), String> {
-    let l = layout(scene, w, h);
-    let balls: Vec<Rect> = ball_rects(scene, w, h).into_iter().flatten().collect();
-    let image = Rect {
-        x0: 0.0,
-        y0: 0.0,
-        x1: w as f32,
-        y1: h as f32,
-    };
-    // Each label with its wrapped lines (alternatives to it, so they may share its room),
-    // tagged by the label they belong to.
-    let all: Vec<(usize, &Label)> = l
-        .iter()
-        .enumerate()
-        .flat_map(|(k, label)| {
-            std::iter::once((k, label)).chain(label.wrapped.iter().map(move |w| (k, w)))
-        })
-        .collect();
-    for (i, (k, label)) in all.iter().enumerate() {
-        let r = &label.room;
-        // A label whose one line found no room may still be drawn wrapped.
-        let empty_but_wrapped =
-            (r.width() == 0.0 || r.height() == 0.0) && !label.wrapped.is_empty();
-        let fine = image.contains(r) && r.width() > 0.0 && r.height() > 0.0;
-        if !(fine || empty_but_wrapped) {
-            return Err(format!("{w}x{h}: room {r:?} of {:?}", label.text));
-        }
-        if let Some(b) = balls.iter().find(|b| b.overlaps(r)) {
-            return Err(format!(
-                "{w}x{h}: {:?} in {r:?} over ball {b:?}",
-                label.text
-            ));
-        }
-        if let Some((_, o)) = all[i + 1..]
-            .iter()
-            .find(|(j, o)| j != k && o.room.overlaps(r))
-        {
-            return Err(format!("{w}x{h}: {:?} over {:?}", label.text, o.text));
-        }
-    }
-    Ok(())
-}
-
 #[test]
 fn reference_layout_has_five_roughness_columns_two_rows_and_a_caption() {
     let scene = Scene::reference();
@@ -95,7 +50,7 @@ fn reference_layout_has_five_roughness_columns_two_rows_and_a_caption() {
     let big = layout(&scene, 2560, 1440);
     assert_eq!(big.columns.len(), 5);
     assert!((big.columns[0].size_px - 2.0 * l.columns[0].size_px).abs() < 1e-3);
-    check_rooms(&scene, 1280, 720).unwrap();
+    crate::pixels::check_rooms(&scene, 1280, 720).unwrap();
 }
 
 #[test]
@@ -148,7 +103,7 @@ fn tight_cameras_tiny_and_huge_images_keep_labels_off_the_balls() {
             (300, 4000),
             (16384, 16384),
         ] {
-            check_rooms(&scene, w, h).unwrap();
+            crate::pixels::check_rooms(&scene, w, h).unwrap();
         }
     }
     // At 16x16 nothing fits: the image is left as it was.
