@@ -9,7 +9,7 @@
 // Every ball (a storage buffer: MAX_BALLS balls of 112 bytes exceed the 64 KiB a uniform
 // binding may hold). No entry point reads it since the full-screen path went (the per-ball
 // quads carry their ball in the instance buffer, vs_ball); it still declares struct Ball's
-// buffer layout, which tests/suite/boundary.rs compares with the Rust side.
+// buffer layout, which src/gpu/tests/boundary.rs compares with the Rust side.
 @group(0) @binding(1) var<storage, read> balls: array<Ball>;
 @group(0) @binding(2) var<uniform> lights: array<Light, MAX_LIGHTS>;
 // 1 - E(mu, roughness) (Tables::stored_loss) as 2x2 blocks (lut.wgsl says how).

@@ -19,7 +19,7 @@ const LAMBDA_MAX: f32 = 1e30;
 // geometry_g and f_micro (in Geometry::ALL order); F_ADD_* the `form` argument of
 // f_add_preset; FRESNEL_* the `form` argument of f_dielectric; MU_AXIS_* LutParams.mu_axis; E_AVG_READ_* LutParams.e_avg_read;
 // LOSS_AVG_MIN the smallest stored 1 - E_avg the power-law read takes the logarithm of.
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const DIV_EPSILON: f32 = 1e-12; // brdf::DIV_EPSILON
 const ROUGHNESS_MIN: f32 = 0.02; // brdf::ROUGHNESS_MIN
 const GAMES202_EDGE_TINT: vec3<f32> = vec3<f32>(0.827, 0.792, 0.678); // brdf::GAMES202_EDGE_TINT

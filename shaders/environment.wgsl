@@ -10,7 +10,7 @@
 // SPECULAR_LEVELS and CONVOLVED_LEVELS: layers of the prefiltered textures;
 // SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis; R2_STEP_*,
 // LOBE_LOD_BIAS, LOBE_SIN_MIN: the lobe's sequence and mip levels (lobe_point, lobe_lod).
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const SPECULAR_LEVELS: u32 = 7u; // environment::prefilter::SPECULAR_LEVELS
 const CONVOLVED_LEVELS: u32 = 9u; // environment::prefilter::CONVOLVED_LEVELS
 const SPLIT_SUM_SIZE: u32 = 32u; // lut::SPLIT_SUM_SIZE

@@ -74,7 +74,7 @@ struct Footprint {
 
 // AA_EDGE_PX: how near a silhouette, in pixel footprints, a centre ray must pass for the
 // pixel to be partly covered: half a pixel's diagonal (0.71) and a margin for rounding.
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const AA_EDGE_PX: f32 = 1.0; // scene::AA_EDGE_PX
 // end of the generated constants
 

@@ -9,7 +9,7 @@
 #import shadeballs::sampling::duff_frame
 
 // The constants of src/environment/prefilter.rs, same names.
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const KERNEL_SIZE: u32 = 64u; // environment::prefilter::KERNEL_SIZE
 const FIS_LOD_BIAS: f32 = 0.0; // environment::prefilter::FIS_LOD_BIAS
 const WEIGHT_EPSILON: f32 = 1e-30; // environment::prefilter::WEIGHT_EPSILON

@@ -149,7 +149,7 @@ const DEPTH_SCALE: f32 = 5.684341886080802e-14; // 2^-44
 
 // The curves' constants: the largest exposed radiance taken, the floor of the divisors,
 // AgX's encoded range and its log floor.
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const MAX_DISPLAY_RADIANCE: f32 = 1000000.0; // display::MAX_DISPLAY_RADIANCE
 const DISPLAY_EPSILON: f32 = 1e-9; // display::DISPLAY_EPSILON
 const AGX_MIN_EV: f32 = -12.47393; // display::AGX_MIN_EV

@@ -1,6 +1,6 @@
 // types.wgsl: the renderer's override constants and uniform layouts, shared by its entry
 // points. Every struct here has a Rust twin of the same layout (src/gpu/uniforms.rs,
-// src/gpu/environment.rs), checked member by member by tests/suite/boundary.rs.
+// src/gpu/environment.rs), checked member by member by src/gpu/tests/boundary.rs.
 
 #define_import_path shadeballs::types
 #import shadeballs::constants::LutParams
@@ -12,7 +12,7 @@
 // (Ball.layering; src/scene Layering). COAT_FORM_*: how a clear coat weights the ball under
 // it (Ball.clearcoat_form; src/scene CoatForm). COATING_ROW_LEN: the values of a coating row
 // (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
 const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS
 const TERM_KULLA_CONTY: u32 = 1u; // gpu::uniforms::TERM_CODES
@@ -136,7 +136,7 @@ struct Globals {
 // generated from: gpu::ball): `Ball` by its members' names, and how a quad carries it from
 // its instance (BallIn, the vertex attributes) to the fragment stage (BallOut, flat
 // varyings, each a run of members packed by 16-byte row), ball_of unpacking it.
-// generated from gpu::uniforms::BALL_MEMBERS by tests/suite/boundary.rs: do not edit
+// generated from gpu::uniforms::BALL_MEMBERS by src/gpu/tests/boundary.rs: do not edit
 struct Ball {
     center: vec3<f32>,
     radius: f32,

@@ -36,7 +36,7 @@
 // paths); the loop's cost grows with the longest path of a SIMD group.
 const WALK_MAX_EVENTS: u32 = 32u;
 // WALK_RR_BELOW: Russian roulette below this path mass (src/walk RR_BELOW).
-// generated from the Rust constants by tests/suite/boundary.rs: do not edit
+// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const WALK_RR_BELOW: f32 = 0.05; // walk::RR_BELOW
 // end of the generated constants
 // Smallest C1 value and exponent guard of walk_pow (f32: 1e-30 keeps log2 finite).

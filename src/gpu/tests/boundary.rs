@@ -1,6 +1,6 @@
 //! One source for the CPU/GPU boundary. The WGSL constants shared with Rust are generated
 //! from the Rust constants: each file's block between the markers below must be what
-//! [`blocks`] writes (`SHADEBALLS_BLESS=1 cargo test --release -- boundary::` rewrites
+//! [`blocks`] writes (`SHADEBALLS_BLESS=1 cargo test --release --lib -- boundary::` rewrites
 //! the blocks). Every struct a program reads from a uniform or storage buffer has a Rust
 //! twin whose `size_of`, `offset_of` and member types equal naga's layout, member by
 //! member.
@@ -15,11 +15,12 @@ use crate::gpu::uniforms::{COAT_FORM_CODES, LAYERING_CODES, TERM_CODES};
 use crate::lut::{self, EAvgRead, MuAxis};
 use crate::wgsl::PROGRAMS;
 
-const BEGIN: &str = "// generated from the Rust constants by tests/suite/boundary.rs: do not edit";
+const BEGIN: &str =
+    "// generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit";
 const END: &str = "// end of the generated constants";
 /// The markers of the ball's block in `types.wgsl` (`boundary::ball_wgsl`).
 const BALL_BEGIN: &str =
-    "// generated from gpu::uniforms::BALL_MEMBERS by tests/suite/boundary.rs: do not edit";
+    "// generated from gpu::uniforms::BALL_MEMBERS by src/gpu/tests/boundary.rs: do not edit";
 const BALL_END: &str = "// end of the generated ball";
 
 /// A WGSL constant's name, type and value, and the Rust item it comes from.
@@ -348,7 +349,7 @@ fn the_shared_wgsl_constants_are_generated_from_the_rust_constants() {
     assert!(
         stale.is_empty(),
         "generated WGSL constants differ from the Rust constants in {stale:?} \
-         (SHADEBALLS_BLESS=1 cargo test --release -- boundary:: rewrites them)"
+         (SHADEBALLS_BLESS=1 cargo test --release --lib -- boundary:: rewrites them)"
     );
 }
 
@@ -529,7 +530,7 @@ fn the_wgsl_ball_is_generated_from_the_rust_members() {
         } else {
             panic!(
                 "the ball in types.wgsl differs from what gpu::uniforms::BALL_MEMBERS generates \
-                 (SHADEBALLS_BLESS=1 cargo test --release -- boundary:: rewrites it)"
+                 (SHADEBALLS_BLESS=1 cargo test --release --lib -- boundary:: rewrites it)"
             );
         }
     }
