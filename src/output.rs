@@ -451,8 +451,8 @@ pub(crate) fn write_png_noted(
 }
 
 #[cfg(feature = "image-files")]
-/// [`stage_exr`] with a `comment` text attribute holding `note` (`exr`'s encoder, since
-/// `image`'s writes no attributes), losslessly compressed.
+/// [`stage_exr`] with a `comment` text attribute holding `note`, ZIP-compressed in scan
+/// lines.
 pub(crate) fn stage_exr_noted(
     path: &Path,
     width: u32,
@@ -460,11 +460,33 @@ pub(crate) fn stage_exr_noted(
     rgba: Vec<f32>,
     note: &str,
 ) -> Result<Staged> {
+    encode_exr(
+        path,
+        (width, height),
+        &rgba,
+        exr::prelude::Encoding::SMALL_LOSSLESS,
+        Some(note),
+    )
+}
+
+#[cfg(feature = "image-files")]
+/// Encodes RGBA f32 `rgba` of `size` as OpenEXR into `path`'s temporary file, with `note`
+/// as a `comment` attribute if given. The blocks are written in increasing order: `exr`
+/// compresses them on several threads and, in its default order ("unspecified"), writes
+/// each as it is done, so two writes of the same pixels gave different bytes (the offset
+/// table); in increasing order it sorts them first, and the same pixels give the same file.
+fn encode_exr(
+    path: &Path,
+    size: (u32, u32),
+    rgba: &[f32],
+    encoding: exr::prelude::Encoding,
+    note: Option<&str>,
+) -> Result<Staged> {
     use exr::prelude::{
-        AttributeValue, Encoding, Image, Layer, LayerAttributes, SpecificChannels, Text, Vec2,
+        AttributeValue, Image, Layer, LayerAttributes, LineOrder, SpecificChannels, Text, Vec2,
         WritableImage,
     };
-    let (w, h) = (width as usize, height as usize);
+    let (w, h) = (size.0 as usize, size.1 as usize);
     if rgba.len() != 4 * w * h {
         return Err(Error::Encode {
             path: path.to_path_buf(),
@@ -475,17 +497,23 @@ pub(crate) fn stage_exr_noted(
         let i = 4 * (p.y() * w + p.x());
         (rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3])
     };
+    let encoding = exr::prelude::Encoding {
+        line_order: LineOrder::Increasing,
+        ..encoding
+    };
     let layer = Layer::new(
         (w, h),
         LayerAttributes::default(),
-        Encoding::SMALL_LOSSLESS,
+        encoding,
         SpecificChannels::rgba(pixel),
     );
     let mut image = Image::from_layer(layer);
-    image.attributes.other.insert(
-        Text::from("comment"),
-        AttributeValue::Text(Text::from(note)),
-    );
+    if let Some(note) = note {
+        image.attributes.other.insert(
+            Text::from("comment"),
+            AttributeValue::Text(Text::from(note)),
+        );
+    }
     stage_with(path, |out| {
         let mut out = Recording {
             inner: out,
@@ -510,16 +538,54 @@ pub(crate) fn write_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) ->
 
 #[cfg(feature = "image-files")]
 /// Encodes RGBA f32 linear radiance as OpenEXR into `path`'s temporary file
-/// ([`stage_image`]), for [`commit_all`] with the files that go with it.
+/// ([`stage_with`]), for [`commit_all`] with the files that go with it.
 pub(crate) fn stage_exr(path: &Path, width: u32, height: u32, rgba: Vec<f32>) -> Result<Staged> {
-    let image =
-        image::Rgba32FImage::from_raw(width, height, rgba).ok_or_else(|| Error::Encode {
-            path: path.to_path_buf(),
-            message: "pixel count does not match the size".into(),
-        })?;
-    stage_image(
+    // RLE in 64x64 tiles: what `image`'s encoder wrote before, in a fixed order.
+    encode_exr(
         path,
-        &image::DynamicImage::ImageRgba32F(image),
-        image::ImageFormat::OpenExr,
+        (width, height),
+        &rgba,
+        exr::prelude::Encoding::FAST_LOSSLESS,
+        None,
     )
+}
+
+#[cfg(all(test, feature = "image-files"))]
+mod tests {
+    use super::*;
+
+    /// The same pixels written twice give the same bytes, plain and with a note: before the
+    /// blocks were sorted, the offset table followed the order the threads finished in.
+    #[test]
+    fn an_exr_of_the_same_pixels_is_the_same_file() {
+        let dir = std::env::temp_dir().join(format!("shadeballs-exr-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // 517 x 389: many 64 x 64 tiles and many 16-line ZIP blocks, each different.
+        let (w, h) = (517u32, 389u32);
+        let rgba: Vec<f32> = (0..4 * w * h)
+            .map(|i| ((i as f32) * 0.618_034).fract() * 7.0)
+            .collect();
+        for noted in [false, true] {
+            let mut files = Vec::new();
+            for k in 0..6 {
+                let path = dir.join(format!("{noted}-{k}.exr"));
+                let staged = if noted {
+                    stage_exr_noted(&path, w, h, rgba.clone(), "4 spp").unwrap()
+                } else {
+                    stage_exr(&path, w, h, rgba.clone()).unwrap()
+                };
+                staged.commit().unwrap();
+                files.push(std::fs::read(&path).unwrap());
+            }
+            assert!(
+                files.iter().all(|f| *f == files[0]),
+                "noted = {noted}: six writes of the same pixels differ in their bytes"
+            );
+            let back = image::open(dir.join(format!("{noted}-0.exr")))
+                .unwrap()
+                .into_rgba32f();
+            assert_eq!(back.into_raw(), rgba, "noted = {noted}: pixels changed");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

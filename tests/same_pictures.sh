@@ -2,7 +2,8 @@
 # Renders every built-in scene (and the default) with the `shadeballs` binary BIN on Vulkan,
 # GL and the CPU, to PNG and EXR, plus a map with the Turquin term and the games202 preset
 # without antialiasing, into folder OUT. Run it with the binaries of two commits and compare
-# the folders (`cmp`), to show that a change leaves every picture byte for byte the same:
+# the folders (`cmp`), to show that a change leaves every picture byte for byte the same
+# (`.exr` too: its blocks are written in a fixed order, output::encode_exr):
 #   tests/same_pictures.sh old/shadeballs before && tests/same_pictures.sh target/release/shadeballs after
 #   tests/same_pictures.sh --compare before after
 # Refusals (GL has no truth) are logged to OUT/log.txt and count as pictures: the same
