@@ -13,7 +13,7 @@
 #import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved}
-#import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point, clearcoat_t_in, clearcoat_transmit}
+#import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point}
 
 // Forms ball b's coat at unit normal n towards v (ms: the ball's term weight) into
 // clearcoat_point. Called once per pixel before the base is shaded.
@@ -28,11 +28,7 @@ fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
         p.loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.clearcoat_lut_row);
     }
     p.e_f_o = coating_albedo(b.clearcoat_row, mu_o);
-    // The coat's Fresnel at the view: the engines' forms' only.
-    p.fresnel_o = 0.0;
-    if form == COAT_FORM_FILAMENT || form == COAT_FORM_GLTF {
-        p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, b.clearcoat_fresnel);
-    }
+    p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, b.clearcoat_fresnel);
     // The engines' forms: the base's light times 1 - w F, the same for every base.
     p.out = vec3<f32>(1.0);
     p.out_lobe = vec3<f32>(1.0);
@@ -64,9 +60,7 @@ fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
 }
 
 // The coat's own radiance at unit normal n towards v (after clearcoat_begin), lit by the
-// first n_lights lights, the uniform environment and the map, times its weight. Its loop
-// also forms each light's transmission for the base (clearcoat_t_in): called before the
-// base is shaded.
+// first n_lights lights, the uniform environment and the map, times its weight.
 fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let p = clearcoat_point;
     let form = b.clearcoat_form;
@@ -87,19 +81,18 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
                 continue;
             }
             let h = normalize(v + l);
-            let fresnel_vh = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
-            let fresnel = select(fresnel_vh, 1.0, form == COAT_FORM_GLTF);
+            var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
+            if form == COAT_FORM_GLTF {
+                fresnel = 1.0;
+            }
             var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
             if form == COAT_FORM_GLTF {
                 spec *= p.fresnel_o;
             }
-            var loss_i = 0.0;
             if p.ms > 0.0 {
-                loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.clearcoat_lut_row);
+                let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.clearcoat_lut_row);
                 spec += p.ms * b.clearcoat_f_add * f_ms(p.loss_o, loss_i, b.clearcoat_ms_norm);
             }
-            // The base's loops read it (clearcoat_in).
-            clearcoat_t_in[k] = clearcoat_transmit(b, mu_i, fresnel_vh, loss_i);
             lo += spec * lights[k].radiance.xyz * mu_i;
         }
     }

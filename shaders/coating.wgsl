@@ -13,7 +13,7 @@
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
-#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT, MAX_LIGHTS}
+#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
@@ -66,37 +66,34 @@ fn has_clearcoat(b: Ball) -> bool {
     return HAS_CLEARCOAT == 1u && b.clearcoat > 0.0;
 }
 
-// The coat's transmission of each light (clearcoat_in), formed by clearcoat.wgsl
-// shade_clearcoat's loop before the base is shaded: the coat's E at mu_i and its row are
-// read once per light, not again by the base's loops.
-var<private> clearcoat_t_in: array<f32, MAX_LIGHTS>;
+// The coat's specular albedo E_c(mu) under the physical form: its row's E_F(mu) and its
+// term's f_add (1 - E(mu)) (ms its weight).
+fn clearcoat_albedo(b: Ball, mu: f32, ms: f32) -> f32 {
+    var loss = 0.0;
+    if ms > 0.0 {
+        loss = lut_loss_row(e_table, lut_params(), mu, b.clearcoat_lut_row);
+    }
+    return coating_albedo(b.clearcoat_row, mu) + ms * b.clearcoat_f_add * loss;
+}
 
-// The coat's transmission of a light at cosine mu_i under its form: 1 - E_c(mu_i) with
-// E_c(mu_i) = E_F(mu_i) + ms f_add (1 - E(mu_i)) (physical; loss_i the coat's 1 - E(mu_i)
-// as read, 0 without its term), 1 - F_c(v.h) (Filament's; fresnel_vh), 1 - F_c(n.v)
-// (glTF's) (src/cpu/clearcoat.rs ClearcoatPoint::transmit).
-fn clearcoat_transmit(b: Ball, mu_i: f32, fresnel_vh: f32, loss_i: f32) -> f32 {
+// The coat's transmission of a light at cosine mu_i (v_dot_h: the view's cosine to the
+// half vector) under its form: 1 - E_c(mu_i) (physical), 1 - F_c(v.h) (Filament's),
+// 1 - F_c(n.v) (glTF's); 1 without a coat.
+fn clearcoat_in(b: Ball, mu_i: f32, v_dot_h: f32) -> f32 {
+    if !has_clearcoat(b) {
+        return 1.0;
+    }
     switch b.clearcoat_form {
         case COAT_FORM_FILAMENT: {
-            return 1.0 - fresnel_vh;
+            return 1.0 - f_dielectric(v_dot_h, b.clearcoat_eta, b.clearcoat_fresnel);
         }
         case COAT_FORM_GLTF: {
             return 1.0 - clearcoat_point.fresnel_o;
         }
         default: {
-            let ms = clearcoat_point.ms;
-            return 1.0 - (coating_albedo(b.clearcoat_row, mu_i) + ms * b.clearcoat_f_add * loss_i);
+            return 1.0 - clearcoat_albedo(b, mu_i, clearcoat_point.ms);
         }
     }
-}
-
-// The coat's transmission of light k (clearcoat_transmit, formed by shade_clearcoat);
-// 1 without a coat.
-fn clearcoat_in(b: Ball, k: u32) -> f32 {
-    if !has_clearcoat(b) {
-        return 1.0;
-    }
-    return clearcoat_t_in[k];
 }
 
 // The share of a Lambertian base's light from a light the coat transmits with t_in
@@ -262,7 +259,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         if two_sided(b) {
             e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
         }
-        let t_in = clearcoat_in(b, k);
+        let t_in = clearcoat_in(b, mu_i, dot(v, h));
         let f_r = clearcoat_through_lobe(b, t_in) * (spec + ms * lobe)
             + clearcoat_through(b, t_in) * coating_base(b, e_spec_o, e_spec_i, fresnel);
         lo += f_r * lights[k].radiance.xyz * mu_i;

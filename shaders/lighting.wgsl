@@ -32,9 +32,7 @@
 fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     if has_clearcoat(b) {
         clearcoat_begin(b, n, v, term_weight(b));
-        // The coat first: its loop forms each light's transmission for the base's.
-        let coat = shade_clearcoat(b, n, v, n_lights);
-        return shade_base(b, n, v, n_lights, pixel) + coat + b.emission;
+        return shade_base(b, n, v, n_lights, pixel) + shade_clearcoat(b, n, v, n_lights) + b.emission;
     }
     return shade_base(b, n, v, n_lights, pixel) + b.emission;
 }
@@ -157,7 +155,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
             );
         }
         let f_r = spec + lobe;
-        let through = clearcoat_through_lobe(b, clearcoat_in(b, k));
+        let through = clearcoat_through_lobe(b, clearcoat_in(b, mu_i, dot(v, h)));
         lo += through * f_r * lights[k].radiance.xyz * mu_i;
     }
     return lo;

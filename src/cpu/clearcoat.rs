@@ -115,9 +115,8 @@ impl ClearcoatPoint {
         f64::from(coating_albedo(&self.row, mu as f32)) + self.ms * self.c.f_add * l
     }
 
-    /// `clearcoat_transmit` (which the GPU forms once per light in `shade_clearcoat`'s loop
-    /// and the base reads as `clearcoat_in`): the coat's transmission of a light at cosine
-    /// `mu_i` (`v_dot_h` the view's cosine to the half vector) under its form.
+    /// `clearcoat_in`: the coat's transmission of a light at cosine `mu_i` (`v_dot_h` the
+    /// view's cosine to the half vector) under its form.
     pub(crate) fn transmit(&self, e: &TableSet, mu_i: f64, v_dot_h: f64) -> f64 {
         match self.c.form {
             CoatForm::Filament => 1.0 - f_dielectric(v_dot_h, self.c.eta, self.fresnel_form),
