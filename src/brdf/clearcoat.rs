@@ -236,6 +236,29 @@ mod tests {
     use crate::brdf::{alpha_from_roughness, fresnel_dielectric};
 
     #[test]
+    fn base_roughness_widens_as_the_coat_refracts() {
+        // A coat of index 1 bends nothing: the base keeps its roughness.
+        for r in [0.1, 0.4, 0.8] {
+            let same = clearcoat_base_roughness(r, 0.7, 1.0);
+            assert!((same - r).abs() < 1e-12, "index 1, roughness {r}: {same}");
+        }
+        // A smooth coat widens the base's alpha by eta.
+        let smooth = clearcoat_base_roughness(0.4, 0.0, 1.5);
+        let alpha = alpha_from_roughness(0.4) * 1.5;
+        assert!(
+            (smooth - alpha.sqrt()).abs() < 1e-3,
+            "smooth coat: {smooth}"
+        );
+        // A rougher coat widens it further; never past 1.
+        let rough = clearcoat_base_roughness(0.4, 0.7, 1.5);
+        assert!(
+            rough > smooth + 0.01,
+            "rough coat: {rough} against {smooth}"
+        );
+        assert_eq!(clearcoat_base_roughness(1.0, 1.0, 2.0), 1.0);
+    }
+
+    #[test]
     fn escape_meets_its_limits() {
         // A mirror under a smooth coat: the light leaves at its own angle, with the
         // coat's transmission.
