@@ -289,9 +289,14 @@ fn shade_coating_map(
     let intensity = env.intensity;
     let r = 2.0 * dot(n, v) * n - v;
     let n_map = env_to_map(n, rotation);
+    // Under a clear coat the lobe leaves the coat wider (clearcoat_base_roughness).
+    var map_roughness = roughness;
+    if has_clearcoat(b) {
+        map_roughness = b.clearcoat_base_roughness;
+    }
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
-    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    let dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
     let single = prefiltered * e_f_o;
     var lobe = single;

@@ -193,9 +193,14 @@ fn shade_environment_map(
         n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
     }
     let r = 2.0 * dot(n_spec, v) * n_spec - v;
+    // Under a clear coat the lobe leaves the coat wider (clearcoat_base_roughness).
+    var map_roughness = roughness;
+    if has_clearcoat(b) {
+        map_roughness = b.clearcoat_base_roughness;
+    }
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
-    let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    let dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness);
     let single = prefiltered * fss_ess;
     var lo = single;
     if ms > 0.0 {

@@ -173,7 +173,7 @@ struct Ball {
     clearcoat_fresnel: u32,
     clearcoat_escape: u32,
     emission: vec3<f32>,
-    emission_pad: f32,
+    clearcoat_base_roughness: f32,
 }
 
 // The ball's members as a quad's instance attributes (BallInstance::LAYOUT).
@@ -277,7 +277,7 @@ fn ball_of(in: BallOut) -> Ball {
     b.clearcoat_fresnel = in.ball_13.z;
     b.clearcoat_escape = in.ball_13.w;
     b.emission = in.ball_14.xyz;
-    b.emission_pad = in.ball_14.w;
+    b.clearcoat_base_roughness = in.ball_14.w;
     b.term = select(b.term, BALL_TERM, BALL_TERM != 0u);
     return b;
 }

@@ -49,6 +49,22 @@ pub(crate) fn clearcoat_lobe_scale(a_avg: f64, escape: f64, e_coat_avg: f64, eta
     (1.0 - kept) / (1.0 - e_coat_avg).max(DIV_EPSILON)
 }
 
+/// The roughness at which the physical coat's base reads the map's prefiltered layers: the
+/// base's lobe as it leaves the coat. Weidlich and Wilkie 2007 evaluate the lower layer at
+/// the directions refracted through the coat; seen from outside, its lobe is then wider.
+/// Near the normal, a deviation `d` inside leaves as `eta d` (Snell's law), so the base's
+/// `alpha` becomes `eta alpha_base`. Each pass through the rough coat turns a ray by about
+/// `(eta - 1)` times its facet's tilt. The two passes widen the lobe with the variance
+/// `2 (eta - 1)^2 alpha_coat^2`: `alpha^2 = (eta alpha_base)^2 + 2 (eta - 1)^2 alpha_coat^2`,
+/// as a roughness (`sqrt(alpha)`), at most 1. Only the map's direction and blur take it;
+/// the base's albedos stay at its own roughness, so the white furnace is untouched.
+pub(crate) fn clearcoat_base_roughness(roughness_base: f64, roughness_coat: f64, eta: f64) -> f64 {
+    let alpha_base = super::alpha_from_roughness(roughness_base);
+    let alpha_coat = super::alpha_from_roughness(roughness_coat);
+    let alpha2 = (eta * alpha_base).powi(2) + 2.0 * ((eta - 1.0) * alpha_coat).powi(2);
+    alpha2.sqrt().sqrt().min(1.0)
+}
+
 /// The nodes of a ball's escape curve: the physical model's `X` at `sqrt(mu) = k / 3`,
 /// [`clearcoat_escape`] scaled so that a Lambertian lobe gives the model's own
 /// `1 - F_in` (the paths' single scattering loses what the coat's term gives back), in
@@ -218,6 +234,29 @@ fn refracted(dir: glam::DVec3, m: glam::DVec3, eta: f64) -> Option<glam::DVec3> 
 mod tests {
     use super::*;
     use crate::brdf::{alpha_from_roughness, fresnel_dielectric};
+
+    #[test]
+    fn base_roughness_widens_as_the_coat_refracts() {
+        // A coat of index 1 bends nothing: the base keeps its roughness.
+        for r in [0.1, 0.4, 0.8] {
+            let same = clearcoat_base_roughness(r, 0.7, 1.0);
+            assert!((same - r).abs() < 1e-12, "index 1, roughness {r}: {same}");
+        }
+        // A smooth coat widens the base's alpha by eta.
+        let smooth = clearcoat_base_roughness(0.4, 0.0, 1.5);
+        let alpha = alpha_from_roughness(0.4) * 1.5;
+        assert!(
+            (smooth - alpha.sqrt()).abs() < 1e-3,
+            "smooth coat: {smooth}"
+        );
+        // A rougher coat widens it further; never past 1.
+        let rough = clearcoat_base_roughness(0.4, 0.7, 1.5);
+        assert!(
+            rough > smooth + 0.01,
+            "rough coat: {rough} against {smooth}"
+        );
+        assert_eq!(clearcoat_base_roughness(1.0, 1.0, 2.0), 1.0);
+    }
 
     #[test]
     fn escape_meets_its_limits() {

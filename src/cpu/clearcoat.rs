@@ -99,6 +99,12 @@ impl ClearcoatPoint {
         }
     }
 
+    /// The roughness at which the base reads the map's prefiltered layers under the coat
+    /// (`Ball.clearcoat_base_roughness`).
+    pub(crate) fn base_roughness(&self) -> f64 {
+        self.c.base_roughness
+    }
+
     /// `clearcoat_albedo`: the physical coat's `E_c(mu)`.
     fn albedo(&self, e: &TableSet, mu: f64) -> f64 {
         let l = if self.ms > 0.0 {

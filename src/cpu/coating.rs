@@ -207,7 +207,10 @@ pub(super) fn shade_coating(
     let mut lo = scene.environment * (point.e_spec_o * through.0 + point.base_o * through.1);
     // The lobe mode: the map's part is the whole model's (`shade::shade_environment_mis`).
     if let (Some(map), None) = (forms.map, forms.lobe) {
-        lo += shade_coating_map(scene, (b, &point), (n, v), map, through);
+        let map_roughness = forms
+            .coat
+            .map_or(b.shading_roughness(), |c| c.base_roughness());
+        lo += shade_coating_map(scene, (b, &point), (n, v), (map, map_roughness), through);
     }
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
@@ -231,7 +234,7 @@ fn shade_coating_map(
     scene: &Scene,
     (b, p): (&Ball, &CoatingPoint),
     (n, v): (DVec3, DVec3),
-    map: &CpuEnvironment,
+    (map, map_roughness): (&CpuEnvironment, f64),
     (through_lobe, through_base): (DVec3, DVec3),
 ) -> DVec3 {
     let Some(environment) = &scene.environment_map else {
@@ -242,11 +245,11 @@ fn shade_coating_map(
     let n_map = environment.to_map(n);
     let irradiance = intensity * map.prefiltered.irradiance(n_map);
     let r = 2.0 * n.dot(v) * n - v;
-    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let dominant = crate::environment::prefilter::specular_direction(n, r, map_roughness);
     let radiance = intensity
         * map
             .prefiltered
-            .specular(environment.to_map(dominant), roughness);
+            .specular(environment.to_map(dominant), map_roughness);
     let single = radiance * p.e_f_o;
     let mut lobe = single;
     if p.ms > 0.0 {

@@ -170,6 +170,8 @@ pub(crate) struct PointTerms {
     pub fms_ems: DVec3,
     /// `f_add` of the preset per channel.
     pub f_add: DVec3,
+    /// The roughness the map's prefiltered layers are read at.
+    pub map_roughness: f64,
 }
 
 /// The metal's part of [`shade_point`] without the map's (`shade_metal` of
@@ -266,6 +268,7 @@ pub(super) fn shade_with_terms(
         fss_ess,
         fms_ems,
         f_add,
+        map_roughness: forms.coat.map_or(roughness, |c| c.base_roughness()),
     };
     (lo, terms, lights)
 }
@@ -303,11 +306,11 @@ pub(crate) fn shade_environment_map(
     });
     let r = 2.0 * n_spec.dot(v) * n_spec - v;
     let n_map = environment.to_map(n);
-    let dominant = crate::environment::prefilter::specular_direction(n, r, roughness);
+    let dominant = crate::environment::prefilter::specular_direction(n, r, terms.map_roughness);
     let prefiltered = intensity
         * ibl
             .prefiltered
-            .specular(environment.to_map(dominant), roughness);
+            .specular(environment.to_map(dominant), terms.map_roughness);
     let irradiance = intensity * ibl.prefiltered.irradiance(n_map);
     let single = prefiltered * fss_ess;
     let mut lo = single;

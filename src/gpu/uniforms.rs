@@ -114,8 +114,10 @@ super::ball::gpu_ball! {
         /// Linear radiance the surface emits ([`crate::scene::Material::emission`]; 0:
         /// none), added where a ray first meets the ball.
         emission: [f32; 3],
-        /// Padding: the ball fills whole 16-byte rows (the size WGSL gives the struct).
-        emission_pad: f32,
+        /// The roughness at which the base reads the map's prefiltered layers under the
+        /// clear coat ([`ClearcoatConstants::base_roughness`]; 0 without a coat). It also
+        /// fills the emission's 16-byte row.
+        clearcoat_base_roughness: f32,
     }
 }
 
@@ -254,7 +256,7 @@ pub(crate) fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 ),
                 clearcoat_escape: clearcoat.map_or(0, |c| c.escape),
                 emission: v3(b.material.emission),
-                emission_pad: 0.0,
+                clearcoat_base_roughness: cc(|c| c.base_roughness),
             }
         })
         .collect()

@@ -41,6 +41,10 @@ pub(crate) struct ClearcoatConstants {
     /// The physical form's escape curve of the base's lobe, packed
     /// ([`clearcoat_escape_nodes`], [`clearcoat_escape_pack`]; 0 under the others).
     pub escape: u32,
+    /// The roughness at which the base reads the map's prefiltered layers under the coat
+    /// ([`crate::brdf::clearcoat_base_roughness`] under the physical form, the base's own
+    /// under the others).
+    pub base_roughness: f64,
     /// The form.
     pub form: CoatForm,
     /// The coat's Fresnel ([`CoatForm::fresnel`]).
@@ -77,6 +81,11 @@ impl ClearcoatConstants {
             1.0 - loss_avg,
             loss,
         );
+        let base_roughness = if physical {
+            crate::brdf::clearcoat_base_roughness(b.shading_roughness(), coat.roughness, coat.ior)
+        } else {
+            b.shading_roughness()
+        };
         let (base_avg, escape) = if physical {
             let alphas = (
                 alpha_from_roughness(b.shading_roughness()),
@@ -102,6 +111,7 @@ impl ClearcoatConstants {
             e_avg: c.e_spec_avg,
             base_avg,
             escape,
+            base_roughness,
             form,
             fresnel: form.fresnel(scene.preset.dielectric_fresnel()),
         })
@@ -198,6 +208,7 @@ impl Clearcoat {
                 f_add: f32_of(c.f_add),
                 ms_norm: f32_of(c.ms_norm),
                 e_avg: f32_of(c.e_avg),
+                base_roughness: f32_of(c.base_roughness),
                 base_avg: c.base_avg.as_vec3().as_dvec3(),
                 ..c
             },

@@ -374,6 +374,53 @@ fn goal_chart() -> Scene {
     scene
 }
 
+/// The truth's mean and standard error of each ball's mean over `pixels`. Where
+/// `SHADEBALLS_COAT_TRUTH` names a file, they are read from it when it exists (written by an
+/// earlier run at the same settings) and written to it otherwise: a model's figures can then
+/// be measured again without walking the truth again.
+fn truth_means(
+    scene: &Scene,
+    e: &crate::lut::TableSet,
+    (w, h): (u32, u32),
+    settings: crate::cpu::TruthSettings,
+    pixels: &[Vec<usize>],
+) -> (Vec<DVec3>, Vec<DVec3>) {
+    let cache = std::env::var_os("SHADEBALLS_COAT_TRUTH").map(std::path::PathBuf::from);
+    let key = format!("{w}x{h} spp {} seed {}", settings.spp, settings.seed);
+    if let Some(text) = cache.as_ref().and_then(|p| std::fs::read_to_string(p).ok()) {
+        let mut lines = text.lines();
+        if lines.next() == Some(key.as_str()) {
+            let values: Vec<f64> = lines.filter_map(|l| l.parse().ok()).collect();
+            let at = |k: usize| DVec3::new(values[k], values[k + 1], values[k + 2]);
+            let n = pixels.len();
+            if values.len() == 6 * n {
+                return (
+                    (0..n).map(|k| at(3 * k)).collect(),
+                    (0..n).map(|k| at(3 * (n + k))).collect(),
+                );
+            }
+        }
+    }
+    let prepared = crate::prepared::Prepared::new(scene, e);
+    let truth = crate::cpu::render_truth(scene, &prepared, w, h, settings, |_| true).unwrap();
+    let means = ball_means(&truth.image.mean, pixels);
+    let errors: Vec<DVec3> = pixels
+        .iter()
+        .map(|px| {
+            let var: DVec3 = px.iter().map(|&p| truth.image.std_error[p].powf(2.0)).sum();
+            var.powf(0.5) / px.len().max(1) as f64
+        })
+        .collect();
+    if let Some(path) = cache {
+        let mut text = key + "\n";
+        for v in means.iter().chain(&errors) {
+            text += &format!("{:e}\n{:e}\n{:e}\n", v.x, v.y, v.z);
+        }
+        std::fs::write(path, text).unwrap();
+    }
+    (means, errors)
+}
+
 /// Every coat form against the truth (the CPU walk through the coat over the ball's own
 /// walk), ball by ball over the inner pixels of [`goal_chart`]: `--nocapture` prints each
 /// ball's signed error (the channels' mean) and the worst beyond three of the truth's
@@ -397,19 +444,10 @@ fn clearcoat_forms_against_the_truth() {
         seed: 36,
         ..Default::default()
     };
-    let prepared = crate::prepared::Prepared::new(&scene, &e);
-    let truth = crate::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
     let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
         .map(|k| interior(&scene, k, w, h))
         .collect();
-    let t_means = ball_means(&truth.image.mean, &pixels);
-    let t_err: Vec<DVec3> = pixels
-        .iter()
-        .map(|px| {
-            let var: DVec3 = px.iter().map(|&p| truth.image.std_error[p].powf(2.0)).sum();
-            var.powf(0.5) / px.len().max(1) as f64
-        })
-        .collect();
+    let (t_means, t_err) = truth_means(&scene, &e, (w, h), settings, &pixels);
     let mut worst_physical = 0.0f64;
     let mut errors: Vec<Vec<f64>> = Vec::new();
     for form in CoatForm::ALL {
