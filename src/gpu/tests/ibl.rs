@@ -1110,7 +1110,8 @@ fn the_split_sum_under_a_sun_has_no_blotches() {
 /// sun (where the sun outshines the sky), against the same prefilter converged (16384
 /// samples, no bright texels taken out): RMS of the luminance error over the mean reference
 /// luminance. With the bright texels summed directly ([`Bright`]) each layer is closer to
-/// the converged one than sampled as before. Measured, layer 1: 7.2 % against 9.9 %; the
+/// the converged one than sampled as before. Measured, layer 2: 0.48 % against 5.9 %;
+/// layer 1: 7.2 % against 9.9 %; the
 /// rest of the 7.2 % is not noise but the bright texels' excess weighted at their centres
 /// (1.4-degree texels under a lobe about 2 degrees wide), a smooth difference.
 #[test]
