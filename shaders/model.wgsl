@@ -5,12 +5,12 @@
 
 #define_import_path shadeballs::model
 #import shadeballs::constants::{PI, DIV_EPSILON}
-#import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms}
+#import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, f_micro_aniso, ball_tangent_frame}
 #import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{split_sum_bias, split_sum_scale}
 #import shadeballs::sampling::vndf_density
-#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, by_term, by_term_f32}
+#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
 #import shadeballs::bindings::{e_table, lut_params, env_split_sum}
 
@@ -39,6 +39,11 @@ struct ShadingPoint {
     // PART_WHOLE or PART_MULTIPLE: what model_brdf returns (the Monte Carlo's McParams.part;
     // the lobe's estimator takes the whole).
     part: u32,
+    // An anisotropic metal lobe's (alpha_t, alpha_b), (0, 0) for an isotropic one, and its
+    // tangent frame (src/cpu/model.rs ShadingPoint::anisotropy; ball_tangent_frame's
+    // columns t, b, n); roughness is then its isotropic equivalent.
+    alphas: vec2<f32>,
+    tangent_frame: mat3x3<f32>,
 }
 
 fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
@@ -51,6 +56,10 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     p.ms = b.ms;
     p.part = PART_WHOLE;
     p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
+    if HAS_ANISOTROPY == 1u && b.anisotropy_alpha_t > b.anisotropy_alpha_b {
+        p.alphas = vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+        p.tangent_frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+    }
     let e_o = 1.0 - p.loss_o;
     p.fss_ess = f_avg_schlick(p.f0) * e_o;
     if IBL != 0u {
@@ -89,7 +98,7 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     let metallic = b.metallic;
     var f = vec3<f32>(0.0);
     if metallic > 0.0 {
-        f = metallic * metal_brdf(b, p, mu_i, h, loss_i);
+        f = metallic * metal_brdf(b, p, l, mu_i, h, loss_i);
     }
     if metallic < 1.0 {
         f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i);
@@ -97,9 +106,17 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     return f;
 }
 
-// The metal's part of model_brdf: f_micro with Schlick F per channel and the ball's term.
-fn metal_brdf(b: Ball, p: ShadingPoint, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
-    let spec = f_micro(f_schlick(p.f0, dot(p.v, h)), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
+// The metal's part of model_brdf: f_micro with Schlick F per channel (f_micro_aniso in the
+// tangent frame for an anisotropic lobe) and the ball's term.
+fn metal_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+    let fresnel = f_schlick(p.f0, dot(p.v, h));
+    var spec: vec3<f32>;
+    if HAS_ANISOTROPY == 1u && p.alphas.x > p.alphas.y {
+        let to_local = transpose(p.tangent_frame);
+        spec = f_micro_aniso(fresnel, to_local * p.v, to_local * l, to_local * h, p.alphas.x, p.alphas.y, GEOMETRY);
+    } else {
+        spec = f_micro(fresnel, p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
+    }
     var multiple = vec3<f32>(0.0);
     if p.ms > 0.0 {
         multiple = by_term(

@@ -1,8 +1,8 @@
 // walk.wgsl: the truth on the GPU. Balls with model = "truth" are path traced with the
 // random walk on their microsurface (Heitz, Hanika, d'Eon and Dachsbacher 2016,
 // "Multiple-Scattering Microfacet BSDFs with the Smith Model"), the f32 mirror of
-// src/walk (microsurface.rs, mod.rs trace, coating.rs), one estimate per pixel and frame,
-// summed in an Rgba32Float accumulation target (src/gpu/truth.rs;
+// src/walk (microsurface.rs, mod.rs trace, coating.rs, clearcoat.rs), one estimate per
+// pixel and frame, summed in an Rgba32Float accumulation target (src/gpu/truth.rs;
 // docs/design/gpu-truth.md). Imports screen.wgsl for the rays, the quads and the output.
 //
 // A pixel's estimate mixes a ball's metal and dielectric parts by metallic, as
@@ -16,6 +16,9 @@
 // The dielectric: one walk through the rough coating over its Lambertian base
 // (coating_walk, every order), next-event estimates at the interface before the first
 // arrival at the base, the base's gathering after, its exit times the arriving radiance.
+// An anisotropic ball's metal walks the stretched surface in the ball's tangent frame
+// (HAS_ANISOTROPY); a clear-coated ball is walked whole under its coat, its exit times
+// the arriving radiance (clearcoat_walk, src/walk/clearcoat.rs; HAS_CLEARCOAT).
 // Differences from the CPU walk: f32; a metal path ends after WALK_MAX_EVENTS events (the
 // CPU's guard is 10 000; a coating path's guard is the CPU's); the generator is a PCG
 // hash, not SplitMix64.
@@ -23,9 +26,9 @@
 #define_import_path shadeballs::walk
 #import shadeballs::constants::{PI, DIV_EPSILON, GEOMETRY_SMITH_CORRELATED}
 #import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, fresnel_dielectric}
-#import shadeballs::brdf::f_micro
+#import shadeballs::brdf::{f_micro, f_micro_aniso, d_ggx_aniso, lambda_smith_aniso, ball_tangent_frame}
 #import shadeballs::sampling::{duff_frame, arriving}
-#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
 #import shadeballs::screen::{VsOut, primary_ray, intersect_sphere}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
@@ -68,31 +71,43 @@ fn walk_pow(x: f32, y: f32) -> f32 {
     return exp2(y * log2(max(x, WALK_TINY)));
 }
 
-// The microsurface (Heitz et al. 2016; src/walk/microsurface.rs, name for name).
-// Smith's Lambda of a direction of cosine z, signed below the horizon:
-// Lambda(-w) = -1 - Lambda(w).
-fn walk_lambda(z: f32, alpha: f32) -> f32 {
-    if z > 0.0 {
-        return lambda_smith(z, alpha);
-    }
-    return -1.0 - lambda_smith(-z, alpha);
+// The microsurface (Heitz et al. 2016; src/walk/microsurface.rs, name for name), of GGX
+// alphas s = (alpha_t, alpha_b): along the local x (the tangent) and y. An isotropic
+// surface has equal alphas and takes the isotropic formulas; the anisotropic ones (the
+// stretch of Heitz et al. 2016, section 4) are compiled in only with HAS_ANISOTROPY.
+fn walk_anisotropic(s: vec2<f32>) -> bool {
+    return HAS_ANISOTROPY == 1u && s.x != s.y;
 }
 
-// Probability that a ray leaving height c = C1(h) along an upward direction of cosine
-// dir_z escapes: c^Lambda (0 at or below the horizon).
-fn walk_g1(dir_z: f32, c: f32, alpha: f32) -> f32 {
-    if dir_z <= 0.0 {
+// Smith's Lambda of a direction w, signed below the horizon: Lambda(-w) = -1 - Lambda(w).
+fn walk_lambda(w: vec3<f32>, s: vec2<f32>) -> f32 {
+    if walk_anisotropic(s) {
+        if w.z > 0.0 {
+            return lambda_smith_aniso(w, s.x, s.y);
+        }
+        return -1.0 - lambda_smith_aniso(-w, s.x, s.y);
+    }
+    if w.z > 0.0 {
+        return lambda_smith(w.z, s.x);
+    }
+    return -1.0 - lambda_smith(-w.z, s.x);
+}
+
+// Probability that a ray leaving height c = C1(h) along an upward direction dir escapes:
+// c^Lambda (0 at or below the horizon).
+fn walk_g1(dir: vec3<f32>, c: f32, s: vec2<f32>) -> f32 {
+    if dir.z <= 0.0 {
         return 0.0;
     }
-    return walk_pow(c, walk_lambda(dir_z, alpha));
+    return walk_pow(c, walk_lambda(dir, s));
 }
 
-// C1 of the next intersection of a ray from c along a direction of cosine dir_z, given
-// that it hits, from u uniform in [0, 1): upward, u scaled into [0, 1 - G1) and
-// (c / c')^Lambda inverted; downward (Lambda <= -1) always a hit.
-fn walk_next_height(dir_z: f32, c: f32, u: f32, alpha: f32) -> f32 {
-    let lambda = walk_lambda(dir_z, alpha);
-    if dir_z > 0.0 {
+// C1 of the next intersection of a ray from c along dir, given that it hits, from u
+// uniform in [0, 1): upward, u scaled into [0, 1 - G1) and (c / c')^Lambda inverted;
+// downward (Lambda <= -1) always a hit.
+fn walk_next_height(dir: vec3<f32>, c: f32, u: f32, s: vec2<f32>) -> f32 {
+    let lambda = walk_lambda(dir, s);
+    if dir.z > 0.0 {
         let escape = walk_pow(c, lambda);
         let v = u * (1.0 - escape);
         let inv = 1.0 / max(lambda, DIV_EPSILON);
@@ -101,16 +116,30 @@ fn walk_next_height(dir_z: f32, c: f32, u: f32, alpha: f32) -> f32 {
     return c * walk_pow(1.0 - u, -1.0 / min(lambda, -1.0));
 }
 
-// Projected area of the microsurface along a direction of cosine z (Heitz 2014).
-fn walk_projected_area(z_in: f32, alpha: f32) -> f32 {
-    let z = clamp(z_in, -1.0, 1.0);
-    return 0.5 * (z + sqrt(z * z + alpha * alpha * (1.0 - z * z)));
+// Projected area of the microsurface along w (Heitz 2014): (w.z + sqrt(w.z^2 + alpha^2
+// (1 - w.z^2))) / 2, the anisotropic alpha^2 (1 - z^2) being alpha_t^2 w_x^2 + alpha_b^2 w_y^2.
+fn walk_projected_area(w: vec3<f32>, s: vec2<f32>) -> f32 {
+    let z = clamp(w.z, -1.0, 1.0);
+    if walk_anisotropic(s) {
+        let x = s.x * w.x;
+        let y = s.y * w.y;
+        return 0.5 * (z + sqrt(z * z + x * x + y * y));
+    }
+    return 0.5 * (z + sqrt(z * z + s.x * s.x * (1.0 - z * z)));
+}
+
+// GGX's D(h) of the surface at unit local h.
+fn walk_d(h: vec3<f32>, s: vec2<f32>) -> f32 {
+    if walk_anisotropic(s) {
+        return d_ggx_aniso(h, s.x, s.y);
+    }
+    return d_ggx(h.z, s.x);
 }
 
 // The conductor's phase function without Fresnel, D(h) / (4 A(wi)), h = normalize(wi +
 // wo), wi pointing back along the arriving ray; returns (p, wi.h), p = 0 where h faces
 // down or away from wi.
-fn walk_phase(wi: vec3<f32>, wo: vec3<f32>, alpha: f32) -> vec2<f32> {
+fn walk_phase(wi: vec3<f32>, wo: vec3<f32>, s: vec2<f32>) -> vec2<f32> {
     let sum = wi + wo;
     let len = length(sum);
     if len <= DIV_EPSILON {
@@ -121,15 +150,15 @@ fn walk_phase(wi: vec3<f32>, wo: vec3<f32>, alpha: f32) -> vec2<f32> {
     if h.z <= 0.0 || cos <= 0.0 {
         return vec2<f32>(0.0);
     }
-    let area = max(walk_projected_area(wi.z, alpha), DIV_EPSILON);
-    return vec2<f32>(d_ggx(h.z, alpha) / (4.0 * area), cos);
+    let area = max(walk_projected_area(wi, s), DIV_EPSILON);
+    return vec2<f32>(walk_d(h, s) / (4.0 * area), cos);
 }
 
 // A microfacet normal from the distribution of normals visible from wi (Heitz 2018,
 // "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)), wi on either side of
-// the horizon.
-fn walk_sample_visible_normal(wi: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let vh = normalize(vec3<f32>(alpha * wi.x, alpha * wi.y, wi.z));
+// the horizon: stretch by (alpha_t, alpha_b), sample, unstretch.
+fn walk_sample_visible_normal(wi: vec3<f32>, s: vec2<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let vh = normalize(vec3<f32>(s.x * wi.x, s.y * wi.y, wi.z));
     let lensq = vh.x * vh.x + vh.y * vh.y;
     var t1 = vec3<f32>(1.0, 0.0, 0.0);
     if lensq > 0.0 {
@@ -139,11 +168,11 @@ fn walk_sample_visible_normal(wi: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> ve
     let r = sqrt(u1);
     let phi = 2.0 * PI * u2;
     let p1 = r * cos(phi);
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let sh = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - sh) * sqrt(max(1.0 - p1 * p1, 0.0)) + sh * r * sin(phi);
     let lift = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
     let nh = p1 * t1 + p2 * t2 + lift * vh;
-    let m = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
+    let m = vec3<f32>(s.x * nh.x, s.y * nh.y, max(nh.z, 0.0));
     return m / max(length(m), DIV_EPSILON);
 }
 
@@ -157,7 +186,7 @@ fn walk_arriving(d: vec3<f32>) -> vec3<f32> {
 // to the first `n_lights` lights from the second event on (src/walk trace with the
 // callbacks of src/cpu/truth.rs estimate). An upward ray deposits its escape mass and
 // continues with the rest, down to a Russian roulette (src/walk/mod.rs).
-fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, s: vec2<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let to_local = transpose(frame);
     var x = vec3<f32>(0.0);
     var w = vec3<f32>(1.0);
@@ -167,7 +196,7 @@ fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n
     var order = 0u;
     loop {
         if dir.z > 0.0 {
-            let escape = walk_g1(dir.z, c, alpha);
+            let escape = walk_g1(dir, c, s);
             if HAS_ENVIRONMENT == 1u || IBL != 0u {
                 x += (carry * escape) * w * walk_arriving(frame * dir);
             }
@@ -179,7 +208,7 @@ fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n
         if order >= WALK_MAX_EVENTS {
             break;
         }
-        c = walk_next_height(dir.z, c, rng_uniform(rng), alpha);
+        c = walk_next_height(dir, c, rng_uniform(rng), s);
         order += 1u;
         let wi_k = -dir;
         if HAS_LIGHTS == 1u && order >= 2u {
@@ -188,17 +217,17 @@ fn walk_estimate(frame: mat3x3<f32>, wi: vec3<f32>, f0: vec3<f32>, alpha: f32, n
                 if l.z <= 0.0 {
                     continue;
                 }
-                let p = walk_phase(wi_k, l, alpha);
+                let p = walk_phase(wi_k, l, s);
                 if p.x <= 0.0 {
                     continue;
                 }
-                let base = carry * p.x * walk_pow(c, walk_lambda(l.z, alpha));
+                let base = carry * p.x * walk_pow(c, walk_lambda(l, s));
                 x += base * w * f_schlick(f0, p.y) * lights[k].radiance.xyz;
             }
         }
         let u1 = rng_uniform(rng);
         let u2 = rng_uniform(rng);
-        let m = walk_sample_visible_normal(wi_k, alpha, u1, u2);
+        let m = walk_sample_visible_normal(wi_k, s, u1, u2);
         w *= f_schlick(f0, max(dot(wi_k, m), 0.0));
         dir = dir - 2.0 * dot(dir, m) * m;
         if carry < WALK_RR_BELOW {
@@ -246,12 +275,12 @@ fn coating_escapes(path: ptr<function, CoatingPath>, alpha: f32, rng: ptr<functi
     if (*path).dir.z <= 0.0 {
         return false;
     }
-    return rng_uniform(rng) < walk_g1((*path).dir.z, (*path).c, alpha);
+    return rng_uniform(rng) < walk_g1((*path).dir, (*path).c, vec2<f32>(alpha));
 }
 
 // The next event's height, given that the ray hits (src/walk/coating.rs Coating::walk).
 fn coating_hit(path: ptr<function, CoatingPath>, alpha: f32, rng: ptr<function, u32>) {
-    (*path).c = walk_next_height((*path).dir.z, (*path).c, rng_uniform(rng), alpha);
+    (*path).c = walk_next_height((*path).dir, (*path).c, rng_uniform(rng), vec2<f32>(alpha));
     (*path).order += 1u;
 }
 
@@ -282,7 +311,7 @@ fn coating_scatter(path: ptr<function, CoatingPath>, alpha: f32, eta: f32, rng: 
     let wi_k = -dir;
     let u1 = rng_uniform(rng);
     let u2 = rng_uniform(rng);
-    let m = walk_sample_visible_normal(wi_k, alpha, u1, u2);
+    let m = walk_sample_visible_normal(wi_k, vec2<f32>(alpha), u1, u2);
     let eta_side = event_eta((*path).inside, eta);
     if rng_uniform(rng) >= fresnel_dielectric(dot(wi_k, m), eta_side) {
         let t = coating_refract(dir, m, eta_side);
@@ -315,7 +344,7 @@ fn transmission_phase(wi: vec3<f32>, wo: vec3<f32>, eta: f32, alpha: f32) -> f32
     if cos_i <= 0.0 || cos_o >= 0.0 {
         return 0.0;
     }
-    let visible = cos_i * d_ggx(h.z, alpha) / max(walk_projected_area(wi.z, alpha), DIV_EPSILON);
+    let visible = cos_i * d_ggx(h.z, alpha) / max(walk_projected_area(wi, vec2<f32>(alpha)), DIV_EPSILON);
     let d = cos_i + eta * cos_o;
     let denominator = max(d * d, DIV_EPSILON);
     return (1.0 - fresnel_dielectric(cos_i, eta)) * visible * eta * eta * (-cos_o) / denominator;
@@ -328,10 +357,10 @@ fn transmission_phase(wi: vec3<f32>, wo: vec3<f32>, eta: f32, alpha: f32) -> f32
 fn event_towards(wi_k: vec3<f32>, c: f32, inside: bool, l: vec3<f32>, alpha: f32, eta: f32) -> f32 {
     if inside {
         let p = transmission_phase(wi_k, -l, event_eta(true, eta), alpha);
-        return p * walk_g1(l.z, max(1.0 - c, WALK_TINY), alpha);
+        return p * walk_g1(l, max(1.0 - c, WALK_TINY), vec2<f32>(alpha));
     }
-    let p = walk_phase(wi_k, l, alpha);
-    return p.x * fresnel_dielectric(p.y, eta) * walk_g1(l.z, c, alpha);
+    let p = walk_phase(wi_k, l, vec2<f32>(alpha));
+    return p.x * fresnel_dielectric(p.y, eta) * walk_g1(l, c, vec2<f32>(alpha));
 }
 
 // Next-event estimation at the path's latest event towards the first n_lights lights
@@ -480,12 +509,26 @@ fn coating_walk(frame: mat3x3<f32>, wi: vec3<f32>, rho: vec3<f32>, alpha: f32, e
     return x;
 }
 
+// Whether truth ball b walks its anisotropic (stretched) microsurface (lighting.wgsl
+// has_anisotropy; src/cpu/model.rs anisotropic_frame): compiled out with HAS_ANISOTROPY = 0.
+fn walk_has_anisotropy(b: Ball) -> bool {
+    return HAS_ANISOTROPY == 1u && b.anisotropy_alpha_t > b.anisotropy_alpha_b;
+}
+
+// Whether truth ball b has a clear coat (coating.wgsl has_clearcoat): compiled out with
+// HAS_CLEARCOAT = 0.
+fn walk_has_clearcoat(b: Ball) -> bool {
+    return HAS_CLEARCOAT == 1u && b.clearcoat > 0.0;
+}
+
 // One estimate of the radiance leaving truth ball b at unit normal n towards v, lit by
 // the first `n_lights` lights (what src/cpu/truth.rs single_fixed + estimate give, with
 // the metal's environment single scattering drawn instead of tabulated): the metal's part
 // (the lights' single scattering exactly, then walk_estimate) and the dielectric's
 // (coating_walk, every order) mixed by metallic (Ball.metallic). A pure metal draws no
-// coating walk and shades as before it had one.
+// coating walk and shades as before it had one. An anisotropic ball walks its metal on
+// the stretched surface in the ball's tangent frame (its coating stays isotropic); a
+// clear-coated ball is walked whole under its coat (clearcoat_walk).
 fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let mu_o = dot(n, v);
     if mu_o <= 0.0 {
@@ -493,17 +536,25 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
     }
     let roughness = b.roughness;
     let alpha = alpha_from_roughness(roughness);
+    var frame = duff_frame(n);
+    var s = vec2<f32>(alpha);
+    if walk_has_anisotropy(b) {
+        frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+        s = vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+    }
+    let wi = transpose(frame) * v;
+    if walk_has_clearcoat(b) {
+        return clearcoat_walk(b, frame, wi, s, rng);
+    }
     let metallic = b.metallic;
     var coated = vec3<f32>(0.0);
     if metallic < 1.0 {
-        let frame = duff_frame(n);
-        let wi = transpose(frame) * v;
         coated = coating_walk(frame, wi, b.diffuse, alpha, b.eta, n_lights, rng);
         if metallic <= 0.0 {
             return coated;
         }
     }
-    let metal = shade_truth_metal(b, n, v, mu_o, alpha, n_lights, rng);
+    let metal = shade_truth_metal(b, n, v, frame, s, n_lights, rng);
     if metallic >= 1.0 {
         return metal;
     }
@@ -512,10 +563,13 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
 
 // The metal's part of shade_truth (src/cpu/truth.rs single_fixed and estimate_metal): the
 // lights' single scattering exactly (f_micro with Schlick F, GGX D, height-correlated
-// Smith G) and one walk_estimate.
-fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, mu_o: f32, alpha: f32, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
+// Smith G; f_micro_aniso on an anisotropic surface) and one walk_estimate in `frame`.
+fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, frame: mat3x3<f32>, s: vec2<f32>, n_lights: u32, rng: ptr<function, u32>) -> vec3<f32> {
     let roughness = b.roughness;
     let f0 = b.f0;
+    let to_local = transpose(frame);
+    let wi = to_local * v;
+    let mu_o = dot(n, v);
     var lo = vec3<f32>(0.0);
     if HAS_LIGHTS == 1u {
         for (var k = 0u; k < n_lights; k++) {
@@ -525,13 +579,141 @@ fn shade_truth_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, mu_o: f32, alpha: f32,
                 continue;
             }
             let h = normalize(v + l);
-            let spec = f_micro(f_schlick(f0, dot(v, h)), mu_o, mu_i, dot(n, h), roughness, GEOMETRY_SMITH_CORRELATED);
+            let fresnel = f_schlick(f0, dot(v, h));
+            var spec: vec3<f32>;
+            if walk_anisotropic(s) {
+                let i = to_local * l;
+                spec = f_micro_aniso(fresnel, wi, i, to_local * h, s.x, s.y, GEOMETRY_SMITH_CORRELATED);
+            } else {
+                spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY_SMITH_CORRELATED);
+            }
             lo += spec * lights[k].radiance.xyz * mu_i;
         }
     }
-    let frame = duff_frame(n);
-    let wi = transpose(frame) * v;
-    return lo + walk_estimate(frame, wi, f0, alpha, n_lights, rng);
+    return lo + walk_estimate(frame, wi, f0, s, n_lights, rng);
+}
+
+// The clear coat's walk (src/walk/clearcoat.rs, name for name): a rough dielectric coat
+// over the ball's whole material, walked as the coating is (Heitz et al. 2016, section 5),
+// the ball's own walk at the bottom of the coat's medium: the conductor's (Schlick's F per
+// event) or the plastic's (coating_exit), chosen per arrival with probability metallic.
+// Every choice is drawn, so a lossless path weighs 1; only Russian roulette (or the
+// COATING_MAX_ORDER guard) ends a path early. Frames as in the coating walk; a ray leaving
+// the coat's interface downward along dir arrives at the base from (-dir.x, -dir.y,
+// dir.z) in the base's own frame, and the base's exit o goes back up as (o.x, o.y, -o.z).
+// The walk's exits: xyz the direction, w 1 where the path left and 0 where it ended inside.
+
+// The conductor's walk with its exit drawn (conductor_exit): from wi on the surface of
+// alphas s, Schlick's F of f0 at each event multiplied into w.
+fn conductor_exit(wi: vec3<f32>, s: vec2<f32>, f0: vec3<f32>, w: ptr<function, vec3<f32>>, rng: ptr<function, u32>) -> vec4<f32> {
+    var dir = -wi;
+    var c = 1.0;
+    var order = 0u;
+    loop {
+        if dir.z > 0.0 && rng_uniform(rng) < walk_g1(dir, c, s) {
+            return vec4<f32>(dir, 1.0);
+        }
+        if order >= COATING_MAX_ORDER {
+            return vec4<f32>(0.0);
+        }
+        c = walk_next_height(dir, c, rng_uniform(rng), s);
+        order += 1u;
+        let wi_k = -dir;
+        let u1 = rng_uniform(rng);
+        let u2 = rng_uniform(rng);
+        let m = walk_sample_visible_normal(wi_k, s, u1, u2);
+        *w *= f_schlick(f0, max(dot(wi_k, m), 0.0));
+        dir = dir - 2.0 * dot(dir, m) * m;
+        if !russian_roulette(w, rng) {
+            return vec4<f32>(0.0);
+        }
+    }
+    return vec4<f32>(0.0);
+}
+
+// The plastic's walk with its exit drawn (Coating::trace): through its rough interface of
+// alpha and relative index eta over the Lambertian base of albedo rho, multiplied into w.
+fn coating_exit(wi: vec3<f32>, rho: vec3<f32>, alpha: f32, eta: f32, w: ptr<function, vec3<f32>>, rng: ptr<function, u32>) -> vec4<f32> {
+    var path = coating_path(wi);
+    loop {
+        if coating_escapes(&path, alpha, rng) {
+            if !path.inside {
+                return vec4<f32>(path.dir, 1.0);
+            }
+            *w *= rho;
+            if !russian_roulette(w, rng) {
+                return vec4<f32>(0.0);
+            }
+            let u1 = rng_uniform(rng);
+            let u2 = rng_uniform(rng);
+            path.dir = lambertian_towards_interface(u1, u2);
+            path.c = 1.0;
+            continue;
+        }
+        if path.order >= COATING_MAX_ORDER {
+            return vec4<f32>(0.0);
+        }
+        coating_hit(&path, alpha, rng);
+        coating_scatter(&path, alpha, eta, rng);
+    }
+    return vec4<f32>(0.0);
+}
+
+// The bare base's exit from wi (Layered::base): the conductor with probability metallic,
+// else the plastic.
+fn base_exit(b: Ball, wi: vec3<f32>, s: vec2<f32>, w: ptr<function, vec3<f32>>, rng: ptr<function, u32>) -> vec4<f32> {
+    if rng_uniform(rng) < b.metallic {
+        return conductor_exit(wi, s, b.f0, w, rng);
+    }
+    return coating_exit(wi, b.diffuse, alpha_from_roughness(b.roughness), b.eta, w, rng);
+}
+
+// The walk through the coat (Layered::through_coat): the coat's interface events, the base
+// at the bottom of its medium.
+fn through_coat(b: Ball, wi: vec3<f32>, s: vec2<f32>, w: ptr<function, vec3<f32>>, rng: ptr<function, u32>) -> vec4<f32> {
+    let alpha = alpha_from_roughness(b.clearcoat_roughness);
+    let eta = b.clearcoat_eta;
+    var path = coating_path(wi);
+    loop {
+        if coating_escapes(&path, alpha, rng) {
+            if !path.inside {
+                return vec4<f32>(path.dir, 1.0);
+            }
+            // Down to the base and back up to the interface.
+            let o = base_exit(b, vec3<f32>(-path.dir.x, -path.dir.y, path.dir.z), s, w, rng);
+            if o.w == 0.0 || !russian_roulette(w, rng) {
+                return vec4<f32>(0.0);
+            }
+            path.dir = vec3<f32>(o.x, o.y, -o.z);
+            path.c = 1.0;
+            continue;
+        }
+        if path.order >= COATING_MAX_ORDER {
+            return vec4<f32>(0.0);
+        }
+        coating_hit(&path, alpha, rng);
+        coating_scatter(&path, alpha, eta, rng);
+    }
+    return vec4<f32>(0.0);
+}
+
+// One path through a clear coat's ball from the view (Layered::sample, with the exit of
+// src/cpu/truth.rs estimate_clearcoat): the coat with probability its weight, the bare
+// base otherwise; the exit's weight times the radiance arriving from its direction. The
+// lights are not walked (no next-event estimation through a coat: the renders refuse a
+// coated truth ball under lights, src/render.rs check_clearcoat).
+fn clearcoat_walk(b: Ball, frame: mat3x3<f32>, wi: vec3<f32>, s: vec2<f32>, rng: ptr<function, u32>) -> vec3<f32> {
+    var w = vec3<f32>(1.0);
+    var exit: vec4<f32>;
+    if rng_uniform(rng) < b.clearcoat {
+        exit = through_coat(b, wi, s, &w, rng);
+    } else {
+        exit = base_exit(b, wi, s, &w, rng);
+    }
+    if exit.w == 0.0 || !(HAS_ENVIRONMENT == 1u || IBL != 0u) {
+        return vec3<f32>(0.0);
+    }
+    return w * walk_arriving(frame * exit.xyz);
 }
 
 // The running sum of the truth pixels (Rgba32Float: rgb the sum of estimates, a their

@@ -161,9 +161,10 @@ pub fn render(
     }
 }
 
-/// What no backend but the model's renderers, the CPU Monte Carlo and the CPU truth
-/// shades yet: a clear coat under the GPU's Monte Carlo backend, and a clear-coated truth
-/// ball on the GPU (walk.wgsl).
+/// What no backend but the model's renderers, the CPU Monte Carlo and the truths shades
+/// yet: a clear coat under the GPU's Monte Carlo backend, and a clear-coated truth ball on
+/// the GPU (walk.wgsl) under directional lights (the coat's walk has no next-event
+/// estimation, as the CPU truth's: `cpu::truth` refuses it too).
 fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
     let coated = |b: &&crate::scene::Ball| b.material.clearcoat.is_on();
     let balls = &scene.balls[..scene.balls.len().min(crate::scene::MAX_BALLS)];
@@ -172,13 +173,14 @@ fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
          render with --backend auto, cpu, montecarlo-cpu or truth"
     } else if gpu
         && backend != Backend::Truth
+        && !scene.lights.is_empty()
         && balls
             .iter()
             .filter(coated)
             .any(|b| b.model == crate::scene::Model::Truth)
     {
-        "a clear-coated ball with model = \"truth\" is walked on the CPU only: render with \
-         --backend cpu or truth"
+        "the truth of a clear-coated ball is walked under the environment alone: remove the \
+         scene's lights (a coat's walk has no next-event estimation)"
     } else {
         return Ok(());
     };

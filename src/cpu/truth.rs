@@ -547,7 +547,7 @@ impl PixelWalk {
             point: (map && b.material.has_metal()).then(|| single_point(scene, b, p.n, p.v, e)),
             metallic: b.material.metallic,
             anisotropic: b.material.is_anisotropic(),
-            clearcoat: b.material.clearcoat.is_on().then(|| layered(b)),
+            clearcoat: b.material.clearcoat.is_on().then(|| layered(b, surface)),
             coating: b.material.has_dielectric().then(|| {
                 let coating = Coating::new(b.shading_roughness(), b.material.ior);
                 (coating, b.material.diffuse.to_array(), lights.map(|l| l.0))
@@ -674,16 +674,18 @@ impl PixelWalk {
     }
 }
 
-/// Ball `b`'s material under its clear coat, for the walk.
-fn layered(b: &Ball) -> Layered {
+/// Ball `b`'s material under its clear coat, for the walk: its metal on `metal` (the
+/// pixel's microsurface, stretched where the lobe is anisotropic, as the bare ball's), its
+/// plastic's coating at the shading roughness (isotropic, as the bare ball's).
+fn layered(b: &Ball, metal: Microsurface) -> Layered {
     let m = &b.material;
     Layered {
         coat: Coating::new(m.clearcoat.roughness, m.clearcoat.ior),
         weight: m.clearcoat.weight,
         metallic: m.metallic,
-        metal: Microsurface::new(b.roughness),
+        metal,
         f0: m.f0.to_array(),
-        plastic: Coating::new(b.roughness, m.ior),
+        plastic: Coating::new(b.shading_roughness(), m.ior),
         rho: m.diffuse.to_array(),
     }
 }

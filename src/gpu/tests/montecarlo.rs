@@ -810,3 +810,56 @@ fn gpu_montecarlo_timing() {
         );
     }
 }
+
+/// Anisotropic metals under the GPU's Monte Carlo (`model.wgsl`'s `metal_brdf` in the
+/// ball's tangent frame, sampled by the isotropic equivalent's visible normals, the
+/// cosine and the map: unbiased) equal the CPU's within 3 standard errors on every ball
+/// and channel: studio.toml's metals made anisotropic (0.4 to 1, rotations 0 to 2.5
+/// radians) under the studio with a light from the camera. The control: the same balls at
+/// their isotropic equivalents on the CPU are far outside the noise.
+#[test]
+fn gpu_montecarlo_of_anisotropic_balls_equals_the_cpu_within_noise() {
+    let mut renderer = crate::pixels::vulkan();
+    let (w, h, spp) = (128, 72, 64);
+    let light = "\n[[light]]\ndirection = [0, 0, 1]\nradiance = [1, 1, 1]\n";
+    let mut scene = scene_file("studio.toml", |t| format!("{t}{light}"));
+    scene.antialias = false;
+    let mut iso = scene.clone();
+    for (k, (b, i)) in scene.balls.iter_mut().zip(&mut iso.balls).enumerate() {
+        b.material = b
+            .material
+            .with_anisotropy(0.4 + 0.6 * (k % 4) as f64 / 3.0, 0.5 * (k % 6) as f64);
+        i.roughness = b.shading_roughness();
+    }
+    let mc = |scene: &Scene| {
+        let e = TableSet::from(tables_for(scene));
+        render_montecarlo(
+            scene,
+            &crate::prepared::Prepared::new(scene, &e),
+            w,
+            h,
+            spp,
+            5,
+        )
+        .unwrap()
+    };
+    let cpu = mc(&scene);
+    let gpu = renderer.render_montecarlo(&scene, (w, h), spp, 5).unwrap();
+    let worst_z = |a: &MonteCarloImage, b: &MonteCarloImage| {
+        let mut worst: f64 = 0.0;
+        for [g, c] in ball_channel_means(&scene, [a, b]) {
+            for ch in 0..3 {
+                let se = (g.1[ch].powi(2) + c.1[ch].powi(2)).sqrt();
+                worst = worst.max((g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON));
+            }
+        }
+        worst
+    };
+    let worst = worst_z(&gpu, &cpu);
+    println!("anisotropic metals: worst |gpu - cpu| / se over balls and channels {worst:.2}");
+    assert!(worst <= 3.0, "GPU against CPU: {worst:.2} standard errors");
+    let control = worst_z(&gpu, &mc(&iso));
+    println!("against the isotropic equivalents: {control:.2}");
+    // Twice the agreement's bound: the test resolves the anisotropy (measured 8.35).
+    assert!(control > 6.0, "the anisotropy does not show: {control:.2}");
+}

@@ -126,6 +126,30 @@ fn anisotropy_vulkan_matches_cpu() {
     assert!(d.max > 20, "the anisotropy does not show: {}", d.max);
 }
 
+/// The lobe mode (`ibl_method = "lobe"`: the map by the model's BRDF, three strategies)
+/// on the GPU and its CPU twin within the house's bound on the anisotropy chart under its
+/// studio: `model.wgsl`'s `metal_brdf` is anisotropic as `cpu::model::model_brdf` is. The
+/// control: the GPU's lobe mode of the anisotropic chart differs from the same balls made
+/// isotropic.
+#[test]
+fn anisotropy_lobe_mode_vulkan_matches_cpu() {
+    let (w, h) = (192, 108);
+    let mut r = vulkan();
+    let mut scene = chart_lit(true);
+    scene.ibl_method = crate::environment::IblMethod::Lobe;
+    let (gpu, cpu) = both(&mut r, &scene, w, h);
+    assert_close(&compare(&gpu, &cpu, w), "anisotropy.toml, lobe");
+    let mut iso = scene.clone();
+    for b in &mut iso.balls {
+        b.roughness = b.shading_roughness();
+        b.material.anisotropy = 0.0;
+    }
+    let (b, _) = both(&mut r, &iso, w, h);
+    let d = compare(&gpu, &b, w);
+    println!("{}", d.report("lobe mode, anisotropic against isotropic"));
+    assert!(d.max > 20, "the anisotropy does not show: {}", d.max);
+}
+
 /// A white-furnace chart of anisotropic white metal: anisotropy 0.25 to 1 down the rows,
 /// roughness 0.05 to 1 across, rotations 0 and 1 (radians) alternating.
 fn furnace_chart(term: IblTerm) -> Scene {
