@@ -30,7 +30,7 @@
 @group(1) @binding(2) var env_specular_layers: texture_2d_array<f32>;
 // Irradiance, then the Kulla-Conty kernel layers (env_irradiance, env_multiple).
 @group(1) @binding(3) var env_convolved: texture_2d_array<f32>;
-// The split sum's bias B (R32Float, split_sum_bias).
+// The split sum's bias B as 2x2 blocks (Rgba32Float, split_sum_bias).
 @group(1) @binding(4) var env_split_sum: texture_2d<f32>;
 @group(1) @binding(5) var env_sampler: sampler;
 // The map's luminance tables for the lobe mode's map samples (lighting.wgsl

@@ -94,7 +94,9 @@ fn specular_direction(n: vec3<f32>, r: vec3<f32>, roughness: f32) -> vec3<f32> {
 }
 
 // The split sum's bias B(mu, roughness) (SplitSum::bias_at): bilinear between the texels
-// of an R32Float table whose texel (i, j) holds mu = i / (N - 1), roughness = j / (N - 1).
+// of the table whose texel (i, j) holds mu = i / (N - 1), roughness = j / (N - 1), stored
+// as 2x2 blocks (Rgba32Float: block (i, j) holds texels (i, j), (i + 1, j), (i, j + 1),
+// (i + 1, j + 1), as the E table, lut.wgsl), so the read is one load, not four.
 fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {
     let n = SPLIT_SUM_SIZE;
     let x = clamp(mu, 0.0, 1.0) * f32(n - 1u);
@@ -103,12 +105,9 @@ fn split_sum_bias(table: texture_2d<f32>, mu: f32, roughness: f32) -> f32 {
     let j0 = min(u32(y), n - 2u);
     let fx = x - f32(i0);
     let fy = y - f32(j0);
-    let t00 = textureLoad(table, vec2<u32>(i0, j0), 0).r;
-    let t10 = textureLoad(table, vec2<u32>(i0 + 1u, j0), 0).r;
-    let t01 = textureLoad(table, vec2<u32>(i0, j0 + 1u), 0).r;
-    let t11 = textureLoad(table, vec2<u32>(i0 + 1u, j0 + 1u), 0).r;
-    let top = t00 + (t10 - t00) * fx;
-    let bottom = t01 + (t11 - t01) * fx;
+    let q = textureLoad(table, vec2<u32>(i0, j0), 0);
+    let top = q.x + (q.y - q.x) * fx;
+    let bottom = q.z + (q.w - q.z) * fx;
     return top + (bottom - top) * fy;
 }
 

@@ -20,6 +20,10 @@ use crate::scene::Scene;
 /// backend, and a storage format the compute passes can write.
 pub(crate) const ENVIRONMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
+/// The split sum's bias table: `SPLIT_SUM_SIZE` square, each texel the 2x2 block of the
+/// table's texels from it (`upload::loss_quads`), read unfiltered (`split_sum_bias`).
+pub(crate) const SPLIT_SUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
 /// Mirrors `EnvUniform` in `types.wgsl` (member for member: src/gpu/tests/boundary.rs).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -250,15 +254,18 @@ fn upload_split_sum(device: &wgpu::Device, queue: &wgpu::Queue, split: &SplitSum
         "split-sum bias",
         (n, n, 1),
         1,
-        wgpu::TextureFormat::R32Float,
+        SPLIT_SUM_FORMAT,
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
     );
+    // As 2x2 blocks (the E table's layout, `loss_quads`): a bilinear read is one load, not
+    // four (`split_sum_bias`).
+    let blocks = crate::gpu::upload::loss_quads(&split.bias, n as usize, n as usize);
     queue.write_texture(
         split_tex.as_image_copy(),
-        bytemuck::cast_slice(&split.bias),
+        bytemuck::cast_slice(&blocks),
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(n * 4),
+            bytes_per_row: Some(n * 16),
             rows_per_image: Some(n),
         },
         wgpu::Extent3d {
@@ -356,7 +363,7 @@ impl EnvironmentTextures {
             "split-sum bias (none)",
             (1, 1, 1),
             1,
-            wgpu::TextureFormat::R32Float,
+            SPLIT_SUM_FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
         EnvironmentTextures {
