@@ -13,8 +13,8 @@
 //!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
 //!   Importance Sampling"), with the map's bright texels taken out and summed directly
 //!   ([`Bright`]: a small sun left blotches, issue 37); from roughness 1/2
-//!   ([`DIRECT_FROM_LAYER`]) a direct sum over every texel of the convolution source
-//!   instead ([`prefilter_specular_direct`]); a read interpolates linearly between the two
+//!   (`DIRECT_FROM_LAYER`) a direct sum over every texel of the convolution source
+//!   instead (`prefilter_specular_direct`); a read interpolates linearly between the two
 //!   layers around the ball's roughness;
 //! - **irradiance**: layer 0 of the convolved maps, the cosine-weighted average of the map
 //!   about the normal (irradiance over pi);
@@ -56,7 +56,7 @@ pub(crate) const FIS_LOD_BIAS: f64 = 0.0;
 /// ([`specular_samples`]).
 pub(crate) const FIS_MIN_WIDTH: u32 = 16;
 /// The first specular layer summed directly over the convolution source's texels
-/// ([`prefilter_specular_direct`]): roughness 1/2, whose GGX lobe (half its peak about 18
+/// (`prefilter_specular_direct`): roughness 1/2, whose GGX lobe (half its peak about 18
 /// degrees from the mirror direction) spans several 5.6-degree texels of a 64-wide level.
 pub(crate) const DIRECT_FROM_LAYER: u32 = 3;
 /// The bright texels are taken from the first mip level at most this wide (1.4-degree
@@ -336,12 +336,12 @@ fn texel_luminance(t: &[f32; 4]) -> f64 {
 /// mip level its solid angle covers, but a light hundreds of times the sky (a small sun)
 /// is still found by one sample and missed by its neighbour's, and the layers show blotches
 /// and swirls where the Monte Carlo is smooth. So the texels of mip level `level` (the
-/// first at most [`BRIGHT_SOURCE_WIDTH`] wide) brighter than `threshold` ([`BRIGHT_FACTOR`]
-/// times the level's mean luminance, raised so that at most [`BRIGHT_MAX`] are above) are
+/// first at most `BRIGHT_SOURCE_WIDTH` wide) brighter than `threshold` (`BRIGHT_FACTOR`
+/// times the level's mean luminance, raised so that at most `BRIGHT_MAX` are above) are
 /// split in two: the part up to the threshold stays in `clipped`, the chain the samples read
 /// (that level and the coarser ones, so the samples read no finer level), and the excess is
-/// summed directly, every bright texel weighted by the lobe ([`specular_kernel`]) over the
-/// lobe's integral ([`specular_kernel_integral`]): `prefilter_specular`.
+/// summed directly, every bright texel weighted by the lobe (`specular_kernel`) over the
+/// lobe's integral (`specular_kernel_integral`): `prefilter_specular`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bright {
     /// The full chain's level the bright texels and `clipped`'s level 0 come from.
@@ -436,7 +436,7 @@ impl Bright {
     }
 }
 
-/// `specular_kernel_integral`: the integral of [`specular_kernel`] over the sphere, `2 pi
+/// `specular_kernel_integral`: the integral of `specular_kernel` over the sphere, `2 pi
 /// int_0^1 K(t) dt`, by the midpoint rule in the angle from `r` (the kernel's peak at `t =
 /// 1` is as narrow as the lobe: 4096 steps of 0.022 degrees); the GPU gets it as a uniform.
 pub(crate) fn specular_kernel_integral(roughness: f64, geometry: Geometry) -> f64 {
@@ -530,8 +530,8 @@ pub(crate) fn specular_kernel(t: f64, alpha: f64, roughness: f64, geometry: Geom
 
 /// `prefilter_specular_direct` of `prefilter.wgsl`: what [`prefilter_specular`] estimates,
 /// summed over every texel of `source` instead of sampled (specular layers from
-/// [`DIRECT_FROM_LAYER`]). With `n = v = r` the prefilter is a zonal kernel about `r`
-/// ([`specular_kernel`]), so it is the same direct sum as the convolutions'
+/// `DIRECT_FROM_LAYER`). With `n = v = r` the prefilter is a zonal kernel about `r`
+/// (`specular_kernel`), so it is the same direct sum as the convolutions'
 /// ([`prefilter_convolved`]): no sample pattern, so a small bright light (a sun) gives a
 /// smooth result where the samples, even read at the level their solid angle covers
 /// (Krivanek & Colbert 2008), leave blotches: a light hundreds of times the sky, found by a
@@ -595,7 +595,7 @@ pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3
 }
 
 /// `specular_samples` of `prefilter.wgsl`: GGX samples per texel of specular layer
-/// `layer` below [`DIRECT_FROM_LAYER`]: layer 2 is half the size (`specular_mip`) and reads
+/// `layer` below `DIRECT_FROM_LAYER`: layer 2 is half the size (`specular_mip`) and reads
 /// levels no coarser than [`FIS_MIN_WIDTH`], so it takes more samples at little cost.
 pub(crate) fn specular_samples(layer: u32) -> u32 {
     match layer {
@@ -606,7 +606,7 @@ pub(crate) fn specular_samples(layer: u32) -> u32 {
 }
 
 /// Whether specular layer `layer` of a chain is a direct sum over its convolution source
-/// ([`prefilter_specular_direct`]) rather than sampled: from [`DIRECT_FROM_LAYER`] on,
+/// (`prefilter_specular_direct`) rather than sampled: from `DIRECT_FROM_LAYER` on,
 /// where that source's texels (at most [`CONVOLUTION_SOURCE_WIDTH`] wide) are small beside
 /// the lobe.
 pub(crate) fn specular_is_direct(layer: u32) -> bool {

@@ -42,8 +42,8 @@ pub(crate) struct ClearcoatConstants {
     /// ([`clearcoat_escape_nodes`], [`clearcoat_escape_pack`]; 0 under the others).
     pub escape: u32,
     /// The roughness at which the base reads the map's prefiltered layers under the coat
-    /// ([`crate::brdf::clearcoat_base_roughness`] under the physical form, the base's own
-    /// under the others).
+    /// ([`crate::brdf::clearcoat_base_roughness`] under the physical form at weight 1,
+    /// towards the base's own as the weight goes to 0; the base's own under the others).
     pub base_roughness: f64,
     /// The form.
     pub form: CoatForm,
@@ -81,8 +81,14 @@ impl ClearcoatConstants {
             1.0 - loss_avg,
             loss,
         );
+        // The weight mixes the coated ball with the bare one (OpenPBR's coat weight), and
+        // the base's one prefiltered read serves both: its roughness goes from the base's
+        // own (weight 0, the bare ball's read) to the widened one (weight 1), so a coat
+        // fading out does not jump to the bare ball at weight 0.
         let base_roughness = if physical {
-            crate::brdf::clearcoat_base_roughness(b.shading_roughness(), coat.roughness, coat.ior)
+            let own = b.shading_roughness();
+            let widened = crate::brdf::clearcoat_base_roughness(own, coat.roughness, coat.ior);
+            own + coat.weight * (widened - own)
         } else {
             b.shading_roughness()
         };

@@ -145,6 +145,28 @@ fn clearcoat_vulkan_matches_cpu() {
     }
 }
 
+/// A coat fading out reaches the bare ball: `clearcoat.toml` (the studio, glossy and rough
+/// bases) with every coat at weight 1e-3 against the same balls bare, on the GPU, within
+/// the house's bound. The base's prefiltered read under the physical coat is widened
+/// (`clearcoat_base_roughness`) in proportion to the weight; at full width for any weight,
+/// the glossy balls here differ by far more than 1/255.
+#[test]
+fn a_coat_fading_out_is_the_bare_ball() {
+    let (w, h) = (192, 108);
+    let mut r = vulkan();
+    let with_weight = |weight: f64| {
+        let mut scene = asset_scene("clearcoat.toml");
+        for b in &mut scene.balls {
+            b.material.clearcoat = coat(weight, b.material.clearcoat.roughness);
+        }
+        scene.labels = false;
+        scene
+    };
+    let faint = r.render_ldr(&with_weight(1e-3), w, h).unwrap().rgba;
+    let bare = r.render_ldr(&with_weight(0.0), w, h).unwrap().rgba;
+    assert_close(&compare(&faint, &bare, w), "coat weight 1e-3 against none");
+}
+
 /// The same on GL (`--backend auto` may land there).
 #[test]
 fn clearcoat_gl_matches_cpu() {
