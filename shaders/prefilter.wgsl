@@ -19,18 +19,15 @@ const POLE_SIN_MIN: f32 = 0.0001; // environment::prefilter::POLE_SIN_MIN
 struct PrefilterParams {
     // Output layer size (texels), level-0 size of the map.
     size: vec4<u32>,
-    // A convolution's source (and a direct specular layer's; zero for a sampled one): the
-    // mip level's size, the level, the kernel layer. (The size
+    // A convolution's source: the mip level's size, the level, the kernel layer. (The size
     // is passed rather than asked of textureDimensions: naga's GLSL output of that call
     // with a level does not compile on Mesa's GL.)
     source: vec4<u32>,
-    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod, or a
-    // sampled layer's specular_kernel_integral; z: its roughness; w: the G (GEOMETRY_* of
-    // constants.wgsl) its samples are weighted by.
+    // x: alpha of the specular layer (0: the mirror, read at lod y); y: that lod; z: its
+    // roughness; w: the G (GEOMETRY_* of constants.wgsl) its samples are weighted by.
     layer: vec4<f32>,
     // x: samples a texel (specular_samples); y: the coarsest level filtered importance
-    // sampling reads (fis_max_level); z: the bright texels (Bright::texels); w: the level
-    // of the map `clipped` starts at (Bright::level).
+    // sampling reads (fis_max_level).
     limits: vec4<u32>,
 }
 
@@ -40,10 +37,6 @@ struct PrefilterParams {
 @group(0) @binding(3) var<uniform> params: PrefilterParams;
 // The zonal kernels, KERNEL_SIZE samples per layer, four to a vec4 (kernels()).
 @group(0) @binding(4) var<uniform> kernels: array<vec4<f32>, 160>;
-// The map from level limits.w down with its bright texels clipped (Bright::clipped), and
-// the bright texels' excess: direction and solid angle, radiance (Bright::texels).
-@group(0) @binding(5) var clipped: texture_2d<f32>;
-@group(0) @binding(6) var<storage, read> bright: array<vec4<f32>>;
 
 // The bits of i mirrored about the binary point (van der Corput).
 fn radical_inverse(i: u32) -> f32 {
@@ -60,8 +53,6 @@ fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, s
     let basis = duff_frame(r);
     let a2 = alpha * alpha;
     let max_lod = f32(params.limits.y);
-    let bright_level = f32(params.limits.w);
-    let min_lod = min(bright_level, max_lod);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     for (var i = 0u; i < samples; i++) {
@@ -82,68 +73,12 @@ fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, s
         let omega_s = 4.0 / (f32(samples) * d);
         let sin_l = max(sqrt(max(1.0 - l.y * l.y, 0.0)), POLE_SIN_MIN);
         let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
-        let lod = clamp(0.5 * log2(omega_s / omega_p) + FIS_LOD_BIAS, min_lod, max_lod);
+        let lod = clamp(0.5 * log2(omega_s / omega_p) + FIS_LOD_BIAS, 0.0, max_lod);
         let g = geometry_g(1.0, n_dot_l, roughness, geometry);
-        sum += textureSampleLevel(clipped, radiance_sampler, direction_to_uv(l), lod - bright_level).rgb * g;
+        sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * g;
         weight += g;
     }
-    // The bright texels' excess, summed directly (Bright in prefilter.rs).
-    var excess = vec3<f32>(0.0);
-    for (var k = 0u; k < params.limits.z; k++) {
-        let d = bright[2u * k];
-        let w = specular_kernel(dot(d.xyz, r), alpha, roughness, geometry) * d.w;
-        excess += bright[2u * k + 1u].rgb * w;
-    }
-    return sum / max(weight, WEIGHT_EPSILON) + excess / max(params.layer.y, WEIGHT_EPSILON);
-}
-
-// The weight D(h) G(1, t) of a direction at t = r.l in the specular prefilter about r
-// (n = v = r: cos^2(theta_h) = (1 + t) / 2), 0 below the horizon (specular_kernel).
-fn specular_kernel(t: f32, alpha: f32, roughness: f32, geometry: u32) -> f32 {
-    if t <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    let c = min(t, 1.0);
-    let cos2 = 0.5 * (1.0 + c);
-    let denom = cos2 * (a2 - 1.0) + 1.0;
-    let d = a2 / (PI * denom * denom);
-    return d * geometry_g(1.0, c, roughness, geometry);
-}
-
-// What prefilter_specular estimates, summed over every texel of mip level `level` (at most
-// CONVOLUTION_SOURCE_WIDTH wide) instead of sampled (prefilter_specular_direct in
-// prefilter.rs says why): the loop of prefilter_convolved with specular_kernel.
-fn prefilter_specular_direct(size: vec2<u32>, level: u32, r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32) -> vec3<f32> {
-    let uv_r = direction_to_uv(r);
-    let cos_r = cos(uv_r.y * PI);
-    let sin_r = sin(uv_r.y * PI);
-    let phi0 = (0.5 / f32(size.x) - uv_r.x) * 2.0 * PI;
-    let step = 2.0 * PI / f32(size.x);
-    let turn = vec2<f32>(cos(step), sin(step));
-    var sum = vec3<f32>(0.0);
-    var weight = 0.0;
-    for (var j = 0u; j < size.y; j++) {
-        let t0 = PI * f32(j) / f32(size.y);
-        let t1 = PI * f32(j + 1u) / f32(size.y);
-        let omega = 2.0 * PI / f32(size.x) * (cos(t0) - cos(t1));
-        let theta = (f32(j) + 0.5) / f32(size.y) * PI;
-        let a = cos_r * cos(theta);
-        let b = sin_r * sin(theta);
-        var dphi = vec2<f32>(cos(phi0), sin(phi0));
-        for (var i = 0u; i < size.x; i++) {
-            let w = specular_kernel(a + b * dphi.x, alpha, roughness, geometry) * omega;
-            dphi = vec2<f32>(dphi.x * turn.x - dphi.y * turn.y, dphi.y * turn.x + dphi.x * turn.y);
-            if w > 0.0 {
-                sum += textureLoad(radiance, vec2<i32>(i32(i), i32(j)), i32(level)).rgb * w;
-                weight += w;
-            }
-        }
-    }
-    if weight < WEIGHT_EPSILON {
-        return vec3<f32>(0.0);
-    }
-    return sum / weight;
+    return sum / max(weight, WEIGHT_EPSILON);
 }
 
 // Kernel layer `layer` at t (0 below the horizon), linear between its samples (kernel_at).
@@ -211,8 +146,6 @@ fn specular_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var value: vec3<f32>;
     if params.layer.x == 0.0 {
         value = textureSampleLevel(radiance, radiance_sampler, direction_to_uv(r), params.layer.y).rgb;
-    } else if params.source.x > 0u {
-        value = prefilter_specular_direct(params.source.xy, params.source.z, r, params.layer.x, params.layer.z, u32(params.layer.w));
     } else {
         value = prefilter_specular(r, params.layer.x, params.layer.z, u32(params.layer.w), params.limits.x);
     }

@@ -11,11 +11,8 @@
 //!   Unreal Engine 4": the split sum's first factor), by [`SPECULAR_SAMPLES`] GGX samples
 //!   weighted by `G(1, n.l)` (not Karis's `n.l`: `prefilter_specular` says why), each read from the mip level its solid angle covers (filtered
 //!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
-//!   Importance Sampling"), with the map's bright texels taken out and summed directly
-//!   ([`Bright`]: a small sun left blotches, issue 37); from roughness 1/2
-//!   (`DIRECT_FROM_LAYER`) a direct sum over every texel of the convolution source
-//!   instead (`prefilter_specular_direct`); a read interpolates linearly between the two
-//!   layers around the ball's roughness;
+//!   Importance Sampling"); a read interpolates linearly between the two layers around the
+//!   ball's roughness;
 //! - **irradiance**: layer 0 of the convolved maps, the cosine-weighted average of the map
 //!   about the normal (irradiance over pi);
 //! - **multiple scattering**: layers `1..=CONVOLVED_LEVELS` of the convolved maps, the map
@@ -55,18 +52,6 @@ pub(crate) const FIS_LOD_BIAS: f64 = 0.0;
 /// light over a hemisphere, beyond any lobe. The rough layers take more samples instead
 /// ([`specular_samples`]).
 pub(crate) const FIS_MIN_WIDTH: u32 = 16;
-/// The first specular layer summed directly over the convolution source's texels
-/// (`prefilter_specular_direct`): roughness 1/2, whose GGX lobe (half its peak about 18
-/// degrees from the mirror direction) spans several 5.6-degree texels of a 64-wide level.
-pub(crate) const DIRECT_FROM_LAYER: u32 = 3;
-/// The bright texels are taken from the first mip level at most this wide (1.4-degree
-/// texels): [`Bright`].
-pub(crate) const BRIGHT_SOURCE_WIDTH: u32 = 256;
-/// A texel of that level brighter (in luminance) than this many times the level's mean is
-/// bright: [`Bright`].
-pub(crate) const BRIGHT_FACTOR: f64 = 16.0;
-/// At most this many bright texels (the threshold rises to keep the brightest).
-pub(crate) const BRIGHT_MAX: usize = 512;
 /// Kulla-Conty kernel layers: roughness 0, 1/8, ..., 1.
 pub const CONVOLVED_LEVELS: u32 = 9;
 /// Width of each convolved layer (height half).
@@ -326,133 +311,6 @@ pub fn radical_inverse(i: u32) -> f64 {
     i.reverse_bits() as f64 / 4294967296.0
 }
 
-/// Luminance (Rec. 709) of a texel.
-fn texel_luminance(t: &[f32; 4]) -> f64 {
-    0.2126 * t[0] as f64 + 0.7152 * t[1] as f64 + 0.0722 * t[2] as f64
-}
-
-/// A map's bright texels, taken out of what the sampled specular layers sample (issue 37,
-/// part 2). Filtered importance sampling (Krivanek & Colbert 2008) reads each sample at the
-/// mip level its solid angle covers, but a light hundreds of times the sky (a small sun)
-/// is still found by one sample and missed by its neighbour's, and the layers show blotches
-/// and swirls where the Monte Carlo is smooth. So the texels of mip level `level` (the
-/// first at most `BRIGHT_SOURCE_WIDTH` wide) brighter than `threshold` (`BRIGHT_FACTOR`
-/// times the level's mean luminance, raised so that at most `BRIGHT_MAX` are above) are
-/// split in two: the part up to the threshold stays in `clipped`, the chain the samples read
-/// (that level and the coarser ones, so the samples read no finer level), and the excess is
-/// summed directly, every bright texel weighted by the lobe (`specular_kernel`) over the
-/// lobe's integral (`specular_kernel_integral`): `prefilter_specular`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Bright {
-    /// The full chain's level the bright texels and `clipped`'s level 0 come from.
-    pub level: u32,
-    /// The luminance above which a texel is bright (the chain's units).
-    pub threshold: f64,
-    /// That level with every bright texel scaled down to the threshold, and its mip levels.
-    pub clipped: MipChain,
-    /// Per bright texel: its centre's direction and solid angle, then its excess radiance
-    /// (and 0): two `vec4`s each, as the GPU's storage buffer holds them.
-    pub texels: Vec<[f32; 8]>,
-}
-
-impl Bright {
-    /// The bright texels of `chain`.
-    pub fn new(chain: &MipChain) -> Self {
-        let level = chain
-            .levels
-            .iter()
-            .position(|l| l.width <= BRIGHT_SOURCE_WIDTH)
-            .unwrap_or(chain.levels.len() - 1) as u32;
-        let source = &chain.levels[level as usize];
-        let mut sum = 0.0;
-        for j in 0..source.height {
-            let omega = source.texel_solid_angle(j);
-            for i in 0..source.width {
-                sum += texel_luminance(&source.texels[(j * source.width + i) as usize]) * omega;
-            }
-        }
-        let mean = sum / (4.0 * PI);
-        let mut threshold = BRIGHT_FACTOR * mean;
-        let mut above: Vec<f64> = source
-            .texels
-            .iter()
-            .map(texel_luminance)
-            .filter(|&y| y > threshold)
-            .collect();
-        if above.len() > BRIGHT_MAX {
-            above.sort_by(|a, b| b.total_cmp(a));
-            threshold = above[BRIGHT_MAX];
-        }
-        let mut texels = Vec::new();
-        let mut clipped = source.clone();
-        for j in 0..source.height {
-            let omega = source.texel_solid_angle(j) as f32;
-            for i in 0..source.width {
-                let k = (j * source.width + i) as usize;
-                let t = source.texels[k];
-                let y = texel_luminance(&t);
-                if y <= threshold {
-                    continue;
-                }
-                let keep = (threshold / y) as f32;
-                let c = [
-                    f16_round(t[0] * keep),
-                    f16_round(t[1] * keep),
-                    f16_round(t[2] * keep),
-                    1.0,
-                ];
-                clipped.texels[k] = c;
-                let uv = DVec2::new(
-                    (i as f64 + 0.5) / source.width as f64,
-                    (j as f64 + 0.5) / source.height as f64,
-                );
-                let d = uv_to_direction(uv).as_vec3();
-                texels.push([
-                    d.x,
-                    d.y,
-                    d.z,
-                    omega,
-                    t[0] - c[0],
-                    t[1] - c[1],
-                    t[2] - c[2],
-                    0.0,
-                ]);
-            }
-        }
-        let mut levels = vec![clipped];
-        while let Some(next) = downsample(levels.last().expect("the level is there")) {
-            levels.push(next);
-        }
-        Bright {
-            level,
-            threshold,
-            clipped: MipChain {
-                levels,
-                scale: chain.scale,
-                clamped: 0,
-            },
-            texels,
-        }
-    }
-}
-
-/// `specular_kernel_integral`: the integral of `specular_kernel` over the sphere, `2 pi
-/// int_0^1 K(t) dt`, by the midpoint rule in the angle from `r` (the kernel's peak at `t =
-/// 1` is as narrow as the lobe: 4096 steps of 0.022 degrees); the GPU gets it as a uniform.
-pub(crate) fn specular_kernel_integral(roughness: f64, geometry: Geometry) -> f64 {
-    let alpha = alpha_from_roughness(roughness);
-    let steps = 4096;
-    let d = 0.5 * PI / steps as f64;
-    (0..steps)
-        .map(|i| {
-            let theta = (i as f64 + 0.5) * d;
-            specular_kernel(theta.cos(), alpha, roughness, geometry) * theta.sin() * d
-        })
-        .sum::<f64>()
-        * 2.0
-        * PI
-}
-
 /// `prefilter_specular` of `prefilter.wgsl`: the GGX-filtered radiance about `r` (`n = v =
 /// r`) at `roughness`, from `chain`. Each sample is weighted by `G(1, n.l)` of `geometry`,
 /// not by Karis's `n.l`: with `v = n` the radiance the lobe reflects is
@@ -461,8 +319,6 @@ pub(crate) fn specular_kernel_integral(roughness: f64, geometry: Geometry) -> f6
 /// 20 % off where they face the camera).
 pub(crate) fn prefilter_specular(
     chain: &MipChain,
-    bright: &Bright,
-    integral: f64,
     r: DVec3,
     roughness: f64,
     geometry: Geometry,
@@ -470,7 +326,6 @@ pub(crate) fn prefilter_specular(
 ) -> DVec3 {
     let alpha = alpha_from_roughness(roughness);
     let max_lod = fis_max_level(chain) as f64;
-    let min_lod = (bright.level as f64).min(max_lod);
     let level0 = &chain.levels[0];
     let (w0, h0) = (level0.width as f64, level0.height as f64);
     let (t, b) = crate::sampling::duff_frame(r).tangents();
@@ -499,72 +354,12 @@ pub(crate) fn prefilter_specular(
         let omega_s = 4.0 / (samples as f64 * d);
         let sin_l = (1.0 - l.y * l.y).max(0.0).sqrt().max(POLE_SIN_MIN);
         let omega_p = 2.0 * PI * PI / (w0 * h0) * sin_l;
-        let lod = (0.5 * (omega_s / omega_p).log2() + FIS_LOD_BIAS).clamp(min_lod, max_lod);
+        let lod = (0.5 * (omega_s / omega_p).log2() + FIS_LOD_BIAS).clamp(0.0, max_lod);
         let g = geometry.g(1.0, n_dot_l, roughness);
-        sum += bright.clipped.sample(l, lod - bright.level as f64) * g;
+        sum += chain.sample(l, lod) * g;
         weight += g;
     }
-    let mut excess = DVec3::ZERO;
-    for t in &bright.texels {
-        let d = DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64);
-        let w = specular_kernel(d.dot(r), alpha, roughness, geometry) * t[3] as f64;
-        excess += DVec3::new(t[4] as f64, t[5] as f64, t[6] as f64) * w;
-    }
-    sum / weight.max(WEIGHT_EPSILON) + excess / integral.max(WEIGHT_EPSILON)
-}
-
-/// `specular_kernel` of `prefilter.wgsl`: the weight `D(h) G(1, t)` of a direction `l` at
-/// `t = r.l` in the specular prefilter about `r` (`n = v = r`, so `cos^2(theta_h) = (1 +
-/// t) / 2`): the integrand [`prefilter_specular`]'s samples estimate, `int L D G / 4 dw`
-/// over `int D G / 4 dw` (0 below the horizon).
-pub(crate) fn specular_kernel(t: f64, alpha: f64, roughness: f64, geometry: Geometry) -> f64 {
-    if t <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    let cos2 = 0.5 * (1.0 + t.min(1.0));
-    let denom = cos2 * (a2 - 1.0) + 1.0;
-    let d = a2 / (PI * denom * denom);
-    d * geometry.g(1.0, t.min(1.0), roughness)
-}
-
-/// `prefilter_specular_direct` of `prefilter.wgsl`: what [`prefilter_specular`] estimates,
-/// summed over every texel of `source` instead of sampled (specular layers from
-/// `DIRECT_FROM_LAYER`). With `n = v = r` the prefilter is a zonal kernel about `r`
-/// (`specular_kernel`), so it is the same direct sum as the convolutions'
-/// ([`prefilter_convolved`]): no sample pattern, so a small bright light (a sun) gives a
-/// smooth result where the samples, even read at the level their solid angle covers
-/// (Krivanek & Colbert 2008), leave blotches: a light hundreds of times the sky, found by a
-/// sample or missed by its neighbour, in the lobe's tails where the samples are sparse
-/// (issue 37, part 2; `gpu::tests::ibl::the_split_sum_under_a_sun_has_no_blotches`).
-pub(crate) fn prefilter_specular_direct(
-    source: &Level,
-    r: DVec3,
-    roughness: f64,
-    geometry: Geometry,
-) -> DVec3 {
-    let alpha = alpha_from_roughness(roughness);
-    let uv_r = direction_to_uv(r);
-    let (sin_r, cos_r) = (uv_r.y * PI).sin_cos();
-    let cos_dphi: Vec<f64> = (0..source.width)
-        .map(|i| (((i as f64 + 0.5) / source.width as f64 - uv_r.x) * 2.0 * PI).cos())
-        .collect();
-    let mut sum = DVec3::ZERO;
-    let mut weight = 0.0;
-    for j in 0..source.height {
-        let omega = source.texel_solid_angle(j);
-        let (sin_t, cos_t) = ((j as f64 + 0.5) / source.height as f64 * PI).sin_cos();
-        let (a, b) = (cos_r * cos_t, sin_r * sin_t);
-        for (i, cos_dphi) in cos_dphi.iter().enumerate() {
-            let w = specular_kernel(a + b * cos_dphi, alpha, roughness, geometry) * omega;
-            sum += source.texel(i as u32, j) * w;
-            weight += w;
-        }
-    }
-    if weight < WEIGHT_EPSILON {
-        return DVec3::ZERO;
-    }
-    sum / weight
+    sum / weight.max(WEIGHT_EPSILON)
 }
 
 /// `prefilter_convolved` of `prefilter.wgsl`: the kernel-weighted average of `source`
@@ -595,22 +390,14 @@ pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3
 }
 
 /// `specular_samples` of `prefilter.wgsl`: GGX samples per texel of specular layer
-/// `layer` below `DIRECT_FROM_LAYER`: layer 2 is half the size (`specular_mip`) and reads
-/// levels no coarser than [`FIS_MIN_WIDTH`], so it takes more samples at little cost.
+/// `layer`: the rough layers are small (`specular_mip`) and read levels no coarser than
+/// [`FIS_MIN_WIDTH`], so they take more samples at little cost.
 pub(crate) fn specular_samples(layer: u32) -> u32 {
     match layer {
         0 | 1 => SPECULAR_SAMPLES,
         2 => 2 * SPECULAR_SAMPLES,
-        _ => 2 * SPECULAR_SAMPLES,
+        _ => 4 * SPECULAR_SAMPLES,
     }
-}
-
-/// Whether specular layer `layer` of a chain is a direct sum over its convolution source
-/// (`prefilter_specular_direct`) rather than sampled: from `DIRECT_FROM_LAYER` on,
-/// where that source's texels (at most [`CONVOLUTION_SOURCE_WIDTH`] wide) are small beside
-/// the lobe.
-pub(crate) fn specular_is_direct(layer: u32) -> bool {
-    layer >= DIRECT_FROM_LAYER
 }
 
 /// The coarsest mip level filtered importance sampling reads in `chain`: the last at
@@ -688,8 +475,6 @@ impl Prefiltered {
         let (sw, sh) = specular_size(chain.levels[0].width);
         let lod0 = (chain.levels[0].width as f64 / sw as f64).log2();
         let levels = specular_mip_levels(chain.levels[0].width);
-        let source = &chain.levels[chain.convolution_source() as usize];
-        let bright = Bright::new(chain);
         let specular = (0..SPECULAR_LEVELS)
             .map(|k| {
                 let m = specular_mip(k, levels);
@@ -697,23 +482,18 @@ impl Prefiltered {
                 if k == 0 {
                     // Roughness 0: the mirror, the map read at this layer's scale.
                     layer(w, h, |r| chain.sample(r, lod0))
-                } else if specular_is_direct(k) {
-                    let roughness = specular_roughness(k);
-                    layer(w, h, |r| {
-                        prefilter_specular_direct(source, r, roughness, geometry)
-                    })
                 } else {
                     let roughness = specular_roughness(k);
-                    let samples = specular_samples(k);
-                    let integral = specular_kernel_integral(roughness, geometry);
-                    layer(w, h, |r| {
-                        prefilter_specular(
-                            chain, &bright, integral, r, roughness, geometry, samples,
-                        )
-                    })
+                    {
+                        let samples = specular_samples(k);
+                        layer(w, h, |r| {
+                            prefilter_specular(chain, r, roughness, geometry, samples)
+                        })
+                    }
                 }
             })
             .collect();
+        let source = &chain.levels[chain.convolution_source() as usize];
         let cw = CONVOLVED_WIDTH;
         let convolved = (0..=CONVOLVED_LEVELS)
             .map(|j| layer(cw, cw / 2, |n| prefilter_convolved(source, kernels, j, n)))

@@ -8,9 +8,8 @@ use std::time::{Duration, Instant};
 
 use super::shaders;
 use crate::environment::prefilter::{
-    fis_max_level, specular_is_direct, specular_kernel_integral, specular_mip, specular_mip_levels,
-    specular_roughness, specular_samples, specular_size, Bright, MipChain, CONVOLVED_LEVELS,
-    CONVOLVED_WIDTH, SPECULAR_LEVELS,
+    fis_max_level, specular_mip, specular_mip_levels, specular_roughness, specular_samples,
+    specular_size, MipChain, CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
 };
 use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
@@ -466,30 +465,16 @@ fn prefilter(
     let mut padded = kernels.to_vec();
     padded.resize(160 * 4, 0.0);
     queue.write_buffer(&kernel_buffer, 0, bytemuck::cast_slice(&padded));
-    use wgpu::util::DeviceExt;
     let sampler = sampler(device);
-    let bright = Bright::new(chain);
-    let clipped = upload_chain(device, queue, &bright.clipped);
-    let clipped = clipped.create_view(&Default::default());
-    // One zero texel at least: a binding is never empty.
-    let mut bright_words: Vec<f32> = bright.texels.iter().flatten().copied().collect();
-    bright_words.resize(bright_words.len().max(8), 0.0);
-    let bright_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("bright texels"),
-        contents: bytemuck::cast_slice(&bright_words),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
     let inputs = PrefilterInputs {
         layout: &group_layout,
         radiance,
         sampler: &sampler,
         kernels: &kernel_buffer,
-        clipped: &clipped,
-        bright: &bright_buffer,
     };
     let mut encoder = device.create_command_encoder(&Default::default());
     let mut keep = Vec::new();
-    for job in prefilter_jobs(chain, &bright, geometry) {
+    for job in prefilter_jobs(chain, geometry) {
         let target = [specular, convolved][job.pipeline];
         let pipeline = &pipelines[job.pipeline];
         keep.push(encode_job(
@@ -550,26 +535,6 @@ fn prefilter_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             },
             uniform(3),
             uniform(4),
-            wgpu::BindGroupLayoutEntry {
-                binding: 5,
-                visibility: compute,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: 6,
-                visibility: compute,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: true },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
         ],
     })
 }
@@ -580,9 +545,6 @@ struct PrefilterInputs<'a> {
     radiance: &'a wgpu::TextureView,
     sampler: &'a wgpu::Sampler,
     kernels: &'a wgpu::Buffer,
-    /// `Bright::clipped`'s texture and `Bright::texels`.
-    clipped: &'a wgpu::TextureView,
-    bright: &'a wgpu::Buffer,
 }
 
 /// One dispatch: which pipeline (0 specular, 1 convolved) writes which layer and mip level
@@ -597,11 +559,7 @@ struct PrefilterJob {
 
 /// The dispatches of `chain` prefiltered for `geometry`: every specular layer (roughness
 /// `specular_roughness(k)`, its mip level and sample count), then every convolved one.
-fn prefilter_jobs(
-    chain: &MipChain,
-    bright: &Bright,
-    geometry: crate::brdf::Geometry,
-) -> Vec<PrefilterJob> {
+fn prefilter_jobs(chain: &MipChain, geometry: crate::brdf::Geometry) -> Vec<PrefilterJob> {
     let base = &chain.levels[0];
     let (sw, sh) = specular_size(base.width);
     let lod0 = (base.width as f64 / sw as f64).log2() as f32;
@@ -628,27 +586,9 @@ fn prefilter_jobs(
             size,
             params: PrefilterParams {
                 size: [size.0, size.1, base_size[0], base_size[1]],
-                source: if specular_is_direct(k) {
-                    [source.width, source.height, source_level, 0]
-                } else {
-                    [0; 4]
-                },
-                layer: [
-                    alpha,
-                    if k == 0 || specular_is_direct(k) {
-                        lod0
-                    } else {
-                        specular_kernel_integral(specular_roughness(k), geometry) as f32
-                    },
-                    roughness,
-                    geometry_id,
-                ],
-                limits: [
-                    specular_samples(k),
-                    fis_max_level(chain),
-                    bright.texels.len() as u32,
-                    bright.level,
-                ],
+                source: [0; 4],
+                layer: [alpha, lod0, roughness, geometry_id],
+                limits: [specular_samples(k), fis_max_level(chain), 0, 0],
             },
         });
     }
@@ -719,14 +659,6 @@ fn encode_job(
             wgpu::BindGroupEntry {
                 binding: 4,
                 resource: inputs.kernels.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::TextureView(inputs.clipped),
-            },
-            wgpu::BindGroupEntry {
-                binding: 6,
-                resource: inputs.bright.as_entire_binding(),
             },
         ],
     });
