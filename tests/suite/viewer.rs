@@ -1056,7 +1056,10 @@ fn a_map_file_typed_into_the_panel_lights_the_window() {
         .spawn()
         .unwrap();
     let stderr = drive(&x, child, |id| {
-        std::thread::sleep(Duration::from_millis(500));
+        // The panel's first frames take a second or two on a slow 2-core machine: a click
+        // before the field is laid out misses it, and the path typed after it goes to the
+        // window as key presses ('s' takes a screenshot).
+        std::thread::sleep(Duration::from_millis(2500));
         // The map file field (the homework scene's panel, 1280x720 at DPI 1: below the
         // background's combo box).
         x.xdotool(&[
