@@ -148,8 +148,8 @@ pub fn advice(e: &anyhow::Error) -> Option<&'static str> {
         Error::NoAdapter { .. } => Some("install it, or use --backend cpu"),
         // A device lost (or another GPU failure) with memory short: say so.
         Error::Gpu { .. } if crate::memory::short_for_driver().is_some() => Some(
-            "less than 1 GB of memory is available: the device may have run out of it; raise \
-             the limit (ulimit -v, the cgroup) or choose a smaller size",
+            "less than 1 GB of memory is available: the device may have failed for want of \
+             memory; raise the limit (ulimit -v, the cgroup) or choose a smaller size",
         ),
         Error::TruthUnsupported { .. } => Some("use --backend vulkan"),
         Error::Display { .. } => {
