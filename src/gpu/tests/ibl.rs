@@ -190,7 +190,9 @@ fn furnace_through_the_map_path_holds_for_every_term() {
 #[test]
 fn gpu_matches_its_cpu_twin_under_maps() {
     let mut r = vulkan();
-    let (w, h) = (640, 360);
+    // 320x180 (it was 640x360, for CI's time): every ball keeps its interior and its
+    // silhouette, and the bound is per pixel.
+    let (w, h) = (320, 180);
     let mut balls = Scene::reference().balls;
     for b in balls.iter_mut().skip(5) {
         b.material = Material::dielectric(DVec3::new(0.6, 0.1, 0.1), 1.5);
@@ -423,6 +425,9 @@ fn lobe_gpu_matches_its_cpu_twin() {
 /// [`assert_close_sampled`]'s bound.
 fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTerm) -> Scene) {
     let mut r = vulkan();
+    // Not smaller: the bound is a share of the pixels, and the map's background differs
+    // by 1/255 in a band whose share grows as the frame shrinks (at 192x108, 22 pixels:
+    // 99.89 % within 1/255).
     let (w, h) = (320, 180);
     for builtin in [Builtin::Studio, Builtin::Sky] {
         for term in IblTerm::ALL {
@@ -646,11 +651,13 @@ fn progressive_ldr(r: &mut crate::Renderer, scene: &Scene, (w, h): (u32, u32)) -
 /// read-back) against the mean of the same frames of the CPU twin
 /// (`cpu::render_radiance_at_lobe_frame`), within the GPU-vs-CPU bound of one frame
 /// (`assert_close`, the render issue's; `lobe_gpu_matches_its_cpu_twin` holds it per
-/// frame), under both maps, 6 frames of 4 samples; on Vulkan and on GL (which renders the
+/// frame), under both maps, 4 frames of 4 samples; on Vulkan and on GL (which renders the
 /// same `Rgba32Uint` sums), under studio there.
 #[test]
 fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
-    let (w, h, frames) = (320, 180, 6);
+    // 192x108 and 4 frames (it was 320x180 and 6, for CI's time): the sum still spans
+    // several frames, and the bound is per pixel.
+    let (w, h, frames) = (192, 108, 4);
     let gl = || crate::pixels::renderer(wgpu::Backends::GL);
     for (mut r, builtin, backend) in [
         (vulkan(), Builtin::Studio, "Vulkan"),

@@ -398,14 +398,14 @@ fn asset_scene(name: &str) -> Scene {
 }
 
 /// The GPU and its CPU twin within the house's bound (99.9 % of pixels within 1/255) on
-/// the materials' scenes: `plastic.toml` under every layering form and both presets, and
+/// the materials' scenes: `plastic.toml` under every layering form and `presets`, and
 /// the metallic-roughness chart under the studio with every term, on `backends`.
-fn materials_match_cpu(backends: wgpu::Backends, what: &str) {
+fn materials_match_cpu(backends: wgpu::Backends, what: &str, presets: &[Preset]) {
     // 192x108 (it was 320x180, for CI's time): every ball keeps its interior and its
     // silhouette, and the bound is per pixel.
     let (w, h) = (192, 108);
     let mut r = renderer(backends);
-    for preset in Preset::ALL {
+    for &preset in presets {
         for layering in Layering::ALL {
             let scene = Scene {
                 preset,
@@ -431,12 +431,15 @@ fn materials_match_cpu(backends: wgpu::Backends, what: &str) {
 
 #[test]
 fn materials_vulkan_matches_cpu() {
-    materials_match_cpu(wgpu::Backends::VULKAN, "Vulkan");
+    materials_match_cpu(wgpu::Backends::VULKAN, "Vulkan", &Preset::ALL);
 }
 
+/// GL under the accurate preset only (for CI's time): the presets change the tables and
+/// the geometry term, which Vulkan's twin covers; GL's own risk is the translated shader,
+/// which every layering form and term still runs through here.
 #[test]
 fn materials_gl_matches_cpu() {
-    materials_match_cpu(wgpu::Backends::GL, "GL");
+    materials_match_cpu(wgpu::Backends::GL, "GL", &[Preset::Accurate]);
 }
 
 /// The material keys of a scene file: `base_color` (sRGB curve), `metallic`, `ior`; the
