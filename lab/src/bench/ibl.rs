@@ -385,7 +385,7 @@ pub fn ibl_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         "IBL: frame time with and without the term under studio (1280x720, median; ratio: median over alternating pairs)",
         &["method", "with_term_ms", "without_term_ms", "ratio"],
     );
-    let repeats = if quick { 5 } else { 21 };
+    let repeats = if quick { 3 } else { 21 };
     let (fw, fh) = (1280, 720);
     let (_texture, view) = device::frame_target(renderer.gpu(), fw, fh);
     let target = Target {

@@ -104,7 +104,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         "Rendering: frame time at 1280x720 with the term on and off against the image error (exact model on the CPU as reference)",
         &["config", "scene", "preset", "tables and draw", "term", "frame_ms", "on_over_off", "err_max_255", "err_mean_255"],
     );
-    let repeats = if quick { 9 } else { 41 };
+    let repeats = if quick { 5 } else { 41 };
     let exact = shadeballs::lut::TableSet::from(exact_tables(&Scene::reference())?);
     let mut exact_images: Vec<(String, Vec<DVec3>)> = Vec::new();
     let series = |label: &str, peer| Series {

@@ -264,7 +264,7 @@ fn series(label: &str) -> Series {
 pub fn scale_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     renderer.set_draw_options(shadeballs::gpu::DrawOptions::default());
     renderer.set_bake_config(BakeConfig::default());
-    let repeats = if quick { 5 } else { 21 };
+    let repeats = if quick { 3 } else { 21 };
     let (w, h) = (1280, 720);
     let mut goals = Vec::new();
 

@@ -124,6 +124,10 @@ fn quick_bench_writes_well_formed_csv_markdown_and_png() {
             "summary.md lacks {name}.png"
         );
     }
+    // The ibl and light sweeps' own tables and checks, from this one run (a run of each
+    // with `--only` repeated them, 23 s of CI's time).
+    assert_quick_ibl_output(&dir);
+    crate::light::assert_quick_light_output(&dir);
 }
 
 #[test]
@@ -358,22 +362,11 @@ fn per_ball_read_equals_the_full_read() {
     }
 }
 
-/// `bench --only ibl --quick` (what CI runs of issue 15's measurement): the accuracy table
-/// with the issue's columns, every environment, method, roughness and part; the prefilter
-/// and frame tables; the harmonics table; the goals named in the summary.
-#[test]
-fn quick_ibl_bench_writes_its_tables_and_goals() {
-    let _turn = crate::quick_bench_turn();
-    let dir = temp_dir("bench-ibl");
-    let (ok, stderr) = lab(&[
-        "bench",
-        "--quick",
-        "--only",
-        "ibl",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(ok, "bench --only ibl failed: {stderr}");
+/// The ibl sweep's output of a quick run in `dir` (what CI runs of issue 15's
+/// measurement): the accuracy table with the issue's columns, every environment, method,
+/// roughness and part; the prefilter and frame tables; the harmonics table; the goals named
+/// in the summary.
+fn assert_quick_ibl_output(dir: &std::path::Path) {
     let read = |name: &str| {
         std::fs::read_to_string(dir.join(format!("{name}.csv")))
             .unwrap_or_else(|e| panic!("{name}.csv: {e}"))

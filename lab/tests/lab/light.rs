@@ -13,7 +13,6 @@ use shadeballs_lab::bench::light::{
     LOBE_SAMPLES,
 };
 
-use crate::cli::{lab, temp_dir};
 use crate::pixels::vulkan;
 
 /// A CSV file of the run as a header and rows of cells.
@@ -64,31 +63,22 @@ fn assert_the_lobe_converges(cost: &[Vec<String>]) {
     }
 }
 
-#[test]
-fn quick_light_bench_writes_its_curve_and_the_lobe_converges() {
-    let _turn = crate::quick_bench_turn();
-    let dir = temp_dir("bench-light");
-    let (ok, stderr) = lab(&[
-        "bench",
-        "--quick",
-        "--only",
-        "light",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(ok, "bench --only light failed: {stderr}");
+/// The light sweep's output of a quick run in `dir` (`bench --quick`, which the quick
+/// bench's test runs once for every sweep): its tables, its curve's plots, and the lobe
+/// converging.
+pub fn assert_quick_light_output(dir: &std::path::Path) {
     // The quick run's frame counts of the progressive rows (light::Settings::new(true)).
     let frames = [1, 4];
     let n_methods = methods(&frames).len();
     assert_eq!(n_methods, 2 + LOBE_SAMPLES.len() + frames.len());
-    let (header, rows) = read_csv(&dir, "light");
+    let (header, rows) = read_csv(dir, "light");
     assert_eq!(
         header.join(","),
         "environment,material,method,samples,frames,ball,roughness,mean_rel_err,p99_rel_err,mc_rel_std_err"
     );
     // 2 environments x 2 materials x the methods x 2 rows of 5 balls.
     assert_eq!(rows.len(), 4 * n_methods * 10);
-    let (header, cost) = read_csv(&dir, "light_cost");
+    let (header, cost) = read_csv(dir, "light_cost");
     assert_eq!(header[5..8].join(","), "frame_ms,image_ms,ratio");
     assert_eq!(cost.len(), 4 * n_methods);
     // The numbers: after the ball's name in light.csv, after the method in light_cost.csv.
