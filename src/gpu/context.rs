@@ -182,6 +182,17 @@ impl Gpu {
         })
     }
 
+    /// Another handle on this device, its adapter and what it reported (the viewer's second
+    /// renderer draws on the window's device).
+    pub(crate) fn share(&self) -> Gpu {
+        Gpu {
+            adapter: self.adapter.clone(),
+            device: self.device.clone(),
+            queue: self.queue.clone(),
+            faults: Arc::clone(&self.faults),
+        }
+    }
+
     /// A host program's device and queue (handles: cloning shares them): no adapter of this
     /// crate's, no handler or callback installed.
     pub(crate) fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
@@ -221,13 +232,31 @@ impl Gpu {
     }
 
     /// Whether `format` can be a render target here (GL cannot render to Rgba32Float). On a
-    /// host's device, what WebGPU guarantees with its features.
+    /// host's device (no adapter here) a 1x1 target is made in an error scope: what WebGPU
+    /// guarantees is not what a downlevel device (GL) allows, and a texture the device
+    /// refuses is a validation error, not a panic.
     pub(crate) fn renderable(&self, format: wgpu::TextureFormat) -> bool {
-        let features = match &self.adapter {
-            Some(adapter) => adapter.get_texture_format_features(format),
-            None => format.guaranteed_format_features(self.device.features()),
+        let Some(adapter) = &self.adapter else {
+            let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let probe = self.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("renderable probe"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            });
+            probe.destroy();
+            return pollster::block_on(scope.pop()).is_none();
         };
-        features
+        adapter
+            .get_texture_format_features(format)
             .allowed_usages
             .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
     }

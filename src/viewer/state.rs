@@ -235,12 +235,11 @@ impl State {
 
     /// The renderer of a comparison's right side, made if it is not yet.
     pub(crate) fn second_renderer(&mut self) -> &mut Renderer {
-        let gpu = self.renderer.gpu();
-        let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+        let gpu = self.renderer.gpu().share();
         let bake = self.renderer.bake_config();
         let second = self
             .second
-            .get_or_insert_with(|| viewer_renderer(Renderer::from_device(&device, &queue)));
+            .get_or_insert_with(|| viewer_renderer(Renderer::new(gpu)));
         second.set_bake_config(bake);
         second
     }

@@ -233,3 +233,24 @@ fn furnace_radiance_is_one_on_the_cpu_with_the_term() {
     println!("CPU furnace, top row interiors: max |Lo - 1| = {worst_top:.2e}");
     assert!(worst_top < 1e-5, "{worst_top}");
 }
+
+/// A host's device (no adapter of ours) answers which formats it renders to by trying a
+/// 1x1 target: the same answers as the adapter's on Vulkan and GL, for the truth's sums,
+/// the readback's fallback and an 8-bit target (WebGPU's guarantees said yes to
+/// `Rgba32Float` on a GL window's device that refuses it).
+#[test]
+fn a_hosts_device_knows_its_render_targets() {
+    use wgpu::TextureFormat as F;
+    for backends in [wgpu::Backends::VULKAN, wgpu::Backends::GL] {
+        let ours = renderer(backends);
+        let gpu = ours.gpu();
+        let host = crate::Gpu::from_device(&gpu.device, &gpu.queue);
+        for format in [F::Rgba32Float, F::Rgba32Uint, F::Rgba8Unorm] {
+            assert_eq!(
+                host.renderable(format),
+                gpu.renderable(format),
+                "{backends:?} {format:?}"
+            );
+        }
+    }
+}
