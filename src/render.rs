@@ -166,28 +166,21 @@ pub fn render(
 /// the GPU (walk.wgsl) under directional lights (the coat's walk has no next-event
 /// estimation, as the CPU truth's: `cpu::truth` refuses it too).
 fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
-    let coated = |b: &&crate::scene::Ball| b.material.clearcoat.is_on();
     let balls = &scene.balls[..scene.balls.len().min(crate::scene::MAX_BALLS)];
-    let message = if backend == Backend::Montecarlo && balls.iter().any(|b| coated(&b)) {
-        "the GPU's Monte Carlo backend does not shade a clear coat yet (docs/design/coat.md): \
-         render with --backend auto, cpu, montecarlo-cpu or truth"
-    } else if gpu
-        && backend != Backend::Truth
-        && !scene.lights.is_empty()
-        && balls
-            .iter()
-            .filter(coated)
-            .any(|b| b.model == crate::scene::Model::Truth)
-    {
-        "the truth of a clear-coated ball is walked under the environment alone: remove the \
-         scene's lights (a coat's walk has no next-event estimation)"
-    } else {
-        return Ok(());
-    };
-    Err(Error::Invalid {
-        what: "backend",
-        message: message.into(),
-    })
+    if backend == Backend::Montecarlo && balls.iter().any(|b| b.material.clearcoat.is_on()) {
+        return Err(Error::Invalid {
+            what: "backend",
+            message: "the GPU's Monte Carlo backend does not shade a clear coat yet \
+                      (docs/design/coat.md): render with --backend auto, cpu, montecarlo-cpu \
+                      or truth"
+                .into(),
+        });
+    }
+    // The renderer refuses it too (`Renderer::render`); here before any work is done.
+    if gpu && backend != Backend::Truth {
+        scene.check_clearcoat_truth_lights(false)?;
+    }
+    Ok(())
 }
 
 /// The noun of a picture file, for messages.

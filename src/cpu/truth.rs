@@ -164,7 +164,7 @@ pub fn render_truth(
     mut progress: impl FnMut(&TruthProgress) -> bool,
 ) -> Result<TruthImage> {
     settings.check()?;
-    check_clearcoat_lights(scene, settings.every_ball)?;
+    scene.check_clearcoat_truth_lights(settings.every_ball)?;
     // The walk goes through the substrate the base reading implies.
     let substrates = with_substrates(scene, prepared);
     let e = prepared.tables();
@@ -608,7 +608,7 @@ impl PixelWalk {
 
     /// One path through a clear coat's ball from the view ([`Layered::sample`]): its exit's
     /// share of the uniform environment and the map (the render refuses lights with a clear
-    /// coat: `check_clearcoat_lights`).
+    /// coat: `Scene::check_clearcoat_truth_lights`).
     fn estimate_clearcoat(&self, scene: &Scene, layered: &Layered, rng: &mut Rng) -> DVec3 {
         let Some((dir, w)) = layered.sample(self.v_local, rng) else {
             return DVec3::ZERO;
@@ -688,27 +688,6 @@ fn layered(b: &Ball, metal: Microsurface) -> Layered {
         plastic: Coating::new(b.shading_roughness(), m.ior),
         rho: m.diffuse.to_array(),
     }
-}
-
-/// A clear coat's truth is walked under uniform light and maps only: next-event estimation
-/// through the coat to a directional light is not written (docs/design/coat.md).
-fn check_clearcoat_lights(scene: &Scene, every_ball: bool) -> Result<()> {
-    let walked = |b: &&Ball| every_ball || b.model == Model::Truth;
-    let coated = scene
-        .balls
-        .iter()
-        .take(MAX_BALLS)
-        .filter(walked)
-        .any(|b| b.material.clearcoat.is_on());
-    if coated && !scene.lights.is_empty() {
-        return Err(Error::Invalid {
-            what: "truth",
-            message: "the truth of a clear-coated ball is walked under the environment alone: \
-                      remove the scene's lights (a coat's walk has no next-event estimation)"
-                .into(),
-        });
-    }
-    Ok(())
 }
 
 /// The CPU reference renderer's image of a scene with truth balls: every other ball as

@@ -361,13 +361,15 @@ impl Renderer {
     }
 
     /// [`Error::TruthUnsupported`] if `scene` has truth balls and this device cannot
-    /// accumulate them.
+    /// accumulate them; [`Error::Invalid`] if a truth ball is clear-coated under the
+    /// scene's lights (walk.wgsl's coat walk, as the CPU's, has no next-event estimation:
+    /// it would be drawn without its lights).
     pub(crate) fn check_truth_supported(&self, scene: &Scene) -> Result<()> {
         if scene.has_truth() && !self.truth_supported() {
             return Err(Error::TruthUnsupported {
                 device: self.gpu.describe(),
             });
         }
-        Ok(())
+        scene.check_clearcoat_truth_lights(false)
     }
 }

@@ -315,6 +315,30 @@ impl Scene {
         self.balls.iter().any(|b| b.model == Model::Truth)
     }
 
+    /// A clear coat's truth is walked under uniform light and maps only: next-event
+    /// estimation through the coat to a directional light is not written
+    /// (docs/design/coat.md), so a clear-coated ball walked (a truth ball, or every ball
+    /// where `every_ball`) under the scene's lights is refused, by the CPU's truth and the
+    /// GPU's alike, rather than drawn without its lights.
+    pub(crate) fn check_clearcoat_truth_lights(&self, every_ball: bool) -> crate::Result<()> {
+        let coated_walk = self
+            .balls
+            .iter()
+            .take(MAX_BALLS)
+            .filter(|b| every_ball || b.model == Model::Truth)
+            .any(|b| b.material.clearcoat.is_on());
+        if coated_walk && !self.lights.is_empty() {
+            return Err(crate::Error::Invalid {
+                what: "truth",
+                message: "the truth of a clear-coated ball is walked under the environment \
+                          alone: remove the scene's lights (a coat's walk has no next-event \
+                          estimation)"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+
     /// The display transform: the scene's tone mapper and transfer curve, each the
     /// preset's where the scene names none.
     pub fn display(&self) -> DisplayTransform {

@@ -141,6 +141,8 @@ struct App {
     /// The EXR and scene file the next frame writes (key E, the panel's buttons, the last
     /// `--frames` frame).
     pending: capture::Pending,
+    /// The scene and comparison of the last frame shown: where a refused edit goes back to.
+    last_drawn: Option<(Scene, Option<compare::Compare>)>,
     error: Option<Error>,
 }
 
@@ -172,6 +174,7 @@ impl App {
             last_shapes: (Vec::new(), 0.0),
             screenshot: None,
             pending: capture::Pending::default(),
+            last_drawn: None,
             error: None,
         }
     }
@@ -198,6 +201,24 @@ impl App {
     fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
         self.error.get_or_insert(e);
         event_loop.exit();
+    }
+
+    /// A draw that failed with `e`. In a window, a scene the renderer refuses (an edit in
+    /// the panel: the truth side on a device without `Rgba32Float` targets, a clear coat
+    /// on a truth ball under lights) is reported and the viewer goes back to the scene and
+    /// comparison it last showed; anything else, a `--frames` run's failure or the first
+    /// frame's, ends the run.
+    fn draw_failed(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        let refused = matches!(e, Error::Invalid { .. } | Error::TruthUnsupported { .. });
+        match self.last_drawn.clone() {
+            Some((scene, compare)) if refused && self.options.frames.is_none() => {
+                eprintln!("error: {e} (back to the last scene drawn)");
+                self.scene = scene;
+                self.controls.compare = compare;
+                self.request_redraw();
+            }
+            _ => self.fail(event_loop, e),
+        }
     }
 
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -307,6 +328,7 @@ impl App {
             Ok(Frame::Shown(pixels)) => {
                 self.clock.shown(start);
                 self.frames_drawn += 1;
+                self.last_drawn = Some((self.scene.clone(), self.controls.compare));
                 if let (Some(path), Some(rgba)) = (self.screenshot.take(), pixels) {
                     if let Err(e) = self.write_screenshot(&path, (width, height), rgba) {
                         return self.fail(event_loop, e);
@@ -328,7 +350,7 @@ impl App {
                 self.last_shapes = (Vec::new(), 0.0);
                 self.request_redraw();
             }
-            Err(e) => self.fail(event_loop, e),
+            Err(e) => self.draw_failed(event_loop, e),
         }
         let delay = output
             .viewport_output

@@ -533,6 +533,62 @@ fn no_display_points_to_render() {
     );
 }
 
+/// A comparison's truth side on GL is what a truth scene on GL is: drawn without the truth
+/// balls, with one warning (before, the second renderer, on a host's device, trusted
+/// WebGPU's guarantees and failed on a wgpu validation error); a clear-coated truth ball
+/// under a light is refused in one line (the coat's walk has no next-event estimation:
+/// before, it was drawn without its light).
+#[test]
+fn truth_the_gpu_cannot_walk_is_said_once() {
+    let x = Xvfb::start();
+    let dir = temp_dir("view-refused");
+    let shot = dir.join("truth-gl.png");
+    let args = [
+        "--backend",
+        "gl",
+        "--compare",
+        "on,truth",
+        "--frames",
+        "2",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert_eq!(
+        stderr.matches("cannot render to Rgba32Float").count(),
+        1,
+        "{stderr}"
+    );
+    assert!(!stderr.contains("GPU error") && shot.exists(), "{stderr}");
+
+    let scene = dir.join("coated_truth.toml");
+    std::fs::write(
+        &scene,
+        "[[light]]\ndirection = [0.4, 0.5, 1]\nradiance = [3, 3, 3]\n\n[[ball]]\n\
+         position = [0, 0, 0]\nradius = 35\nroughness = 0.6\nmodel = \"truth\"\n\
+         material = { base_color = [0.8, 0.1, 0.08], metallic = 0, clearcoat = 1.0 }\n",
+    )
+    .unwrap();
+    let shot = dir.join("coated.png");
+    let args = [
+        "--scene",
+        scene.to_str().unwrap(),
+        "--frames",
+        "2",
+        "--screenshot",
+    ];
+    let out = viewer(&x, &args).arg(&shot).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "drew: {stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert!(
+        errors.len() == 1 && errors[0].contains("clear-coated"),
+        "{stderr}"
+    );
+    assert!(!shot.exists(), "wrote a screenshot: {stderr}");
+}
+
 /// Truth balls keep accumulating in the window: every frame of an unchanged scene shades
 /// the balls again, adding an estimate a pixel (a scene without them shades them once:
 /// `idle_draws_nothing_and_only_the_scene_area_orbits`).

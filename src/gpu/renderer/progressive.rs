@@ -76,12 +76,16 @@ impl Renderer {
     /// is not read), and a changed scene starts again from one frame
     /// ([`Renderer::lobe_samples`]). Past [`Renderer::set_lobe_sample_cap`]'s cap it adds
     /// nothing and writes the mean held. A scene without the lobe is drawn by `encode`.
+    /// A clear-coated truth ball under lights is refused, as [`Renderer::render`] refuses it
+    /// (on a device without `Rgba32Float` targets the truth balls are left out with a
+    /// warning, as in `encode`).
     pub(crate) fn encode_progressive(
         &mut self,
         scene: &Scene,
         target: Target<'_>,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Result<()> {
+        scene.check_clearcoat_truth_lights(false)?;
         let capped = |samples: Option<u32>, cap: Option<u32>| {
             samples.zip(cap).is_some_and(|(n, cap)| n >= cap)
         };

@@ -417,6 +417,41 @@ fn truth_spp_is_checked() {
         .is_err());
 }
 
+/// A clear-coated truth ball under lights is refused in one line by every way the GPU
+/// draws (its coat's walk has no next-event estimation: drawn, it would lose its lights),
+/// as the CPU's truth refuses it; without the lights, or with the coat on a ball of
+/// another model, the same scene renders.
+#[test]
+fn a_clear_coated_truth_ball_under_lights_is_refused() {
+    let mut r = vulkan();
+    let mut scene = Scene::reference();
+    assert!(!scene.lights.is_empty());
+    scene.balls[0].material.clearcoat.weight = 1.0;
+    scene.balls[1].model = Model::Truth;
+    // The coat on a ball the model shades, a truth ball without a coat: drawn.
+    r.render_hdr(&scene, 32, 18).unwrap();
+    scene.balls[0].model = Model::Truth;
+    let refused = |r: &mut Renderer, scene: &Scene| {
+        let errors = [
+            r.render_hdr(scene, 32, 18).err(),
+            r.render_ldr(scene, 32, 18).err(),
+            r.render_truth_hdr(scene, 32, 18, 2).err(),
+        ];
+        for e in errors {
+            let e = e.expect("refused").to_string();
+            assert!(e.contains("clear-coated") && !e.contains('\n'), "{e}");
+        }
+        let tables = TableSet::full(lut::bake(&BakeConfig::default()));
+        let prepared = crate::prepared::Prepared::new(scene, &tables);
+        let settings = TruthSettings::default();
+        let cpu = cpu::render_truth(scene, &prepared, 32, 18, settings, |_| true);
+        assert!(cpu.is_err(), "the CPU's truth refuses it too");
+    };
+    refused(&mut r, &scene);
+    scene.lights.clear();
+    r.render_hdr(&scene, 32, 18).unwrap();
+}
+
 /// A smooth map (a warm horizon fading into a blue zenith, brighter towards +u), every
 /// texel a multiple of 1/64 so that the GPU's 16-bit float texture holds it exactly: the
 /// exits' directions matter, not only their weights, and the bilinear reads of f32 and f64
