@@ -63,8 +63,6 @@ fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
 // first n_lights lights, the uniform environment and the map, times its weight.
 fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> {
     let p = clearcoat_point;
-    let form = b.clearcoat_form;
-    let roughness = b.clearcoat_roughness;
     let mu_o = max(dot(n, v), 0.0);
     var lo = vec3<f32>(0.0);
     if HAS_ENVIRONMENT == 1u {
@@ -80,23 +78,42 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
             if mu_i <= 0.0 || mu_o <= 0.0 {
                 continue;
             }
-            let h = normalize(v + l);
-            var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
-            if form == COAT_FORM_GLTF {
-                fresnel = 1.0;
-            }
-            var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
-            if form == COAT_FORM_GLTF {
-                spec *= p.fresnel_o;
-            }
-            if p.ms > 0.0 {
-                let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.clearcoat_lut_row);
-                spec += p.ms * b.clearcoat_f_add * f_ms(p.loss_o, loss_i, b.clearcoat_ms_norm);
-            }
-            lo += spec * lights[k].radiance.xyz * mu_i;
+            lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i) * lights[k].radiance.xyz * mu_i;
         }
     }
     return b.clearcoat * lo;
+}
+
+// The coat's own BRDF towards unit direction l under its form, without its weight (after
+// clearcoat_begin; mu_o = n.v and mu_i = n.l both above 0).
+fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, mu_i: f32) -> f32 {
+    let p = clearcoat_point;
+    let form = b.clearcoat_form;
+    let h = normalize(v + l);
+    var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
+    if form == COAT_FORM_GLTF {
+        fresnel = 1.0;
+    }
+    var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), b.clearcoat_roughness, GEOMETRY).x;
+    if form == COAT_FORM_GLTF {
+        spec *= p.fresnel_o;
+    }
+    if p.ms > 0.0 {
+        let loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.clearcoat_lut_row);
+        spec += p.ms * b.clearcoat_f_add * f_ms(p.loss_o, loss_i, b.clearcoat_ms_norm);
+    }
+    return spec;
+}
+
+// The coat's own BRDF towards unit direction l, times its weight; 0 with l or v below the
+// horizon (src/cpu/clearcoat.rs ClearcoatPoint::brdf: the Monte Carlo's model_brdf).
+fn clearcoat_brdf(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
+    let mu_o = dot(n, v);
+    let mu_i = dot(n, l);
+    if mu_i <= 0.0 || mu_o <= 0.0 {
+        return 0.0;
+    }
+    return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i);
 }
 
 // The map's part of shade_clearcoat: the prefiltered radiance at the coat's roughness

@@ -10,8 +10,10 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{split_sum_bias, split_sum_scale}
 #import shadeballs::sampling::vndf_density
-#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, by_term, by_term_f32}
+#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
+#import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe}
+#import shadeballs::clearcoat::clearcoat_brdf
 #import shadeballs::bindings::{e_table, lut_params, env_split_sum}
 
 // Values of ShadingPoint.part (and of montecarlo.wgsl's McParams.part): the whole model, or
@@ -44,6 +46,11 @@ struct ShadingPoint {
     // columns t, b, n); roughness is then its isotropic equivalent.
     alphas: vec2<f32>,
     tangent_frame: mat3x3<f32>,
+    // Whether model_brdf adds a clear coat's lobe and its shares of the base's light (the
+    // Monte Carlo's, after clearcoat.wgsl clearcoat_begin; src/cpu/montecarlo.rs
+    // ShadingPoint::clearcoat). The lobe mode weights its sampled sum by the coat's shares
+    // instead (lighting.wgsl shade_base) and leaves it false.
+    clearcoat: bool,
 }
 
 fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
@@ -79,7 +86,9 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
 
 // The BRDF f_r(v, l) of the ball's model per channel, 0 below either horizon
 // (src/cpu/montecarlo.rs model_brdf; the light loops of shade_metal in lighting.wgsl and
-// shade_coating in coating.wgsl): the metal's and the coating's mixed by metallic.
+// shade_coating in coating.wgsl): the metal's and the coating's mixed by metallic; under a
+// clear coat (p.clearcoat) the coat's own lobe, and the base's light times what the coat
+// lets through, a glossy base's and a Lambertian one's (docs/design/coat.md).
 fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     let mu_i = dot(p.n, l);
     if mu_i <= 0.0 || p.mu_o <= 0.0 {
@@ -95,15 +104,26 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     if p.ms > 0.0 {
         loss_i = lut_loss_row(e_table, lut_params(), mu_i, b.lut_row);
     }
+    var through_lobe = vec3<f32>(1.0);
+    var through_base = vec3<f32>(1.0);
+    var coat = 0.0;
+    if HAS_CLEARCOAT == 1u && p.clearcoat {
+        let t_in = clearcoat_in(b, mu_i, dot(p.v, h));
+        if p.part == PART_WHOLE {
+            coat = clearcoat_brdf(b, p.n, p.v, l);
+        }
+        through_lobe = clearcoat_through_lobe(b, t_in);
+        through_base = clearcoat_through(b, t_in);
+    }
     let metallic = b.metallic;
     var f = vec3<f32>(0.0);
     if metallic > 0.0 {
-        f = metallic * metal_brdf(b, p, l, mu_i, h, loss_i);
+        f = metallic * through_lobe * metal_brdf(b, p, l, mu_i, h, loss_i);
     }
     if metallic < 1.0 {
-        f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i);
+        f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i, through_lobe, through_base);
     }
-    return f;
+    return f + vec3<f32>(coat);
 }
 
 // The metal's part of model_brdf: f_micro with Schlick F per channel (f_micro_aniso in the
@@ -132,8 +152,10 @@ fn metal_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, l
     return spec + multiple;
 }
 
-// The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf).
-fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
+// The coating's part of model_brdf (src/cpu/coating.rs CoatingPoint::brdf), its specular
+// and term times through_lobe and its base times through_base (a clear coat's shares; 1
+// without one).
+fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32, through_lobe: vec3<f32>, through_base: vec3<f32>) -> vec3<f32> {
     let eta = b.eta;
     let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
@@ -154,9 +176,9 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
         e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
     }
     if p.part == PART_MULTIPLE {
-        return vec3<f32>(p.ms * lobe);
+        return through_lobe * (p.ms * lobe);
     }
-    return vec3<f32>(spec + p.ms * lobe) + coating_base(b, p.e_spec_o, e_spec_i, fresnel);
+    return through_lobe * (spec + p.ms * lobe) + through_base * coating_base(b, p.e_spec_o, e_spec_i, fresnel);
 }
 
 // Density (solid angle) of sample_vndf at l (vndf_density at l's half vector).

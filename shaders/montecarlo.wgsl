@@ -19,6 +19,8 @@
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, PART_WHOLE}
+#import shadeballs::coating::has_clearcoat
+#import shadeballs::clearcoat::clearcoat_begin
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
 #import shadeballs::screen::{primary_ray, surface_normal, DEPTH_SCALE}
 #import shadeballs::footprint::{ball_footprint, background_radiance}
@@ -244,6 +246,10 @@ fn fs_montecarlo(in: BallOut) -> McFragment {
     let n = surface_normal(ray[0] + f.t * ray[1] - b.center, ray[1]);
     var p = shading_point(b, n, -ray[1]);
     p.part = mc.part;
+    if has_clearcoat(b) {
+        clearcoat_begin(b, n, -ray[1], b.ms);
+        p.clearcoat = true;
+    }
     let drawn = estimate(b, p, &rng);
     var mean_b = direct(b, p, in.counts.y) + drawn.mean;
     // The ball's emission, exact (no part of the BRDF: the term's lobe alone has none).

@@ -161,22 +161,10 @@ pub fn render(
     }
 }
 
-/// What no backend but the model's renderers, the CPU Monte Carlo and the truths shades
-/// yet: a clear coat under the GPU's Monte Carlo backend, and a clear-coated truth ball on
-/// the GPU (walk.wgsl) under directional lights (the coat's walk has no next-event
-/// estimation, as the CPU truth's: `cpu::truth` refuses it too).
+/// What the GPU does not draw: a clear-coated truth ball under directional lights (the
+/// coat's walk in walk.wgsl has no next-event estimation, as the CPU truth's: `cpu::truth`
+/// refuses it too, and so does `Renderer::render`; here before any work is done).
 fn check_clearcoat(scene: &Scene, backend: Backend, gpu: bool) -> Result<()> {
-    let balls = &scene.balls[..scene.balls.len().min(crate::scene::MAX_BALLS)];
-    if backend == Backend::Montecarlo && balls.iter().any(|b| b.material.clearcoat.is_on()) {
-        return Err(Error::Invalid {
-            what: "backend",
-            message: "the GPU's Monte Carlo backend does not shade a clear coat yet \
-                      (docs/design/coat.md): render with --backend auto, cpu, montecarlo-cpu \
-                      or truth"
-                .into(),
-        });
-    }
-    // The renderer refuses it too (`Renderer::render`); here before any work is done.
     if gpu && backend != Backend::Truth {
         scene.check_clearcoat_truth_lights(false)?;
     }
