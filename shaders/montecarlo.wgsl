@@ -2,7 +2,8 @@
 // src/gpu/montecarlo.rs; docs/design/environment.md, "The Monte Carlo backend"), the f32
 // mirror of src/cpu/montecarlo.rs, name for name: the lights evaluated directly, the
 // environment by three strategies (GGX visible normals, cosine hemisphere, the map's
-// luminance) combined by the multi-sample balance heuristic (Veach & Guibas 1995,
+// luminance; a coated point's coat's visible normals a fourth) combined by the
+// multi-sample balance heuristic (Veach & Guibas 1995,
 // "Optimally Combining Sampling Techniques for Monte Carlo Rendering").
 //
 // Each pass draws every ball's quad with a depth test; a fragment of the nearest ball draws
@@ -17,7 +18,7 @@
 #import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
-#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL}
+#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_CLEARCOAT}
 #import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, PART_WHOLE}
 #import shadeballs::coating::has_clearcoat
 #import shadeballs::clearcoat::clearcoat_begin
@@ -146,6 +147,9 @@ fn contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, alpha: f32) -> vec3<f32>
     if (mc.strategies & STRATEGY_MAP) != 0u {
         pdf += env_pdf(l);
     }
+    if HAS_CLEARCOAT == 1u && p.clearcoat {
+        pdf += pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
+    }
     if pdf <= DIV_EPSILON {
         return vec3<f32>(0.0);
     }
@@ -208,6 +212,13 @@ fn estimate(b: Ball, p: ShadingPoint, rng: ptr<function, u32>) -> Estimates {
             if s.w > 0.0 {
                 x += contribution(b, p, s.xyz, alpha);
             }
+        }
+        // A clear coat's own lobe, a fourth strategy at a coated point: its visible normals.
+        if HAS_CLEARCOAT == 1u && p.clearcoat {
+            let u5 = mc_uniform(rng);
+            let u6 = mc_uniform(rng);
+            let coat_alpha = alpha_from_roughness(b.clearcoat_roughness);
+            x += contribution(b, p, frame * sample_vndf(v_local, coat_alpha, u5, u6), alpha);
         }
         // A non-finite estimate (a guard) counts as 0 rather than poisoning the sums.
         x = select(vec3<f32>(0.0), x, all(abs(x) < vec3<f32>(3.0e38)));

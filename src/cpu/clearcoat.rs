@@ -99,6 +99,11 @@ impl ClearcoatPoint {
         }
     }
 
+    /// The coat lobe's GGX alpha (the Monte Carlo draws the coat's visible normals with it).
+    pub(crate) fn alpha(&self) -> f64 {
+        crate::brdf::alpha_from_roughness(self.c.roughness)
+    }
+
     /// The roughness at which the base reads the map's prefiltered layers under the coat
     /// (`Ball.clearcoat_base_roughness`).
     pub(crate) fn base_roughness(&self) -> f64 {

@@ -8,8 +8,9 @@
 //! [`TableSet`], so an image compares pixel for pixel with the real-time renderers' and
 //! only the integration over incident directions differs. Lights are evaluated directly
 //! (`f_r L mu_i`); the environment is integrated by importance sampling with three
-//! strategies (GGX visible normals, cosine-weighted hemisphere, the map's luminance)
-//! combined by the multi-sample balance heuristic (Veach & Guibas 1995, "Optimally
+//! strategies (GGX visible normals, cosine-weighted hemisphere, the map's luminance; at a
+//! clear-coated point the coat's visible normals a fourth) combined by the multi-sample
+//! balance heuristic (Veach & Guibas 1995, "Optimally
 //! Combining Sampling Techniques for Monte Carlo Rendering").
 
 use std::f64::consts::PI;
@@ -23,7 +24,7 @@ use crate::environment::sampler::EnvSampler;
 use crate::error::Result;
 use crate::lut::{SplitSum, TableSet};
 use crate::prepared::Prepared;
-use crate::sampling::{arriving, sample_cosine, sample_vndf_aniso, Frame};
+use crate::sampling::{arriving, sample_cosine, sample_vndf_aniso, vndf_density, Frame};
 use crate::scene::{bounds_pad_px, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -191,6 +192,9 @@ impl<'a> Lighting<'a> {
             (Frame::new(p.n), (alpha, alpha))
         });
         let v_local = frame.to_local(p.v);
+        // A clear coat's own lobe, a fourth strategy at a coated point: its visible normals
+        // (isotropic: any frame about n).
+        let coat_alpha = p.clearcoat.as_ref().map(|c| c.alpha());
         // Welford's running mean and sum of squared deviations, per channel.
         let mut mean = DVec3::ZERO;
         let mut m2 = DVec3::ZERO;
@@ -206,6 +210,11 @@ impl<'a> Lighting<'a> {
                 if let Some(l) = s.sample(u) {
                     x += self.contribution(p, e, l, alphas);
                 }
+            }
+            if let Some(a) = coat_alpha {
+                let (u1, u2) = (rng.uniform(), rng.uniform());
+                let l = frame.to_world(sample_vndf_aniso(v_local, (a, a), u1, u2));
+                x += self.contribution(p, e, l, alphas);
             }
             let delta = x - mean;
             mean += delta / (k + 1) as f64;
@@ -239,11 +248,17 @@ impl<'a> Lighting<'a> {
         f * self.incident(l) * (mu_i / pdf)
     }
 
-    /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`.
+    /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`: the
+    /// lobe's visible normals, the cosine, the map's texels, and a coat's visible normals.
     fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alphas: (f64, f64)) -> f64 {
         let mut pdf = pdf_vndf_lobe(p, l, alphas) + mu_i / PI;
         if let Some(s) = &self.sampler {
             pdf += s.pdf(l);
+        }
+        let sum = p.v + l;
+        let len = sum.length();
+        if let Some(c) = p.clearcoat.as_ref().filter(|_| len > DIV_EPSILON) {
+            pdf += vndf_density(p.mu_o, p.n.dot(sum / len), c.alpha());
         }
         pdf
     }

@@ -867,11 +867,14 @@ fn gpu_montecarlo_of_anisotropic_balls_equals_the_cpu_within_noise() {
 /// Clear coats (issue 36): the GPU's Monte Carlo of `clearcoat.toml` (coat weight x coat
 /// roughness over a red plastic and a metal, the studio, with a light from the camera) equals
 /// the CPU's within 3 standard errors on every ball and channel. The control: the same
-/// balls without their coats on the CPU are far outside the noise.
+/// balls without their coats on the CPU are far outside the noise. 256 samples: the
+/// smooth coats' reflections of the studio's lights are heavy-tailed (at 64 samples one
+/// seed in five put a smooth coat at 3.70 standard errors, 2.48 at 512 samples; at 256 the
+/// worst of seeds 3, 5, 7, 11 and 13 was 2.16 to 2.66).
 #[test]
 fn gpu_montecarlo_of_clear_coats_equals_the_cpu_within_noise() {
     let mut renderer = crate::pixels::vulkan();
-    let (w, h, spp) = (320, 180, 64);
+    let (w, h, spp) = (320, 180, 256);
     let light = "\n[[light]]\ndirection = [0, 0, 1]\nradiance = [1, 1, 1]\n";
     let mut scene = scene_file("clearcoat.toml", |t| format!("{t}{light}"));
     scene.antialias = false;
@@ -901,6 +904,16 @@ fn gpu_montecarlo_of_clear_coats_equals_the_cpu_within_noise() {
                 let z = (g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON);
                 if z > worst.0 {
                     worst = (z, k);
+                }
+                if z > 2.5 {
+                    println!(
+                        "ball {k} ch {ch}: gpu {} cpu {} se {} {} rel {:.5}",
+                        g.0[ch],
+                        c.0[ch],
+                        g.1[ch],
+                        c.1[ch],
+                        (g.0[ch] - c.0[ch]) / c.0[ch]
+                    );
                 }
             }
         }
