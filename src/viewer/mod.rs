@@ -204,10 +204,9 @@ impl App {
     }
 
     /// A draw that failed with `e`. In a window, a scene the renderer refuses (an edit in
-    /// the panel: the truth side on a device without `Rgba32Float` targets, a clear coat
-    /// on a truth ball under lights) is reported and the viewer goes back to the scene and
-    /// comparison it last showed; anything else, a `--frames` run's failure or the first
-    /// frame's, ends the run.
+    /// the panel, such as a clear coat on a truth ball under lights) is reported and the
+    /// viewer goes back to the scene and comparison it last showed; anything else, a
+    /// `--frames` run's failure or the first frame's, ends the run.
     fn draw_failed(&mut self, event_loop: &ActiveEventLoop, e: Error) {
         let refused = matches!(e, Error::Invalid { .. } | Error::TruthUnsupported { .. });
         match self.last_drawn.clone() {
