@@ -238,20 +238,13 @@ impl Gpu {
     pub(crate) fn renderable(&self, format: wgpu::TextureFormat) -> bool {
         let Some(adapter) = &self.adapter else {
             let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let probe = self.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("renderable probe"),
-                size: wgpu::Extent3d {
-                    width: 1,
-                    height: 1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            let probe = super::sums::texture(
+                &self.device,
+                "renderable probe",
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
-            });
+                (1, 1),
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            );
             probe.destroy();
             return pollster::block_on(scope.pop()).is_none();
         };
