@@ -811,6 +811,36 @@ fn gpu_montecarlo_timing() {
     }
 }
 
+/// The CPU's Monte Carlo of `scene` at `w x h`, `spp` samples, `seed`, on its own tables.
+fn cpu_montecarlo(scene: &Scene, (w, h): (u32, u32), spp: u32, seed: u64) -> MonteCarloImage {
+    let e = TableSet::from(tables_for(scene));
+    render_montecarlo(
+        scene,
+        &crate::prepared::Prepared::new(scene, &e),
+        w,
+        h,
+        spp,
+        seed,
+    )
+    .unwrap()
+}
+
+/// The largest |a - b| over the standard error of the difference, over `scene`'s balls and
+/// the channels of their means ([`ball_channel_means`]), and the ball where it is.
+fn worst_z(scene: &Scene, a: &MonteCarloImage, b: &MonteCarloImage) -> (f64, usize) {
+    let mut worst: (f64, usize) = (0.0, 0);
+    for (k, [g, c]) in ball_channel_means(scene, [a, b]).into_iter().enumerate() {
+        for ch in 0..3 {
+            let se = (g.1[ch].powi(2) + c.1[ch].powi(2)).sqrt();
+            let z = (g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON);
+            if z > worst.0 {
+                worst = (z, k);
+            }
+        }
+    }
+    worst
+}
+
 /// Anisotropic metals under the GPU's Monte Carlo (`model.wgsl`'s `metal_brdf` in the
 /// ball's tangent frame, sampled by the isotropic equivalent's visible normals, the
 /// cosine and the map: unbiased) equal the CPU's within 3 standard errors on every ball
@@ -831,34 +861,12 @@ fn gpu_montecarlo_of_anisotropic_balls_equals_the_cpu_within_noise() {
             .with_anisotropy(0.4 + 0.6 * (k % 4) as f64 / 3.0, 0.5 * (k % 6) as f64);
         i.roughness = b.shading_roughness();
     }
-    let mc = |scene: &Scene| {
-        let e = TableSet::from(tables_for(scene));
-        render_montecarlo(
-            scene,
-            &crate::prepared::Prepared::new(scene, &e),
-            w,
-            h,
-            spp,
-            5,
-        )
-        .unwrap()
-    };
-    let cpu = mc(&scene);
+    let cpu = cpu_montecarlo(&scene, (w, h), spp, 5);
     let gpu = renderer.render_montecarlo(&scene, (w, h), spp, 5).unwrap();
-    let worst_z = |a: &MonteCarloImage, b: &MonteCarloImage| {
-        let mut worst: f64 = 0.0;
-        for [g, c] in ball_channel_means(&scene, [a, b]) {
-            for ch in 0..3 {
-                let se = (g.1[ch].powi(2) + c.1[ch].powi(2)).sqrt();
-                worst = worst.max((g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON));
-            }
-        }
-        worst
-    };
-    let worst = worst_z(&gpu, &cpu);
+    let (worst, _) = worst_z(&scene, &gpu, &cpu);
     println!("anisotropic metals: worst |gpu - cpu| / se over balls and channels {worst:.2}");
     assert!(worst <= 3.0, "GPU against CPU: {worst:.2} standard errors");
-    let control = worst_z(&gpu, &mc(&iso));
+    let (control, _) = worst_z(&scene, &gpu, &cpu_montecarlo(&iso, (w, h), spp, 5));
     println!("against the isotropic equivalents: {control:.2}");
     // Twice the agreement's bound: the test resolves the anisotropy (measured 8.35).
     assert!(control > 6.0, "the anisotropy does not show: {control:.2}");
@@ -882,50 +890,15 @@ fn gpu_montecarlo_of_clear_coats_equals_the_cpu_within_noise() {
     for b in &mut bare.balls {
         b.material.clearcoat.weight = 0.0;
     }
-    let mc = |scene: &Scene| {
-        let e = TableSet::from(tables_for(scene));
-        render_montecarlo(
-            scene,
-            &crate::prepared::Prepared::new(scene, &e),
-            w,
-            h,
-            spp,
-            5,
-        )
-        .unwrap()
-    };
-    let cpu = mc(&scene);
+    let cpu = cpu_montecarlo(&scene, (w, h), spp, 5);
     let gpu = renderer.render_montecarlo(&scene, (w, h), spp, 5).unwrap();
-    let worst_z = |a: &MonteCarloImage, b: &MonteCarloImage| {
-        let mut worst: (f64, usize) = (0.0, 0);
-        for (k, [g, c]) in ball_channel_means(&scene, [a, b]).into_iter().enumerate() {
-            for ch in 0..3 {
-                let se = (g.1[ch].powi(2) + c.1[ch].powi(2)).sqrt();
-                let z = (g.0[ch] - c.0[ch]).abs() / se.max(DIV_EPSILON);
-                if z > worst.0 {
-                    worst = (z, k);
-                }
-                if z > 2.5 {
-                    println!(
-                        "ball {k} ch {ch}: gpu {} cpu {} se {} {} rel {:.5}",
-                        g.0[ch],
-                        c.0[ch],
-                        g.1[ch],
-                        c.1[ch],
-                        (g.0[ch] - c.0[ch]) / c.0[ch]
-                    );
-                }
-            }
-        }
-        worst
-    };
-    let (worst, k) = worst_z(&gpu, &cpu);
+    let (worst, k) = worst_z(&scene, &gpu, &cpu);
     println!("clear coats: worst |gpu - cpu| / se over balls and channels {worst:.2} (ball {k})");
     assert!(
         worst <= 3.0,
         "GPU against CPU: {worst:.2} standard errors, ball {k}"
     );
-    let (control, k) = worst_z(&gpu, &mc(&bare));
+    let (control, k) = worst_z(&scene, &gpu, &cpu_montecarlo(&bare, (w, h), spp, 5));
     println!("against the bare balls: {control:.2} (ball {k})");
     assert!(control > 6.0, "the coats do not show: {control:.2}");
 }
