@@ -137,6 +137,7 @@ pub fn assert_quick_light_output(dir: &std::path::Path) {
 /// to within the two references' noise.
 #[test]
 fn light_split_sum_error_is_the_ibl_benchs() {
+    let _turn = crate::quick_bench_turn();
     let mut renderer = vulkan();
     let (w, h) = (96, 54);
     let all = (f64::NEG_INFINITY, f64::INFINITY);

@@ -156,6 +156,7 @@ fn coincident_balls_show_the_lowest_index() {
 /// to a fresh renderer's image.
 #[test]
 fn depth_target_follows_the_target_size() {
+    let _turn = crate::quick_bench_turn();
     let mut r = vulkan();
     let scene = overlapping();
     for (w, h) in [(320, 180), (640, 360), (200, 300), (320, 180)] {
@@ -168,6 +169,7 @@ fn depth_target_follows_the_target_size() {
 /// The CPU renderer's bins change nothing: bit-identical to a loop over every ball.
 #[test]
 fn cpu_bins_equal_the_loop_over_every_ball() {
+    let _turn = crate::quick_bench_turn();
     use shadeballs::lut::{bake, BakeConfig};
     for scene in [overlapping(), chart(16, 2, None), Scene::reference()] {
         // The loop below is one centre ray per pixel: the renderer without antialiasing
@@ -228,6 +230,7 @@ fn cpu_bins_equal_the_loop_over_every_ball() {
 /// A 64 x 64 chart (MAX_BALLS balls) renders and matches the CPU.
 #[test]
 fn a_chart_of_max_balls_matches_cpu() {
+    let _turn = crate::quick_bench_turn();
     const { assert!(MAX_BALLS >= 4096) };
     let scene = chart(64, 1, None);
     assert_eq!(scene.balls.len(), 4096);

@@ -64,6 +64,7 @@ fn single_scattering_quadrature_matches_the_precise_reference() {
 
 #[test]
 fn walk_single_scattering_is_the_bakers_e_with_height_correlated_smith() {
+    let _turn = crate::quick_bench_turn();
     let config = BakeConfig {
         geometry: Geometry::SmithCorrelated,
         ..Default::default()
@@ -138,6 +139,7 @@ fn hemisphere_rule(n_mu: usize, n_phi: usize) -> Vec<(DVec3, f64)> {
 
 #[test]
 fn white_albedo_by_next_event_is_one() {
+    let _turn = crate::quick_bench_turn();
     // An estimator independent of the escape tally: next-event estimates of f cos, summed
     // over a hemisphere rule (exact to 1e-9 on the single-scattering lobe, checked here).
     let rule = hemisphere_rule(24, 48);
