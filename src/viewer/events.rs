@@ -19,8 +19,11 @@ impl App {
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode) {
         match code {
             // An open menu (a combo box's list) closes first: egui closes it on this key
-            // at the next frame.
-            KeyCode::Escape if egui::Popup::is_any_open(&self.egui_ctx) => {}
+            // at the next frame. So does one a click on the panel is about to open: on a
+            // slow frame the click and the key can both wait for the same frame, and the
+            // menu is not open yet when the key arrives.
+            KeyCode::Escape
+                if self.panel_press_undrawn || egui::Popup::is_any_open(&self.egui_ctx) => {}
             KeyCode::Escape => event_loop.exit(),
             KeyCode::KeyM => edit::toggle_term(&mut self.scene),
             KeyCode::KeyF => {
@@ -59,7 +62,9 @@ impl App {
                 ..
             } => {
                 let in_scene = self.cursor.0 < self.scene_width as f64;
-                let pressed = state == ElementState::Pressed && in_scene;
+                let down = state == ElementState::Pressed;
+                self.panel_press_undrawn |= down && !in_scene;
+                let pressed = down && in_scene;
                 let on_split = self.controls.compare.is_some_and(|c| {
                     c.view == View::Wipe
                         && (self.cursor.0 - c.split_px(self.scene_width) as f64).abs()

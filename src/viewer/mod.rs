@@ -128,6 +128,9 @@ struct App {
     drag: Option<(f64, f64)>,
     /// Whether the left button went down on the wipe's split line, while it is held.
     split_drag: bool,
+    /// Whether the left button went down on the panel since egui last ran: a click on a
+    /// combo box that opens its menu only at the next frame.
+    panel_press_undrawn: bool,
     scene_width: u32,
     frames_drawn: u32,
     clock: FrameClock,
@@ -167,6 +170,7 @@ impl App {
             cursor: (0.0, 0.0),
             drag: None,
             split_drag: false,
+            panel_press_undrawn: false,
             scene_width: 1,
             frames_drawn: 0,
             clock: FrameClock::default(),
@@ -279,6 +283,7 @@ impl App {
             start,
         );
         let input = egui_winit.take_egui_input(&state.window);
+        self.panel_press_undrawn = false;
         let (scene, controls) = (&mut self.scene, &mut self.controls);
         let mut free_width = 0.0;
         let mut label_shapes = Vec::new();
