@@ -210,18 +210,15 @@ pub fn harmonics_sweep(quick: bool) -> Result<Sweep> {
             })
             .collect();
         let coeffs = project(&reference, max_bands);
-        let prefiltered = Prefiltered::new(&chain, &kern, tables.config.geometry);
+        // The convolved layers alone (`multiple` reads nothing else; the specular layers
+        // `Prefiltered::new` also builds took most of this sweep's time).
         let source = &chain.levels[chain.convolution_source() as usize];
         let maps: Vec<(u32, Prefiltered)> = MAP_WIDTHS
             .iter()
             .map(|&w| {
-                let p = if w == CONVOLVED_WIDTH {
-                    prefiltered.clone()
-                } else {
-                    Prefiltered {
-                        specular: Vec::new(),
-                        convolved: convolved_layers(source, &kern, w),
-                    }
+                let p = Prefiltered {
+                    specular: Vec::new(),
+                    convolved: convolved_layers(source, &kern, w),
                 };
                 (w, p)
             })

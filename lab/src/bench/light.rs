@@ -168,16 +168,16 @@ impl Method {
 }
 
 /// The methods measured: the split sum along the dominant and along the mirror
-/// direction, the lobe at each of [`LOBE_SAMPLES`], the
+/// direction, the lobe at each of `lobe_samples` (the full run: [`LOBE_SAMPLES`]), the
 /// progressive lobe after each of `frames`.
-pub fn methods(frames: &[u32]) -> Vec<Method> {
+pub fn methods(lobe_samples: &[u32], frames: &[u32]) -> Vec<Method> {
     let split = |family| Method {
         family,
         samples: 0,
         frames: 1,
     };
     let mut out = vec![split(Family::SplitSum), split(Family::SplitSumMirror)];
-    out.extend(LOBE_SAMPLES.iter().map(|&samples| Method {
+    out.extend(lobe_samples.iter().map(|&samples| Method {
         family: Family::Lobe,
         samples,
         frames: 1,
@@ -291,6 +291,8 @@ pub struct Settings {
     pub frame: (u32, u32),
     /// Rounds of timed frames.
     pub repeats: usize,
+    /// The lobe rows' sample counts.
+    pub lobe_samples: Vec<u32>,
     /// The progressive rows' frame counts.
     pub frames: Vec<u32>,
 }
@@ -300,12 +302,15 @@ impl Settings {
         if quick {
             // Seconds, inside `bench --quick`'s minute: a sixteenth of the full run's
             // frame (the lobe's multiple importance sampling at N = 64 costs seconds a
-            // frame at 640x360) and one timed round.
+            // frame at 640x360), one timed round, and the lobe at three sample counts
+            // (each count is a pipeline of its own to compile, for the timed frames and
+            // the error images: 0.3 s each, the first time, on lavapipe).
             Settings {
                 size: (64, 36),
                 spp: 1024,
                 frame: (320, 180),
                 repeats: 1,
+                lobe_samples: vec![1, DEFAULT_IBL_SAMPLES, 64],
                 frames: vec![1, 4],
             }
         } else {
@@ -318,6 +323,7 @@ impl Settings {
                 spp: 32768,
                 frame: FRAME_SIZE,
                 repeats: 11,
+                lobe_samples: LOBE_SAMPLES.to_vec(),
                 frames: vec![1, 2, 4, 8, 16, 32, 64],
             }
         }
@@ -377,7 +383,7 @@ pub fn measure(
     settings: &Settings,
 ) -> Result<(Vec<Measured>, MonteCarloImage)> {
     let reference = reference(renderer, base, settings.size, settings.spp)?;
-    let methods = methods(&settings.frames);
+    let methods = methods(&settings.lobe_samples, &settings.frames);
     // One timed scene per distinct frame (the progressive rows time the lobe's frame).
     let timed: Vec<Method> = methods
         .iter()

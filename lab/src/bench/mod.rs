@@ -147,6 +147,7 @@ pub fn run(options: &BenchOptions) -> Result<String> {
     let gpu_wanted = SweepKind::ALL
         .iter()
         .any(|&k| k.needs_gpu() && options.wants(k));
+    let mut laps = Laps::new();
     let gpu = if options.cpu_only || !gpu_wanted {
         None
     } else {
@@ -161,21 +162,26 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         })?)
     };
     let quick = options.quick;
+    laps.lap("opening the device");
     let mut sweeps = Vec::new();
     if options.wants(SweepKind::Bake) {
         sweeps.push(bake::bake_sweep(quick));
+        laps.lap("bake");
     }
     if options.wants(SweepKind::Plan) {
         sweeps.push(plan::plan_sweep(quick));
+        laps.lap("plan");
     }
     if options.wants(SweepKind::Read) {
         sweeps.push(read::read_sweep(quick));
+        laps.lap("read");
     }
     let mut skipped = Vec::new();
     match gpu {
         Some(gpu) => {
             if options.wants(SweepKind::Lookup) {
                 sweeps.push(read::lookup_sweep(&gpu, quick)?);
+                laps.lap("lookup");
             }
             let renders = [
                 SweepKind::Render,
@@ -187,16 +193,21 @@ pub fn run(options: &BenchOptions) -> Result<String> {
                 let mut renderer = shadeballs::gpu::Renderer::new(gpu);
                 if options.wants(SweepKind::Render) {
                     sweeps.push(render_sweep::render_sweep(&mut renderer, quick)?);
+                    laps.lap("render");
                 }
                 if options.wants(SweepKind::Scale) {
                     sweeps.push(scale::scale_sweep(&mut renderer, quick)?);
+                    laps.lap("scale");
                 }
                 if options.wants(SweepKind::Ibl) {
                     sweeps.push(ibl::ibl_sweep(&mut renderer, quick)?);
+                    laps.lap("ibl");
                     sweeps.push(harmonics::harmonics_sweep(quick)?);
+                    laps.lap("harmonics");
                 }
                 if options.wants(SweepKind::Light) {
                     sweeps.push(light::light_sweep(&mut renderer, quick)?);
+                    laps.lap("light");
                 }
             } else {
                 drop(gpu);
@@ -204,7 +215,10 @@ pub fn run(options: &BenchOptions) -> Result<String> {
             // The device is released above, before the startup runs open theirs.
             if options.wants(SweepKind::Startup) {
                 match &options.exe {
-                    Some(exe) => sweeps.push(startup::startup_sweep(exe, quick)?),
+                    Some(exe) => {
+                        sweeps.push(startup::startup_sweep(exe, quick)?);
+                        laps.lap("startup");
+                    }
                     None => skipped.push(
                         "startup (no shadeballs executable beside shadeballs-lab: cargo build --release)"
                             .to_string(),
@@ -262,11 +276,45 @@ pub fn run(options: &BenchOptions) -> Result<String> {
         }
     }
     summary.push_str(&format!(
-        "Bench wall time: {:.1} s.\n",
-        started.elapsed().as_secs_f64()
+        "Bench wall time: {:.1} s ({}).\n",
+        started.elapsed().as_secs_f64(),
+        laps.list()
     ));
     write_atomic(&options.out.join("summary.md"), summary.as_bytes())?;
     Ok(summary)
+}
+
+/// The wall time of each step of a run, in the order they ran.
+struct Laps {
+    last: Instant,
+    times: Vec<(&'static str, f64)>,
+}
+
+impl Laps {
+    fn new() -> Self {
+        Laps {
+            last: Instant::now(),
+            times: Vec::new(),
+        }
+    }
+
+    /// Records the time since the previous lap (or the start) as `step`'s.
+    fn lap(&mut self, step: &'static str) {
+        let now = Instant::now();
+        self.times
+            .push((step, now.duration_since(self.last).as_secs_f64()));
+        self.last = now;
+    }
+
+    /// "bake 4.1 s, plan 1.0 s, ...".
+    fn list(&self) -> String {
+        let steps: Vec<String> = self
+            .times
+            .iter()
+            .map(|(step, secs)| format!("{step} {secs:.1} s"))
+            .collect();
+        steps.join(", ")
+    }
 }
 
 /// The commit of the source tree this lab was built from, its abbreviated hash as `git

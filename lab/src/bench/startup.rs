@@ -142,7 +142,9 @@ fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
     use super::bake::{homework_config, HOMEWORK};
     use super::table::Table;
     use super::Goal;
-    let runs = if quick { 3 } else { 7 };
+    // Process runs (alternating pairs) and in-process runs; the quick run's figures are
+    // each of one run, not a median.
+    let (runs, in_process_runs) = if quick { (1, 1) } else { (7, 7) };
     let mut columns = vec!["config", "how", "total_ms"];
     columns.extend(PHASES.iter().map(|p| match *p {
         "device" => "device_ms",
@@ -177,7 +179,7 @@ fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
     let worst = process_runs.iter().copied().fold(0.0, f64::max);
     let process_ms = super::median(&mut process_runs);
     let studio_ms = super::median(&mut studio_runs);
-    let hw = (0..runs)
+    let hw = (0..in_process_runs)
         .map(|_| in_process(&homework_config(shadeballs::brdf::Geometry::Schlick), dir))
         .collect::<Result<Vec<_>>>()?;
     t.push(row(HOMEWORK, "in process", &median(&hw)));
@@ -196,13 +198,13 @@ fn startup_runs(exe: &Path, dir: &Path, quick: bool) -> Result<super::Sweep> {
     studio_row.extend(["-"; 6].map(String::from));
     t.push(studio_row);
     let ours = median(
-        &(0..runs)
+        &(0..in_process_runs)
             .map(|_| in_process(&BakeConfig::default(), dir))
             .collect::<Result<Vec<_>>>()?,
     );
     t.push(row("default", "in process", &ours));
     t.note = format!(
-        "Medians of {runs} runs each. 'process': `shadeballs render` spawned by the bench (the homework's scene file, or the same balls under the studio map, alternating), total = spawn to exit as this process sees it (its slowest run: {worst:.0} ms; a new shader compiles on the first run after a build, Mesa's disk cache serves later runs). 'in process': the phases, timed with the library's calls, with a fresh device per run."
+        "Medians of {runs} run(s) of each process, {in_process_runs} of each in process. 'process': `shadeballs render` spawned by the bench (the homework's scene file, or the same balls under the studio map, alternating), total = spawn to exit as this process sees it (its slowest run: {worst:.0} ms; a new shader compiles on the first run after a build, Mesa's disk cache serves later runs). 'in process': the phases, timed with the library's calls, with a fresh device per run."
     );
     let goal = Goal {
         what: "startup to the first PNG <= 1 s, the bake a small share".into(),

@@ -10,7 +10,7 @@ use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs_lab::bench::ibl::{errors_by_roughness, ibl_scene};
 use shadeballs_lab::bench::light::{
     ball_errors, light_scene, method_image, methods, reference, row_scenes, Family, LightMaterial,
-    LOBE_SAMPLES,
+    Settings,
 };
 
 use crate::pixels::vulkan;
@@ -67,10 +67,14 @@ fn assert_the_lobe_converges(cost: &[Vec<String>]) {
 /// bench's test runs once for every sweep): its tables, its curve's plots, and the lobe
 /// converging.
 pub fn assert_quick_light_output(dir: &std::path::Path) {
-    // The quick run's frame counts of the progressive rows (light::Settings::new(true)).
-    let frames = [1, 4];
-    let n_methods = methods(&frames).len();
-    assert_eq!(n_methods, 2 + LOBE_SAMPLES.len() + frames.len());
+    // The quick run's lobe: N = 1, 16 and 64; its progressive rows: 1 and 4 frames.
+    let quick = Settings::new(true);
+    assert_eq!(
+        (&quick.lobe_samples[..], &quick.frames[..]),
+        (&[1, 16, 64][..], &[1, 4][..])
+    );
+    let n_methods = methods(&quick.lobe_samples, &quick.frames).len();
+    assert_eq!(n_methods, 2 + 3 + 2);
     let (header, rows) = read_csv(dir, "light");
     assert_eq!(
         header.join(","),
@@ -149,7 +153,7 @@ fn light_split_sum_error_is_the_ibl_benchs() {
             scene, ibl,
             "the light bench's metals are the ibl bench's balls"
         );
-        let split = methods(&[])[0];
+        let split = methods(&[], &[])[0];
         assert_eq!(split.family, Family::SplitSum);
         let image = method_image(&mut renderer, &scene, split, (w, h)).unwrap();
         let gpu_mc = reference(&mut renderer, &scene, (w, h), 4096).unwrap();
