@@ -12,6 +12,7 @@ use super::render::{close_up, exact_radiance, measure_pair, tables_for, Setup};
 use super::table::Table;
 use super::{Goal, Sweep};
 use crate::plot::{Plot, Series, Style};
+use shadeballs::environment::{Builtin, Environment};
 use shadeballs::error::Result;
 use shadeballs::gpu::Renderer;
 use shadeballs::gpu::{DrawOptions, TermMode};
@@ -200,6 +201,7 @@ pub fn render_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
     goals.push(antialias_cost(renderer, repeats * 2, &mut t)?);
     goals.extend(materials_cost(renderer, repeats * 2, quick, &mut t)?);
     goals.extend(clearcoat_cost(renderer, repeats * 2, quick, &mut t)?);
+    goals.push(anisotropy_cost(renderer, repeats * 2, quick, &mut t)?);
     t.note = format!(
         "{} on {}: median of {repeats} frames each, term on and off alternating; wall time of encode, submit and wait (no readback); on_over_off is the median of the on/off ratio of each pair of frames. 'planned': the scene's own rows, a quad per ball over its screen-space bounds, the background a clear, a pipeline per variant; 'quads': the same draw with the table named pinned (Renderer::set_tables). Error: the frame in linear radiance, tone-mapped like the reference, per channel, in 1/255 of the display value, against the CPU reference renderer with precise E and E_avg (lab/src/bench/exact.rs). 'term off' compiles the term out of every pipeline (MS_TERM = 0): its error is what dropping the term costs; for the scene without the term, 'on' is its plan and 'off' the plain shader.",
         if quick { "Quick" } else { "Full" },
@@ -378,6 +380,67 @@ fn materials_cost(
         met: e + coating <= 5.0,
     });
     Ok(goals)
+}
+
+/// Anisotropic metal balls (every ball of the reference scene at anisotropy 0.8, along the
+/// ball's tangent) against the same balls isotropic, in alternating frames: under the
+/// scene's light and (the full run) under the studio map, where the split sum bends its
+/// reflection direction for the anisotropy. A row of `t` each and issue 36's goal: an
+/// anisotropic ball at most 1.2x the frame of an isotropic one, the worse of the two.
+fn anisotropy_cost(
+    renderer: &mut Renderer,
+    repeats: usize,
+    quick: bool,
+    t: &mut Table,
+) -> Result<Goal> {
+    renderer.set_bake_config(BakeConfig::default());
+    renderer.set_draw_options(DrawOptions::default());
+    let lit = Scene::reference();
+    let studio = Scene {
+        lights: Vec::new(),
+        environment: DVec3::ZERO,
+        environment_map: Some(Environment::builtin(Builtin::Studio)),
+        ..Scene::reference()
+    };
+    // Under the map a lavapipe frame at 1280x720 takes a fifth of a second: the full run's.
+    let cases = if quick {
+        vec![("one light", lit)]
+    } else {
+        vec![("one light", lit), ("the studio map", studio)]
+    };
+    let mut worst: Option<(f64, f64, f64, &str)> = None;
+    for (lighting, isotropic) in cases.iter() {
+        let mut anisotropic = isotropic.clone();
+        for b in &mut anisotropic.balls {
+            b.material.anisotropy = 0.8;
+        }
+        let (mut times, ratio) =
+            super::render::alternate(renderer, [&anisotropic, isotropic], repeats, |_, _| {})?;
+        let aniso_ms = super::median(&mut times[0]);
+        let iso_ms = super::median(&mut times[1]);
+        t.push(vec![
+            "anisotropy".into(),
+            format!("default with every ball at anisotropy 0.8 under {lighting}"),
+            "accurate".into(),
+            "planned (against the same balls isotropic)".into(),
+            "on".into(),
+            format!("{aniso_ms:.2}"),
+            format!("{ratio:.3}"),
+            "-".into(),
+            "-".into(),
+        ]);
+        if worst.is_none_or(|w| ratio > w.2) {
+            worst = Some((aniso_ms, iso_ms, ratio, lighting));
+        }
+    }
+    let (aniso_ms, iso_ms, ratio, lighting) = worst.expect("one case at least");
+    Ok(Goal {
+        what: "an anisotropic ball at most 1.2x the frame of an isotropic one (anisotropy 0.8, the worse of the lightings measured)".into(),
+        figure: format!(
+            "{aniso_ms:.2} ms against {iso_ms:.2} ms under {lighting}: {ratio:.3}x (median of {repeats} alternating pairs; on_over_off column of the 'anisotropy' rows)"
+        ),
+        met: ratio <= 1.2,
+    })
 }
 
 /// Coated plastic balls (the red plastic of [`plastic`] under a full coat of roughness 0.2,
