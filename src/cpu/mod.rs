@@ -46,20 +46,22 @@ use crate::scene::{bounds_pad_px, Ball, CameraBasis, Scene, AA_EDGE_PX, MAX_BALL
 /// order, so the nearest hit and its tie-break (lowest index) are those of a loop over
 /// every ball.
 pub fn render_radiance(scene: &Scene, prepared: &Prepared, width: u32, height: u32) -> Vec<DVec3> {
-    render_radiance_at_lobe_frame(scene, prepared, width, height, 0)
+    let mut frames = render_radiance_at_lobe_frames(scene, prepared, width, height, &[0]);
+    frames.pop().expect("one frame asked for")
 }
 
-/// [`render_radiance`] at frame `lobe_frame` of the lobe's samples (`ibl_method = "lobe"`:
-/// the sample indices `lobe_frame N .. (lobe_frame + 1) N` of each pixel's sequence, as
-/// `gpu::Renderer::set_lobe_frame`); the same image as [`render_radiance`] under the split
-/// sum.
-pub(crate) fn render_radiance_at_lobe_frame(
+/// [`render_radiance`] at each of `lobe_frames` of the lobe's samples (`ibl_method =
+/// "lobe"`: frame `f` takes the sample indices `f N .. (f + 1) N` of each pixel's sequence,
+/// as `gpu::Renderer::set_lobe_frame`), an image each, the map prepared once for them all
+/// (its prefiltered layers take a second or more); the same image as [`render_radiance`]
+/// under the split sum.
+pub(crate) fn render_radiance_at_lobe_frames(
     scene: &Scene,
     prepared: &Prepared,
     width: u32,
     height: u32,
-    lobe_frame: u32,
-) -> Vec<DVec3> {
+    lobe_frames: &[u32],
+) -> Vec<Vec<DVec3>> {
     let e = prepared.tables();
     let basis = scene.camera.basis(width, height);
     let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
@@ -78,7 +80,10 @@ pub(crate) fn render_radiance_at_lobe_frame(
             }),
         };
         let lobe = scene.ibl_method == crate::environment::IblMethod::Lobe;
-        (environment, CpuEnvironment::new(environment, &tables, lobe))
+        (
+            environment,
+            CpuEnvironment::reused(environment, &tables, lobe),
+        )
     });
     let ibl = &ibl;
     let background = scene.background_radiance();
@@ -88,14 +93,15 @@ pub(crate) fn render_radiance_at_lobe_frame(
         Some((environment, map)) if shows_map => background + map.background(environment, d),
         _ => background,
     };
-    // Radiance leaving ball k, hit at distance t along the ray (o, d), towards the eye.
-    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize, pixel: (u32, u32)| {
+    // Radiance leaving ball k, hit at distance t along the ray (o, d), towards the eye, at
+    // frame `lobe_frame` of the lobe's samples.
+    let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize, pixel: (u32, u32), lobe_frame| {
         let b = &balls[k];
         let n = surface_normal(o + t * d - b.center, d);
         let forms = Forms {
             form,
             geometry,
-            map: ibl.as_ref().map(|(_, map)| map),
+            map: ibl.as_ref().map(|(_, map)| &**map),
             lobe: LobeSamples::of(scene, pixel, lobe_frame),
             coat: None,
         };
@@ -104,18 +110,25 @@ pub(crate) fn render_radiance_at_lobe_frame(
     };
     let o = basis.origin;
     let size = (width, height);
-    (0..height)
-        .into_par_iter()
-        .flat_map_iter(|py| {
-            (0..width).map(move |px| {
-                match bins.view(&basis, balls, size, scene.antialias, (px, py)) {
-                    PixelView::Miss(d) => background_along(d),
-                    PixelView::Ball(view) => {
-                        let lo = shade_hit(o, view.hit, view.footprint.t, view.k, (px, py));
-                        view.mix(lo, || background_along(view.miss))
-                    }
-                }
-            })
+    let basis = &basis;
+    lobe_frames
+        .iter()
+        .map(|&lobe_frame| {
+            (0..height)
+                .into_par_iter()
+                .flat_map_iter(|py| {
+                    (0..width).map(move |px| {
+                        match bins.view(basis, balls, size, scene.antialias, (px, py)) {
+                            PixelView::Miss(d) => background_along(d),
+                            PixelView::Ball(view) => {
+                                let (t, k) = (view.footprint.t, view.k);
+                                let lo = shade_hit(o, view.hit, t, k, (px, py), lobe_frame);
+                                view.mix(lo, || background_along(view.miss))
+                            }
+                        }
+                    })
+                })
+                .collect()
         })
         .collect()
 }

@@ -433,18 +433,19 @@ fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTe
         for term in IblTerm::ALL {
             let mut scene = scene_of(builtin, term);
             scene.antialias = true;
-            for frame in [0, 5] {
+            let frames = [0, 5];
+            let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
+            let radiance = cpu::render_radiance_at_lobe_frames(
+                &scene,
+                &crate::prepared::Prepared::new(&scene, &tables),
+                w,
+                h,
+                &frames,
+            );
+            for (frame, radiance) in frames.into_iter().zip(radiance) {
                 r.set_lobe_frame(frame);
                 let gpu = r.render_ldr(&scene, w, h).unwrap().rgba;
                 r.set_lobe_frame(0);
-                let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-                let radiance = cpu::render_radiance_at_lobe_frame(
-                    &scene,
-                    &crate::prepared::Prepared::new(&scene, &tables),
-                    w,
-                    h,
-                    frame,
-                );
                 let cpu = cpu::to_display_rgba8(&radiance, scene.exposure, scene.display());
                 assert_close_sampled(
                     &compare(&gpu, &cpu, w),
@@ -649,7 +650,7 @@ fn progressive_ldr(r: &mut crate::Renderer, scene: &Scene, (w, h): (u32, u32)) -
 
 /// The lobe's frames summed on the GPU (`render_lobe_hdr`: `accumulate.wgsl`, one
 /// read-back) against the mean of the same frames of the CPU twin
-/// (`cpu::render_radiance_at_lobe_frame`), within the GPU-vs-CPU bound of one frame
+/// (`cpu::render_radiance_at_lobe_frames`), within the GPU-vs-CPU bound of one frame
 /// (`assert_close`, the render issue's; `lobe_gpu_matches_its_cpu_twin` holds it per
 /// frame), under both maps, 4 frames of 4 samples; on Vulkan and on GL (which renders the
 /// same `Rgba32Uint` sums), under studio there.
@@ -674,14 +675,9 @@ fn lobe_accumulated_on_the_gpu_matches_the_mean_of_its_cpu_frames() {
             .collect();
         let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
         let mut mean = vec![DVec3::ZERO; (w * h) as usize];
-        for k in 0..frames {
-            let frame = cpu::render_radiance_at_lobe_frame(
-                &scene,
-                &crate::prepared::Prepared::new(&scene, &tables),
-                w,
-                h,
-                k,
-            );
+        let all: Vec<u32> = (0..frames).collect();
+        let prepared = crate::prepared::Prepared::new(&scene, &tables);
+        for frame in cpu::render_radiance_at_lobe_frames(&scene, &prepared, w, h, &all) {
             for (m, x) in mean.iter_mut().zip(frame) {
                 *m += x / f64::from(frames);
             }
