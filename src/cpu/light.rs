@@ -130,8 +130,7 @@ impl CpuEnvironment {
     /// texels, prefilter kernels, G and `lobe`): the CPU renders of one map (a twin test's
     /// scenes, a bench's images, each frame of a progressive render) prepare it once; its
     /// prefiltered layers take a second or more for a 1024-wide map. Only a map of at most
-    /// [`KEPT_MAP_TEXELS`] is kept, so that what stays in memory after a render is small
-    /// against the render's own.
+    /// [`KEPT_MAP_TEXELS`] is kept, which bounds what stays in memory after a render.
     pub(crate) fn reused(environment: &Environment, tables: &Tables, lobe: bool) -> Arc<Self> {
         LAST_PREPARED.get_or_prepare(environment, tables, lobe)
     }
