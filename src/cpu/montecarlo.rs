@@ -24,7 +24,7 @@ use crate::environment::sampler::EnvSampler;
 use crate::error::Result;
 use crate::lut::{SplitSum, TableSet};
 use crate::prepared::Prepared;
-use crate::sampling::{arriving, sample_cosine, sample_vndf_aniso, vndf_density, Frame};
+use crate::sampling::{arriving, sample_cosine, sample_vndf_aniso, Frame};
 use crate::scene::{bounds_pad_px, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -34,8 +34,8 @@ pub use crate::environment::sampler::LUMINANCE;
 pub use crate::stats::MonteCarloImage;
 pub use crate::stats::Part;
 
-use super::model::pdf_vndf_lobe;
 pub(crate) use super::model::{model_brdf, ShadingPoint};
+use super::model::{pdf_vndf, pdf_vndf_lobe};
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -255,10 +255,8 @@ impl<'a> Lighting<'a> {
         if let Some(s) = &self.sampler {
             pdf += s.pdf(l);
         }
-        let sum = p.v + l;
-        let len = sum.length();
-        if let Some(c) = p.clearcoat.as_ref().filter(|_| len > DIV_EPSILON) {
-            pdf += vndf_density(p.mu_o, p.n.dot(sum / len), c.alpha());
+        if let Some(c) = &p.clearcoat {
+            pdf += pdf_vndf(p, l, c.alpha());
         }
         pdf
     }
