@@ -43,12 +43,13 @@ step cargo fmt --all -- --check
 step cargo clippy --release --workspace --all-targets -- -D warnings
 # The library as another program links it (no default features: no winit, egui, clap or
 # plotting crate) is built by the suite's readme_library test, the README's own host
-# program with a second one that checks a map file is refused naming the feature; its docs
-# below. A separate unit-test build of it cost about 120 s of CI's 20 minutes and ran the
-# same tests as the workspace's.
+# program with a second one that checks a map file is refused naming the feature. Neither
+# a unit-test build of it (about 120 s of CI's 20 minutes, the workspace's tests again) nor
+# its docs (`cargo doc --no-default-features -p shadeballs`: 26 to 34 s, checking wgpu and
+# naga again with the lean graph's features) run here: the docs below are the default
+# build's, where every feature's items are documented and their links checked.
 export RUSTDOCFLAGS="-D warnings"
 step cargo doc --release --no-deps --workspace
-step cargo doc --release --no-deps --no-default-features -p shadeballs
 unset RUSTDOCFLAGS
 # Both crates: the library's unit tests (the maths, beside its code) and its integration
 # test binary, the lab's test binary, the examples (built, and run by their tests) and the

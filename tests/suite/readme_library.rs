@@ -9,8 +9,7 @@
 //! runs and must write its picture. The same host crate holds a second program,
 //! `without_image_files`: the library as the README's line builds it (no default features)
 //! refuses a map file by name, in one line, and writes nothing. This build is the one
-//! build of the library without default features that runs (tests/run.sh also documents
-//! it so).
+//! build of the library without default features that CI runs (tests/run.sh says why).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

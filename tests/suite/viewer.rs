@@ -1293,15 +1293,16 @@ fn lobe_stops_at_its_cap_and_the_viewer_goes_idle() {
         "--width",
         "480",
         "--height",
-        "136",
+        "68",
     ];
     let child = viewer(&x, &args).current_dir(&dir).spawn().unwrap();
     let pid = child.id();
     let stderr = drive(&x, child, |_| {
-        // 16 frames of a 185x136 scene area at 256 samples of each strategy (the lobe
+        // 16 frames of a 185x68 scene area at 256 samples of each strategy (the lobe
         // mode's multiple importance sampling, issue 37): at 185x270 a frame took 2.5 to
-        // 4.4 s on lavapipe (2 loaded cores), half that here, about 20 to 35 s to the cap;
-        // then idle, which the wait sees as the process's CPU time standing still.
+        // 4.4 s on lavapipe (2 loaded cores), a quarter of that here; the test took 27 s
+        // at 185x136. Then idle, which the wait sees as the process's CPU time standing
+        // still.
         until_idle(pid, Duration::from_secs(240));
     });
     assert_eq!(reported(&stderr, "lobe: "), 4096, "{stderr}");
