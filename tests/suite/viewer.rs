@@ -1040,10 +1040,12 @@ fn escape_closes_an_open_menu_first() {
     drive(&x, child, |id| {
         let mut combo = combo;
         combo[2] = id;
-        // A click before the panel is laid out misses it (a slow first frame).
-        std::thread::sleep(Duration::from_millis(2500));
+        // A click before the panel is laid out misses it: wait for the first frames to be
+        // drawn (the viewer idle), however slow they are (a fixed 2.5 s was once enough).
+        until_idle(pid, Duration::from_secs(60));
         x.xdotool(&combo);
-        std::thread::sleep(Duration::from_millis(1500));
+        // The menu drawn open.
+        until_idle(pid, Duration::from_secs(60));
         x.xdotool(&["windowfocus", "--sync", id, "key", "Escape"]);
         std::thread::sleep(Duration::from_millis(1500));
         alive_with_menu_open = Some(alive());
@@ -1144,11 +1146,13 @@ fn a_map_file_typed_into_the_panel_lights_the_window() {
         .current_dir(&dir)
         .spawn()
         .unwrap();
+    let pid = child.id();
     let stderr = drive(&x, child, |id| {
         // The panel's first frames take a second or two on a slow 2-core machine: a click
         // before the field is laid out misses it, and the path typed after it goes to the
-        // window as key presses ('s' takes a screenshot).
-        std::thread::sleep(Duration::from_millis(2500));
+        // window as key presses ('s' takes a screenshot). So the click waits for the first
+        // frames to be drawn (the viewer idle), however slow they are.
+        until_idle(pid, Duration::from_secs(60));
         // The map file field (the homework scene's panel, 1280x720 at DPI 1: below the
         // background's combo box).
         x.xdotool(&[
