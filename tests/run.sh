@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite of both crates (the library and binary at the root, the lab in lab/),
 # from a fresh Debian machine: installs what the tests need (Mesa's lavapipe Vulkan driver,
-# Xvfb and xdotool for the viewer test), then checks formatting, lints, the docs (the
-# library's also without default features), and runs every test, the examples' and the
-# doctests in release mode (one build serves the tests and the programs;
+# Xvfb and xdotool for the viewer test), then checks formatting and the library's docs, and
+# builds and runs every test, the examples' and the doctests in release mode, linted by
+# clippy as they build (one build serves the lints, the tests and the programs;
 # docs/design/machine.md, "Build").
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,19 +40,33 @@ step() {
 }
 
 step cargo fmt --all -- --check
-step cargo clippy --release --workspace --all-targets -- -D warnings
-# The library as another program links it (no default features: no winit, egui, clap or
-# plotting crate) is built by the suite's readme_library test, the README's own host
-# program with a second one that checks a map file is refused naming the feature. Neither
-# a unit-test build of it (about 120 s of CI's 20 minutes, the workspace's tests again) nor
-# its docs (`cargo doc --no-default-features -p shadeballs`: 26 to 34 s, checking wgpu and
-# naga again with the lean graph's features) run here: the docs below are the default
-# build's, where every feature's items are documented and their links checked.
+# The library's docs as a host program sees them, every library feature on (image files,
+# labels, scene files, glTF; not the binary's `cli`, whose viewer, clap and egui the library
+# does not expose): every public item documented and its links checked. A clean machine
+# checks their dependencies for rustdoc in about 50 s; the whole workspace's docs took
+# 100 s (the lab's and the binary's winit, egui and clap too), which the separate
+# `cargo clippy` step this replaced used to share.
 export RUSTDOCFLAGS="-D warnings"
-step cargo doc --release --no-deps --workspace
+step cargo doc --release --no-deps --no-default-features \
+    --features image-files,labels,scene-files,gltf -p shadeballs
 unset RUSTDOCFLAGS
 # Both crates: the library's unit tests (the maths, beside its code) and its integration
 # test binary, the lab's test binary, the examples (built, and run by their tests) and the
-# doctests of the facade.
+# doctests of the facade. Clippy lints the workspace's own crates as this build compiles
+# them (what `cargo clippy` does: clippy-driver wraps rustc for workspace members), with
+# warnings as errors, so no separate check of every dependency comes first (it took about
+# 140 s of CI's 20 minutes). That covers every target `cargo test` builds (the library,
+# the binaries, the tests, the examples); the lab's 30-line `cargo bench` entry point is
+# the one target it does not build. The library without default features is built by the
+# suite's readme_library test, the README's own host program with a second one that checks
+# a map file is refused naming the feature (a unit-test build of it would be about 120 s
+# more, the workspace's tests again).
+clippy_driver="$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver || true)"
+if [ -z "$clippy_driver" ]; then
+    echo "error: clippy-driver not found (rustup component add clippy)" >&2
+    exit 1
+fi
+export RUSTC_WORKSPACE_WRAPPER="$clippy_driver"
+export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
 step cargo test --release --workspace
 echo "== ${SECONDS}s: done" >&2
