@@ -681,21 +681,21 @@ pub fn light_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
         maps.push(sun_environment());
     }
     for environment in maps {
-        let builtin = environment.source.to_string();
+        let map = environment.source.to_string();
         let mut series = Vec::new();
         let mut noise = 0.0f64;
         for material in LightMaterial::ALL {
             let base = light_scene(environment.clone(), material);
             let (measured, _) = measure(renderer, &base, material, &settings)?;
-            let config = [builtin.as_str(), material.name()];
+            let config = [map.as_str(), material.name()];
             push_rows(&mut errors, &mut cost, config, &measured);
             notes.push(break_even(
-                &format!("{builtin}, {}", material.name()),
+                &format!("{map}, {}", material.name()),
                 &measured,
             ));
             checks.add(
-                &format!("{builtin} {}", material.name()),
-                &builtin,
+                &format!("{map} {}", material.name()),
+                &map,
                 material,
                 &measured,
             );
@@ -703,11 +703,9 @@ pub fn light_sweep(renderer: &mut Renderer, quick: bool) -> Result<Sweep> {
             noise = measured.iter().map(Measured::noise).fold(noise, f64::max);
         }
         plots.push((
-            format!("light_{builtin}"),
+            format!("light_{map}"),
             Plot {
-                title: format!(
-                    "Light under {builtin}: cost against error (GPU Monte Carlo reference)"
-                ),
+                title: format!("Light under {map}: cost against error (GPU Monte Carlo reference)"),
                 x_label: format!(
                     "cost over the split sum's frame ({}x{})",
                     settings.frame.0, settings.frame.1
@@ -742,25 +740,16 @@ pub const PROGRESSIVE_MS: f64 = 2000.0;
 /// The maps issue 37's goals name.
 const GOAL_MAPS: [&str; 2] = ["studio", "sky"];
 
-/// A configuration's best row within one of issue 37's costs: its worst error at
-/// roughness >= 0.3, its N (one frame) or frames (progressive), and its cost.
-#[derive(Clone, Copy, Debug)]
-struct Best {
-    error: f64,
-    n: u32,
-    cost: f64,
-}
-
 /// The sweep's checks, over every configuration.
 #[derive(Default)]
 struct Checks {
     /// The timed frames' size.
     frame: (u32, u32),
-    /// Under the goals' maps, per configuration: the lowest one-frame lobe error at
-    /// roughness >= 0.3 within [`ONE_FRAME_COST`] (with its N and cost), and the lowest
-    /// progressive error within [`PROGRESSIVE_MS`] (with its frames and ms).
-    one_frame: Vec<(String, Option<Best>)>,
-    progressive: Vec<(String, Option<Best>)>,
+    /// Under the goals' maps, per configuration: the one-frame lobe row of the lowest error
+    /// at roughness >= 0.3 within [`ONE_FRAME_COST`], and the progressive row of the lowest
+    /// within [`PROGRESSIVE_MS`].
+    one_frame: Vec<(String, Option<Measured>)>,
+    progressive: Vec<(String, Option<Measured>)>,
     /// Rows measured, and those whose error is partly the reference's noise.
     rows: usize,
     noise_bound: Vec<String>,
@@ -774,38 +763,21 @@ impl Checks {
     fn add(&mut self, config: &str, map: &str, material: LightMaterial, measured: &[Measured]) {
         self.rows += measured.len();
         if GOAL_MAPS.contains(&map) {
-            // The lowest error among `family`'s rows that `fits`.
-            let lowest = |family: Family,
-                          fits: &dyn Fn(&Measured) -> bool,
-                          n: &dyn Fn(&Method) -> u32,
-                          cost: &dyn Fn(&Measured) -> f64| {
+            // The row of the lowest error among `family`'s rows that `fits`.
+            let lowest = |family: Family, fits: fn(&Measured) -> bool| {
                 measured
                     .iter()
                     .filter(|m| m.method.family == family && fits(m))
-                    .map(|m| Best {
-                        error: m.worst(0.3),
-                        n: n(&m.method),
-                        cost: cost(m),
-                    })
-                    .min_by(|a, b| a.error.total_cmp(&b.error))
+                    .min_by(|a, b| a.worst(0.3).total_cmp(&b.worst(0.3)))
+                    .cloned()
             };
             self.one_frame.push((
                 config.to_string(),
-                lowest(
-                    Family::Lobe,
-                    &|m| m.ratio <= ONE_FRAME_COST,
-                    &|m| m.samples,
-                    &|m| m.ratio,
-                ),
+                lowest(Family::Lobe, |m| m.ratio <= ONE_FRAME_COST),
             ));
             self.progressive.push((
                 config.to_string(),
-                lowest(
-                    Family::Progressive,
-                    &|m| m.image_ms() <= PROGRESSIVE_MS,
-                    &|m| m.frames,
-                    &Measured::image_ms,
-                ),
+                lowest(Family::Progressive, |m| m.image_ms() <= PROGRESSIVE_MS),
             ));
         }
         for m in measured {
@@ -845,30 +817,28 @@ impl Checks {
         let falls = |v: &[(f64, f64)]| !v.is_empty() && v.iter().all(|(a, b)| b < a);
         let (fw, fh) = self.frame;
         // Each configuration's lowest error within the cost, against the goal's error.
-        let within = |rows: &[(String, Option<Best>)],
-                      goal: f64,
-                      what: &dyn Fn(u32, f64) -> String| {
-            let figure = rows
-                .iter()
-                .map(|(config, best)| match best {
-                    Some(b) => format!("{config} {:.2} % ({})", 100.0 * b.error, what(b.n, b.cost)),
-                    None => format!("{config}: no row within the cost"),
-                })
-                .collect::<Vec<_>>()
-                .join(", ");
-            let met = !rows.is_empty()
-                && rows
+        let within =
+            |rows: &[(String, Option<Measured>)], goal: f64, what: &dyn Fn(&Measured) -> String| {
+                let figure = rows
                     .iter()
-                    .all(|(_, best)| best.is_some_and(|b| b.error <= goal));
-            (figure, met)
-        };
-        let (one_frame, one_frame_met) = within(&self.one_frame, ONE_FRAME_ERROR, &|n, cost| {
-            format!("N = {n}, {cost:.2}x")
+                    .map(|(config, best)| match best {
+                        Some(m) => format!("{config} {:.2} % ({})", 100.0 * m.worst(0.3), what(m)),
+                        None => format!("{config}: no row within the cost"),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let met = !rows.is_empty()
+                    && rows
+                        .iter()
+                        .all(|(_, best)| best.as_ref().is_some_and(|m| m.worst(0.3) <= goal));
+                (figure, met)
+            };
+        let (one_frame, one_frame_met) = within(&self.one_frame, ONE_FRAME_ERROR, &|m| {
+            format!("N = {}, {:.2}x", m.method.samples, m.ratio)
         });
-        let (progressive, progressive_met) =
-            within(&self.progressive, PROGRESSIVE_ERROR, &|k, ms| {
-                format!("{k} frames, {:.2} s", ms / 1e3)
-            });
+        let (progressive, progressive_met) = within(&self.progressive, PROGRESSIVE_ERROR, &|m| {
+            format!("{} frames, {:.2} s", m.method.frames, m.image_ms() / 1e3)
+        });
         vec![
             Goal {
                 what: format!(
