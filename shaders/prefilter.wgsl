@@ -4,7 +4,7 @@
 
 #define_import_path shadeballs::prefilter
 #import shadeballs::constants::PI
-#import shadeballs::brdf::geometry_g
+#import shadeballs::brdf::{d_ggx, geometry_g}
 #import shadeballs::environment::{direction_to_uv, uv_to_direction}
 #import shadeballs::sampling::duff_frame
 
@@ -14,6 +14,7 @@ const KERNEL_SIZE: u32 = 64u; // environment::prefilter::KERNEL_SIZE
 const FIS_LOD_BIAS: f32 = 0.0; // environment::prefilter::FIS_LOD_BIAS
 const WEIGHT_EPSILON: f32 = 1e-30; // environment::prefilter::WEIGHT_EPSILON
 const POLE_SIN_MIN: f32 = 0.0001; // environment::prefilter::POLE_SIN_MIN
+const BRIGHT_MAX: u32 = 512u; // environment::prefilter::BRIGHT_MAX
 // end of the generated constants
 
 struct PrefilterParams {
@@ -27,8 +28,15 @@ struct PrefilterParams {
     // roughness; w: the G (GEOMETRY_* of constants.wgsl) its samples are weighted by.
     layer: vec4<f32>,
     // x: samples a texel (specular_samples); y: the coarsest level filtered importance
-    // sampling reads (fis_max_level).
+    // sampling reads (fis_max_level); z: the bright texels (Bright::texels' length).
     limits: vec4<u32>,
+}
+
+// One texel of Bright (prefilter.rs): xyz its direction; rgb its excess radiance times its
+// solid angle.
+struct BrightTexel {
+    direction: vec4<f32>,
+    power: vec4<f32>,
 }
 
 @group(0) @binding(0) var radiance: texture_2d<f32>;
@@ -37,6 +45,9 @@ struct PrefilterParams {
 @group(0) @binding(3) var<uniform> params: PrefilterParams;
 // The zonal kernels, KERNEL_SIZE samples per layer, four to a vec4 (kernels()).
 @group(0) @binding(4) var<uniform> kernels: array<vec4<f32>, 160>;
+// The map's bright texels (Bright in prefilter.rs), params.limits.z of them; `radiance` is
+// then the map with them clipped, from the bright level down.
+@group(0) @binding(5) var<uniform> bright: array<BrightTexel, BRIGHT_MAX>;
 
 // The bits of i mirrored about the binary point (van der Corput).
 fn radical_inverse(i: u32) -> f32 {
@@ -78,7 +89,24 @@ fn prefilter_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32, s
         sum += textureSampleLevel(radiance, radiance_sampler, direction_to_uv(l), lod).rgb * g;
         weight += g;
     }
-    return sum / max(weight, WEIGHT_EPSILON);
+    let excess = bright_specular(r, alpha, roughness, geometry);
+    return (sum + excess * f32(samples)) / max(weight, WEIGHT_EPSILON);
+}
+
+// int L_b D G / 4 dw about r (n = v = r) for the bright texels' excess L_b, each texel a
+// point of its solid angle (bright_specular in prefilter.rs).
+fn bright_specular(r: vec3<f32>, alpha: f32, roughness: f32, geometry: u32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < params.limits.z; k++) {
+        let t = dot(r, bright[k].direction.xyz);
+        if t <= 0.0 {
+            continue;
+        }
+        let n_dot_h = sqrt(0.5 * (1.0 + t));
+        let lobe = d_ggx(n_dot_h, alpha) * geometry_g(1.0, t, roughness, geometry) / 4.0;
+        sum += bright[k].power.rgb * lobe;
+    }
+    return sum;
 }
 
 // Kernel layer `layer` at t (0 below the horizon), linear between its samples (kernel_at).

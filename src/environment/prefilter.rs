@@ -11,8 +11,10 @@
 //!   Unreal Engine 4": the split sum's first factor), by [`SPECULAR_SAMPLES`] GGX samples
 //!   weighted by `G(1, n.l)` (not Karis's `n.l`: `prefilter_specular` says why), each read from the mip level its solid angle covers (filtered
 //!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
-//!   Importance Sampling"); a read interpolates linearly between the two layers around the
-//!   ball's roughness;
+//!   Importance Sampling"); a map's bright texels (a sun, a lamp: [`Bright`]) are taken out
+//!   of what the samples read and integrated against the lobe directly, so a small bright
+//!   source gives no blotches; a read interpolates linearly between the two layers around
+//!   the ball's roughness;
 //! - **irradiance**: layer 0 of the convolved maps, the cosine-weighted average of the map
 //!   about the normal (irradiance over pi);
 //! - **multiple scattering**: layers `1..=CONVOLVED_LEVELS` of the convolved maps, the map
@@ -52,6 +54,16 @@ pub(crate) const FIS_LOD_BIAS: f64 = 0.0;
 /// light over a hemisphere, beyond any lobe. The rough layers take more samples instead
 /// ([`specular_samples`]).
 pub(crate) const FIS_MIN_WIDTH: u32 = 16;
+/// A texel of the map's [`BRIGHT_WIDTH`] level is bright when its luminance is above this
+/// many times the level's mean (solid-angle weighted): a sun or a lamp, which a few GGX
+/// samples a texel would find by chance ([`Bright`]).
+pub(crate) const BRIGHT_RATIO: f64 = 16.0;
+/// At most this many bright texels, the brightest (the GPU holds them in a uniform buffer
+/// of two `vec4` each: 16 KiB, every backend's smallest uniform binding).
+pub const BRIGHT_MAX: usize = 512;
+/// Bright texels are found on the first mip level at most this wide (the sharpest sampled
+/// layer's own width, [`SPECULAR_WIDTH`]).
+pub(crate) const BRIGHT_WIDTH: u32 = SPECULAR_WIDTH;
 /// Kulla-Conty kernel layers: roughness 0, 1/8, ..., 1.
 pub const CONVOLVED_LEVELS: u32 = 9;
 /// Width of each convolved layer (height half).
@@ -317,8 +329,14 @@ pub fn radical_inverse(i: u32) -> f64 {
 /// `int L D G / 4 dw`, so this weighting makes the split sum exact at normal incidence
 /// (measured against Monte Carlo: the `n.l` weighting left rough balls under the studio
 /// 20 % off where they face the camera).
+///
+/// `chain` is the map with its [`Bright`] texels clipped when it has any, and `bright` those
+/// texels' excess: the samples read the clipped map, and the excess is added as the
+/// integral it is ([`bright_specular`]), over the samples' own weight sum (their mean `G`
+/// estimates the lobe's integral `int D G / 4 dw`, so the two parts share one normalisation).
 pub(crate) fn prefilter_specular(
     chain: &MipChain,
+    bright: &[BrightTexel],
     r: DVec3,
     roughness: f64,
     geometry: Geometry,
@@ -359,7 +377,167 @@ pub(crate) fn prefilter_specular(
         sum += chain.sample(l, lod) * g;
         weight += g;
     }
-    sum / weight.max(WEIGHT_EPSILON)
+    let excess = bright_specular(bright, r, alpha, roughness, geometry);
+    (sum + excess * samples as f64) / weight.max(WEIGHT_EPSILON)
+}
+
+/// `bright_specular` of `prefilter.wgsl`: `int L_b D G / 4 dw` about `r` (`n = v = r`) for
+/// the bright texels' excess `L_b`, each texel a point of its solid angle: the lobe's
+/// value `D(h) G(1, n.l) / 4` at its centre times its excess radiance times its solid
+/// angle. With `n = v`, `n.h = sqrt((1 + n.l) / 2)`.
+pub(crate) fn bright_specular(
+    bright: &[BrightTexel],
+    r: DVec3,
+    alpha: f64,
+    roughness: f64,
+    geometry: Geometry,
+) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    for b in bright {
+        let t = r.dot(b.direction());
+        if t <= 0.0 {
+            continue;
+        }
+        let n_dot_h = (0.5 * (1.0 + t)).sqrt();
+        let k = crate::brdf::d_ggx(n_dot_h, alpha) * geometry.g(1.0, t, roughness) / 4.0;
+        sum += b.power() * k;
+    }
+    sum
+}
+
+/// One bright texel of [`Bright`], as the GPU's uniform holds it (f32).
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
+pub struct BrightTexel {
+    /// xyz: the texel centre's direction (map frame); w: unused.
+    pub direction: [f32; 4],
+    /// rgb: the excess radiance taken out of the texel times the texel's solid angle
+    /// (divided by the chain's f16 scale, as the textures hold it); w: unused.
+    pub power: [f32; 4],
+}
+
+impl BrightTexel {
+    fn direction(&self) -> DVec3 {
+        DVec3::new(
+            self.direction[0] as f64,
+            self.direction[1] as f64,
+            self.direction[2] as f64,
+        )
+    }
+
+    fn power(&self) -> DVec3 {
+        DVec3::new(
+            self.power[0] as f64,
+            self.power[1] as f64,
+            self.power[2] as f64,
+        )
+    }
+}
+
+/// A map's bright texels apart (issue 37, a split sum without blotches under a sun). A
+/// few GGX samples a texel find a small bright source by chance, and filtered importance
+/// sampling reads it from coarse mip levels where the samples of the lobe's tail land: the
+/// rough layers showed the sun as blocks and rings. Here the texels of the
+/// [`BRIGHT_WIDTH`] level above [`BRIGHT_RATIO`] times its mean luminance (at most
+/// [`BRIGHT_MAX`], the brightest) are clipped to that threshold in a copy of the chain from
+/// that level down, which the samples read, and their excess is integrated against the
+/// lobe directly ([`bright_specular`]). The excess plus the clipped texel is the texel, so
+/// no energy is lost or added (up to the f16 rounding of the clipped value, which the
+/// excess takes back).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bright {
+    /// The chain from the bright level down, bright texels clipped.
+    pub chain: MipChain,
+    /// The bright texels' excess.
+    pub texels: Vec<BrightTexel>,
+}
+
+impl Bright {
+    /// The bright texels of `chain`, or none when no texel is bright.
+    pub fn new(chain: &MipChain) -> Option<Self> {
+        let level_index = chain
+            .levels
+            .iter()
+            .position(|l| l.width <= BRIGHT_WIDTH)
+            .unwrap_or(chain.levels.len() - 1);
+        let level = &chain.levels[level_index];
+        let luminance = |t: &[f32; 4]| {
+            crate::environment::sampler::LUMINANCE.dot(DVec3::new(
+                t[0] as f64,
+                t[1] as f64,
+                t[2] as f64,
+            ))
+        };
+        let (mut total, mut area) = (0.0, 0.0);
+        for j in 0..level.height {
+            let omega = level.texel_solid_angle(j);
+            for i in 0..level.width {
+                total += luminance(&level.texels[(j * level.width + i) as usize]) * omega;
+                area += omega;
+            }
+        }
+        let mut threshold = BRIGHT_RATIO * total / area;
+        let mut bright: Vec<(f64, usize)> = level
+            .texels
+            .iter()
+            .enumerate()
+            .map(|(k, t)| (luminance(t), k))
+            .filter(|&(y, _)| y > threshold)
+            .collect();
+        if bright.is_empty() {
+            return None;
+        }
+        bright.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        if bright.len() > BRIGHT_MAX {
+            threshold = bright[BRIGHT_MAX].0;
+            bright.truncate(BRIGHT_MAX);
+            bright.retain(|&(y, _)| y > threshold);
+        }
+        log::debug!(
+            "environment map: {} bright texels of its {}x{} level apart (luminance above {:.4e})",
+            bright.len(),
+            level.width,
+            level.height,
+            threshold
+        );
+        let mut clipped = level.clone();
+        let texels = bright
+            .iter()
+            .map(|&(y, k)| {
+                let t = level.texels[k];
+                let keep = threshold / y;
+                let (i, j) = (k as u32 % level.width, k as u32 / level.width);
+                let omega = level.texel_solid_angle(j);
+                let mut power = [0f32; 4];
+                for c in 0..3 {
+                    let rest = f16_round((t[c] as f64 * keep) as f32);
+                    clipped.texels[k][c] = rest;
+                    power[c] = ((t[c] - rest) as f64 * omega) as f32;
+                }
+                let uv = DVec2::new(
+                    (i as f64 + 0.5) / level.width as f64,
+                    (j as f64 + 0.5) / level.height as f64,
+                );
+                let d = uv_to_direction(uv).as_vec3();
+                BrightTexel {
+                    direction: [d.x, d.y, d.z, 0.0],
+                    power,
+                }
+            })
+            .collect();
+        let mut levels = vec![clipped];
+        while let Some(next) = downsample(levels.last().expect("the bright level is there")) {
+            levels.push(next);
+        }
+        Some(Bright {
+            chain: MipChain {
+                levels,
+                scale: chain.scale,
+                clamped: 0,
+            },
+            texels,
+        })
+    }
 }
 
 /// `prefilter_convolved` of `prefilter.wgsl`: the kernel-weighted average of `source`
@@ -475,6 +653,11 @@ impl Prefiltered {
         let (sw, sh) = specular_size(chain.levels[0].width);
         let lod0 = (chain.levels[0].width as f64 / sw as f64).log2();
         let levels = specular_mip_levels(chain.levels[0].width);
+        let bright = Bright::new(chain);
+        let (sampled, excess) = match &bright {
+            Some(b) => (&b.chain, &b.texels[..]),
+            None => (chain, &[][..]),
+        };
         let specular = (0..SPECULAR_LEVELS)
             .map(|k| {
                 let m = specular_mip(k, levels);
@@ -487,7 +670,7 @@ impl Prefiltered {
                     {
                         let samples = specular_samples(k);
                         layer(w, h, |r| {
-                            prefilter_specular(chain, r, roughness, geometry, samples)
+                            prefilter_specular(sampled, excess, r, roughness, geometry, samples)
                         })
                     }
                 }

@@ -9,6 +9,7 @@ use super::bindings::BallInstance;
 use super::environment::{EnvUniform, PrefilterParams};
 use super::montecarlo::McParams;
 use super::uniforms::{Globals, GpuBall, GpuLight, BALL_MEMBERS};
+use crate::environment::prefilter::BrightTexel;
 use crate::lut::LutParams;
 
 /// A Rust struct's layout under the name of its WGSL twin.
@@ -95,7 +96,7 @@ const BALL_LAYOUT: [(&str, usize, &str); BALL_MEMBERS.len()] = {
 };
 
 /// Every struct of the boundary.
-pub(crate) const STRUCTS: [StructLayout; 7] = [
+pub(crate) const STRUCTS: [StructLayout; 8] = [
     layout!(
         "Globals",
         Globals {
@@ -158,6 +159,7 @@ pub(crate) const STRUCTS: [StructLayout; 7] = [
             limits,
         }
     ),
+    layout!("BrightTexel", BrightTexel { direction, power }),
     layout!(
         "McParams",
         McParams {

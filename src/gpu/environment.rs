@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 use super::shaders;
 use crate::environment::prefilter::{
     fis_max_level, specular_mip, specular_mip_levels, specular_roughness, specular_samples,
-    specular_size, MipChain, CONVOLVED_LEVELS, CONVOLVED_WIDTH, SPECULAR_LEVELS,
+    specular_size, Bright, BrightTexel, MipChain, BRIGHT_MAX, CONVOLVED_LEVELS, CONVOLVED_WIDTH,
+    SPECULAR_LEVELS,
 };
 use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
@@ -312,11 +313,19 @@ impl EnvironmentTextures {
             layered,
         );
         let radiance_view = radiance.create_view(&Default::default());
+        let bright = Bright::new(chain);
+        let clipped = bright
+            .as_ref()
+            .map(|b| upload_chain(device, queue, &b.chain).create_view(&Default::default()));
+        let sources = Sources {
+            chain,
+            radiance: &radiance_view,
+            bright: bright.as_ref().zip(clipped.as_ref()),
+        };
         prefilter(
             device,
             queue,
-            &radiance_view,
-            chain,
+            &sources,
             kernels,
             split.geometry,
             [&specular, &convolved],
@@ -420,12 +429,19 @@ impl EnvironmentTextures {
     }
 }
 
+/// What the prefilter reads: the map's chain and its texture, and its bright texels apart
+/// with the texture of the chain they were clipped from, when it has any.
+struct Sources<'a> {
+    chain: &'a MipChain,
+    radiance: &'a wgpu::TextureView,
+    bright: Option<(&'a Bright, &'a wgpu::TextureView)>,
+}
+
 /// One compute dispatch per layer of the specular and the convolved layers' textures.
 fn prefilter(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    radiance: &wgpu::TextureView,
-    chain: &MipChain,
+    sources: &Sources<'_>,
     kernels: &[f32],
     geometry: crate::brdf::Geometry,
     [specular, convolved]: [&wgpu::Texture; 2],
@@ -465,16 +481,27 @@ fn prefilter(
     let mut padded = kernels.to_vec();
     padded.resize(160 * 4, 0.0);
     queue.write_buffer(&kernel_buffer, 0, bytemuck::cast_slice(&padded));
+    let bright_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bright texels"),
+        size: (BRIGHT_MAX * std::mem::size_of::<BrightTexel>()) as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    if let Some((bright, _)) = sources.bright {
+        queue.write_buffer(&bright_buffer, 0, bytemuck::cast_slice(&bright.texels));
+    }
     let sampler = sampler(device);
     let inputs = PrefilterInputs {
         layout: &group_layout,
-        radiance,
+        radiance: sources.radiance,
+        clipped: sources.bright.map_or(sources.radiance, |(_, view)| view),
         sampler: &sampler,
         kernels: &kernel_buffer,
+        bright: &bright_buffer,
     };
     let mut encoder = device.create_command_encoder(&Default::default());
     let mut keep = Vec::new();
-    for job in prefilter_jobs(chain, geometry) {
+    for job in prefilter_jobs(sources.chain, sources.bright.map(|(b, _)| b), geometry) {
         let target = [specular, convolved][job.pipeline];
         let pipeline = &pipelines[job.pipeline];
         keep.push(encode_job(
@@ -490,8 +517,9 @@ fn prefilter(
     queue.submit([encoder.finish()]);
 }
 
-/// The prefilter's one bind group layout for both entry points (each leaves one binding
-/// unused): the map, its sampler, the layer written, the layer's parameters, the kernels.
+/// The prefilter's one bind group layout for both entry points (each leaves the other's
+/// bindings unused): the map, its sampler, the layer written, the layer's parameters, the
+/// kernels, the bright texels.
 fn prefilter_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let compute = wgpu::ShaderStages::COMPUTE;
     let uniform = |binding| wgpu::BindGroupLayoutEntry {
@@ -535,6 +563,7 @@ fn prefilter_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             },
             uniform(3),
             uniform(4),
+            uniform(5),
         ],
     })
 }
@@ -543,14 +572,20 @@ fn prefilter_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 struct PrefilterInputs<'a> {
     layout: &'a wgpu::BindGroupLayout,
     radiance: &'a wgpu::TextureView,
+    /// The map with its bright texels clipped (the map itself when it has none).
+    clipped: &'a wgpu::TextureView,
     sampler: &'a wgpu::Sampler,
     kernels: &'a wgpu::Buffer,
+    bright: &'a wgpu::Buffer,
 }
 
 /// One dispatch: which pipeline (0 specular, 1 convolved) writes which layer and mip level
 /// of its texture, of what size, with which parameters.
 struct PrefilterJob {
     pipeline: usize,
+    /// Whether it samples the map with its bright texels clipped (the sampled specular
+    /// layers of a map that has them).
+    clipped: bool,
     layer: u32,
     mip: u32,
     size: (u32, u32),
@@ -558,9 +593,17 @@ struct PrefilterJob {
 }
 
 /// The dispatches of `chain` prefiltered for `geometry`: every specular layer (roughness
-/// `specular_roughness(k)`, its mip level and sample count), then every convolved one.
-fn prefilter_jobs(chain: &MipChain, geometry: crate::brdf::Geometry) -> Vec<PrefilterJob> {
+/// `specular_roughness(k)`, its mip level and sample count; the sampled ones read
+/// `bright`'s clipped chain when there is one), then every convolved one.
+fn prefilter_jobs(
+    chain: &MipChain,
+    bright: Option<&Bright>,
+    geometry: crate::brdf::Geometry,
+) -> Vec<PrefilterJob> {
     let base = &chain.levels[0];
+    let sampled = bright.map_or(chain, |b| &b.chain);
+    let sampled_size = [sampled.levels[0].width, sampled.levels[0].height];
+    let bright_count = bright.map_or(0, |b| b.texels.len() as u32);
     let (sw, sh) = specular_size(base.width);
     let lod0 = (base.width as f64 / sw as f64).log2() as f32;
     let source_level = chain.convolution_source();
@@ -579,16 +622,25 @@ fn prefilter_jobs(chain: &MipChain, geometry: crate::brdf::Geometry) -> Vec<Pref
         let size = (sw >> m, sh >> m);
         let geometry_id = shaders::geometry_id(geometry) as f32;
         let roughness = specular_roughness(k) as f32;
+        // The mirror layer reads the map at its own scale; the sampled layers read the
+        // sampled chain, whose level 0 sets their texel solid angle.
+        let (clipped, level0, limits) = if k == 0 {
+            (false, base_size, [0; 4])
+        } else {
+            let limits = [specular_samples(k), fis_max_level(sampled), bright_count, 0];
+            (bright.is_some(), sampled_size, limits)
+        };
         jobs.push(PrefilterJob {
             pipeline: 0,
+            clipped,
             layer: k,
             mip: m,
             size,
             params: PrefilterParams {
-                size: [size.0, size.1, base_size[0], base_size[1]],
+                size: [size.0, size.1, level0[0], level0[1]],
                 source: [0; 4],
                 layer: [alpha, lod0, roughness, geometry_id],
-                limits: [specular_samples(k), fis_max_level(chain), 0, 0],
+                limits,
             },
         });
     }
@@ -596,6 +648,7 @@ fn prefilter_jobs(chain: &MipChain, geometry: crate::brdf::Geometry) -> Vec<Pref
         let size = (cw, cw / 2);
         jobs.push(PrefilterJob {
             pipeline: 1,
+            clipped: false,
             layer: j,
             mip: 0,
             size,
@@ -642,7 +695,11 @@ fn encode_job(
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
-                resource: wgpu::BindingResource::TextureView(inputs.radiance),
+                resource: wgpu::BindingResource::TextureView(if job.clipped {
+                    inputs.clipped
+                } else {
+                    inputs.radiance
+                }),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
@@ -659,6 +716,10 @@ fn encode_job(
             wgpu::BindGroupEntry {
                 binding: 4,
                 resource: inputs.kernels.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: inputs.bright.as_entire_binding(),
             },
         ],
     });

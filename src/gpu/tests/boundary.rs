@@ -259,6 +259,11 @@ fn prefilter_constants() -> Vec<Constant> {
             prefilter::POLE_SIN_MIN,
             &from("POLE_SIN_MIN"),
         ),
+        uint(
+            "BRIGHT_MAX".into(),
+            prefilter::BRIGHT_MAX as u64,
+            from("BRIGHT_MAX"),
+        ),
     ]
 }
 
@@ -466,7 +471,7 @@ fn mismatch(rust: &StructLayout, wgsl: &Layout) -> Option<String> {
 #[test]
 fn every_buffer_struct_has_the_layout_of_its_rust_twin() {
     let found = buffer_structs();
-    // Control: the programs read the five structs of the boundary and the prefilter's.
+    // Control: the programs read the five structs of the boundary and the prefilter's two.
     for name in [
         "Globals",
         "Ball",
@@ -474,6 +479,7 @@ fn every_buffer_struct_has_the_layout_of_its_rust_twin() {
         "EnvUniform",
         "LutParams",
         "PrefilterParams",
+        "BrightTexel",
     ] {
         assert!(
             found.contains_key(name),
