@@ -8,14 +8,18 @@
 #import shadeballs::brdf::d_ggx
 
 // SPECULAR_LEVELS and CONVOLVED_LEVELS: layers of the prefiltered textures;
-// SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis; R2_STEP_*,
-// LOBE_LOD_BIAS, LOBE_SIN_MIN: the lobe's sequence and mip levels (lobe_point, lobe_lod).
+// SPLIT_SUM_SIZE: texels of the split-sum bias table along each axis; SOBOL_MASK_*,
+// LOBE_LOD_BIAS, LOBE_SIN_MIN: the lobe's sequence and mip levels (lobe_sobol_point,
+// lobe_lod).
 // generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const SPECULAR_LEVELS: u32 = 7u; // environment::prefilter::SPECULAR_LEVELS
 const CONVOLVED_LEVELS: u32 = 9u; // environment::prefilter::CONVOLVED_LEVELS
 const SPLIT_SUM_SIZE: u32 = 32u; // lut::SPLIT_SUM_SIZE
-const R2_STEP_X: u32 = 3242174889u; // environment::lobe::R2_STEPS[0]
-const R2_STEP_Y: u32 = 2447445414u; // environment::lobe::R2_STEPS[1]
+const SOBOL_MASK_0: u32 = 2863311530u; // environment::lobe::SOBOL_MASKS[0]
+const SOBOL_MASK_1: u32 = 3435973836u; // environment::lobe::SOBOL_MASKS[1]
+const SOBOL_MASK_2: u32 = 4042322160u; // environment::lobe::SOBOL_MASKS[2]
+const SOBOL_MASK_3: u32 = 4278255360u; // environment::lobe::SOBOL_MASKS[3]
+const SOBOL_MASK_4: u32 = 4294901760u; // environment::lobe::SOBOL_MASKS[4]
 const LOBE_LOD_BIAS: f32 = 0.0; // environment::lobe::LOBE_LOD_BIAS
 const LOBE_SIN_MIN: f32 = 0.0001; // environment::prefilter::POLE_SIN_MIN
 // end of the generated constants
@@ -147,31 +151,29 @@ fn strategy_scramble(scramble: vec2<u32>, k: u32) -> vec2<u32> {
     return vec2<u32>(lobe_hash(scramble.x + k * 0x68bc21ebu), lobe_hash(scramble.y + k * 0x02e5be93u));
 }
 
-// Point i of the R2 sequence (Roberts 2018) rotated by `scramble`, in [0, 1)^2: integer
-// arithmetic, then the 24 high bits of each coordinate (exact in f32).
-fn lobe_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
-    let x = i * R2_STEP_X + scramble.x;
-    let y = i * R2_STEP_Y + scramble.y;
-    return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
+// Point i of the 2-D Sobol sequence XORed with `scramble`, in [0, 1)^2 (lobe_sobol_point
+// in src/environment/lobe.rs): x the radical inverse of i, y its image under the Pascal
+// matrix mod 2 (Sobol's second dimension) in five subset steps; a (0, 2)-sequence, every
+// aligned block of 2^m indices a (0, m, 2)-net. The 24 high bits of each coordinate (exact
+// in f32).
+fn lobe_sobol_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
+    let x = reverseBits(i);
+    var y = x;
+    y ^= (y << 1u) & SOBOL_MASK_0;
+    y ^= (y << 2u) & SOBOL_MASK_1;
+    y ^= (y << 4u) & SOBOL_MASK_2;
+    y ^= (y << 8u) & SOBOL_MASK_3;
+    y ^= (y << 16u) & SOBOL_MASK_4;
+    return vec2<f32>(f32((x ^ scramble.x) >> 8u), f32((y ^ scramble.y) >> 8u)) * (1.0 / 16777216.0);
 }
 
-// Point j of the `count` points of a pixel's first frame (lobe_net_point in
-// src/environment/lobe.rs): Hammersley's set (j / count, radical_inverse(j)) in fixed point,
-// each coordinate XORed with `scramble` (a digital shift: a (0, m, 2)-net for count = 2^m).
-fn lobe_net_point(j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
-    let step = 0xffffffffu / max(count, 1u) + 1u;
-    let x = (j * step) ^ scramble.x;
-    let y = reverseBits(j) ^ scramble.y;
-    return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
-}
-
-// Sample j of a frame whose first index is `first`, `count` a frame: the first frame's from
-// the net, later frames' the R2 sequence from index `first` (lobe_frame_point). A select,
-// not an if: `first` comes from the uniform buffer, and lavapipe compiles a fragment
-// shader again at every bind when its control flow depends on a uniform value
-// (tests/suite/uniform_flow.rs).
-fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
-    return select(lobe_point(first + j, scramble), lobe_net_point(j, count, scramble), first == 0u);
+// Sample j of a frame whose first index is `first`: point first + j of the pixel's Sobol
+// sequence (lobe_frame_point), so every frame of 2^m samples is a net, and so are the
+// first 2^k frames together. No branch on `first`, which comes from the uniform buffer:
+// lavapipe compiles a fragment shader again at every bind when its control flow depends on
+// a uniform value (tests/suite/uniform_flow.rs).
+fn lobe_frame_point(first: u32, j: u32, scramble: vec2<u32>) -> vec2<f32> {
+    return lobe_sobol_point(first + j, scramble);
 }
 
 // The mip level a lobe sample of density `pdf` reads among `count` samples (filtered

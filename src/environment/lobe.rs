@@ -124,16 +124,43 @@ pub fn lobe_net_point(j: u32, count: u32, scramble: [u32; 2]) -> (f64, f64) {
     (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
 }
 
-/// Sample `j` of a frame whose first index is `first` among `count` a frame: the first
-/// frame's from the net ([`lobe_net_point`], the best `count` points on their own), later
-/// frames' the R2 sequence from index `first` ([`lobe_point`], which keeps filling the
-/// square as frames accumulate).
-pub fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: [u32; 2]) -> (f64, f64) {
-    if first == 0 {
-        lobe_net_point(j, count, scramble)
-    } else {
-        lobe_point(first.wrapping_add(j), scramble)
+/// Point `i` of the 2-D Sobol sequence (Sobol 1967) XORed with `scramble`, in `[0, 1)^2`:
+/// `x` the van der Corput radical inverse of `i`, `y` its image under the Pascal matrix mod
+/// 2, Sobol's second dimension: bit `r` of `y` (from the top) is the XOR of the bits `k`
+/// of `x` whose position is a binary subset of `r`'s (Lucas: `C(r, k)` is odd exactly
+/// then), five shift-and-mask steps. The two form a (0, 2)-sequence in base 2: every
+/// aligned block of `2^m` indices is a (0, m, 2)-net, and the digital shift keeps it one
+/// (Kollig & Keller 2002). The same 24 high bits as [`lobe_point`].
+pub fn lobe_sobol_point(i: u32, scramble: [u32; 2]) -> (f64, f64) {
+    let x = i.reverse_bits();
+    let mut y = x;
+    for (b, mask) in SOBOL_MASKS.iter().enumerate() {
+        y ^= (y << (1u32 << b)) & mask;
     }
+    let (x, y) = (x ^ scramble[0], y ^ scramble[1]);
+    let unit = 1.0 / 16_777_216.0;
+    (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
+}
+
+/// The bit positions (from the top) whose index has bit `b` set, for `b` in 0..5:
+/// [`lobe_sobol_point`]'s subset steps.
+pub(crate) const SOBOL_MASKS: [u32; 5] = [
+    0xaaaa_aaaa,
+    0xcccc_cccc,
+    0xf0f0_f0f0,
+    0xff00_ff00,
+    0xffff_0000,
+];
+
+/// Sample `j` of a frame whose first index is `first`: point `first + j` of the pixel's
+/// Sobol sequence ([`lobe_sobol_point`]). With `2^m` samples a frame every frame's points
+/// are a (0, m, 2)-net, as good alone as Hammersley's ([`lobe_net_point`], the first
+/// frame's before), and so are the first `2^k` frames' together: the progressive image's
+/// points keep filling the square evenly (the R2 points that followed the first frame
+/// before, [`lobe_point`], did not continue its net: two frames were barely better than
+/// one).
+pub fn lobe_frame_point(first: u32, j: u32, scramble: [u32; 2]) -> (f64, f64) {
+    lobe_sobol_point(first.wrapping_add(j), scramble)
 }
 
 /// The mip level a lobe sample of density `pdf` reads (filtered importance sampling):
@@ -174,23 +201,78 @@ mod tests {
         assert!(cells.iter().all(|&c| c <= 3), "{cells:?}");
     }
 
+    /// Whether `points` (`2^m` of them) are a (0, m, 2)-net: every elementary box of area
+    /// `2^-m` (`2^a x 2^(m - a)` cells) holds exactly one.
+    fn is_net(points: &[(f64, f64)]) -> bool {
+        let m = points.len().trailing_zeros();
+        assert_eq!(points.len(), 1 << m);
+        (0..=m).all(|a| {
+            let (cols, rows) = (1usize << a, 1usize << (m - a));
+            let mut cells = vec![0u32; points.len()];
+            for &(x, y) in points {
+                assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+                cells[(y * rows as f64) as usize * cols + (x * cols as f64) as usize] += 1;
+            }
+            cells.iter().all(|&c| c == 1)
+        })
+    }
+
     #[test]
-    fn the_first_frames_points_are_a_net() {
-        // 64 points, a digital shift of Hammersley's: every elementary box of area 1/64
-        // (8 x 8, 16 x 4 and 4 x 16 cells, 64 x 1 and 1 x 64 strips) holds exactly one point, whatever
-        // the pixel (the net property, exact for a power of two).
+    fn the_second_coordinate_is_sobols_second_dimension() {
+        // The textbook construction: direction numbers v_0 = 1/2, v_k = v_(k-1) XOR
+        // v_(k-1) / 2 (the Pascal matrix mod 2), XORed over the set bits of i.
+        for i in (0..4096).chain([65_535, 1 << 20, u32::MAX]) {
+            let (mut y, mut v) = (0u32, 1u32 << 31);
+            for b in 0..32 {
+                if (i >> b) & 1 == 1 {
+                    y ^= v;
+                }
+                v ^= v >> 1;
+            }
+            let (x, got) = lobe_sobol_point(i, [0, 0]);
+            assert_eq!(got, f64::from(y >> 8) / 16_777_216.0, "{i}");
+            assert_eq!(x, f64::from(i.reverse_bits() >> 8) / 16_777_216.0, "{i}");
+        }
+    }
+
+    #[test]
+    fn every_frame_and_the_first_frames_together_are_nets() {
+        // Any pixel: a frame of 64 samples is a net wherever it starts (frames 0, 1 and 5),
+        // and so are the first 4 frames of 16 together (what the progressive image holds
+        // after 4 frames). The points before (the first frame Hammersley's net, later
+        // frames the R2 sequence) failed the second: the R2 points continue no net.
         for (px, py) in [(0, 0), (17, 5), (1279, 719)] {
             let s = pixel_scramble(px, py);
-            for (cols, rows) in [(8usize, 8usize), (64, 1), (1, 64), (16, 4), (4, 16)] {
-                let mut cells = vec![0u32; 64];
-                for j in 0..64 {
-                    let (x, y) = lobe_net_point(j, 64, s);
-                    assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
-                    let c = (y * rows as f64) as usize * cols + (x * cols as f64) as usize;
-                    cells[c] += 1;
-                }
-                assert!(cells.iter().all(|&c| c == 1), "{cols}x{rows}: {cells:?}");
+            for first in [0, 64, 320] {
+                let frame: Vec<_> = (0..64).map(|j| lobe_frame_point(first, j, s)).collect();
+                assert!(is_net(&frame), "{px},{py}: frame from {first}");
             }
+            let four: Vec<_> = (0..4)
+                .flat_map(|k| (0..16).map(move |j| lobe_frame_point(16 * k, j, s)))
+                .collect();
+            assert!(is_net(&four), "{px},{py}: four frames of 16");
+            let before: Vec<_> = (0..4)
+                .flat_map(|k| {
+                    (0..16).map(move |j| {
+                        if k == 0 {
+                            lobe_net_point(j, 16, s)
+                        } else {
+                            lobe_point(16 * k + j, s)
+                        }
+                    })
+                })
+                .collect();
+            assert!(is_net(&before[..16]) && !is_net(&before), "{px},{py}");
+        }
+    }
+
+    #[test]
+    fn hammersleys_net_is_a_net_for_any_pixel() {
+        // The first frame's points before (kept for lab/examples/lobe's study).
+        for (px, py) in [(0, 0), (17, 5), (1279, 719)] {
+            let s = pixel_scramble(px, py);
+            let points: Vec<_> = (0..64).map(|j| lobe_net_point(j, 64, s)).collect();
+            assert!(is_net(&points), "{px},{py}");
         }
         // A count that is no power of two still spreads over the square: unshifted, point
         // j's x is j / 48 to the 24-bit fixed point's resolution (2^-24, the truncation of
@@ -205,10 +287,10 @@ mod tests {
     }
 
     #[test]
-    fn later_frames_continue_the_r2_sequence() {
+    fn frames_continue_one_sequence() {
         let s = pixel_scramble(3, 4);
-        assert_eq!(lobe_frame_point(16, 2, 16, s), lobe_point(18, s));
-        assert_eq!(lobe_frame_point(0, 2, 16, s), lobe_net_point(2, 16, s));
+        assert_eq!(lobe_frame_point(16, 2, s), lobe_sobol_point(18, s));
+        assert_eq!(lobe_frame_point(0, 2, s), lobe_sobol_point(2, s));
     }
 
     #[test]

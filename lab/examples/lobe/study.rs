@@ -40,10 +40,11 @@ pub enum Points {
     HammersleyXor,
     /// The 2-D Sobol sequence (van der Corput, then the Pascal matrix's dimension),
     /// XORed with the pixel's hash: each aligned block of `2^m` indices is a
-    /// (0, m, 2)-net, so frames continue it.
+    /// (0, m, 2)-net, so frames continue it (shipped since issue 37's progressive
+    /// measure: `lobe::lobe_frame_point`).
     SobolXor,
-    /// Shipped: frame 0 Hammersley's net XORed with the pixel's hash
-    /// (`lobe::lobe_frame_point`), later frames the R2 points from index `k N`.
+    /// Shipped when this study was made: frame 0 Hammersley's net XORed with the pixel's
+    /// hash (`lobe::lobe_net_point`), later frames the R2 points from index `k N`.
     NetThenR2,
 }
 
@@ -202,23 +203,14 @@ fn point(points: Points, p: &Px, frame: u32, j: u32, n: u32) -> (f64, f64) {
             (x.fract(), y.fract())
         }
         Points::NetThenR2 => {
-            lobe::lobe_frame_point(frame * n, j, n, lobe::pixel_scramble(p.px, p.py))
-        }
-        Points::SobolXor => {
-            let i = frame * n + j;
-            let sc = lobe::pixel_scramble(p.px, p.py);
-            let x = i.reverse_bits() ^ sc[0];
-            let (mut y, mut v) = (0u32, 1u32 << 31);
-            for b in 0..32 {
-                if (i >> b) & 1 == 1 {
-                    y ^= v;
-                }
-                v ^= v >> 1;
+            let s = lobe::pixel_scramble(p.px, p.py);
+            if frame == 0 {
+                lobe::lobe_net_point(j, n, s)
+            } else {
+                lobe::lobe_point(frame * n + j, s)
             }
-            let y = y ^ sc[1];
-            let unit = 1.0 / 16_777_216.0;
-            (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
         }
+        Points::SobolXor => lobe::lobe_frame_point(frame * n, j, lobe::pixel_scramble(p.px, p.py)),
         Points::HammersleyXor => lobe::lobe_net_point(
             j,
             n,

@@ -213,14 +213,29 @@ fn environment_constants() -> Vec<Constant> {
             "lut::SPLIT_SUM_SIZE".into(),
         ),
         uint(
-            "R2_STEP_X".into(),
-            lobe::R2_STEPS[0] as u64,
-            "environment::lobe::R2_STEPS[0]".into(),
+            "SOBOL_MASK_0".into(),
+            lobe::SOBOL_MASKS[0] as u64,
+            "environment::lobe::SOBOL_MASKS[0]".into(),
         ),
         uint(
-            "R2_STEP_Y".into(),
-            lobe::R2_STEPS[1] as u64,
-            "environment::lobe::R2_STEPS[1]".into(),
+            "SOBOL_MASK_1".into(),
+            lobe::SOBOL_MASKS[1] as u64,
+            "environment::lobe::SOBOL_MASKS[1]".into(),
+        ),
+        uint(
+            "SOBOL_MASK_2".into(),
+            lobe::SOBOL_MASKS[2] as u64,
+            "environment::lobe::SOBOL_MASKS[2]".into(),
+        ),
+        uint(
+            "SOBOL_MASK_3".into(),
+            lobe::SOBOL_MASKS[3] as u64,
+            "environment::lobe::SOBOL_MASKS[3]".into(),
+        ),
+        uint(
+            "SOBOL_MASK_4".into(),
+            lobe::SOBOL_MASKS[4] as u64,
+            "environment::lobe::SOBOL_MASKS[4]".into(),
         ),
         float(
             "LOBE_LOD_BIAS",
