@@ -134,7 +134,7 @@ fn lobe_hash(v: u32) -> u32 {
     return (word >> 22u) ^ word;
 }
 
-// The per-pixel rotation of the sequence (Cranley & Patterson 1976), 32-bit fixed point.
+// The per-pixel scramble of the sequence (the seeds of lobe_sobol_point's Owen scrambling).
 fn pixel_scramble(pixel: vec2<u32>) -> vec2<u32> {
     let a = lobe_hash(pixel.x ^ lobe_hash(pixel.y));
     return vec2<u32>(a, lobe_hash(a ^ 0x9e3779b9u));
@@ -151,12 +151,11 @@ fn strategy_scramble(scramble: vec2<u32>, k: u32) -> vec2<u32> {
     return vec2<u32>(lobe_hash(scramble.x + k * 0x68bc21ebu), lobe_hash(scramble.y + k * 0x02e5be93u));
 }
 
-// Point i of the 2-D Sobol sequence XORed with `scramble`, in [0, 1)^2 (lobe_sobol_point
-// in src/environment/lobe.rs): x the radical inverse of i, y its image under the Pascal
-// matrix mod 2 (Sobol's second dimension) in five subset steps; a (0, 2)-sequence, every
-// aligned block of 2^m indices a (0, m, 2)-net. The 24 high bits of each coordinate (exact
-// in f32).
-fn lobe_sobol_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
+// Point i of the 2-D Sobol sequence in fixed point (sobol_2d in src/environment/lobe.rs): x
+// the radical inverse of i, y its image under the Pascal matrix mod 2 (Sobol's second
+// dimension) in five subset steps; a (0, 2)-sequence, every aligned block of 2^m indices a
+// (0, m, 2)-net.
+fn sobol_2d(i: u32) -> vec2<u32> {
     let x = reverseBits(i);
     var y = x;
     y ^= (y << 1u) & SOBOL_MASK_0;
@@ -164,7 +163,33 @@ fn lobe_sobol_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
     y ^= (y << 4u) & SOBOL_MASK_2;
     y ^= (y << 8u) & SOBOL_MASK_3;
     y ^= (y << 16u) & SOBOL_MASK_4;
-    return vec2<f32>(f32((x ^ scramble.x) >> 8u), f32((y ^ scramble.y) >> 8u)) * (1.0 / 16777216.0);
+    return vec2<u32>(x, y);
+}
+
+// Laine and Karras's permutation (Burley 2020, "Practical Hash-based Owen Scrambling"):
+// each bit flipped by a hash of the bits below it and `seed`.
+fn laine_karras_permutation(x_in: u32, seed: u32) -> u32 {
+    var x = x_in + seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// Owen's nested uniform scramble of a fixed-point coordinate (nested_uniform_scramble):
+// each bit, from the top, flipped by a hash of the bits above it; nets stay nets.
+fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    return reverseBits(laine_karras_permutation(reverseBits(x), seed));
+}
+
+// Point i of the pixel's sequence in [0, 1)^2 (lobe_sobol_point): the Sobol point, each
+// coordinate Owen-scrambled by its word of `scramble`; the 24 high bits (exact in f32).
+fn lobe_sobol_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
+    let p = sobol_2d(i);
+    let x = nested_uniform_scramble(p.x, scramble.x);
+    let y = nested_uniform_scramble(p.y, scramble.y);
+    return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
 }
 
 // Sample j of a frame whose first index is `first`: point first + j of the pixel's Sobol

@@ -79,8 +79,8 @@ pub fn lobe_hash(v: u32) -> u32 {
     (word >> 22) ^ word
 }
 
-/// The per-pixel rotation of the sequence (Cranley & Patterson 1976), in 32-bit fixed
-/// point: a hash of the pixel's column and row.
+/// The per-pixel scramble of the sequence, two 32-bit words (the seeds of
+/// [`lobe_sobol_point`]'s Owen scrambling): a hash of the pixel's column and row.
 pub fn pixel_scramble(px: u32, py: u32) -> [u32; 2] {
     let a = lobe_hash(px ^ lobe_hash(py));
     [a, lobe_hash(a ^ 0x9e37_79b9)]
@@ -124,26 +124,55 @@ pub fn lobe_net_point(j: u32, count: u32, scramble: [u32; 2]) -> (f64, f64) {
     (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
 }
 
-/// Point `i` of the 2-D Sobol sequence (Sobol 1967) XORed with `scramble`, in `[0, 1)^2`:
-/// `x` the van der Corput radical inverse of `i`, `y` its image under the Pascal matrix mod
-/// 2, Sobol's second dimension: bit `r` of `y` (from the top) is the XOR of the bits `k`
-/// of `x` whose position is a binary subset of `r`'s (Lucas: `C(r, k)` is odd exactly
-/// then), five shift-and-mask steps. The two form a (0, 2)-sequence in base 2: every
-/// aligned block of `2^m` indices is a (0, m, 2)-net, and the digital shift keeps it one
-/// (Kollig & Keller 2002). The same 24 high bits as [`lobe_point`].
-pub fn lobe_sobol_point(i: u32, scramble: [u32; 2]) -> (f64, f64) {
+/// Point `i` of the 2-D Sobol sequence (Sobol 1967) in 32-bit fixed point: `x` the van der
+/// Corput radical inverse of `i`, `y` its image under the Pascal matrix mod 2, Sobol's
+/// second dimension: bit `r` of `y` (from the top) is the XOR of the bits `k` of `x` whose
+/// position is a binary subset of `r`'s (Lucas: `C(r, k)` is odd exactly then), five
+/// shift-and-mask steps. The two form a (0, 2)-sequence in base 2: every aligned block of
+/// `2^m` indices is a (0, m, 2)-net.
+pub fn sobol_2d(i: u32) -> [u32; 2] {
     let x = i.reverse_bits();
     let mut y = x;
     for (b, mask) in SOBOL_MASKS.iter().enumerate() {
         y ^= (y << (1u32 << b)) & mask;
     }
-    let (x, y) = (x ^ scramble[0], y ^ scramble[1]);
+    [x, y]
+}
+
+/// Laine and Karras's permutation of a 32-bit value (as given by Burley 2020, "Practical
+/// Hash-based Owen Scrambling", JCGT 9(4)): each bit flipped by a hash of the bits below it
+/// and `seed`.
+fn laine_karras_permutation(x: u32, seed: u32) -> u32 {
+    let mut x = x.wrapping_add(seed);
+    x ^= x.wrapping_mul(0x6c50_b47c);
+    x ^= x.wrapping_mul(0xb82f_1e52);
+    x ^= x.wrapping_mul(0xc7af_e638);
+    x ^= x.wrapping_mul(0x8d22_f6e6);
+    x
+}
+
+/// Owen's nested uniform scramble of a fixed-point coordinate in `[0, 1)` (Owen 1995; the
+/// hash-based form of Burley 2020): each bit, from the top, flipped by a hash of the bits
+/// above it and `seed`. It keeps every (t, m, s)-net a net, and unlike a digital shift it
+/// breaks the Sobol points' lattice-like rows.
+pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras_permutation(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// Point `i` of the pixel's sequence, in `[0, 1)^2`: the 2-D Sobol point [`sobol_2d`] with
+/// each coordinate Owen-scrambled ([`nested_uniform_scramble`]) by its word of `scramble`,
+/// so every aligned block of `2^m` indices is still a (0, m, 2)-net. The 24 high bits of
+/// each coordinate, as [`lobe_point`].
+pub fn lobe_sobol_point(i: u32, scramble: [u32; 2]) -> (f64, f64) {
+    let [x, y] = sobol_2d(i);
+    let x = nested_uniform_scramble(x, scramble[0]);
+    let y = nested_uniform_scramble(y, scramble[1]);
     let unit = 1.0 / 16_777_216.0;
     (f64::from(x >> 8) * unit, f64::from(y >> 8) * unit)
 }
 
 /// The bit positions (from the top) whose index has bit `b` set, for `b` in 0..5:
-/// [`lobe_sobol_point`]'s subset steps.
+/// [`sobol_2d`]'s subset steps.
 pub(crate) const SOBOL_MASKS: [u32; 5] = [
     0xaaaa_aaaa,
     0xcccc_cccc,
@@ -229,9 +258,7 @@ mod tests {
                 }
                 v ^= v >> 1;
             }
-            let (x, got) = lobe_sobol_point(i, [0, 0]);
-            assert_eq!(got, f64::from(y >> 8) / 16_777_216.0, "{i}");
-            assert_eq!(x, f64::from(i.reverse_bits() >> 8) / 16_777_216.0, "{i}");
+            assert_eq!(sobol_2d(i), [i.reverse_bits(), y], "{i}");
         }
     }
 
