@@ -192,24 +192,13 @@ fn lobe_sobol_point(i: u32, scramble: vec2<u32>) -> vec2<f32> {
     return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
 }
 
-// Point j of the `count` points of a pixel's first frame (lobe_net_point in
-// src/environment/lobe.rs): Hammersley's set (j / count, radical_inverse(j)) in fixed point,
-// each coordinate XORed with `scramble` (a digital shift: a (0, m, 2)-net for count = 2^m).
-fn lobe_net_point(j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
-    let step = 0xffffffffu / max(count, 1u) + 1u;
-    let x = (j * step) ^ scramble.x;
-    let y = reverseBits(j) ^ scramble.y;
-    return vec2<f32>(f32(x >> 8u), f32(y >> 8u)) * (1.0 / 16777216.0);
-}
-
-// Sample j of a frame whose first index is `first`, `count` a frame (lobe_frame_point):
-// the first frame's from Hammersley's net, later frames' the pixel's Owen-scrambled Sobol
-// sequence from index first - count, whose first 2^k frames are together a net. A select,
-// not an if: `first` comes from the uniform buffer, and lavapipe compiles a fragment shader
-// again at every bind when its control flow depends on a uniform value
-// (tests/suite/uniform_flow.rs).
-fn lobe_frame_point(first: u32, j: u32, count: u32, scramble: vec2<u32>) -> vec2<f32> {
-    return select(lobe_sobol_point(first - count + j, scramble), lobe_net_point(j, count, scramble), first == 0u);
+// Sample j of a frame whose first index is `first`: point first + j of the pixel's Sobol
+// sequence (lobe_frame_point), so every frame of 2^m samples is a net, and so are the
+// first 2^k frames together. No branch on `first`, which comes from the uniform buffer:
+// lavapipe compiles a fragment shader again at every bind when its control flow depends on
+// a uniform value (tests/suite/uniform_flow.rs).
+fn lobe_frame_point(first: u32, j: u32, scramble: vec2<u32>) -> vec2<f32> {
+    return lobe_sobol_point(first + j, scramble);
 }
 
 // The mip level a lobe sample of density `pdf` reads among `count` samples (filtered

@@ -222,7 +222,7 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic) times the map's radiance and mu_i, estimated from
 // IBL_SAMPLES samples of each strategy, the samples env.lobe.x .. + IBL_SAMPLES of the
-// pixel's sequence (lobe_frame_point: Hammersley's net in the first frame, then a Sobol sequence):
+// pixel's Sobol sequence (lobe_frame_point: every frame a net, and its first frames together):
 // GGX's visible normals reflected (sample_vndf), the cosine hemisphere (sample_cosine; not
 // for an all-metal ball, whose model has no base) and the map's luminance (luminance_sample,
 // where the map has tables), combined by the balance heuristic (balance_estimate, Veach
@@ -248,16 +248,16 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     let from_map = vec2<f32>(env.rotation.x, -env.rotation.y);
     var sum = vec3<f32>(0.0);
     for (var j = 0u; j < IBL_SAMPLES; j++) {
-        let u = lobe_frame_point(first, j, IBL_SAMPLES, scramble);
+        let u = lobe_frame_point(first, j, scramble);
         let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
         sum += mis_contribution(b, p, l, has_cosine, size);
         if has_cosine {
-            let c = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 1u));
+            let c = lobe_frame_point(first, j, strategy_scramble(scramble, 1u));
             sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), has_cosine, size);
         }
         if has_map {
-            let t = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 2u));
-            let x = lobe_frame_point(first, j, IBL_SAMPLES, strategy_scramble(scramble, 3u));
+            let t = lobe_frame_point(first, j, strategy_scramble(scramble, 2u));
+            let x = lobe_frame_point(first, j, strategy_scramble(scramble, 3u));
             let s = luminance_sample(vec4<f32>(t, x), size);
             if s.w > 0.0 {
                 sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), has_cosine, size);

@@ -373,7 +373,7 @@ pub(super) fn shade_environment_mis(
     };
     let point = |j: u32, k: u32| {
         let s = lobe::strategy_scramble(lobe.scramble, k);
-        lobe::lobe_frame_point(lobe.first, j, lobe.count, s)
+        lobe::lobe_frame_point(lobe.first, j, s)
     };
     let mut sum = DVec3::ZERO;
     for j in 0..lobe.count {

@@ -40,11 +40,11 @@ pub enum Points {
     HammersleyXor,
     /// The 2-D Sobol sequence (van der Corput, then the Pascal matrix's dimension),
     /// XORed with the pixel's hash: each aligned block of `2^m` indices is a
-    /// (0, m, 2)-net, so frames continue it.
+    /// (0, m, 2)-net, so frames continue it (shipped since issue 37's progressive
+    /// measure: `lobe::lobe_frame_point`).
     SobolXor,
     /// Shipped when this study was made: frame 0 Hammersley's net XORed with the pixel's
-    /// hash (`lobe::lobe_net_point`), later frames the R2 points from index `k N` (now
-    /// the Owen-scrambled Sobol points from index `(k - 1) N`: `lobe::lobe_frame_point`).
+    /// hash (`lobe::lobe_net_point`), later frames the R2 points from index `k N`.
     NetThenR2,
 }
 
@@ -210,15 +210,7 @@ fn point(points: Points, p: &Px, frame: u32, j: u32, n: u32) -> (f64, f64) {
                 lobe::lobe_point(frame * n + j, s)
             }
         }
-        Points::SobolXor => {
-            let [x, y] = lobe::sobol_2d(frame * n + j);
-            let s = lobe::pixel_scramble(p.px, p.py);
-            let unit = 1.0 / 16_777_216.0;
-            (
-                f64::from((x ^ s[0]) >> 8) * unit,
-                f64::from((y ^ s[1]) >> 8) * unit,
-            )
-        }
+        Points::SobolXor => lobe::lobe_frame_point(frame * n, j, lobe::pixel_scramble(p.px, p.py)),
         Points::HammersleyXor => lobe::lobe_net_point(
             j,
             n,
