@@ -194,8 +194,9 @@ pub struct SceneArgs {
     #[arg(long)]
     pub ibl_term: Option<IblTerm>,
     /// How the environment map lights the balls: split-sum (one prefiltered read a pixel)
-    /// or lobe (--ibl-samples samples of each ball's own specular lobe a pixel a frame,
-    /// each read at its footprint's mip level). Default: the scene's `ibl_method`, else
+    /// or lobe (--ibl-samples samples a pixel a frame of each ball's own lobe, of the
+    /// cosine and of the map's brightness, combined by multiple importance sampling, each
+    /// read at the map's full resolution). Default: the scene's `ibl_method`, else
     /// split-sum.
     #[arg(long)]
     pub ibl_method: Option<IblMethod>,
