@@ -11,7 +11,7 @@
 //!   Unreal Engine 4": the split sum's first factor), by [`SPECULAR_SAMPLES`] GGX samples
 //!   weighted by `G(1, n.l)` (not Karis's `n.l`: `prefilter_specular` says why), each read from the mip level its solid angle covers (filtered
 //!   importance sampling, Krivanek & Colbert 2008, "Real-time Shading with Filtered
-//!   Importance Sampling"); a map's bright texels (a sun, a lamp: [`Bright`]) are taken out
+//!   Importance Sampling"); a map's bright texels (a sun, a lamp: `Bright`) are taken out
 //!   of what the samples read and integrated against the lobe directly, so a small bright
 //!   source gives no blotches; a read interpolates linearly between the two layers around
 //!   the ball's roughness;
@@ -60,7 +60,7 @@ pub(crate) const FIS_MIN_WIDTH: u32 = 16;
 pub(crate) const BRIGHT_RATIO: f64 = 16.0;
 /// At most this many bright texels, the brightest (the GPU holds them in a uniform buffer
 /// of two `vec4` each: 16 KiB, every backend's smallest uniform binding).
-pub const BRIGHT_MAX: usize = 512;
+pub(crate) const BRIGHT_MAX: usize = 512;
 /// Bright texels are found on the first mip level at most this wide (the sharpest sampled
 /// layer's own width, [`SPECULAR_WIDTH`]).
 pub(crate) const BRIGHT_WIDTH: u32 = SPECULAR_WIDTH;
@@ -408,7 +408,7 @@ pub(crate) fn bright_specular(
 /// One bright texel of [`Bright`], as the GPU's uniform holds it (f32).
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
-pub struct BrightTexel {
+pub(crate) struct BrightTexel {
     /// xyz: the texel centre's direction (map frame); w: unused.
     pub direction: [f32; 4],
     /// rgb: the excess radiance taken out of the texel times the texel's solid angle
@@ -445,7 +445,7 @@ impl BrightTexel {
 /// no energy is lost or added (up to the f16 rounding of the clipped value, which the
 /// excess takes back).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Bright {
+pub(crate) struct Bright {
     /// The chain from the bright level down, bright texels clipped.
     pub chain: MipChain,
     /// The bright texels' excess.
@@ -454,7 +454,7 @@ pub struct Bright {
 
 impl Bright {
     /// The bright texels of `chain`, or none when no texel is bright.
-    pub fn new(chain: &MipChain) -> Option<Self> {
+    pub(crate) fn new(chain: &MipChain) -> Option<Self> {
         let level_index = chain
             .levels
             .iter()
