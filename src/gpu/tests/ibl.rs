@@ -460,8 +460,8 @@ fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTe
 /// (the render issue's is 99.9 % within 1/255). The multiple importance sampling sums the
 /// map's own samples of its brightest texels (studio's lights are 60 to 500 times the
 /// gradient) with the visible normals' and the cosine's: a direction that rounds to a
-/// neighbouring texel in f32 near a light's edge moves a pixel, by a quarter of a light's
-/// radiance at most with these scenes' 4 samples. Measured with the Owen-scrambled Sobol
+/// neighbouring texel in f32 near a light's edge moves a pixel, by more where a pixel takes
+/// few samples (these scenes take 4). Measured with the Owen-scrambled Sobol
 /// points (the same points on both sides, integer arithmetic): studio 99.901 to 99.906 %
 /// within 1/255 and 99.990 to 99.993 % within 3/255 (4 to 6 pixels of 57600, three of them
 /// background pixels at 4/255 in every case; one ball pixel at 18/255, frame 0); sky 100 %
