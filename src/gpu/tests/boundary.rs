@@ -196,7 +196,14 @@ fn display_constants() -> Vec<Constant> {
 
 /// The constants of `environment.wgsl`.
 fn environment_constants() -> Vec<Constant> {
-    vec![
+    let sobol_masks = lobe::SOBOL_MASKS.iter().enumerate().map(|(k, &mask)| {
+        uint(
+            format!("SOBOL_MASK_{k}"),
+            mask as u64,
+            format!("environment::lobe::SOBOL_MASKS[{k}]"),
+        )
+    });
+    let mut constants = vec![
         uint(
             "SPECULAR_LEVELS".into(),
             prefilter::SPECULAR_LEVELS as u64,
@@ -212,31 +219,9 @@ fn environment_constants() -> Vec<Constant> {
             lut::SPLIT_SUM_SIZE as u64,
             "lut::SPLIT_SUM_SIZE".into(),
         ),
-        uint(
-            "SOBOL_MASK_0".into(),
-            lobe::SOBOL_MASKS[0] as u64,
-            "environment::lobe::SOBOL_MASKS[0]".into(),
-        ),
-        uint(
-            "SOBOL_MASK_1".into(),
-            lobe::SOBOL_MASKS[1] as u64,
-            "environment::lobe::SOBOL_MASKS[1]".into(),
-        ),
-        uint(
-            "SOBOL_MASK_2".into(),
-            lobe::SOBOL_MASKS[2] as u64,
-            "environment::lobe::SOBOL_MASKS[2]".into(),
-        ),
-        uint(
-            "SOBOL_MASK_3".into(),
-            lobe::SOBOL_MASKS[3] as u64,
-            "environment::lobe::SOBOL_MASKS[3]".into(),
-        ),
-        uint(
-            "SOBOL_MASK_4".into(),
-            lobe::SOBOL_MASKS[4] as u64,
-            "environment::lobe::SOBOL_MASKS[4]".into(),
-        ),
+    ];
+    constants.extend(sobol_masks);
+    constants.extend([
         float(
             "LOBE_LOD_BIAS",
             lobe::LOBE_LOD_BIAS,
@@ -247,7 +232,8 @@ fn environment_constants() -> Vec<Constant> {
             prefilter::POLE_SIN_MIN,
             "environment::prefilter::POLE_SIN_MIN",
         ),
-    ]
+    ]);
+    constants
 }
 
 /// The constants of `prefilter.wgsl`.

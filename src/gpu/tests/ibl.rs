@@ -554,19 +554,9 @@ fn worst_ball_error(
     for py in 0..h {
         for px in 0..w {
             let d = basis.ray(px, py, w, h);
-            let hit = scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(k, b)| {
-                    (
-                        cpu::intersect_sphere(basis.origin, d, b.center, b.radius),
-                        k,
-                    )
-                })
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            let Some((_, k)) = hit else { continue };
+            let Some((_, k)) = cpu::nearest_ball(scene, basis.origin, d) else {
+                continue;
+            };
             let i = (py * w + px) as usize;
             let y_ref = mc.mean[i].dot(luminance);
             if y_ref < 1e-4 {
@@ -1084,24 +1074,7 @@ fn high_pass_rms(
     min_roughness: f64,
 ) -> Vec<f64> {
     let basis = scene.camera.basis(w, h);
-    let owner: Vec<Option<usize>> = (0..w * h)
-        .map(|p| {
-            let ray = basis.ray(p % w, p / w, w, h);
-            scene
-                .balls
-                .iter()
-                .enumerate()
-                .map(|(k, b)| {
-                    (
-                        cpu::intersect_sphere(basis.origin, ray, b.center, b.radius),
-                        k,
-                    )
-                })
-                .filter(|(t, _)| *t > 0.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, k)| k)
-        })
-        .collect();
+    let owner = cpu::ball_index_map(scene, w, h);
     let side = 2 * HIGH_PASS_RADIUS + 1;
     let blur = |x: i64, y: i64| {
         let mut s = 0.0;
