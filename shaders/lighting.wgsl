@@ -10,8 +10,8 @@
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
-#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf}
+#import shadeballs::sampling::{duff_frame, sample_cosine, equirect_density, balance_estimate}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf_lobe, sample_lobe}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment, clearcoat_environment_lobe}
@@ -223,10 +223,10 @@ fn shade_environment_map(
 // the coating's base, mixed by metallic) times the map's radiance and mu_i, estimated from
 // IBL_SAMPLES samples of each strategy, the samples env.lobe.x .. + IBL_SAMPLES of the
 // pixel's Sobol sequence (lobe_frame_point: every frame a net, and its first frames together):
-// GGX's visible normals reflected (sample_vndf), the cosine hemisphere (sample_cosine; not
-// for an all-metal ball, whose model has no base) and the map's luminance (luminance_sample,
-// where the map has tables), combined by the balance heuristic (balance_estimate, Veach
-// 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does: reads
+// GGX's visible normals reflected (sample_lobe: an anisotropic lobe's own), the cosine
+// hemisphere (sample_cosine; not for an all-metal ball, whose model has no base) and the
+// map's luminance (luminance_sample, where the map has tables), combined by the balance
+// heuristic (balance_estimate, Veach 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does: reads
 // at the footprint's level (filtered importance sampling, as the lobe mode did before) blur
 // the bright texels the map's samples find on purpose into the dim ones the other
 // strategies weigh as rare, a bias that measured 34 % at 64 samples under studio
@@ -249,7 +249,7 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     var sum = vec3<f32>(0.0);
     for (var j = 0u; j < IBL_SAMPLES; j++) {
         let u = lobe_frame_point(first, j, scramble);
-        let l = frame * sample_vndf(v_local, alpha, u.x, u.y);
+        let l = sample_lobe(p, frame, v_local, alpha, u);
         sum += mis_contribution(b, p, l, has_cosine, size);
         if has_cosine {
             let c = lobe_frame_point(first, j, strategy_scramble(scramble, 1u));
@@ -276,7 +276,7 @@ fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, si
         return vec3<f32>(0.0);
     }
     let l_map = env_to_map(l, env.rotation);
-    var pdf = pdf_vndf(p, l, alpha_from_roughness(p.roughness));
+    var pdf = pdf_vndf_lobe(p, l, alpha_from_roughness(p.roughness));
     if has_cosine {
         pdf += mu_i / PI;
     }

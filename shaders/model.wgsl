@@ -9,7 +9,7 @@
 #import shadeballs::brdf::{f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{split_sum_bias, split_sum_scale}
-#import shadeballs::sampling::vndf_density
+#import shadeballs::sampling::{sample_vndf, sample_vndf_aniso, vndf_density, vndf_density_aniso}
 #import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
 #import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe}
@@ -190,4 +190,31 @@ fn pdf_vndf(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
     }
     let h = sum / len;
     return vndf_density(p.mu_o, dot(p.n, h), alpha);
+}
+
+// A direction drawn from the metal lobe's visible normals, reflected (src/cpu/model.rs
+// sample_lobe): an anisotropic lobe's own in its tangent frame (sample_vndf_aniso), an
+// isotropic one's of alpha in `frame`, any orthonormal frame about n, where v is v_local
+// (sample_vndf). Its density is pdf_vndf_lobe's.
+fn sample_lobe(p: ShadingPoint, frame: mat3x3<f32>, v_local: vec3<f32>, alpha: f32, u: vec2<f32>) -> vec3<f32> {
+    if HAS_ANISOTROPY == 1u && p.alphas.x > 0.0 {
+        let to_local = transpose(p.tangent_frame);
+        return p.tangent_frame * sample_vndf_aniso(to_local * p.v, p.alphas.x, p.alphas.y, u.x, u.y);
+    }
+    return frame * sample_vndf(v_local, alpha, u.x, u.y);
+}
+
+// Density (solid angle) of sample_lobe at l: vndf_density_aniso at l's half vector in the
+// tangent frame of an anisotropic lobe, else pdf_vndf of alpha.
+fn pdf_vndf_lobe(p: ShadingPoint, l: vec3<f32>, alpha: f32) -> f32 {
+    if HAS_ANISOTROPY == 1u && p.alphas.x > 0.0 {
+        let sum = p.v + l;
+        let len = length(sum);
+        if len <= DIV_EPSILON {
+            return 0.0;
+        }
+        let to_local = transpose(p.tangent_frame);
+        return vndf_density_aniso(to_local * p.v, to_local * (sum / len), p.alphas.x, p.alphas.y);
+    }
+    return pdf_vndf(p, l, alpha);
 }

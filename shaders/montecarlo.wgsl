@@ -19,7 +19,7 @@
 #import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_CLEARCOAT}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, PART_WHOLE}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, PART_WHOLE}
 #import shadeballs::coating::has_clearcoat
 #import shadeballs::clearcoat::clearcoat_begin
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
@@ -143,7 +143,7 @@ fn contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, alpha: f32) -> vec3<f32>
     if mu_i <= 0.0 {
         return vec3<f32>(0.0);
     }
-    var pdf = pdf_vndf(p, l, alpha) + mu_i / PI;
+    var pdf = pdf_vndf_lobe(p, l, alpha) + mu_i / PI;
     if (mc.strategies & STRATEGY_MAP) != 0u {
         pdf += env_pdf(l);
     }
@@ -199,7 +199,7 @@ fn estimate(b: Ball, p: ShadingPoint, rng: ptr<function, u32>) -> Estimates {
         if (mc.strategies & STRATEGY_VNDF) != 0u {
             let u1 = mc_uniform(rng);
             let u2 = mc_uniform(rng);
-            x += contribution(b, p, frame * sample_vndf(v_local, alpha, u1, u2), alpha);
+            x += contribution(b, p, sample_lobe(p, frame, v_local, alpha, vec2<f32>(u1, u2)), alpha);
         }
         if (mc.strategies & STRATEGY_COSINE) != 0u {
             let u3 = mc_uniform(rng);

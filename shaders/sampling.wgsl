@@ -26,23 +26,7 @@ fn duff_frame(n: vec3<f32>) -> mat3x3<f32> {
 // distribution of normals visible from v (Heitz 2018, "Sampling the GGX Distribution of
 // Visible Normals", JCGT 7(4), listing 1). May lie below the horizon.
 fn sample_vndf(v: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
-    let stretched = vec3<f32>(alpha * v.x, alpha * v.y, max(v.z, 0.0));
-    let vh = stretched / max(length(stretched), DIV_EPSILON);
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    var t1 = vec3<f32>(1.0, 0.0, 0.0);
-    if lensq > DIV_EPSILON {
-        t1 = vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(lensq);
-    }
-    let t2 = cross(vh, t1);
-    let r = sqrt(u1);
-    let phi = 2.0 * PI * u2;
-    let p1 = r * cos(phi);
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
-    let nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
-    let ne = vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0));
-    let h = ne / max(length(ne), DIV_EPSILON);
-    return 2.0 * dot(v, h) * h - v;
+    return sample_vndf_aniso(v, alpha, alpha, u1, u2);
 }
 
 // The density per solid angle of sample_vndf's direction with half vector at n.h:

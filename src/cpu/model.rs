@@ -17,7 +17,7 @@ use crate::brdf::{
 use crate::environment::IblTerm;
 use crate::lut::{CoatingRows, SplitSum, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{vndf_density, vndf_density_aniso, Frame};
+use crate::sampling::{sample_vndf, sample_vndf_aniso, vndf_density, vndf_density_aniso, Frame};
 use crate::scene::{Ball, Scene};
 use crate::stats::Part;
 
@@ -239,18 +239,35 @@ pub(super) fn pdf_vndf(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
     vndf_density(p.mu_o, p.n.dot(sum / len), alpha)
 }
 
-/// Density (solid angle) of [`crate::sampling::sample_vndf_aniso`] at `l`: [`vndf_density_aniso`] at `l`'s
-/// half vector (in the lobe's tangent frame where it is anisotropic; an isotropic lobe's
-/// is [`vndf_density`] of its alpha, the same density).
-pub(super) fn pdf_vndf_lobe(p: &ShadingPoint, l: DVec3, alphas: (f64, f64)) -> f64 {
+/// A direction drawn from the metal lobe's visible normals, reflected (`sample_lobe` of
+/// `model.wgsl`): an anisotropic lobe's own in its tangent frame ([`sample_vndf_aniso`]),
+/// an isotropic one's of `alpha` in `frame`, any orthonormal frame about `n`, where `v` is
+/// `v_local` ([`sample_vndf`]). Its density is [`pdf_vndf_lobe`]'s.
+pub(super) fn sample_lobe(
+    p: &ShadingPoint,
+    frame: &Frame,
+    v_local: DVec3,
+    alpha: f64,
+    (u1, u2): (f64, f64),
+) -> DVec3 {
+    match &p.anisotropy {
+        Some((tangent, alphas)) => {
+            tangent.to_world(sample_vndf_aniso(tangent.to_local(p.v), *alphas, u1, u2))
+        }
+        None => frame.to_world(sample_vndf(v_local, alpha, u1, u2)),
+    }
+}
+
+/// Density (solid angle) of [`sample_lobe`] at `l`: [`vndf_density_aniso`] at `l`'s half
+/// vector in the tangent frame of an anisotropic lobe, else [`pdf_vndf`] of `alpha`.
+pub(super) fn pdf_vndf_lobe(p: &ShadingPoint, l: DVec3, alpha: f64) -> f64 {
+    let Some((tangent, alphas)) = &p.anisotropy else {
+        return pdf_vndf(p, l, alpha);
+    };
     let sum = p.v + l;
     let len = sum.length();
     if len <= DIV_EPSILON {
         return 0.0;
     }
-    let h = sum / len;
-    match &p.anisotropy {
-        Some((frame, _)) => vndf_density_aniso(frame.to_local(p.v), frame.to_local(h), alphas),
-        None => vndf_density(p.mu_o, p.n.dot(h), alphas.0),
-    }
+    vndf_density_aniso(tangent.to_local(p.v), tangent.to_local(sum / len), *alphas)
 }

@@ -24,7 +24,7 @@ use crate::environment::sampler::EnvSampler;
 use crate::error::Result;
 use crate::lut::{SplitSum, TableSet};
 use crate::prepared::Prepared;
-use crate::sampling::{arriving, sample_cosine, sample_vndf_aniso, Frame};
+use crate::sampling::{arriving, sample_cosine, sample_vndf, Frame};
 use crate::scene::{bounds_pad_px, Model, Scene, MAX_BALLS};
 use crate::walk::Rng;
 
@@ -35,7 +35,7 @@ pub use crate::stats::MonteCarloImage;
 pub use crate::stats::Part;
 
 pub(crate) use super::model::{model_brdf, ShadingPoint};
-use super::model::{pdf_vndf, pdf_vndf_lobe};
+use super::model::{pdf_vndf, pdf_vndf_lobe, sample_lobe};
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -186,11 +186,10 @@ impl<'a> Lighting<'a> {
         if !self.lit || p.mu_o <= 0.0 {
             return (direct, DVec3::ZERO);
         }
-        // An anisotropic lobe draws its own visible normals in its tangent frame.
-        let (frame, alphas) = p.anisotropy.unwrap_or_else(|| {
-            let alpha = alpha_from_roughness(p.roughness);
-            (Frame::new(p.n), (alpha, alpha))
-        });
+        // The lobe's visible normals (an anisotropic lobe's own, in its tangent frame:
+        // sample_lobe); the other strategies in any frame about n.
+        let alpha = alpha_from_roughness(p.roughness);
+        let frame = Frame::new(p.n);
         let v_local = frame.to_local(p.v);
         // A clear coat's own lobe, a fourth strategy at a coated point: its visible normals
         // (isotropic: any frame about n).
@@ -200,21 +199,20 @@ impl<'a> Lighting<'a> {
         let mut m2 = DVec3::ZERO;
         for k in 0..spp {
             let mut x = DVec3::ZERO;
-            let (u1, u2) = (rng.uniform(), rng.uniform());
-            let l = frame.to_world(sample_vndf_aniso(v_local, alphas, u1, u2));
-            x += self.contribution(p, e, l, alphas);
+            let u = (rng.uniform(), rng.uniform());
+            x += self.contribution(p, e, sample_lobe(p, &frame, v_local, alpha, u), alpha);
             let l = frame.to_world(sample_cosine(rng.uniform(), rng.uniform()));
-            x += self.contribution(p, e, l, alphas);
+            x += self.contribution(p, e, l, alpha);
             if let Some(s) = &self.sampler {
                 let u = [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()];
                 if let Some(l) = s.sample(u) {
-                    x += self.contribution(p, e, l, alphas);
+                    x += self.contribution(p, e, l, alpha);
                 }
             }
             if let Some(a) = coat_alpha {
                 let (u1, u2) = (rng.uniform(), rng.uniform());
-                let l = frame.to_world(sample_vndf_aniso(v_local, (a, a), u1, u2));
-                x += self.contribution(p, e, l, alphas);
+                let l = frame.to_world(sample_vndf(v_local, a, u1, u2));
+                x += self.contribution(p, e, l, alpha);
             }
             let delta = x - mean;
             mean += delta / (k + 1) as f64;
@@ -232,12 +230,12 @@ impl<'a> Lighting<'a> {
     /// One sample's share of the multi-sample balance-heuristic estimator:
     /// `f_r L mu_i / sum_k pdf_k(l)` (each strategy draws one direction per estimate, so
     /// the weight `pdf_s / sum_k pdf_k` over `pdf_s` leaves the sum).
-    fn contribution(&self, p: &ShadingPoint, e: &TableSet, l: DVec3, alphas: (f64, f64)) -> DVec3 {
+    fn contribution(&self, p: &ShadingPoint, e: &TableSet, l: DVec3, alpha: f64) -> DVec3 {
         let mu_i = p.n.dot(l);
         if mu_i <= 0.0 {
             return DVec3::ZERO;
         }
-        let pdf = self.pdf(p, l, mu_i, alphas);
+        let pdf = self.pdf(p, l, mu_i, alpha);
         if pdf <= DIV_EPSILON {
             return DVec3::ZERO;
         }
@@ -250,8 +248,8 @@ impl<'a> Lighting<'a> {
 
     /// The sum of the strategies' densities (per unit solid angle) at `l`, `mu_i > 0`: the
     /// lobe's visible normals, the cosine, the map's texels, and a coat's visible normals.
-    fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alphas: (f64, f64)) -> f64 {
-        let mut pdf = pdf_vndf_lobe(p, l, alphas) + mu_i / PI;
+    fn pdf(&self, p: &ShadingPoint, l: DVec3, mu_i: f64, alpha: f64) -> f64 {
+        let mut pdf = pdf_vndf_lobe(p, l, alpha) + mu_i / PI;
         if let Some(s) = &self.sampler {
             pdf += s.pdf(l);
         }

@@ -7,7 +7,7 @@ use glam::DVec3;
 use super::forms::{Forms, LobeSamples};
 use super::light::CpuEnvironment;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
-use super::model::{anisotropic_frame, model_brdf, pdf_vndf, ShadingPoint};
+use super::model::{anisotropic_frame, model_brdf, pdf_vndf_lobe, sample_lobe, ShadingPoint};
 use crate::brdf::{
     alpha_from_roughness, anisotropic_bent_normal, f_avg_schlick, f_micro, f_micro_aniso, f_ms,
     f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
@@ -15,7 +15,7 @@ use crate::brdf::{
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
+use crate::sampling::{balance_estimate, sample_cosine};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -361,7 +361,7 @@ pub(super) fn shade_environment_mis(
             return DVec3::ZERO;
         }
         let l_map = environment.to_map(l);
-        let mut pdf = pdf_vndf(&p, l, alpha);
+        let mut pdf = pdf_vndf_lobe(&p, l, alpha);
         if has_cosine {
             pdf += mu_i / std::f64::consts::PI;
         }
@@ -378,7 +378,7 @@ pub(super) fn shade_environment_mis(
     let mut sum = DVec3::ZERO;
     for j in 0..lobe.count {
         let (u1, u2) = point(j, 0);
-        sum += contribution(frame.to_world(sample_vndf(v_local, alpha, u1, u2)));
+        sum += contribution(sample_lobe(&p, &frame, v_local, alpha, (u1, u2)));
         if has_cosine {
             let (c1, c2) = point(j, 1);
             sum += contribution(frame.to_world(sample_cosine(c1, c2)));
