@@ -26,6 +26,14 @@ pub use truth::render_truth;
 pub use truth::TruthProgress;
 pub use truth::TruthSettings;
 pub(crate) use truth::{render_radiance_with_truth, TruthImage};
+// What the anisotropic term's measurement (scene::tests::anisotropy) forms a point's map
+// part from.
+#[cfg(test)]
+pub(crate) use light::{f_add_rgb, loss, loss_avg};
+#[cfg(test)]
+pub(crate) use model::anisotropic_frame;
+#[cfg(test)]
+pub(crate) use shade::{shade_environment_map, PointTerms};
 
 use forms::{Forms, LobeSamples};
 use shade::shade_point;
