@@ -68,7 +68,9 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
     if HAS_ENVIRONMENT == 1u {
         lo = globals.environment.xyz * p.albedo_o;
     }
-    if IBL != 0u {
+    // The lobe mode (IBL = 2) samples the coat's lobe with the whole model
+    // (lighting.wgsl shade_environment_mis).
+    if IBL == 1u {
         lo += shade_clearcoat_map(b, n, v);
     }
     if HAS_LIGHTS == 1u {
@@ -116,15 +118,14 @@ fn clearcoat_brdf(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
     return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i);
 }
 
-// The map's part of shade_clearcoat: the prefiltered radiance at the coat's roughness
-// along its dominant direction (the lobe mode's too)
-// times the coat's albedo at the view, and the physical form's term as the coating's.
+// The map's part of shade_clearcoat under the split sum: the prefiltered radiance at the
+// coat's roughness along its dominant direction times the coat's albedo at the view, and
+// the physical form's term as the coating's.
 fn shade_clearcoat_map(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let p = clearcoat_point;
     let roughness = b.clearcoat_roughness;
     let rotation = env.rotation;
     let intensity = env.intensity;
-    // The prefiltered layers in the lobe mode too (its samples are the base's).
     let r = 2.0 * dot(n, v) * n - v;
     let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
     let radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);

@@ -10,11 +10,11 @@
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
-#import shadeballs::sampling::{duff_frame, sample_cosine, equirect_density, balance_estimate}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf_lobe, sample_lobe}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
+#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
-#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment, clearcoat_environment_lobe}
+#import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
@@ -42,10 +42,9 @@ fn shade(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -
 fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u32>) -> vec3<f32> {
     var map_part = vec3<f32>(0.0);
     if IBL == 2u {
-        // The whole model's map part takes the coat's shares mixed by metallic (the
-        // coating's specular is taken as its base's: the sampled sum is not split).
-        let through = mix(clearcoat_environment(b), clearcoat_environment_lobe(b), b.metallic);
-        map_part = shade_environment_mis(b, n, v, pixel) * through;
+        // The whole model's map part, a clear coat's lobe and its shares of the base's
+        // light included (model_brdf after clearcoat_begin, as the Monte Carlo).
+        map_part = shade_environment_mis(b, n, v, pixel);
     }
     let metallic = b.metallic;
     if metallic >= 1.0 {
@@ -220,22 +219,27 @@ fn shade_environment_map(
 // The map's part of ball b's shading at normal n towards v in the lobe mode (IBL = 2;
 // docs/design/environment.md, "Lighting that follows the lobe"): the integral of the whole
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
-// the coating's base, mixed by metallic) times the map's radiance and mu_i, estimated from
-// IBL_SAMPLES samples of each strategy, the samples env.lobe.x .. + IBL_SAMPLES of the
-// pixel's Sobol sequence (lobe_frame_point: every frame a net, and its first frames together):
-// GGX's visible normals reflected (sample_lobe: an anisotropic lobe's own), the cosine
-// hemisphere (sample_cosine; not for an all-metal ball, whose model has no base) and the
-// map's luminance (luminance_sample, where the map has tables), combined by the balance
-// heuristic (balance_estimate, Veach 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does: reads
-// at the footprint's level (filtered importance sampling, as the lobe mode did before) blur
-// the bright texels the map's samples find on purpose into the dim ones the other
+// the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
+// radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy, the samples
+// env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol sequence (lobe_frame_point: every frame a
+// net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
+// anisotropic lobe's own), the cosine hemisphere (sample_cosine; not for an all-metal ball,
+// whose model has no base), the map's luminance (luminance_sample, where the map has tables)
+// and a clear coat's visible normals, combined by the balance heuristic (balance_estimate,
+// Veach 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does:
+// reads at the footprint's level (filtered importance sampling, as the lobe mode did before)
+// blur the bright texels the map's samples find on purpose into the dim ones the other
 // strategies weigh as rare, a bias that measured 34 % at 64 samples under studio
 // (docs/design/environment.md). Mirrored by src/cpu/shade.rs shade_environment_mis.
 fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) -> vec3<f32> {
-    let p = shading_point(b, n, v);
+    var p = shading_point(b, n, v);
     if p.mu_o <= 0.0 {
         return vec3<f32>(0.0);
     }
+    // A coated point (clearcoat_begin has formed it in shade): the coat's lobe and its
+    // shares of the base's light are the model's, and its visible normals a fourth strategy.
+    p.clearcoat = has_clearcoat(b);
+    let coat_alpha = alpha_from_roughness(b.clearcoat_roughness);
     let alpha = alpha_from_roughness(b.roughness);
     let frame = duff_frame(n);
     let v_local = v * frame;
@@ -263,6 +267,10 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
                 sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), has_cosine, size);
             }
         }
+        if HAS_CLEARCOAT == 1u && p.clearcoat {
+            let c = lobe_frame_point(first, j, strategy_scramble(scramble, 4u));
+            sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), has_cosine, size);
+        }
     }
     return env.intensity * sum / f32(IBL_SAMPLES);
 }
@@ -282,6 +290,9 @@ fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, si
     }
     if size.x > 0u {
         pdf += luminance_density(l_map, size);
+    }
+    if HAS_CLEARCOAT == 1u && p.clearcoat {
+        pdf += pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
     let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
     return balance_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf);

@@ -48,8 +48,7 @@ struct ShadingPoint {
     tangent_frame: mat3x3<f32>,
     // Whether model_brdf adds a clear coat's lobe and its shares of the base's light (the
     // Monte Carlo's, after clearcoat.wgsl clearcoat_begin; src/cpu/montecarlo.rs
-    // ShadingPoint::clearcoat). The lobe mode weights its sampled sum by the coat's shares
-    // instead (lighting.wgsl shade_base) and leaves it false.
+    // ShadingPoint::clearcoat), and the lobe mode's (lighting.wgsl shade_environment_mis).
     clearcoat: bool,
 }
 

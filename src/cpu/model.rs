@@ -60,8 +60,7 @@ pub(crate) struct ShadingPoint {
     /// (docs/design/anisotropy.md); `roughness` is then its isotropic equivalent.
     pub anisotropy: Option<(Frame, (f64, f64))>,
     /// The ball's clear coat at the point, where [`model_brdf`] takes it (the Monte Carlo
-    /// backend's; `None` where the caller weights the map's part itself, as the lobe mode
-    /// does).
+    /// backend's and the lobe mode's; `None` without a coat).
     pub clearcoat: Option<ClearcoatPoint>,
 }
 

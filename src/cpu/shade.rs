@@ -4,10 +4,13 @@
 
 use glam::DVec3;
 
+use super::clearcoat::ClearcoatPoint;
 use super::forms::{Forms, LobeSamples};
 use super::light::CpuEnvironment;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
-use super::model::{anisotropic_frame, model_brdf, pdf_vndf_lobe, sample_lobe, ShadingPoint};
+use super::model::{
+    anisotropic_frame, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, ShadingPoint,
+};
 use crate::brdf::{
     alpha_from_roughness, anisotropic_bent_normal, f_avg_schlick, f_micro, f_micro_aniso, f_ms,
     f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
@@ -15,7 +18,7 @@ use crate::brdf::{
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine};
+use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -99,8 +102,10 @@ pub(super) fn shade_point(
         lobe: forms.lobe,
         ..*forms
     };
+    // The lobe mode samples the coat's lobe with the whole model (shade_environment_mis).
+    let split_sum = forms.map.filter(|_| forms.lobe.is_none());
     shade_base(scene, (b, coat), n, v, e, &forms)
-        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, (forms.map, forms.geometry))
+        + super::clearcoat::shade_clearcoat(scene, &point, (n, v), e, (split_sum, forms.geometry))
         + b.material.emission
 }
 
@@ -121,14 +126,11 @@ fn shade_base(
     // A clear coat weights the environment's part (the uniform's and the map's): the
     // metal's as a glossy base's light.
     let through = forms.coat.map_or(DVec3::ONE, |c| c.environment_lobe());
-    // The lobe mode: the map's part is the whole model's, sampled once; the coat's shares
-    // mixed by metallic (the coating's specular taken as its base's).
+    // The lobe mode: the map's part is the whole model's, a clear coat's lobe and its
+    // shares of the base's light included, sampled once.
     let map_part = match (forms.map, forms.lobe) {
         (Some(map), Some(lobe)) => {
-            let mixed = forms.coat.map_or(DVec3::ONE, |c| {
-                c.environment() + metallic * (c.environment_lobe() - c.environment())
-            });
-            shade_environment_mis(scene, (b, coat), (n, v), e, map, lobe) * mixed
+            shade_environment_mis(scene, (b, coat, forms.coat), (n, v), e, map, lobe)
         }
         _ => DVec3::ZERO,
     };
@@ -335,7 +337,7 @@ pub(crate) fn shade_environment_map(
 /// same points as the GPU (integer arithmetic), the same f32 tables.
 pub(super) fn shade_environment_mis(
     scene: &Scene,
-    (b, coat): (&Ball, Option<&Coat>),
+    (b, coat, clearcoat): (&Ball, Option<&Coat>, Option<ClearcoatPoint>),
     (n, v): (DVec3, DVec3),
     e: &TableSet,
     ibl: &CpuEnvironment,
@@ -350,6 +352,10 @@ pub(super) fn shade_environment_mis(
     if p.mu_o <= 0.0 {
         return DVec3::ZERO;
     }
+    // A coated point: the coat's lobe and its shares of the base's light are the model's,
+    // and its visible normals a fourth strategy.
+    p.clearcoat = clearcoat;
+    let coat_alpha = clearcoat.map(|c| c.alpha());
     let alpha = alpha_from_roughness(b.shading_roughness());
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
@@ -367,6 +373,9 @@ pub(super) fn shade_environment_mis(
         }
         if let Some(m) = map {
             pdf += m.luminance_density(l_map);
+        }
+        if let Some(a) = coat_alpha {
+            pdf += pdf_vndf(&p, l, a);
         }
         let radiance = ibl.chain.sample(l_map, 0.0);
         balance_estimate(model_brdf(&p, l, e) * radiance * mu_i, pdf)
@@ -389,6 +398,10 @@ pub(super) fn shade_environment_mis(
             if let Some(d) = m.luminance_sample([t1, t2, x1, x2]) {
                 sum += contribution(environment.from_map(d));
             }
+        }
+        if let Some(a) = coat_alpha {
+            let (c1, c2) = point(j, 4);
+            sum += contribution(frame.to_world(sample_vndf(v_local, a, c1, c2)));
         }
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
