@@ -29,7 +29,7 @@ use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs::output::{write_atomic, write_png};
 use shadeballs::prepared::Prepared;
 use shadeballs::render::{self, Output, Pixels, Request};
-use shadeballs::scene::{Ball, Camera, Layering, Model, Preset, Scene};
+use shadeballs::scene::{Ball, Camera, CoatForm, Layering, Model, Preset, Scene};
 
 /// Most columns (distinct roughness values) a comparison draws.
 pub const MAX_COLUMNS: usize = 16;
@@ -59,7 +59,7 @@ pub struct CompareOptions {
     pub timing_size: (u32, u32),
 }
 
-/// One row of the chart: a model under a preset and a layering form.
+/// One row of the chart: a model under a preset, a layering form and a coat form.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     /// Its name in the CSV and on the picture.
@@ -71,6 +71,9 @@ pub struct Row {
     /// How a dielectric's base sits under its coating (the scene's, except in the rows
     /// of the other forms).
     pub layering: Layering,
+    /// How a clear coat weights the base (the scene's, except in the rows of the other
+    /// coat forms).
+    pub coat_form: CoatForm,
 }
 
 /// One row's measurements.
@@ -118,15 +121,18 @@ impl Comparison {
 }
 
 /// The model rows compared with the truth for `scene`: every model under the scene's
-/// layering form, and where its first ball (the rows' material) has a dielectric part,
-/// Kulla-Conty under each other form.
+/// layering and coat forms; where its first ball (the rows' material) has a dielectric
+/// part, Kulla-Conty under each other layering form; where it has a clear coat, Kulla-Conty
+/// under each other coat form.
 pub fn rows(scene: &Scene) -> Vec<Row> {
     let layering = scene.layering;
+    let coat_form = scene.coat_form;
     let row = |name: &str, model, preset| Row {
         name: name.to_string(),
         model,
         preset,
         layering,
+        coat_form,
     };
     let mut rows = vec![
         row("none", Model::None, Preset::Accurate),
@@ -151,9 +157,21 @@ pub fn rows(scene: &Scene) -> Vec<Row> {
         for form in Layering::ALL.into_iter().filter(|&f| f != layering) {
             rows.push(Row {
                 name: format!("kulla-conty, {form} layering"),
-                model: Model::KullaConty,
-                preset: Preset::Accurate,
                 layering: form,
+                ..row("", Model::KullaConty, Preset::Accurate)
+            });
+        }
+    }
+    if scene
+        .balls
+        .first()
+        .is_some_and(|b| b.material.clearcoat.is_on())
+    {
+        for form in CoatForm::ALL.into_iter().filter(|&f| f != coat_form) {
+            rows.push(Row {
+                name: format!("kulla-conty, {form} coat"),
+                coat_form: form,
+                ..row("", Model::KullaConty, Preset::Accurate)
             });
         }
     }
@@ -256,6 +274,7 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
     for row in rows(&options.scene) {
         let scene = Scene {
             layering: row.layering,
+            coat_form: row.coat_form,
             ..row_scene(&options.scene, &roughness, row.model, row.preset)
         };
         truth.image.compares_with(scene.antialias)?;
@@ -470,6 +489,7 @@ fn frame_ms(
     let mut scene = scene.clone();
     scene.preset = row.preset;
     scene.layering = row.layering;
+    scene.coat_form = row.coat_form;
     for b in &mut scene.balls {
         b.model = row.model;
     }

@@ -95,6 +95,19 @@ fn a_row_is_the_scene_s_roughness_values_with_one_model() {
         !forms.contains(&plastic.layering) && forms.len() == 4,
         "{forms:?}"
     );
+    // A clear-coated chart adds Kulla-Conty under every other coat form.
+    let mut coated = scene.clone();
+    for b in &mut coated.balls {
+        b.material.clearcoat.weight = 1.0;
+    }
+    let rows = shadeballs_lab::compare::rows(&coated);
+    assert_eq!(rows.len(), 7, "{rows:?}");
+    assert!(rows[..5].iter().all(|r| r.coat_form == coated.coat_form));
+    let forms: Vec<_> = rows[5..].iter().map(|r| r.coat_form).collect();
+    assert!(
+        !forms.contains(&coated.coat_form) && forms.len() == 2,
+        "{forms:?}"
+    );
 }
 
 #[test]
