@@ -444,21 +444,7 @@ fn anisotropy_cost(
     };
     // anisotropy.toml's tables from nothing: an anisotropic ball adds no bake of its own,
     // its E row is its isotropic equivalent's (one row per distinct equivalent roughness).
-    let scene = shadeballs::scene::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/anisotropy.toml"),
-    )?;
-    let config = BakeConfig {
-        geometry: scene.effective_geometry(),
-        ..BakeConfig::default()
-    };
-    let mut roughness: Vec<f32> = scene
-        .balls
-        .iter()
-        .map(|b| b.shading_roughness() as f32)
-        .collect();
-    roughness.sort_by(f32::total_cmp);
-    roughness.dedup();
-    let keys: Vec<RowKey> = roughness.iter().map(|&r| RowKey::new(&config, r)).collect();
+    let (_, keys) = asset_row_keys("anisotropy.toml", |b| vec![b.shading_roughness() as f32])?;
     let mut bake_ms = Vec::new();
     for _ in 0..repeats {
         let start = std::time::Instant::now();
@@ -549,21 +535,9 @@ fn clearcoat_cost(
     }
     // clearcoat.toml's tables from nothing: its E rows (base and coat roughness) and its
     // coating rows (the plastic's and the coats'), median of `repeats`.
-    let scene = shadeballs::scene::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/clearcoat.toml"),
-    )?;
-    let config = BakeConfig {
-        geometry: scene.effective_geometry(),
-        ..BakeConfig::default()
-    };
-    let mut roughness: Vec<f32> = scene
-        .balls
-        .iter()
-        .flat_map(|b| [b.roughness as f32, b.material.clearcoat.roughness as f32])
-        .collect();
-    roughness.sort_by(f32::total_cmp);
-    roughness.dedup();
-    let keys: Vec<RowKey> = roughness.iter().map(|&r| RowKey::new(&config, r)).collect();
+    let (scene, keys) = asset_row_keys("clearcoat.toml", |b| {
+        vec![b.roughness as f32, b.material.clearcoat.roughness as f32]
+    })?;
     // The coats' escape curves (`brdf::clearcoat_escape_nodes`), one per distinct base
     // roughness, coat roughness and index of the coated balls, as `prepared` forms them.
     let mut escapes: Vec<[u64; 3]> = scene
@@ -629,4 +603,26 @@ fn clearcoat_cost(
         met: e + coating <= 10.0,
     });
     Ok(goals)
+}
+
+/// `assets/scenes/<name>` and the E rows' keys of the distinct roughness values that `of`
+/// gives for its balls (under the scene's G), as the bench bakes them from nothing.
+fn asset_row_keys(
+    name: &str,
+    of: impl Fn(&shadeballs::scene::Ball) -> Vec<f32>,
+) -> Result<(Scene, Vec<RowKey>)> {
+    let scene = shadeballs::scene::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../assets/scenes")
+            .join(name),
+    )?;
+    let config = BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..BakeConfig::default()
+    };
+    let mut roughness: Vec<f32> = scene.balls.iter().flat_map(&of).collect();
+    roughness.sort_by(f32::total_cmp);
+    roughness.dedup();
+    let keys = roughness.iter().map(|&r| RowKey::new(&config, r)).collect();
+    Ok((scene, keys))
 }

@@ -589,30 +589,34 @@ fn lobe_converges_to_the_monte_carlo_of_the_model() {
     let (w, h) = (96, 54);
     for (builtin, frames, bound) in [(Builtin::Sky, 16, 0.03), (Builtin::Studio, 64, 0.04)] {
         let scene = lobe_scene(builtin, 16);
-        let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-        let mc = cpu::render_montecarlo(
-            &scene,
-            &crate::prepared::Prepared::new(&scene, &tables),
-            w,
-            h,
-            2048,
-            7,
-        )
-        .unwrap();
-        let lobe = r.render_lobe_hdr(&scene, w, h, frames).unwrap().rgba;
-        let split = Scene {
-            ibl_method: IblMethod::SplitSum,
-            ..scene.clone()
-        };
-        let split = r.render_hdr(&split, w, h).unwrap().rgba;
-        let (e_lobe, e_split) = (
-            worst_ball_error(&scene, w, h, &lobe, &mc),
-            worst_ball_error(&scene, w, h, &split, &mc),
-        );
+        let (e_lobe, e_split) = lobe_and_split_sum_errors(&mut r, &scene, (w, h), frames);
         println!("{builtin}: lobe {frames} x 16 {e_lobe:.4}, split sum {e_split:.4}");
         assert!(e_lobe < bound, "{builtin}: {e_lobe}");
         assert!(e_lobe < e_split, "{builtin}: {e_lobe} vs {e_split}");
     }
+}
+
+/// [`worst_ball_error`] of `scene`'s lobe mode (`frames` progressive frames) and of its
+/// split sum, each against the CPU Monte Carlo of the same model (2048 spp, seed 7).
+fn lobe_and_split_sum_errors(
+    r: &mut crate::Renderer,
+    scene: &Scene,
+    (w, h): (u32, u32),
+    frames: u32,
+) -> (f64, f64) {
+    let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
+    let prepared = crate::prepared::Prepared::new(scene, &tables);
+    let mc = cpu::render_montecarlo(scene, &prepared, w, h, 2048, 7).unwrap();
+    let lobe = r.render_lobe_hdr(scene, w, h, frames).unwrap().rgba;
+    let split = Scene {
+        ibl_method: IblMethod::SplitSum,
+        ..scene.clone()
+    };
+    let split = r.render_hdr(&split, w, h).unwrap().rgba;
+    (
+        worst_ball_error(scene, w, h, &lobe, &mc),
+        worst_ball_error(scene, w, h, &split, &mc),
+    )
 }
 
 /// `scene` drawn by [`crate::Renderer::render_progressive`] into a `w x h`
@@ -1209,26 +1213,7 @@ fn lobe_of_clear_coats_converges_to_the_monte_carlo_of_the_model() {
     let mut scene = crate::scene::load(&path).unwrap();
     scene.ibl_method = IblMethod::Lobe;
     scene.ibl_samples = 16;
-    let tables = TableSet::full(r.tables_for(scene.effective_geometry()));
-    let mc = cpu::render_montecarlo(
-        &scene,
-        &crate::prepared::Prepared::new(&scene, &tables),
-        w,
-        h,
-        2048,
-        7,
-    )
-    .unwrap();
-    let lobe = r.render_lobe_hdr(&scene, w, h, 64).unwrap().rgba;
-    let split = Scene {
-        ibl_method: IblMethod::SplitSum,
-        ..scene.clone()
-    };
-    let split = r.render_hdr(&split, w, h).unwrap().rgba;
-    let (e_lobe, e_split) = (
-        worst_ball_error(&scene, w, h, &lobe, &mc),
-        worst_ball_error(&scene, w, h, &split, &mc),
-    );
+    let (e_lobe, e_split) = lobe_and_split_sum_errors(&mut r, &scene, (w, h), 64);
     println!("clearcoat.toml: lobe 64 x 16 {e_lobe:.4}, split sum {e_split:.4}");
     assert!(e_lobe < 0.04, "{e_lobe}");
     assert!(e_lobe < e_split, "{e_lobe} vs {e_split}");
