@@ -330,11 +330,13 @@ pub(crate) fn shade_environment_map(
 }
 
 /// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
-/// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`]) against
-/// the map by `lobe.count` samples of each strategy (visible normals, the cosine hemisphere
-/// but for an all-metal ball, the map's luminance where it has tables) combined by the
-/// balance heuristic ([`balance_estimate`]), each reading the f16 chain's base level. The
-/// same points as the GPU (integer arithmetic), the same f32 tables.
+/// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`], a clear
+/// coat's lobe and shares included where `clearcoat` is formed) against the map by
+/// `lobe.count` samples of each strategy (the lobe's visible normals, the cosine hemisphere
+/// but for an all-metal ball, the map's luminance where it has tables, a clear coat's
+/// visible normals) combined by the balance heuristic ([`balance_estimate`]), each reading
+/// the f16 chain's base level. The same points as the GPU (integer arithmetic), the same f32
+/// tables.
 pub(super) fn shade_environment_mis(
     scene: &Scene,
     (b, coat, clearcoat): (&Ball, Option<&Coat>, Option<ClearcoatPoint>),
