@@ -543,7 +543,7 @@ fn montecarlo_timing() {
 }
 
 /// A scene file of `assets/scenes` with `edit` applied to its text.
-fn scene_file(name: &str, edit: impl Fn(&str) -> String) -> Scene {
+pub(super) fn scene_file(name: &str, edit: impl Fn(&str) -> String) -> Scene {
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes")
         .join(name);
