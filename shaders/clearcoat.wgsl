@@ -13,7 +13,7 @@
 #import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved}
-#import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point}
+#import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point, clearcoat_fresnel}
 
 // Forms ball b's coat at unit normal n towards v (ms: the ball's term weight) into
 // clearcoat_point. Called once per pixel before the base is shaded.
@@ -28,7 +28,7 @@ fn clearcoat_begin(b: Ball, n: vec3<f32>, v: vec3<f32>, ms_ball: f32) {
         p.loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.clearcoat_lut_row);
     }
     p.e_f_o = coating_albedo(b.clearcoat_row, mu_o);
-    p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, b.clearcoat_fresnel);
+    p.fresnel_o = f_dielectric(mu_o, b.clearcoat_eta, clearcoat_fresnel(b));
     // The engines' forms: the base's light times 1 - w F, the same for every base.
     p.out = vec3<f32>(1.0);
     p.out_lobe = vec3<f32>(1.0);
@@ -92,7 +92,7 @@ fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, 
     let p = clearcoat_point;
     let form = b.clearcoat_form;
     let h = normalize(v + l);
-    var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, b.clearcoat_fresnel);
+    var fresnel = f_dielectric(dot(v, h), b.clearcoat_eta, clearcoat_fresnel(b));
     if form == COAT_FORM_GLTF {
         fresnel = 1.0;
     }

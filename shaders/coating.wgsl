@@ -3,17 +3,18 @@
 // (same model, same order of terms).
 
 #define_import_path shadeballs::coating
-#import shadeballs::constants::PI
+#import shadeballs::constants::{PI, DIV_EPSILON, FRESNEL_SCHLICK}
+#import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
 #import shadeballs::brdf::clearcoat_through_physical
-#import shadeballs::lut::lut_loss_row
+#import shadeballs::lut::{lut_loss_row, lut_row_unpack}
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
-#import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
+#import shadeballs::types::{COAT_FORM_PHYSICAL, COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
 
@@ -85,7 +86,7 @@ fn clearcoat_in(b: Ball, mu_i: f32, v_dot_h: f32) -> f32 {
     }
     switch b.clearcoat_form {
         case COAT_FORM_FILAMENT: {
-            return 1.0 - f_dielectric(v_dot_h, b.clearcoat_eta, b.clearcoat_fresnel);
+            return 1.0 - f_dielectric(v_dot_h, b.clearcoat_eta, clearcoat_fresnel(b));
         }
         case COAT_FORM_GLTF: {
             return 1.0 - clearcoat_point.fresnel_o;
@@ -128,6 +129,33 @@ fn clearcoat_environment_lobe(b: Ball) -> vec3<f32> {
         return vec3<f32>(1.0);
     }
     return clearcoat_point.environment_lobe;
+}
+
+// A glossy base's single-scattering lobe under ball b's coat at the view's cosine mu_o
+// (docs/design/coat.md, "The base's lobe leaves the coat wider"): (roughness, energy
+// scale, alpha scale). Under the physical form the lobe is read at
+// b.clearcoat_base_roughness, scaled by E(mu_o) / E_wide(mu_o) (E_wide along the ball's
+// b.clearcoat_base_row) so its albedo at the view stays the base's own (the split sum's
+// reading: the map at the widened roughness, the albedos at the base's), and an
+// anisotropic lobe's alphas scale as its isotropic equivalent's; (b.roughness, 1, 1)
+// otherwise. src/cpu/clearcoat.rs clearcoat_base_lobe.
+fn clearcoat_base_lobe(b: Ball, mu_o: f32) -> vec3<f32> {
+    if !has_clearcoat(b) || b.clearcoat_form != COAT_FORM_PHYSICAL {
+        return vec3<f32>(b.roughness, 1.0, 1.0);
+    }
+    let wide = b.clearcoat_base_roughness;
+    let e_own = 1.0 - lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
+    let row = lut_row_unpack(b.clearcoat_base_row, wide);
+    let e_wide = 1.0 - lut_loss_row(e_table, lut_params(), mu_o, row);
+    // alpha_from_roughness clamps the roughness: the denominator is at least ROUGHNESS_MIN^2.
+    let alpha_scale = alpha_from_roughness(wide) / alpha_from_roughness(b.roughness);
+    return vec3<f32>(wide, e_own / max(e_wide, DIV_EPSILON), alpha_scale);
+}
+
+// The Fresnel form of ball b's clear coat (CoatForm::fresnel): the scene's (b.fresnel)
+// under the physical form, Schlick's under the engines'.
+fn clearcoat_fresnel(b: Ball) -> u32 {
+    return select(b.fresnel, FRESNEL_SCHLICK, b.clearcoat_form != COAT_FORM_PHYSICAL);
 }
 
 // The coating's specular albedo E_spec(mu) with the ball's term (weight ms): Kulla-Conty's
@@ -200,7 +228,6 @@ fn coating_base_albedo(b: Ball, e_spec_o: f32, fresnel_o: f32) -> vec3<f32> {
 // row's E_F(mu_o) with the term's part, E_spec(mu_o), and the base is weighted by the
 // ball's layering form.
 fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) -> vec3<f32> {
-    let roughness = b.roughness;
     let eta = b.eta;
     let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
@@ -235,6 +262,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
     if HAS_LIGHTS == 0u {
         return lo;
     }
+    // Under a clear coat the specular leaves the coat wider (clearcoat_base_lobe).
+    let lobe_of = clearcoat_base_lobe(b, mu_o);
     for (var k = 0u; k < n_lights; k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
@@ -243,7 +272,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         }
         let h = normalize(v + l);
         let fresnel = f_dielectric(dot(v, h), eta, b.fresnel);
-        let spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
+        let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY).x;
         var lobe = 0.0;
         var loss_i = 0.0;
         if ms > 0.0 {

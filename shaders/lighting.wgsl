@@ -11,10 +11,11 @@
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
+#import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
+#import shadeballs::coating::clearcoat_base_lobe
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
@@ -127,6 +128,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
     }
     let v_local = v * frame;
+    // Under a clear coat the lobe leaves the coat wider (clearcoat_base_lobe).
+    let lobe_of = clearcoat_base_lobe(b, mu_o);
     for (var k = 0u; k < n_lights; k++) {
         let l = lights[k].direction.xyz;
         let mu_i = dot(n, l);
@@ -137,10 +140,12 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         let fresnel = f_schlick(f0, dot(v, h));
         var spec = vec3<f32>(0.0);
         if aniso {
-            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, b.anisotropy_alpha_t, b.anisotropy_alpha_b, GEOMETRY);
+            let alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, alphas.x, alphas.y, GEOMETRY);
         } else {
-            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness, GEOMETRY);
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY);
         }
+        spec *= lobe_of.y;
         var lobe = vec3<f32>(0.0);
         // Compiled in (2) or a branch on the ball's flag (1): balls without the term skip
         // its E read; then a branch on the ball's own term.
@@ -238,9 +243,12 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     }
     // A coated point (clearcoat_begin has formed it in shade): the coat's lobe and its
     // shares of the base's light are the model's, and its visible normals a fourth strategy.
-    p.clearcoat = has_clearcoat(b);
+    if has_clearcoat(b) {
+        p = coated_point(b, p);
+    }
     let coat_alpha = alpha_from_roughness(b.clearcoat_roughness);
-    let alpha = alpha_from_roughness(b.roughness);
+    // The base's lobe as the model reads it (widened under a coat: coated_point).
+    let alpha = alpha_from_roughness(p.lobe.x);
     let frame = duff_frame(n);
     let v_local = v * frame;
     let scramble = pixel_scramble(pixel);
@@ -284,7 +292,7 @@ fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, si
         return vec3<f32>(0.0);
     }
     let l_map = env_to_map(l, env.rotation);
-    var pdf = pdf_vndf_lobe(p, l, alpha_from_roughness(p.roughness));
+    var pdf = pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x));
     if has_cosine {
         pdf += mu_i / PI;
     }

@@ -87,6 +87,14 @@ fn lut_loss_row(e_table: texture_2d<f32>, p: LutParams, mu: f32, row: vec3<f32>)
     return top + (bottom - top) * row.y;
 }
 
+// A row of lut_loss_row packed in one u32 (src/lut lut_row_pack: the first row in the high
+// 16 bits, the next row's weight in 1/65535 in the low 16), at `roughness` (alpha: its
+// clamped square). src/lut lut_row_unpack.
+fn lut_row_unpack(packed: u32, roughness: f32) -> vec3<f32> {
+    let r = roughness_clamped(roughness);
+    return vec3<f32>(f32(packed >> 16u), f32(packed & 0xffffu) / 65535.0, r * r);
+}
+
 // E as the shader reads it (Tables::lut_e).
 fn lut_e(e_table: texture_2d<f32>, p: LutParams, mu: f32, roughness: f32) -> f32 {
     return 1.0 - lut_loss(e_table, p, mu, roughness);

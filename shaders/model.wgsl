@@ -12,7 +12,7 @@
 #import shadeballs::sampling::{sample_vndf, sample_vndf_aniso, vndf_density, vndf_density_aniso}
 #import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
-#import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe}
+#import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe, clearcoat_base_lobe}
 #import shadeballs::clearcoat::clearcoat_brdf
 #import shadeballs::bindings::{e_table, lut_params, env_split_sum}
 
@@ -50,6 +50,9 @@ struct ShadingPoint {
     // Monte Carlo's, after clearcoat.wgsl clearcoat_begin; src/cpu/montecarlo.rs
     // ShadingPoint::clearcoat), and the lobe mode's (lighting.wgsl shade_environment_mis).
     clearcoat: bool,
+    // The single-scattering lobes' (roughness, energy scale, alpha scale): (roughness, 1, 1),
+    // under a clear coat widened (coated_point, coating.wgsl clearcoat_base_lobe).
+    lobe: vec3<f32>,
 }
 
 fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
@@ -61,6 +64,7 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     p.f0 = b.f0;
     p.ms = b.ms;
     p.part = PART_WHOLE;
+    p.lobe = vec3<f32>(b.roughness, 1.0, 1.0);
     p.loss_o = lut_loss_row(e_table, lut_params(), p.mu_o, b.lut_row);
     if HAS_ANISOTROPY == 1u && b.anisotropy_alpha_t > b.anisotropy_alpha_b {
         p.alphas = vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
@@ -80,6 +84,18 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
             p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
         }
     }
+    return p;
+}
+
+// Point p of ball b under its clear coat (after clearcoat.wgsl clearcoat_begin): model_brdf
+// adds the coat's lobe and its shares of the base's light, and reads the base's lobes as
+// they leave the coat, wider (clearcoat_base_lobe; an anisotropic lobe's alphas scaled with
+// it). src/cpu/model.rs coated_point.
+fn coated_point(b: Ball, p_in: ShadingPoint) -> ShadingPoint {
+    var p = p_in;
+    p.clearcoat = true;
+    p.lobe = clearcoat_base_lobe(b, p.mu_o);
+    p.alphas *= p.lobe.z;
     return p;
 }
 
@@ -134,8 +150,9 @@ fn metal_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, l
         let to_local = transpose(p.tangent_frame);
         spec = f_micro_aniso(fresnel, to_local * p.v, to_local * l, to_local * h, p.alphas.x, p.alphas.y, GEOMETRY);
     } else {
-        spec = f_micro(fresnel, p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY);
+        spec = f_micro(fresnel, p.mu_o, mu_i, dot(p.n, h), p.lobe.x, GEOMETRY);
     }
+    spec *= p.lobe.y;
     var multiple = vec3<f32>(0.0);
     if p.ms > 0.0 {
         multiple = by_term(
@@ -159,7 +176,7 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
     let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
     let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
-    let spec = f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.roughness, GEOMETRY).x;
+    let spec = p.lobe.y * f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.lobe.x, GEOMETRY).x;
     let loss_o = p.loss_o * p.ms;
     var lobe = 0.0;
     if p.ms > 0.0 {

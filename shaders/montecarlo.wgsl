@@ -19,7 +19,7 @@
 #import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_CLEARCOAT}
-#import shadeballs::model::{ShadingPoint, shading_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, PART_WHOLE}
+#import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, PART_WHOLE}
 #import shadeballs::coating::has_clearcoat
 #import shadeballs::clearcoat::clearcoat_begin
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
@@ -190,7 +190,7 @@ fn estimate(b: Ball, p: ShadingPoint, rng: ptr<function, u32>) -> Estimates {
     let v_local = transpose(frame) * p.v;
     var alpha = 0.5;
     if (mc.shape & 4u) != 0u {
-        alpha = alpha_from_roughness(p.roughness);
+        alpha = alpha_from_roughness(p.lobe.x);
     }
     // Each strategy under a branch on its bit of mc.strategies (uniform: all set but the
     // map's without a sampler).
@@ -259,7 +259,7 @@ fn fs_montecarlo(in: BallOut) -> McFragment {
     p.part = mc.part;
     if has_clearcoat(b) {
         clearcoat_begin(b, n, -ray[1], b.ms);
-        p.clearcoat = true;
+        p = coated_point(b, p);
     }
     let drawn = estimate(b, p, &rng);
     var mean_b = direct(b, p, in.counts.y) + drawn.mean;

@@ -170,7 +170,7 @@ struct Ball {
     clearcoat_e_avg: f32,
     clearcoat_row: u32,
     clearcoat_form: u32,
-    clearcoat_fresnel: u32,
+    clearcoat_base_row: u32,
     clearcoat_escape: u32,
     emission: vec3<f32>,
     clearcoat_base_roughness: f32,
@@ -274,7 +274,7 @@ fn ball_of(in: BallOut) -> Ball {
     b.clearcoat_e_avg = in.ball_12.w;
     b.clearcoat_row = in.ball_13.x;
     b.clearcoat_form = in.ball_13.y;
-    b.clearcoat_fresnel = in.ball_13.z;
+    b.clearcoat_base_row = in.ball_13.z;
     b.clearcoat_escape = in.ball_13.w;
     b.emission = in.ball_14.xyz;
     b.clearcoat_base_roughness = in.ball_14.w;

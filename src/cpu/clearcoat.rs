@@ -6,10 +6,11 @@ use glam::DVec3;
 
 use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
-    clearcoat_escape_at, clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_through_engine,
-    clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
+    alpha_from_roughness, clearcoat_escape_at, clearcoat_inside_scale, clearcoat_lobe_scale,
+    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
+    DIV_EPSILON,
 };
-use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
+use crate::lut::{coating_albedo, lut_row_unpack, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
 use crate::scene::{Ball, CoatForm, Scene};
 
@@ -34,6 +35,60 @@ pub(crate) struct ClearcoatPoint {
     e_f_o: f64,
     fresnel_o: f64,
     ms: f64,
+    /// A glossy base's lobe under the coat at the view ([`clearcoat_base_lobe`]).
+    base_lobe: BaseLobe,
+}
+
+/// A glossy base's single-scattering lobe as it leaves a clear coat (`clearcoat_base_lobe`
+/// of `coating.wgsl`, whose vec3 holds the three fields in this order).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BaseLobe {
+    /// The roughness the lobe is read at.
+    pub roughness: f64,
+    /// The factor that keeps its albedo at the view the base's own.
+    pub energy: f64,
+    /// The factor of an anisotropic lobe's alphas.
+    pub alpha_scale: f64,
+}
+
+impl BaseLobe {
+    /// The lobe of a base of `roughness` seen bare.
+    pub(crate) fn bare(roughness: f64) -> Self {
+        BaseLobe {
+            roughness,
+            energy: 1.0,
+            alpha_scale: 1.0,
+        }
+    }
+}
+
+/// `clearcoat_base_lobe` of `coating.wgsl`: the lobe of a glossy base of `roughness` under
+/// the coat `c` at the view's cosine `mu_o` (docs/design/coat.md, "The base's lobe leaves
+/// the coat wider"). Under the physical form it is read at `c.base_roughness`, scaled by
+/// `E(mu_o) / E_wide(mu_o)` (`E_wide` along `c.base_row`) so that its albedo at the view
+/// stays the base's own (as the split sum reads the map at the widened roughness and the
+/// albedos at the base's), and an anisotropic lobe's alphas scale as its isotropic
+/// equivalent's; the bare lobe otherwise.
+pub(crate) fn clearcoat_base_lobe(
+    c: &ClearcoatConstants,
+    roughness: f64,
+    mu_o: f64,
+    e: &TableSet,
+) -> BaseLobe {
+    if c.form != CoatForm::Physical {
+        return BaseLobe::bare(roughness);
+    }
+    let wide = c.base_roughness;
+    let e_own = 1.0 - loss(e, mu_o, roughness);
+    let row = lut_row_unpack(c.base_row, wide as f32);
+    let e_wide = 1.0 - f64::from(e.lut_loss_row(mu_o as f32, row));
+    BaseLobe {
+        roughness: wide,
+        energy: e_own / e_wide.max(DIV_EPSILON),
+        // alpha_from_roughness clamps the roughness: the denominator is at least
+        // ROUGHNESS_MIN^2.
+        alpha_scale: alpha_from_roughness(wide) / alpha_from_roughness(roughness),
+    }
 }
 
 impl ClearcoatPoint {
@@ -82,7 +137,9 @@ impl ClearcoatPoint {
                 (e_o, (out, out_lobe), (through(out), through(out_lobe)))
             }
         };
+        let base_lobe = clearcoat_base_lobe(&c, b.shading_roughness(), mu_o, e);
         ClearcoatPoint {
+            base_lobe,
             row: coat.row,
             c,
             fresnel_form: c.fresnel,
@@ -108,6 +165,11 @@ impl ClearcoatPoint {
     /// (`Ball.clearcoat_base_roughness`).
     pub(crate) fn base_roughness(&self) -> f64 {
         self.c.base_roughness
+    }
+
+    /// A glossy base's lobe under the coat at the view ([`clearcoat_base_lobe`]).
+    pub(crate) fn base_lobe(&self) -> BaseLobe {
+        self.base_lobe
     }
 
     /// `clearcoat_albedo`: the physical coat's `E_c(mu)`.

@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::clearcoat::BaseLobe;
 use super::forms::Forms;
 use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
@@ -118,22 +119,31 @@ impl CoatingPoint {
         DVec3::splat(self.e_spec_o) + self.base_o
     }
 
-    /// The coating's BRDF towards unit light direction `l` (`mu_i = n.l > 0`), `h` their
-    /// half vector, `e` the tables (the light loop of `shade_coating`).
-    pub(crate) fn brdf(&self, (v, l): (DVec3, DVec3), n: DVec3, e: &TableSet) -> CoatingBrdf {
+    /// The coating's BRDF towards unit light direction `l` (`mu_i = n.l > 0`), `e` the
+    /// tables (the light loop of `shade_coating`), its specular read as `lobe` says (the
+    /// coating's own, or widened under a clear coat:
+    /// [`super::clearcoat::clearcoat_base_lobe`]).
+    pub(crate) fn brdf(
+        &self,
+        (v, l): (DVec3, DVec3),
+        n: DVec3,
+        e: &TableSet,
+        lobe: BaseLobe,
+    ) -> CoatingBrdf {
         let mu_i = n.dot(l);
         let h = (v + l).normalize();
         let eta = self.constants.eta;
         let f_add = self.constants.f_add;
         let fresnel = f_dielectric(v.dot(h), eta, self.fresnel_form);
-        let spec = f_micro(
-            fresnel,
-            self.mu_o,
-            mu_i,
-            n.dot(h),
-            self.roughness,
-            self.geometry,
-        );
+        let spec = lobe.energy
+            * f_micro(
+                fresnel,
+                self.mu_o,
+                mu_i,
+                n.dot(h),
+                lobe.roughness,
+                self.geometry,
+            );
         let (mut lobe, mut loss_i) = (0.0, 0.0);
         if self.ms > 0.0 {
             loss_i = loss(e, mu_i, self.roughness);
@@ -212,12 +222,16 @@ pub(super) fn shade_coating(
             .map_or(b.shading_roughness(), |c| c.base_roughness());
         lo += shade_coating_map(scene, (b, &point), (n, v), (map, map_roughness), through);
     }
+    // Under a clear coat the specular leaves the coat wider (clearcoat_base_lobe).
+    let lobe_of = forms
+        .coat
+        .map_or(BaseLobe::bare(point.roughness), |c| c.base_lobe());
     for light in &scene.lights {
         let mu_i = n.dot(light.direction);
         if mu_i <= 0.0 || point.mu_o <= 0.0 {
             continue;
         }
-        let f = point.brdf((v, light.direction), n, e);
+        let f = point.brdf((v, light.direction), n, e, lobe_of);
         let (lobe, base) = forms.coat.map_or((DVec3::ONE, DVec3::ONE), |c| {
             let t_in = c.transmit(e, mu_i, v.dot((v + light.direction).normalize()));
             (c.through_lobe(t_in), c.through(t_in))

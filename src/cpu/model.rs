@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::clearcoat::ClearcoatPoint;
+use super::clearcoat::{BaseLobe, ClearcoatPoint};
 use super::coating::CoatingPoint;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use crate::brdf::{
@@ -60,8 +60,11 @@ pub(crate) struct ShadingPoint {
     /// (docs/design/anisotropy.md); `roughness` is then its isotropic equivalent.
     pub anisotropy: Option<(Frame, (f64, f64))>,
     /// The ball's clear coat at the point, where [`model_brdf`] takes it (the Monte Carlo
-    /// backend's and the lobe mode's; `None` without a coat).
+    /// backend's and the lobe mode's; `None` without a coat: [`coated_point`] sets it).
     pub clearcoat: Option<ClearcoatPoint>,
+    /// The single-scattering lobes as [`model_brdf`] reads them: the ball's own, widened
+    /// under a clear coat ([`coated_point`]).
+    pub lobe: BaseLobe,
 }
 
 impl ShadingPoint {
@@ -105,6 +108,7 @@ impl ShadingPoint {
             part: Part::Whole,
             anisotropy: anisotropic_frame(b, n),
             clearcoat: None,
+            lobe: BaseLobe::bare(roughness),
         }
     }
 
@@ -116,6 +120,22 @@ impl ShadingPoint {
         self.fss_ess = self.f0 * e_o + (DVec3::ONE - self.f0) * bias;
         self
     }
+}
+
+/// `coated_point` of `model.wgsl`: point `p` under its ball's clear coat `cc` (`None`: `p`
+/// as it is). [`model_brdf`] then adds the coat's lobe and its shares of the base's light,
+/// and reads the base's lobes as they leave the coat, wider
+/// ([`super::clearcoat::clearcoat_base_lobe`]; an anisotropic lobe's alphas scaled with it).
+pub(crate) fn coated_point(mut p: ShadingPoint, cc: Option<ClearcoatPoint>) -> ShadingPoint {
+    let Some(cc) = cc else {
+        return p;
+    };
+    p.clearcoat = Some(cc);
+    p.lobe = cc.base_lobe();
+    if let Some((_, alphas)) = &mut p.anisotropy {
+        *alphas = (alphas.0 * p.lobe.alpha_scale, alphas.1 * p.lobe.alpha_scale);
+    }
+    p
 }
 
 /// The BRDF `f_r(v, l)` of the point's model, per channel (0 when `l` or `v` is below the
@@ -161,7 +181,7 @@ pub(crate) fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
         None => (DVec3::ONE, DVec3::ONE, 0.0),
     };
     let coating = p.coating.map(|c| {
-        let f = c.brdf((p.v, l), p.n, e);
+        let f = c.brdf((p.v, l), p.n, e, p.lobe);
         match p.part {
             Part::Whole => lobe * (f.spec + f.multiple) + base * f.base,
             Part::Multiple => lobe * f.multiple,
@@ -191,9 +211,9 @@ fn metal_brdf(p: &ShadingPoint, l: DVec3, h: DVec3, e: &TableSet) -> DVec3 {
                 *alphas,
                 p.geometry,
             ),
-            None => f_micro(fresnel, p.mu_o, mu_i, n_dot_h, p.roughness, p.geometry),
+            None => f_micro(fresnel, p.mu_o, mu_i, n_dot_h, p.lobe.roughness, p.geometry),
         }
-    });
+    }) * p.lobe.energy;
     let multiple = match p.term {
         IblTerm::KullaConty => {
             let loss_i = loss(e, mu_i, p.roughness);

@@ -34,8 +34,8 @@ pub use crate::environment::sampler::LUMINANCE;
 pub use crate::stats::MonteCarloImage;
 pub use crate::stats::Part;
 
+use super::model::{coated_point, pdf_vndf, pdf_vndf_lobe, sample_lobe};
 pub(crate) use super::model::{model_brdf, ShadingPoint};
-use super::model::{pdf_vndf, pdf_vndf_lobe, sample_lobe};
 
 /// Renders `scene` at `width x height` with `spp` estimates per covered pixel, drawing its
 /// random numbers from `seed`. Rows run on rayon's pool; each pixel seeds its own generator
@@ -98,9 +98,10 @@ pub fn render_montecarlo_part(
                     ShadingPoint::with_coat(scene, (b, prepared.coat(view.k)), (n, -d), e);
                 point.part = part;
                 // A clear coat: its lobe and its shares of the base's light in the BRDF.
-                point.clearcoat = prepared
+                let coat = prepared
                     .clearcoat(view.k)
                     .map(|c| super::clearcoat::ClearcoatPoint::new(scene, b, c, (n, -d), e));
+                point = coated_point(point, coat);
                 if let Some(split) = split {
                     point = point.with_split_sum(split);
                 }
@@ -188,7 +189,7 @@ impl<'a> Lighting<'a> {
         }
         // The lobe's visible normals (an anisotropic lobe's own, in its tangent frame:
         // sample_lobe); the other strategies in any frame about n.
-        let alpha = alpha_from_roughness(p.roughness);
+        let alpha = alpha_from_roughness(p.lobe.roughness);
         let frame = Frame::new(p.n);
         let v_local = frame.to_local(p.v);
         // A clear coat's own lobe, a fourth strategy at a coated point: its visible normals

@@ -4,12 +4,12 @@
 
 use glam::DVec3;
 
-use super::clearcoat::ClearcoatPoint;
+use super::clearcoat::{BaseLobe, ClearcoatPoint};
 use super::forms::{Forms, LobeSamples};
 use super::light::CpuEnvironment;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use super::model::{
-    anisotropic_frame, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, ShadingPoint,
+    anisotropic_frame, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, ShadingPoint,
 };
 use crate::brdf::{
     alpha_from_roughness, anisotropic_bent_normal, f_avg_schlick, f_micro, f_micro_aniso, f_ms,
@@ -228,6 +228,10 @@ pub(super) fn shade_with_terms(
     let mut lights = DVec3::ZERO;
     // An anisotropic lobe: the lights' single scattering in the ball's tangent frame.
     let aniso = anisotropic_frame(b, n);
+    // Under a clear coat the lobe leaves the coat wider (clearcoat_base_lobe).
+    let lobe_of = forms
+        .coat
+        .map_or(BaseLobe::bare(roughness), |c| c.base_lobe());
     for light in &scene.lights {
         let l = light.direction;
         let mu_i = n.dot(l);
@@ -240,17 +244,17 @@ pub(super) fn shade_with_terms(
         let spec = per_channel(f0, |f| {
             let fresnel = f_schlick(f, v_dot_h);
             match aniso {
-                Some((frame, alphas)) => f_micro_aniso(
+                Some((frame, (alpha_t, alpha_b))) => f_micro_aniso(
                     fresnel,
                     frame.to_local(v),
                     frame.to_local(l),
                     frame.to_local(h),
-                    alphas,
+                    (lobe_of.alpha_scale * alpha_t, lobe_of.alpha_scale * alpha_b),
                     geometry,
                 ),
-                None => f_micro(fresnel, mu_o, mu_i, n_dot_h, roughness, geometry),
+                None => f_micro(fresnel, mu_o, mu_i, n_dot_h, lobe_of.roughness, geometry),
             }
-        });
+        }) * lobe_of.energy;
         let lobe = match term {
             IblTerm::KullaConty => f_add * f_ms(loss_o, loss(e, mu_i, roughness), norm),
             IblTerm::Turquin => turquin_rgb(spec, f0, e_o),
@@ -356,9 +360,10 @@ pub(super) fn shade_environment_mis(
     }
     // A coated point: the coat's lobe and its shares of the base's light are the model's,
     // and its visible normals a fourth strategy.
-    p.clearcoat = clearcoat;
+    let p = coated_point(p, clearcoat);
     let coat_alpha = clearcoat.map(|c| c.alpha());
-    let alpha = alpha_from_roughness(b.shading_roughness());
+    // The base's lobe as the model reads it (widened under a coat: coated_point).
+    let alpha = alpha_from_roughness(p.lobe.roughness);
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
     let has_cosine = p.metallic < 1.0;

@@ -24,7 +24,8 @@ use crate::brdf::Geometry;
 use crate::display::DisplayTransform;
 use crate::environment::{IblMethod, MAX_IBL_SAMPLES};
 use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
-use crate::scene::{Model, Scene, MAX_BALLS};
+use crate::prepared::base_roughness_under_coat;
+use crate::scene::{CoatForm, Model, Scene, MAX_BALLS};
 
 /// Most rows planned before the 2-D table is used instead. Measured by `shadeballs-lab bench`
 /// (`plan.csv`: bake time of k rows against the 64 x 64 table): with the Chebyshev bake a
@@ -171,6 +172,17 @@ impl Plan {
                 .filter(|b| uses_term(b) || environment || ibl != 0)
                 .map(|b| roughness_coord(b.material.clearcoat.roughness as f32)),
         );
+        // A glossy base under a physical clear coat leaves it with a wider lobe whose energy
+        // factor is formed from E at both roughness values (ClearcoatConstants::base_energy).
+        if scene.coat_form == CoatForm::Physical {
+            for b in balls
+                .iter()
+                .filter(|b| !is_truth(b) && b.material.clearcoat.is_on())
+            {
+                roughness.push(roughness_coord(b.shading_roughness() as f32));
+                roughness.push(roughness_coord(base_roughness_under_coat(scene, b) as f32));
+            }
+        }
         roughness.sort_by(f32::total_cmp);
         roughness.dedup();
         let tables = match options.tables {

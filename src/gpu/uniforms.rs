@@ -105,8 +105,10 @@ super::ball::gpu_ball! {
         clearcoat_row: u32,
         /// The coat form ([`COAT_FORM_CODES`]).
         clearcoat_form: u32,
-        /// The clear coat's Fresnel (`FRESNEL_*`; [`crate::scene::CoatForm::fresnel`]).
-        clearcoat_fresnel: u32,
+        /// The E reads' row of the base's widened roughness under the physical coat,
+        /// packed ([`ClearcoatConstants::base_row`]; 0 otherwise). (The coat's Fresnel form
+        /// follows from the form and `fresnel`: `coating.wgsl` `clearcoat_fresnel`.)
+        clearcoat_base_row: u32,
         /// The physical coat's escape curve, four unorm8 nodes
         /// ([`crate::brdf::clearcoat_escape_pack`]; 0 otherwise). It also fills the
         /// clear coat's 16-byte row.
@@ -251,9 +253,7 @@ pub(crate) fn balls(scene: &Scene, prepared: &Prepared) -> Vec<GpuBall> {
                 clearcoat_e_avg: cc(|c| c.e_avg),
                 clearcoat_row,
                 clearcoat_form: coat_form_code(scene.coat_form),
-                clearcoat_fresnel: crate::gpu::shaders::fresnel_id(
-                    scene.coat_form.fresnel(scene.preset.dielectric_fresnel()),
-                ),
+                clearcoat_base_row: clearcoat.map_or(0, |c| c.base_row),
                 clearcoat_escape: clearcoat.map_or(0, |c| c.escape),
                 emission: v3(b.material.emission),
                 clearcoat_base_roughness: cc(|c| c.base_roughness),

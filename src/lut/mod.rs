@@ -274,6 +274,26 @@ fn bilinear(
     top + (bottom - top) * fy
 }
 
+/// A `lut_row` (`[first row, weight of the next, alpha]`) in one `u32`: the first row in the
+/// high 16 bits, the weight in 1/65535 in the low 16 (alpha follows from the roughness:
+/// [`lut_row_unpack`]). For a member of the GPU's ball that has no room for three floats.
+pub(crate) fn lut_row_pack(row: [f32; 3]) -> u32 {
+    let first = (row[0].max(0.0) as u32).min(0xffff);
+    let weight = (row[1].clamp(0.0, 1.0) * 65535.0).round() as u32;
+    (first << 16) | weight
+}
+
+/// `lut_row_unpack` of `shaders/lut.wgsl`: the row [`lut_row_pack`] packed, at `roughness`
+/// (alpha: its clamped square, as every `lut_row` forms it).
+pub(crate) fn lut_row_unpack(packed: u32, roughness: f32) -> [f32; 3] {
+    let r = roughness_coord(roughness);
+    [
+        (packed >> 16) as f32,
+        (packed & 0xffff) as f32 / 65535.0,
+        r * r,
+    ]
+}
+
 /// `lut_loss_row` of `shaders/lut.wgsl` over `rows` rows of `layout.mu_size` texels,
 /// texel (i, j) = `t(i, j)`: the mu half of the read at `mu`, the roughness half from `row`
 /// (`[first row, weight of the next, alpha]`). The one CPU copy behind

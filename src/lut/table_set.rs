@@ -102,6 +102,16 @@ impl TableSet {
         }
     }
 
+    /// `lut_loss_row` of `shaders/lut.wgsl`: `1 - E(mu)` along `row` (one of
+    /// [`TableSet::lut_row`]'s; with none, the placeholder's 0).
+    pub(crate) fn lut_loss_row(&self, mu: f32, row: [f32; 3]) -> f32 {
+        match self {
+            TableSet::None => 0.0,
+            TableSet::Full(t) => t.lut_loss_row(mu, row),
+            TableSet::Rows(rows) => rows.lut_loss_row(mu, row),
+        }
+    }
+
     /// `1 - E(mu, roughness)` as the shader reads it (f32; with none, the placeholder's 0).
     pub fn lut_loss(&self, mu: f32, roughness: f32) -> f32 {
         match self {

@@ -13,7 +13,7 @@ use crate::brdf::{
     f_add_preset, f_avg_schlick, DielectricFresnel, GAMES202_EDGE_TINT,
 };
 use crate::environment::IblTerm;
-use crate::lut::{CoatingRows, TableSet, COATING_ROW_LEN};
+use crate::lut::{lut_row_pack, CoatingRows, TableSet, COATING_ROW_LEN};
 use crate::scene::{Ball, CoatForm, Layering, Scene};
 
 /// What a ball's clear coat takes that is constant over the ball, formed once per ball on
@@ -45,6 +45,10 @@ pub(crate) struct ClearcoatConstants {
     /// ([`crate::brdf::clearcoat_base_roughness`] under the physical form at weight 1,
     /// towards the base's own as the weight goes to 0; the base's own under the others).
     pub base_roughness: f64,
+    /// The E reads' row of `base_roughness` (its `lut_row`, packed:
+    /// [`crate::lut::lut_row_pack`]; 0 under the engines' forms), for the base's lobe's
+    /// energy factor under the coat (`cpu::clearcoat::clearcoat_base_lobe`).
+    pub base_row: u32,
     /// The form.
     pub form: CoatForm,
     /// The coat's Fresnel ([`CoatForm::fresnel`]).
@@ -81,16 +85,12 @@ impl ClearcoatConstants {
             1.0 - loss_avg,
             loss,
         );
-        // The weight mixes the coated ball with the bare one (OpenPBR's coat weight), and
-        // the base's one prefiltered read serves both: its roughness goes from the base's
-        // own (weight 0, the bare ball's read) to the widened one (weight 1), so a coat
-        // fading out does not jump to the bare ball at weight 0.
-        let base_roughness = if physical {
-            let own = b.shading_roughness();
-            let widened = crate::brdf::clearcoat_base_roughness(own, coat.roughness, coat.ior);
-            own + coat.weight * (widened - own)
+        let base_roughness = base_roughness_under_coat(scene, b);
+        // The widened lobe's E row: the tables hold one for it (gpu::Plan).
+        let base_row = if physical {
+            lut_row_pack(e.lut_row(base_roughness as f32))
         } else {
-            b.shading_roughness()
+            0
         };
         let (base_avg, escape) = if physical {
             let alphas = (
@@ -118,10 +118,27 @@ impl ClearcoatConstants {
             base_avg,
             escape,
             base_roughness,
+            base_row,
             form,
             fresnel: form.fresnel(scene.preset.dielectric_fresnel()),
         })
     }
+}
+
+/// The roughness ball `b`'s base's lobe leaves its clear coat with
+/// ([`ClearcoatConstants::base_roughness`]): under the physical form
+/// [`crate::brdf::clearcoat_base_roughness`], mixed with the base's own by the coat's weight
+/// (OpenPBR's coat weight mixes the coated ball with the bare one, and the base's one read
+/// serves both, so a coat fading out does not jump to the bare ball at weight 0); the
+/// base's own under the engines' forms or without a coat.
+pub(crate) fn base_roughness_under_coat(scene: &Scene, b: &Ball) -> f64 {
+    let own = b.shading_roughness();
+    let coat = b.material.clearcoat;
+    if scene.coat_form != CoatForm::Physical || !coat.is_on() {
+        return own;
+    }
+    let widened = crate::brdf::clearcoat_base_roughness(own, coat.roughness, coat.ior);
+    own + coat.weight * (widened - own)
 }
 
 /// The packed escape curve of a base lobe of `alphas.0` under a coat of `alphas.1`, index

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-pub(crate) use clearcoat::{Clearcoat, ClearcoatConstants};
+pub(crate) use clearcoat::{base_roughness_under_coat, Clearcoat, ClearcoatConstants};
 pub(crate) use coat::{coating_spec_albedo, CoatingConstants};
 pub(crate) use substrate::{base_albedo, with_substrates};
 

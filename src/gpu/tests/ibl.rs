@@ -1200,9 +1200,9 @@ fn the_split_sum_under_a_sun_has_no_blotches() {
 /// progressive image of `clearcoat.toml` (coat weight x coat roughness over a red plastic
 /// and a copper-coloured metal, the studio) converges to the CPU Monte Carlo of the same
 /// model (96x54, 2048 spp): 64 frames of 16 within 4 % on every ball (measured 2.09 %),
-/// and closer than the split sum (187 % on the roughest coat over the metal, a ball of 16
-/// pixels here: the split sum reads the base's lobe widened through the coat and the
-/// sampled model does not, docs/design/coat.md, "The lobe mode"). Before, the lobe mode
+/// and closer than the split sum (15.8 % at worst; 187 % before the sampled model widened
+/// the base's lobe as the split sum does, docs/design/coat.md, "The lobe mode"; a ball of
+/// 16 pixels here). Before, the lobe mode
 /// read the coat's lobe from the prefiltered layers and weighted its samples by the split
 /// sum's shares: 5.18 %, and the test fails.
 #[test]

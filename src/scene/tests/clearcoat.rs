@@ -96,6 +96,77 @@ fn clearcoat_keys_parse_and_refuse_in_one_line() {
     }
 }
 
+/// The base's lobe leaves a physical coat wider and keeps its albedo at the view:
+/// `clearcoat_base_lobe`'s energy factor times `E` at the widened roughness (read along the
+/// packed row the ball carries) is `E` at the base's own, over base and coat roughness, at
+/// half and full weight, for `mu` from 0 to 1, under the plan's rows and under the 2-D
+/// table. Under the engines' forms the lobe is the bare one.
+#[test]
+fn a_coated_bases_wider_lobe_keeps_its_albedo() {
+    use crate::cpu::clearcoat::{clearcoat_base_lobe, BaseLobe};
+    use crate::lut::{CoatingRows, TableSet};
+    use crate::prepared::ClearcoatConstants;
+    let bake = crate::lut::BakeConfig::default();
+    let full = TableSet::Full(std::sync::Arc::new(crate::lut::bake(&bake)));
+    let mut worst = (0.0_f64, String::new());
+    for base in [0.05, 0.2, 0.4, 0.7, 1.0] {
+        for coat_roughness in [0.0, 0.3, 0.7, 1.0] {
+            for weight in [0.5, 1.0] {
+                let m = Material::metallic_roughness(DVec3::new(0.95, 0.64, 0.54), 1.0, 1.5)
+                    .with_clearcoat(coat(weight, coat_roughness));
+                let scene = chart(1, 1, |_, _| (base, m, Model::KullaConty));
+                let plan = crate::gpu::Plan::new(&scene, bake, Default::default());
+                let TableSet::Rows(keys) = &plan.tables else {
+                    panic!("the plan's rows: {:?}", plan.tables);
+                };
+                let rows = crate::lut::bake_rows(keys)
+                    .into_iter()
+                    .map(std::sync::Arc::new);
+                let planned =
+                    TableSet::Rows(std::sync::Arc::new(crate::lut::RowSet::new(rows.collect())));
+                for e in [&planned, &full] {
+                    let b = &scene.balls[0];
+                    let rows =
+                        CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
+                    let c = ClearcoatConstants::of_ball(&scene, b, e, &rows).unwrap();
+                    let own_roughness = b.shading_roughness() as f32;
+                    for k in 0..=50 {
+                        let mu = k as f64 / 50.0;
+                        let lobe = clearcoat_base_lobe(&c, b.shading_roughness(), mu, e);
+                        let own = 1.0 - f64::from(e.lut_loss(mu as f32, own_roughness));
+                        let wide = 1.0 - f64::from(e.lut_loss(mu as f32, lobe.roughness as f32));
+                        let err = (lobe.energy * wide / own - 1.0).abs();
+                        if err > worst.0 {
+                            worst = (
+                                err,
+                                format!(
+                                    "base {base}, coat {coat_roughness}, weight {weight}, mu {mu}"
+                                ),
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("worst relative error of the widened lobe's albedo at the view: {worst:?}");
+    assert!(worst.0 < 1e-4, "{worst:?}");
+    let mut scene = chart(1, 1, |_, _| {
+        (
+            0.4,
+            Material::metallic_roughness(DVec3::splat(0.9), 1.0, 1.5)
+                .with_clearcoat(coat(1.0, 1.0)),
+            Model::KullaConty,
+        )
+    });
+    scene.coat_form = CoatForm::Filament;
+    let b = &scene.balls[0];
+    let rows = CoatingRows::bake(scene.ball_coating_keys(b), &mut Default::default());
+    let c = ClearcoatConstants::of_ball(&scene, b, &full, &rows).unwrap();
+    let lobe = clearcoat_base_lobe(&c, b.shading_roughness(), 0.5, &full);
+    assert_eq!(lobe, BaseLobe::bare(b.shading_roughness()));
+}
+
 /// A scene of coated balls lit by one light and a uniform environment: white-ish plastic,
 /// red plastic, copper and a half metal down the rows, coat roughness across.
 fn lit_chart(weight: f64) -> Scene {
