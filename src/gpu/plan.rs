@@ -172,8 +172,9 @@ impl Plan {
                 .filter(|b| uses_term(b) || environment || ibl != 0)
                 .map(|b| roughness_coord(b.material.clearcoat.roughness as f32)),
         );
-        // A glossy base under a physical clear coat leaves it with a wider lobe whose energy
-        // factor is formed from E at both roughness values (ClearcoatConstants::base_energy).
+        // A glossy base under a physical clear coat leaves it with a wider lobe, whose
+        // energy factor reads E at the base's roughness and at the widened one
+        // (coating.wgsl clearcoat_base_lobe; ClearcoatConstants::base_row).
         if scene.coat_form == CoatForm::Physical {
             for b in balls
                 .iter()
