@@ -469,6 +469,33 @@ fn goal_chart() -> Scene {
     scene
 }
 
+/// The full tables of `scene`'s geometry and each ball's inner pixels at `w` x `h`.
+fn tables_and_interiors(
+    scene: &Scene,
+    (w, h): (u32, u32),
+) -> (crate::lut::TableSet, Vec<Vec<usize>>) {
+    let tables = crate::lut::bake(&crate::lut::BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..Default::default()
+    });
+    let pixels = (0..scene.balls.len())
+        .map(|k| interior(scene, k, w, h))
+        .collect();
+    (crate::lut::TableSet::full(tables), pixels)
+}
+
+/// The standard error of each ball's mean over `pixels`, from a Monte Carlo image's
+/// per-pixel standard errors.
+fn ball_errors(std_error: &[DVec3], pixels: &[Vec<usize>]) -> Vec<DVec3> {
+    pixels
+        .iter()
+        .map(|px| {
+            let var: DVec3 = px.iter().map(|&p| std_error[p].powf(2.0)).sum();
+            var.powf(0.5) / px.len().max(1) as f64
+        })
+        .collect()
+}
+
 /// The truth's mean and standard error of each ball's mean over `pixels`. Where
 /// `SHADEBALLS_COAT_TRUTH` names a file, they are read from it when it exists (written by an
 /// earlier run at the same settings) and written to it otherwise: a model's figures can then
@@ -499,13 +526,7 @@ fn truth_means(
     let prepared = crate::prepared::Prepared::new(scene, e);
     let truth = crate::cpu::render_truth(scene, &prepared, w, h, settings, |_| true).unwrap();
     let means = ball_means(&truth.image.mean, pixels);
-    let errors: Vec<DVec3> = pixels
-        .iter()
-        .map(|px| {
-            let var: DVec3 = px.iter().map(|&p| truth.image.std_error[p].powf(2.0)).sum();
-            var.powf(0.5) / px.len().max(1) as f64
-        })
-        .collect();
+    let errors = ball_errors(&truth.image.std_error, pixels);
     if let Some(path) = cache {
         let mut text = key + "\n";
         for v in means.iter().chain(&errors) {
@@ -529,19 +550,12 @@ fn clearcoat_forms_against_the_truth() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(96);
     let scene = goal_chart();
-    let tables = crate::lut::bake(&crate::lut::BakeConfig {
-        geometry: scene.effective_geometry(),
-        ..Default::default()
-    });
-    let e = crate::lut::TableSet::full(tables);
+    let (e, pixels) = tables_and_interiors(&scene, (w, h));
     let settings = crate::cpu::TruthSettings {
         spp,
         seed: 36,
         ..Default::default()
     };
-    let pixels: Vec<Vec<usize>> = (0..scene.balls.len())
-        .map(|k| interior(&scene, k, w, h))
-        .collect();
     let (t_means, t_err) = truth_means(&scene, &e, (w, h), settings, &pixels);
     let mut worst_physical = 0.0f64;
     let mut errors: Vec<Vec<f64>> = Vec::new();
@@ -719,32 +733,22 @@ fn coated_balls_under_a_light_meet_their_truth_under_a_sun() {
     let mut lit_scene = truth_scene.clone();
     lit_scene.environment_map = None;
     lit_scene.lights = vec![light];
-    let tables = crate::lut::bake(&crate::lut::BakeConfig {
-        geometry: truth_scene.effective_geometry(),
-        ..Default::default()
-    });
-    let e = crate::lut::TableSet::full(tables);
+    let (e, pixels) = tables_and_interiors(&truth_scene, (w, h));
     let settings = crate::cpu::TruthSettings {
         spp,
         seed: 36,
         ..Default::default()
     };
-    let pixels: Vec<Vec<usize>> = (0..truth_scene.balls.len())
-        .map(|k| interior(&truth_scene, k, w, h))
-        .collect();
     let prepared = crate::prepared::Prepared::new(&truth_scene, &e);
     let truth =
         crate::cpu::render_truth(&truth_scene, &prepared, w, h, settings, |_| true).unwrap();
     let t_means = ball_means(&truth.image.mean, &pixels);
+    let t_err = ball_errors(&truth.image.std_error, &pixels);
     let prepared = crate::prepared::Prepared::new(&lit_scene, &e);
     let model = crate::cpu::render_radiance(&lit_scene, &prepared, w, h);
     let m_means = ball_means(&model, &pixels);
     for (k, (name, bound)) in [("copper", 0.03), ("red plastic", 0.10)].iter().enumerate() {
-        let var: DVec3 = pixels[k]
-            .iter()
-            .map(|&p| truth.image.std_error[p].powf(2.0))
-            .sum();
-        let noise = var.powf(0.5) / pixels[k].len() as f64 / t_means[k];
+        let noise = t_err[k] / t_means[k];
         let signed = (m_means[k] - t_means[k]) / t_means[k];
         let beyond = (signed.abs() - 3.0 * noise).max_element();
         println!(
