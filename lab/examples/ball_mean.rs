@@ -55,25 +55,29 @@ fn main() -> Result<()> {
                 .sum::<f64>()
         };
         let mean = [0, 1, 2].map(|c| sum(image.as_raw(), c, |x| x) / n);
-        print!(
-            "{path}: {} pixels, mean {:.5} {:.5} {:.5}",
+        // A Monte Carlo picture's per-pixel standard errors, beside it: the mean's.
+        let errors = path
+            .strip_suffix(".exr")
+            .map(|stem| format!("{stem}.stderr.exr"))
+            .filter(|e| std::path::Path::new(e).exists());
+        let se = match errors {
+            Some(e_path) => {
+                let e = read(&e_path)?;
+                if e.dimensions() != image.dimensions() {
+                    bail!("'{e_path}' is not the size of '{path}'");
+                }
+                let se = [0, 1, 2].map(|c| sum(e.as_raw(), c, |x| x * x).sqrt() / n);
+                format!(", standard error {:.5} {:.5} {:.5}", se[0], se[1], se[2])
+            }
+            None => String::new(),
+        };
+        println!(
+            "{path}: {} pixels, mean {:.5} {:.5} {:.5}{se}",
             counted.len(),
             mean[0],
             mean[1],
             mean[2]
         );
-        // A Monte Carlo picture's per-pixel standard errors, beside it: the mean's.
-        let errors = path
-            .strip_suffix(".exr")
-            .map(|stem| format!("{stem}.stderr.exr"));
-        match errors.filter(|e| std::path::Path::new(e).exists()) {
-            Some(e) => {
-                let e = read(&e)?;
-                let se = [0, 1, 2].map(|c| sum(e.as_raw(), c, |x| x * x).sqrt() / n);
-                println!(", standard error {:.5} {:.5} {:.5}", se[0], se[1], se[2]);
-            }
-            None => println!(),
-        }
     }
     Ok(())
 }
