@@ -4,12 +4,14 @@
 # but for issue 37's sun (the truth, the GPU Monte Carlo, the split sum) and by the
 # directional light its texels add up to (the renderer's lights). Each ball's mean over
 # the pixels of the same ball under a uniform light, against the truth's, per channel.
+# Then the coat alone (over a black plastic of index 1, which sends nothing back) under the
+# sun's light and under a uniform environment, against the truth.
 #
 #   bash tests/coat_under_a_sun.sh [SPP] [BINARY] [OLD_BINARY]
 #       (default 4096 samples a pixel for the truth and the Monte Carlo,
 #       target/release/shadeballs; OLD_BINARY adds a column of its lights, e.g. main's)
 #
-# About 5 minutes at 4096 spp on the quiet 2-core machine, most of it the truth's walks.
+# About 6 minutes at 4096 spp on the quiet 2-core machine, most of it the truth's walks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spp=${1:-4096}
@@ -100,4 +102,38 @@ map = \"sun.exr\""
         fi
         echo "$row"
     done
+done
+
+# The coat alone: the truth at 4 x SPP under the sun (its exits rarely find it), SPP / 8
+# under the uniform environment (every exit counts).
+void="base_color = [0, 0, 0], metallic = 0, ior = 1.0, clearcoat = 1.0"
+echo
+echo "the coat alone, grey: truth at $((4 * spp)) spp under the sun, $((spp / 8)) spp under a uniform environment"
+echo "| coat roughness | light | truth (its standard error) | the model |"
+echo "|---|---|---|---|"
+# coat_alone ROUGHNESS LIGHT TRUTH_SPP NAME: one row.
+coat_alone() {
+    scene map "$void, clearcoat_roughness = $1" "$2"
+    render "$bin" map truth --backend truth --spp "$3"
+    render "$bin" map model --backend vulkan
+    local truth model se
+    truth=$(mean truth | cut -d' ' -f1)
+    model=$(mean model | cut -d' ' -f1)
+    se=$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" \
+        | sed 's/.*standard error //' | cut -d' ' -f1)
+    awk -v r="$1" -v n="$4" -v t="$truth" -v m="$model" -v s="$se" 'BEGIN {
+        printf "| %s | %s | %.4f (%.1f %%) | %+.1f %% |\n", r, n, t, 100 * s / t, 100 * (m / t - 1) }'
+}
+# The sun's light for the model, the sun map for the truth: two scenes, as above.
+scene map "$void, clearcoat_roughness = 1.0" "[environment]
+map = \"sun.exr\""
+render "$bin" map truth --backend truth --spp $((4 * spp))
+scene light "$void, clearcoat_roughness = 1.0" "$light"
+render "$bin" light lit --backend vulkan
+awk -v t="$(mean truth | cut -d' ' -f1)" -v m="$(mean lit | cut -d' ' -f1)" \
+    -v s="$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" | sed 's/.*standard error //' | cut -d' ' -f1)" \
+    'BEGIN { printf "| 1.0 | the sun | %.4f (%.1f %%) | %+.1f %% |\n", t, 100 * s / t, 100 * (m / t - 1) }'
+for roughness in 0.1 0.3 0.5 0.7 0.85 1.0; do
+    coat_alone "$roughness" "[environment]
+radiance = [1, 1, 1]" $((spp / 8)) uniform
 done
