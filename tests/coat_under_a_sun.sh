@@ -111,29 +111,26 @@ echo
 echo "the coat alone, grey: truth at $((4 * spp)) spp under the sun, $((spp / 8)) spp under a uniform environment"
 echo "| coat roughness | light | truth (its standard error) | the model |"
 echo "|---|---|---|---|"
-# coat_alone ROUGHNESS LIGHT TRUTH_SPP NAME: one row.
+# coat_alone ROUGHNESS TRUTH_LIGHT MODEL_LIGHT TRUTH_SPP NAME: one row, the truth lit by
+# TRUTH_LIGHT and the model (Vulkan) by MODEL_LIGHT.
 coat_alone() {
     scene map "$void, clearcoat_roughness = $1" "$2"
-    render "$bin" map truth --backend truth --spp "$3"
-    render "$bin" map model --backend vulkan
+    render "$bin" map truth --backend truth --spp "$4"
+    scene light "$void, clearcoat_roughness = $1" "$3"
+    render "$bin" light model --backend vulkan
     local truth model se
     truth=$(mean truth | cut -d' ' -f1)
     model=$(mean model | cut -d' ' -f1)
     se=$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" \
         | sed 's/.*standard error //' | cut -d' ' -f1)
-    awk -v r="$1" -v n="$4" -v t="$truth" -v m="$model" -v s="$se" 'BEGIN {
+    awk -v r="$1" -v n="$5" -v t="$truth" -v m="$model" -v s="$se" 'BEGIN {
         printf "| %s | %s | %.4f (%.1f %%) | %+.1f %% |\n", r, n, t, 100 * s / t, 100 * (m / t - 1) }'
 }
-# The sun's light for the model, the sun map for the truth: two scenes, as above.
-scene map "$void, clearcoat_roughness = 1.0" "[environment]
-map = \"sun.exr\""
-render "$bin" map truth --backend truth --spp $((4 * spp))
-scene light "$void, clearcoat_roughness = 1.0" "$light"
-render "$bin" light lit --backend vulkan
-awk -v t="$(mean truth | cut -d' ' -f1)" -v m="$(mean lit | cut -d' ' -f1)" \
-    -v s="$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" | sed 's/.*standard error //' | cut -d' ' -f1)" \
-    'BEGIN { printf "| 1.0 | the sun | %.4f (%.1f %%) | %+.1f %% |\n", t, 100 * s / t, 100 * (m / t - 1) }'
+# Under the sun: the truth under the sun map, the model under the sun's light.
+coat_alone 1.0 "[environment]
+map = \"sun.exr\"" "$light" $((4 * spp)) "the sun"
+uniform="[environment]
+radiance = [1, 1, 1]"
 for roughness in 0.1 0.3 0.5 0.7 0.85 1.0; do
-    coat_alone "$roughness" "[environment]
-radiance = [1, 1, 1]" $((spp / 8)) uniform
+    coat_alone "$roughness" "$uniform" "$uniform" $((spp / 8)) uniform
 done
