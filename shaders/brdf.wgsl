@@ -390,6 +390,27 @@ fn clearcoat_lobe_scale(a_avg: vec3<f32>, escape: f32, e_coat_avg: f32, eta: f32
     return (1.0 - kept) / max(1.0 - e_coat_avg, DIV_EPSILON);
 }
 
+// The cosine at which a glossy base's Fresnel is read under the physical coat: c refracted
+// into the coat of index eta, mixed with c by the weight (src/brdf/clearcoat.rs
+// clearcoat_base_cosine).
+fn clearcoat_base_cosine(c: f32, eta: f32, weight: f32) -> f32 {
+    let sin2 = max(1.0 - c * c, 0.0) / max(eta * eta, DIV_EPSILON);
+    let refracted = sqrt(max(1.0 - sin2, 0.0));
+    return c + weight * (refracted - c);
+}
+
+// The cosine-weighted average of Schlick's (1 - mu)^5 inside the coat's critical cone,
+// 2 eta^2 (X^6 / 6 - X^7 / 7) with X = 1 - sqrt(1 - 1 / eta^2), mixed with the hemisphere's
+// 1 / 21 by the weight (src/brdf/clearcoat.rs clearcoat_base_schlick_avg).
+fn clearcoat_base_schlick_avg(eta: f32, weight: f32) -> f32 {
+    let eta2 = max(eta * eta, 1.0);
+    let x = 1.0 - sqrt(1.0 - 1.0 / eta2);
+    let x2 = x * x;
+    let x6 = x2 * x2 * x2;
+    let cone = 2.0 * eta2 * (x6 / 6.0 - x6 * x / 7.0);
+    return 1.0 / 21.0 + weight * (cone - 1.0 / 21.0);
+}
+
 // A ball's escape curve (four unorm8 nodes at sqrt(mu) = k / 3) read at mu, linear in
 // sqrt(mu) (src/brdf/clearcoat.rs clearcoat_escape_at).
 fn clearcoat_escape_at(packed: u32, mu: f32) -> f32 {

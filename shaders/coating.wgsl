@@ -8,7 +8,7 @@
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
-#import shadeballs::brdf::clearcoat_through_physical
+#import shadeballs::brdf::{clearcoat_through_physical, clearcoat_base_cosine, clearcoat_base_schlick_avg, f_avg_schlick}
 #import shadeballs::lut::{lut_loss_row, lut_row_unpack}
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
@@ -152,6 +152,27 @@ fn clearcoat_base_lobe(b: Ball, mu_o: f32) -> vec3<f32> {
     return vec3<f32>(wide, e_own / max(e_wide, DIV_EPSILON), alpha_scale);
 }
 
+// The cosine at which a glossy base's Schlick Fresnel is read under ball b's coat: c
+// refracted into the coat under the physical form (brdf.wgsl clearcoat_base_cosine), c
+// otherwise. src/cpu/clearcoat.rs clearcoat_base_fresnel_cosine.
+fn clearcoat_base_fresnel_cosine(b: Ball, c: f32) -> f32 {
+    if !has_clearcoat(b) || b.clearcoat_form != COAT_FORM_PHYSICAL {
+        return c;
+    }
+    return clearcoat_base_cosine(c, b.clearcoat_eta, b.clearcoat);
+}
+
+// The cosine-weighted average of Schlick's Fresnel of F0 as a glossy base sees uniform
+// light under ball b's coat: inside the coat's critical cone under the physical form
+// (brdf.wgsl clearcoat_base_schlick_avg), F0 + (1 - F0) / 21 otherwise.
+// src/cpu/clearcoat.rs clearcoat_base_f_avg.
+fn clearcoat_base_f_avg(b: Ball, f0: vec3<f32>) -> vec3<f32> {
+    if !has_clearcoat(b) || b.clearcoat_form != COAT_FORM_PHYSICAL {
+        return f_avg_schlick(f0);
+    }
+    return f0 + (1.0 - f0) * clearcoat_base_schlick_avg(b.clearcoat_eta, b.clearcoat);
+}
+
 // The Fresnel form of ball b's clear coat (CoatForm::fresnel): the scene's (b.fresnel)
 // under the physical form, Schlick's under the engines'.
 fn clearcoat_fresnel(b: Ball) -> u32 {
@@ -239,9 +260,12 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
     }
     let e_o = 1.0 - loss_o;
-    let e_f_o = coating_albedo(b.coating_row, mu_o);
+    // Under a clear coat the coating's Fresnel is read inside the coat (refracted cosines):
+    // its albedo E_F and the base's share with it.
+    let mu_fresnel = clearcoat_base_fresnel_cosine(b, mu_o);
+    let e_f_o = coating_albedo(b.coating_row, mu_fresnel);
     let e_spec_o = coating_spec_albedo(e_f_o, loss_o, f0, f_add, ms, term);
-    let base_o = coating_base_albedo(b, e_spec_o, f_dielectric(mu_o, eta, b.fresnel));
+    let base_o = coating_base_albedo(b, e_spec_o, f_dielectric(mu_fresnel, eta, b.fresnel));
     // The shares of uniform light and the map that a clear coat lets through (1 without):
     // the specular's as a glossy base's, the base's as a Lambertian one's.
     let through_lobe = clearcoat_environment_lobe(b);
@@ -271,7 +295,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
             continue;
         }
         let h = normalize(v + l);
-        let fresnel = f_dielectric(dot(v, h), eta, b.fresnel);
+        let fresnel = f_dielectric(clearcoat_base_fresnel_cosine(b, dot(v, h)), eta, b.fresnel);
         let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY).x;
         var lobe = 0.0;
         var loss_i = 0.0;
@@ -286,7 +310,8 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         }
         var e_spec_i = 0.0;
         if two_sided(b) {
-            e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, ms, term);
+            let e_f_i = coating_albedo(b.coating_row, clearcoat_base_fresnel_cosine(b, mu_i));
+            e_spec_i = coating_spec_albedo(e_f_i, loss_i, f0, f_add, ms, term);
         }
         let t_in = clearcoat_in(b, mu_i, dot(v, h));
         let f_r = clearcoat_through_lobe(b, t_in) * (spec + ms * lobe)

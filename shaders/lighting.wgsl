@@ -4,7 +4,7 @@
 
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::PI
-#import shadeballs::brdf::{f_schlick, f_avg_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
+#import shadeballs::brdf::{f_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
@@ -15,7 +15,7 @@
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
-#import shadeballs::coating::clearcoat_base_lobe
+#import shadeballs::coating::{clearcoat_base_lobe, clearcoat_base_fresnel_cosine, clearcoat_base_f_avg}
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
@@ -84,7 +84,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         loss_o = lut_loss_row(e_table, lut_params(), mu_o, b.lut_row);
     }
     let e_o = 1.0 - loss_o;
-    let f_avg_ss = f_avg_schlick(f0);
+    // Under a clear coat the base's Fresnel is read inside the coat (refracted cosines).
+    let f_avg_ss = clearcoat_base_f_avg(b, f0);
     // f_add and the lobe's normalisation are constant over the ball: formed once on the
     // CPU, per preset (f_add_preset, f_ms_norm; src/gpu/uniforms.rs balls).
     var norm = 0.0;
@@ -96,7 +97,8 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
     // The single-scattering albedo: the split sum with a map bound, else F_avg E(mu_o).
     var fss_ess = f_avg_ss * e_o;
     if IBL != 0u {
-        fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_o, roughness));
+        let mu_fresnel = clearcoat_base_fresnel_cosine(b, mu_o);
+        fss_ess = split_sum_scale(f0, e_o, split_sum_bias(env_split_sum, mu_fresnel, roughness));
     }
     // Fdez-Aguera's energy, formed once for every light (zero for the other terms).
     var fms_ems = vec3<f32>(0.0);
@@ -137,7 +139,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
             continue;
         }
         let h = normalize(v + l);
-        let fresnel = f_schlick(f0, dot(v, h));
+        let fresnel = f_schlick(f0, clearcoat_base_fresnel_cosine(b, dot(v, h)));
         var spec = vec3<f32>(0.0);
         if aniso {
             let alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);

@@ -12,7 +12,7 @@
 #import shadeballs::sampling::{sample_vndf, sample_vndf_aniso, vndf_density, vndf_density_aniso}
 #import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
-#import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe, clearcoat_base_lobe}
+#import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe, clearcoat_base_lobe, clearcoat_base_fresnel_cosine}
 #import shadeballs::clearcoat::clearcoat_brdf
 #import shadeballs::bindings::{e_table, lut_params, env_split_sum}
 
@@ -78,7 +78,9 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     if b.metallic < 1.0 {
         let f0 = f0_from_ior(b.eta);
         let loss = p.loss_o * p.ms;
-        let e_f_o = coating_albedo(b.coating_row, p.mu_o);
+        // Under a clear coat the coating's Fresnel is read inside the coat (a refracted
+        // cosine).
+        let e_f_o = coating_albedo(b.coating_row, clearcoat_base_fresnel_cosine(b, p.mu_o));
         p.e_spec_o = coating_spec_albedo(e_f_o, loss, f0, b.coat_f_add, p.ms, b.term);
         if p.ms > 0.0 && b.term == TERM_FDEZ_AGUERA {
             p.coat_fms_ems = term_fdez_aguera(vec3<f32>(e_f_o), vec3<f32>(f0), loss).x;
@@ -144,7 +146,8 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
 // The metal's part of model_brdf: f_micro with Schlick F per channel (f_micro_aniso in the
 // tangent frame for an anisotropic lobe) and the ball's term.
 fn metal_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>, loss_i: f32) -> vec3<f32> {
-    let fresnel = f_schlick(p.f0, dot(p.v, h));
+    // Under a clear coat the base's Fresnel is read inside the coat (a refracted cosine).
+    let fresnel = f_schlick(p.f0, clearcoat_base_fresnel_cosine(b, dot(p.v, h)));
     var spec: vec3<f32>;
     if HAS_ANISOTROPY == 1u && p.alphas.x > p.alphas.y {
         let to_local = transpose(p.tangent_frame);
@@ -175,7 +178,7 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
     let eta = b.eta;
     let f_add = b.coat_f_add;
     let f0 = f0_from_ior(eta);
-    let fresnel = f_dielectric(dot(p.v, h), eta, b.fresnel);
+    let fresnel = f_dielectric(clearcoat_base_fresnel_cosine(b, dot(p.v, h)), eta, b.fresnel);
     let spec = p.lobe.y * f_micro(vec3<f32>(fresnel), p.mu_o, mu_i, dot(p.n, h), p.lobe.x, GEOMETRY).x;
     let loss_o = p.loss_o * p.ms;
     var lobe = 0.0;
@@ -189,7 +192,8 @@ fn coating_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>, mu_i: f32, h: vec3<f32>,
     }
     var e_spec_i = 0.0;
     if two_sided(b) {
-        e_spec_i = coating_spec_albedo(coating_albedo(b.coating_row, mu_i), loss_i, f0, f_add, p.ms, b.term);
+        let e_f_i = coating_albedo(b.coating_row, clearcoat_base_fresnel_cosine(b, mu_i));
+        e_spec_i = coating_spec_albedo(e_f_i, loss_i, f0, f_add, p.ms, b.term);
     }
     if p.part == PART_MULTIPLE {
         return through_lobe * (p.ms * lobe);

@@ -65,6 +65,32 @@ pub(crate) fn clearcoat_base_roughness(roughness_base: f64, roughness_coat: f64,
     alpha2.sqrt().sqrt().min(1.0)
 }
 
+/// The cosine at which a glossy base's Fresnel is read under the physical coat of index
+/// `eta` and weight `weight`: the outside cosine `c` refracted into the coat (Snell's law,
+/// `sin_t = sin / eta`), as Weidlich and Wilkie 2007 light the lower layer along the
+/// refracted directions and the walk's base sees them, mixed with `c` by the weight (the
+/// bare base's at weight 0, as [`clearcoat_base_roughness`] is). A white base (`F0 = 1`)
+/// has `F = 1` at every cosine, so the white furnace is untouched.
+pub(crate) fn clearcoat_base_cosine(c: f64, eta: f64, weight: f64) -> f64 {
+    let sin2 = (1.0 - c * c).max(0.0) / (eta * eta).max(DIV_EPSILON);
+    let refracted = (1.0 - sin2).max(0.0).sqrt();
+    c + weight * (refracted - c)
+}
+
+/// The cosine-weighted average of Schlick's `(1 - mu)^5` seen by a glossy base under the
+/// physical coat of index `eta` and weight `weight`: uniform light outside reaches the base
+/// inside the coat's critical cone, cosine-weighted there too (`sin_t^2 = sin^2 / eta^2`
+/// is uniform on `[0, 1 / eta^2]`), so the average is
+/// `eta^2 int_{mu_c}^1 (1 - mu)^5 2 mu dmu = 2 eta^2 (X^6 / 6 - X^7 / 7)` with
+/// `X = 1 - mu_c`, `mu_c = sqrt(1 - 1 / eta^2)` (1.6e-4 at index 1.5), mixed with the bare
+/// hemisphere's `1 / 21` ([`super::f_avg_schlick`]) by the weight. Index 1 gives `1 / 21`.
+pub(crate) fn clearcoat_base_schlick_avg(eta: f64, weight: f64) -> f64 {
+    let eta2 = (eta * eta).max(1.0);
+    let x = 1.0 - (1.0 - 1.0 / eta2).sqrt();
+    let cone = 2.0 * eta2 * (x.powi(6) / 6.0 - x.powi(7) / 7.0);
+    1.0 / 21.0 + weight * (cone - 1.0 / 21.0)
+}
+
 /// The nodes of a ball's escape curve: the physical model's `X` at `sqrt(mu) = k / 3`,
 /// [`clearcoat_escape`] scaled so that a Lambertian lobe gives the model's own
 /// `1 - F_in` (the paths' single scattering loses what the coat's term gives back), in

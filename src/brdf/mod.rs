@@ -22,8 +22,9 @@ pub(crate) use anisotropy::{
 };
 pub use clearcoat::clearcoat_escape_nodes;
 pub(crate) use clearcoat::{
-    clearcoat_base_roughness, clearcoat_escape_at, clearcoat_escape_pack, clearcoat_inside_scale,
-    clearcoat_lobe_scale, clearcoat_through_engine, clearcoat_through_physical,
+    clearcoat_base_cosine, clearcoat_base_roughness, clearcoat_base_schlick_avg,
+    clearcoat_escape_at, clearcoat_escape_pack, clearcoat_inside_scale, clearcoat_lobe_scale,
+    clearcoat_through_engine, clearcoat_through_physical,
 };
 pub(crate) use compensation::{term_fdez_aguera, term_turquin};
 pub use fresnel::f0_from_ior;

@@ -6,9 +6,9 @@ use glam::DVec3;
 
 use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
-    alpha_from_roughness, clearcoat_escape_at, clearcoat_inside_scale, clearcoat_lobe_scale,
-    clearcoat_through_engine, clearcoat_through_physical, f_dielectric, f_micro, f_ms, Geometry,
-    DIV_EPSILON,
+    alpha_from_roughness, clearcoat_base_cosine, clearcoat_base_schlick_avg, clearcoat_escape_at,
+    clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_through_engine,
+    clearcoat_through_physical, f_avg_schlick, f_dielectric, f_micro, f_ms, Geometry, DIV_EPSILON,
 };
 use crate::lut::{coating_albedo, lut_row_unpack, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
@@ -88,6 +88,31 @@ pub(crate) fn clearcoat_base_lobe(
         // alpha_from_roughness clamps the roughness: the denominator is at least
         // ROUGHNESS_MIN^2.
         alpha_scale: alpha_from_roughness(wide) / alpha_from_roughness(roughness),
+    }
+}
+
+/// Ball `b`'s clear coat as its glossy base's Fresnel sees it: the coat's index and weight
+/// under the physical form, `None` bare or under an engine's form (`coating.wgsl`'s
+/// `clearcoat_base_fresnel_cosine` and `clearcoat_base_f_avg` read them from the ball).
+pub(crate) fn clearcoat_refraction(scene: &Scene, b: &Ball) -> Option<(f64, f64)> {
+    let c = b.material.clearcoat;
+    (c.is_on() && scene.coat_form == CoatForm::Physical).then_some((c.ior, c.weight))
+}
+
+/// `clearcoat_base_fresnel_cosine` of `coating.wgsl`: the cosine at which a glossy base's
+/// Fresnel is read under the coat `refraction` ([`clearcoat_refraction`]): `c` refracted
+/// into it ([`clearcoat_base_cosine`]), `c` bare.
+pub(crate) fn clearcoat_base_fresnel_cosine(refraction: Option<(f64, f64)>, c: f64) -> f64 {
+    refraction.map_or(c, |(eta, weight)| clearcoat_base_cosine(c, eta, weight))
+}
+
+/// `clearcoat_base_f_avg` of `coating.wgsl`: the cosine-weighted average of Schlick's
+/// Fresnel of `f0` as a glossy base sees uniform light under the coat `refraction`
+/// ([`clearcoat_base_schlick_avg`]), `F0 + (1 - F0) / 21` bare.
+pub(crate) fn clearcoat_base_f_avg(refraction: Option<(f64, f64)>, f0: DVec3) -> DVec3 {
+    match refraction {
+        Some((eta, weight)) => f0 + (DVec3::ONE - f0) * clearcoat_base_schlick_avg(eta, weight),
+        None => f0.map(f_avg_schlick),
     }
 }
 

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::clearcoat::BaseLobe;
+use super::clearcoat::{clearcoat_base_fresnel_cosine, clearcoat_refraction, BaseLobe};
 use super::forms::Forms;
 use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
@@ -46,6 +46,9 @@ pub(crate) struct CoatingPoint {
     pub fms_ems: f64,
     /// The base's directional albedo at the view.
     pub base_o: DVec3,
+    /// The ball's clear coat as the coating's Fresnel sees it
+    /// ([`super::clearcoat::clearcoat_refraction`]).
+    refraction: Option<(f64, f64)>,
 }
 
 /// The coating's BRDF at one light direction, by part.
@@ -83,7 +86,11 @@ impl CoatingPoint {
         let fresnel_form = scene.preset.dielectric_fresnel();
         let mu_o = n.dot(v).max(0.0);
         let loss_o = if ms > 0.0 { read(mu_o) } else { 0.0 };
-        let e_f_o = f64::from(coating_albedo(&row, mu_o as f32));
+        // Under a clear coat the coating's Fresnel is read inside the coat (refracted
+        // cosines): its albedo E_F and the base's share with it.
+        let refraction = clearcoat_refraction(scene, b);
+        let mu_fresnel = clearcoat_base_fresnel_cosine(refraction, mu_o);
+        let e_f_o = f64::from(coating_albedo(&row, mu_fresnel as f32));
         let e_spec_o = coating_spec_albedo(e_f_o, loss_o, f0, constants.f_add, ms, term);
         let fms_ems = if ms > 0.0 && term == IblTerm::FdezAguera {
             term_fdez_aguera(e_f_o, f0, loss_o)
@@ -108,8 +115,9 @@ impl CoatingPoint {
             e_spec_o,
             fms_ems,
             base_o: DVec3::ZERO,
+            refraction,
         };
-        point.base_o = point.base_albedo(e_spec_o, f_dielectric(mu_o, eta, fresnel_form));
+        point.base_o = point.base_albedo(e_spec_o, f_dielectric(mu_fresnel, eta, fresnel_form));
         point
     }
 
@@ -134,7 +142,8 @@ impl CoatingPoint {
         let h = (v + l).normalize();
         let eta = self.constants.eta;
         let f_add = self.constants.f_add;
-        let fresnel = f_dielectric(v.dot(h), eta, self.fresnel_form);
+        let v_dot_h = clearcoat_base_fresnel_cosine(self.refraction, v.dot(h));
+        let fresnel = f_dielectric(v_dot_h, eta, self.fresnel_form);
         let spec = lobe.energy
             * f_micro(
                 fresnel,
@@ -154,7 +163,8 @@ impl CoatingPoint {
             };
         }
         let e_spec_i = if self.two_sided() {
-            let e_f_i = f64::from(coating_albedo(&self.row, mu_i as f32));
+            let mu_fresnel = clearcoat_base_fresnel_cosine(self.refraction, mu_i);
+            let e_f_i = f64::from(coating_albedo(&self.row, mu_fresnel as f32));
             coating_spec_albedo(e_f_i, loss_i, self.f0, f_add, self.ms, self.term)
         } else {
             0.0

@@ -8,7 +8,9 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::clearcoat::{BaseLobe, ClearcoatPoint};
+use super::clearcoat::{
+    clearcoat_base_fresnel_cosine, clearcoat_refraction, BaseLobe, ClearcoatPoint,
+};
 use super::coating::CoatingPoint;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
 use crate::brdf::{
@@ -65,6 +67,9 @@ pub(crate) struct ShadingPoint {
     /// The single-scattering lobes as [`model_brdf`] reads them: the ball's own, widened
     /// under a clear coat ([`coated_point`]).
     pub lobe: BaseLobe,
+    /// The ball's clear coat as the metal's Fresnel sees it
+    /// ([`super::clearcoat::clearcoat_refraction`]).
+    pub refraction: Option<(f64, f64)>,
 }
 
 impl ShadingPoint {
@@ -109,6 +114,7 @@ impl ShadingPoint {
             anisotropy: anisotropic_frame(b, n),
             clearcoat: None,
             lobe: BaseLobe::bare(roughness),
+            refraction: clearcoat_refraction(scene, b),
         }
     }
 
@@ -200,8 +206,10 @@ fn metal_brdf(p: &ShadingPoint, l: DVec3, h: DVec3, e: &TableSet) -> DVec3 {
     let mu_i = p.n.dot(l);
     let v_dot_h = p.v.dot(h);
     let n_dot_h = p.n.dot(h);
+    // Under a clear coat the base's Fresnel is read inside the coat (a refracted cosine).
+    let fresnel_cosine = clearcoat_base_fresnel_cosine(p.refraction, v_dot_h);
     let spec = per_channel(p.f0, |f| {
-        let fresnel = f_schlick(f, v_dot_h);
+        let fresnel = f_schlick(f, fresnel_cosine);
         match &p.anisotropy {
             Some((frame, alphas)) => crate::brdf::f_micro_aniso(
                 fresnel,

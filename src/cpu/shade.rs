@@ -4,7 +4,10 @@
 
 use glam::DVec3;
 
-use super::clearcoat::{BaseLobe, ClearcoatPoint};
+use super::clearcoat::{
+    clearcoat_base_f_avg, clearcoat_base_fresnel_cosine, clearcoat_refraction, BaseLobe,
+    ClearcoatPoint,
+};
 use super::forms::{Forms, LobeSamples};
 use super::light::CpuEnvironment;
 use super::light::{f_add_rgb, loss, loss_avg, per_channel};
@@ -12,8 +15,8 @@ use super::model::{
     anisotropic_frame, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, ShadingPoint,
 };
 use crate::brdf::{
-    alpha_from_roughness, anisotropic_bent_normal, f_avg_schlick, f_micro, f_micro_aniso, f_ms,
-    f_ms_norm, f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
+    alpha_from_roughness, anisotropic_bent_normal, f_micro, f_micro_aniso, f_ms, f_ms_norm,
+    f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
@@ -198,11 +201,14 @@ pub(super) fn shade_with_terms(
     let loss_avg = loss_avg(e, roughness);
     let e_avg = 1.0 - loss_avg;
     let norm = f_ms_norm(loss_avg);
-    let f_avg_ss = per_channel(f0, f_avg_schlick);
+    // Under a clear coat the base's Fresnel is read inside the coat (refracted cosines).
+    let refraction = clearcoat_refraction(scene, b);
+    let f_avg_ss = clearcoat_base_f_avg(refraction, f0);
     let f_add = f_add_rgb(form, f0, e_avg);
     let fss_ess = match split {
         Some(split) => {
-            let bias = split.bias_at(mu_o as f32, roughness as f32) as f64;
+            let mu_fresnel = clearcoat_base_fresnel_cosine(refraction, mu_o);
+            let bias = split.bias_at(mu_fresnel as f32, roughness as f32) as f64;
             // split_sum_scale: F0 A + B with A = E - B.
             f0 * e_o + (DVec3::ONE - f0) * bias
         }
@@ -241,8 +247,9 @@ pub(super) fn shade_with_terms(
         let h = (v + l).normalize();
         let v_dot_h = v.dot(h);
         let n_dot_h = n.dot(h);
+        let fresnel_cosine = clearcoat_base_fresnel_cosine(refraction, v_dot_h);
         let spec = per_channel(f0, |f| {
-            let fresnel = f_schlick(f, v_dot_h);
+            let fresnel = f_schlick(f, fresnel_cosine);
             match aniso {
                 Some((frame, (alpha_t, alpha_b))) => f_micro_aniso(
                     fresnel,

@@ -705,12 +705,13 @@ fn sun_and_its_light(sun: DVec3) -> (Environment, Light) {
 /// ([`sun_and_its_light`]), and the model (the CPU twin) is lit by the light the sun's
 /// texels add up to. Copper and a red plastic of roughness 0.4 under a full coat of
 /// roughness 1, the sun up and to the left in front of them: the base's lobe leaves the
-/// coat wider under the lights too (`clearcoat_base_lobe`). Held: copper's worst channel
-/// within 3 % beyond 3 of the truth's standard errors (measured: -0.7, -1.6, -2.2 %), the
-/// red plastic's within 10 % (-1.1, -4.8, -5.1 %: its green and blue are mostly the coat's
-/// own light, and a coat of roughness 1 reflects about 5 % less than its walk,
-/// docs/design/coat.md, "Under a sun"). With the base's own lobe under the lights (before
-/// the widening) copper is 30 % under and the test fails.
+/// coat wider under the lights too (`clearcoat_base_lobe`), and its Fresnel is read inside
+/// the coat (`clearcoat_base_fresnel_cosine`). Held: each ball's worst channel within 3 %
+/// beyond 3 of the truth's standard errors (measured: copper -0.7, -1.6, -2.2 %, the red
+/// plastic +2.2, -2.9, -3.4 %, whose green and blue are mostly the coat's own light,
+/// standard errors 2.9 and 3.2 %; -1.1, -4.8, -5.1 % with the plastic's Fresnel read at the
+/// outside cosines). With the base's own lobe under the lights (before the widening)
+/// copper is 30 % under and the test fails.
 #[test]
 fn coated_balls_under_a_light_meet_their_truth_under_a_sun() {
     let (w, h) = (240, 135);
@@ -747,7 +748,7 @@ fn coated_balls_under_a_light_meet_their_truth_under_a_sun() {
     let prepared = crate::prepared::Prepared::new(&lit_scene, &e);
     let model = crate::cpu::render_radiance(&lit_scene, &prepared, w, h);
     let m_means = ball_means(&model, &pixels);
-    for (k, (name, bound)) in [("copper", 0.03), ("red plastic", 0.10)].iter().enumerate() {
+    for (k, (name, bound)) in [("copper", 0.03), ("red plastic", 0.03)].iter().enumerate() {
         let noise = t_err[k] / t_means[k];
         let signed = (m_means[k] - t_means[k]) / t_means[k];
         let beyond = (signed.abs() - 3.0 * noise).max_element();
@@ -768,6 +769,59 @@ fn coated_balls_under_a_light_meet_their_truth_under_a_sun() {
             beyond <= *bound,
             "{name} under the light is {:.1} % beyond 3 of its truth's standard errors",
             100.0 * beyond
+        );
+    }
+}
+
+/// A glossy base's Fresnel under a coat is read inside it: a black metal (`F0 = 0`) under
+/// a full coat of roughness 0.3 and 1, base roughness 0.4, under uniform light, the CPU
+/// model against the truth (whose metal sees the refracted directions, all within the
+/// coat's critical cone, where Schlick's `F` of `F0 = 0` is at most 1.1e-3 at index 1.5).
+/// Held: each ball within 20 % of its walk (measured: -1.4 % and -11.9 %, the rough coat's
+/// own shortfall, docs/design/coat.md "Under a sun"). With the Fresnel read at the outside
+/// cosines, where it rises to 1 at grazing, the ball under the coat of roughness 0.3 is
+/// 41.5 % over its walk and the test fails.
+#[test]
+fn a_black_metal_under_a_coat_is_as_dark_as_its_walk() {
+    let (w, h) = (160, 90);
+    let black = Material::metallic_roughness(DVec3::ZERO, 1.0, 1.5);
+    let mut scene = chart(1, 2, |_, c| {
+        let roughness = [0.3, 1.0][c];
+        (
+            0.4,
+            black.with_clearcoat(coat(1.0, roughness)),
+            Model::KullaConty,
+        )
+    });
+    scene.antialias = false;
+    scene.environment = DVec3::ONE;
+    let (e, pixels) = tables_and_interiors(&scene, (w, h));
+    let settings = crate::cpu::TruthSettings {
+        spp: 256,
+        seed: 36,
+        ..Default::default()
+    };
+    let prepared = crate::prepared::Prepared::new(&scene, &e);
+    let truth = crate::cpu::render_truth(&scene, &prepared, w, h, settings, |_| true).unwrap();
+    let t_means = ball_means(&truth.image.mean, &pixels);
+    let t_err = ball_errors(&truth.image.std_error, &pixels);
+    let model = crate::cpu::render_radiance(&scene, &prepared, w, h);
+    let m_means = ball_means(&model, &pixels);
+    for k in 0..2 {
+        let signed = (m_means[k].x - t_means[k].x) / t_means[k].x;
+        println!(
+            "coat roughness {}: truth {:.4} (standard error {:.4}), model {:.4}, {:+.1} %",
+            [0.3, 1.0][k],
+            t_means[k].x,
+            t_err[k].x,
+            m_means[k].x,
+            100.0 * signed
+        );
+        assert!(
+            signed.abs() <= 0.2,
+            "a black metal under a coat of roughness {} is {:+.1} % off its walk",
+            [0.3, 1.0][k],
+            100.0 * signed
         );
     }
 }
