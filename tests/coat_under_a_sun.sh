@@ -5,13 +5,14 @@
 # directional light its texels add up to (the renderer's lights). Each ball's mean over
 # the pixels of the same ball under a uniform light, against the truth's, per channel.
 # Then the coat alone (over a black plastic of index 1, which sends nothing back) under the
-# sun's light and under a uniform environment, against the truth.
+# sun's light and under a uniform environment, against the truth; and the coat over a black
+# metal on the sun map, the split sum against the truth.
 #
 #   bash tests/coat_under_a_sun.sh [SPP] [BINARY] [OLD_BINARY]
 #       (default 4096 samples a pixel for the truth and the Monte Carlo,
 #       target/release/shadeballs; OLD_BINARY adds a column of its lights, e.g. main's)
 #
-# About 6 minutes at 4096 spp on the quiet 2-core machine, most of it the truth's walks.
+# About 9 minutes at 4096 spp on the quiet 2-core machine, most of it the truth's walks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spp=${1:-4096}
@@ -133,4 +134,26 @@ uniform="[environment]
 radiance = [1, 1, 1]"
 for roughness in 0.1 0.3 0.5 0.7 0.85 1.0; do
     coat_alone "$roughness" "$uniform" "$uniform" $((spp / 8)) uniform
+done
+
+# The coat over a black metal (F0 = 0) on the sun map: the split sum against the truth
+# (4 x SPP spp under the roughest coat, whose exits rarely find the sun; SPP under 0.3).
+black="base_color = [0, 0, 0], metallic = 1, clearcoat = 1.0"
+echo
+echo "the coat over a black metal on the sun map"
+echo "| coat roughness | truth (its standard error) | split sum, the map |"
+echo "|---|---|---|"
+for roughness in 1.0 0.3; do
+    truth_spp=$spp
+    [ "$roughness" = 1.0 ] && truth_spp=$((4 * spp))
+    scene map "$black, clearcoat_roughness = $roughness" "[environment]
+map = \"sun.exr\""
+    render "$bin" map truth --backend truth --spp "$truth_spp"
+    render "$bin" map split --backend vulkan
+    truth=$(mean truth | cut -d' ' -f1)
+    split=$(mean split | cut -d' ' -f1)
+    se=$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" \
+        | sed 's/.*standard error //' | cut -d' ' -f1)
+    awk -v r="$roughness" -v t="$truth" -v m="$split" -v s="$se" 'BEGIN {
+        printf "| %s | %.4f (%.1f %%) | %+.1f %% |\n", r, t, 100 * s / t, 100 * (m / t - 1) }'
 done
