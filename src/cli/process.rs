@@ -1,5 +1,6 @@
 //! The process around a command line (the `shadeballs` binary's and the lab's): Mesa's
-//! runtime folder, the clean-up of temporary files on SIGINT and SIGTERM, logging.
+//! runtime folder, the clean-up of temporary files on SIGINT and SIGTERM, logging, the worker
+//! threads.
 
 use std::path::PathBuf;
 
@@ -41,46 +42,76 @@ fn clean_up_on_interrupt() {
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
         return;
     };
-    std::thread::spawn(move || {
-        for signal in signals.forever() {
-            // A render that stops cleanly (the CPU truth) finishes its pass and writes what
-            // it has; a second signal exits at once.
-            if super::interrupt::request_stop(signal) {
-                eprintln!(
-                    "\n{}: stopping after this pass to write what is rendered (again to quit \
+    let spawned = std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            for signal in signals.forever() {
+                // A render that stops cleanly (the CPU truth) finishes its pass and writes what
+                // it has; a second signal exits at once.
+                if super::interrupt::request_stop(signal) {
+                    eprintln!(
+                        "\n{}: stopping after this pass to write what is rendered (again to quit \
                      at once)",
-                    super::interrupt::signal_name(signal)
-                );
-                continue;
-            }
-            let removed = crate::output::remove_temp_files_in_flight();
-            let name = if signal == SIGINT {
-                "SIGINT"
-            } else {
-                "SIGTERM"
-            };
-            eprintln!(
-                "error: interrupted by {name}{}",
-                match removed {
-                    0 => String::new(),
-                    n => format!("; removed {n} unfinished output file(s)"),
+                        super::interrupt::signal_name(signal)
+                    );
+                    continue;
                 }
-            );
-            std::process::exit(128 + signal);
-        }
-    });
+                let removed = crate::output::remove_temp_files_in_flight();
+                let name = if signal == SIGINT {
+                    "SIGINT"
+                } else {
+                    "SIGTERM"
+                };
+                eprintln!(
+                    "error: interrupted by {name}{}",
+                    match removed {
+                        0 => String::new(),
+                        n => format!("; removed {n} unfinished output file(s)"),
+                    }
+                );
+                std::process::exit(128 + signal);
+            }
+        });
+    if let Err(e) = spawned {
+        cannot_start("the thread that cleans up on interrupt", e);
+    }
 }
 
 #[cfg(not(unix))]
 fn clean_up_on_interrupt() {}
 
-/// Sets up the process: Mesa's runtime folder, the clean-up on interrupt, and `log`
-/// through env_logger (warnings by default, `RUST_LOG` to choose: `RUST_LOG=wgpu=info`;
-/// wgpu, naga and the drivers log through `log`). Call it first, before any thread exists.
+/// Starts the worker threads that the bake, the built-in maps and the CPU renderers share
+/// (rayon's global pool) while the process is still small. Left to the first parallel
+/// loop, the pool started after a GPU driver had mapped hundreds of MB of address space,
+/// and under `ulimit -v` of 100 or 300 MB its threads sometimes could not start: rayon
+/// panicked there (`messages_under_memory_limits_name_the_memory` failed in one CI run of
+/// several). A pool that cannot start even here is one line and exit status 1.
+fn start_worker_threads() {
+    if let Err(e) = rayon::ThreadPoolBuilder::new().build_global() {
+        cannot_start("the worker threads", e);
+    }
+}
+
+/// A thread the process needs could not start (`what`, the error `e`): one line, exit
+/// status 1, where the standard library and rayon would panic.
+fn cannot_start(what: &str, e: impl std::fmt::Display) -> ! {
+    eprintln!(
+        "error: {what} could not start, {} or of threads ({e}); raise the limit (ulimit -v, \
+         ulimit -u, the cgroup)",
+        crate::error::SHORT_OF_MEMORY
+    );
+    std::process::exit(1);
+}
+
+/// Sets up the process: Mesa's runtime folder, the clean-up on interrupt, `log` through
+/// env_logger (warnings by default, `RUST_LOG` to choose: `RUST_LOG=wgpu=info`; wgpu, naga
+/// and the drivers log through `log`) and the worker threads. Call it first, before any
+/// thread exists.
 pub fn init() {
     give_mesa_a_runtime_dir();
     clean_up_on_interrupt();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
         .format_timestamp(None)
         .init();
+    start_worker_threads();
 }
