@@ -108,52 +108,42 @@ done
 # The coat alone: the truth at 4 x SPP under the sun (its exits rarely find it), SPP / 8
 # under the uniform environment (every exit counts).
 void="base_color = [0, 0, 0], metallic = 0, ior = 1.0, clearcoat = 1.0"
+sun_map="[environment]
+map = \"sun.exr\""
 echo
 echo "the coat alone, grey: truth at $((4 * spp)) spp under the sun, $((spp / 8)) spp under a uniform environment"
 echo "| coat roughness | light | truth (its standard error) | the model |"
 echo "|---|---|---|---|"
-# coat_alone ROUGHNESS TRUTH_LIGHT MODEL_LIGHT TRUTH_SPP NAME: one row, the truth lit by
-# TRUTH_LIGHT and the model (Vulkan) by MODEL_LIGHT.
-coat_alone() {
-    scene map "$void, clearcoat_roughness = $1" "$2"
-    render "$bin" map truth --backend truth --spp "$4"
-    scene light "$void, clearcoat_roughness = $1" "$3"
+# coated MATERIAL ROUGHNESS TRUTH_LIGHT MODEL_LIGHT TRUTH_SPP NAME: one row, the ball of
+# MATERIAL under a coat of ROUGHNESS, the truth lit by TRUTH_LIGHT and the model (Vulkan) by
+# MODEL_LIGHT.
+coated() {
+    scene map "$1, clearcoat_roughness = $2" "$3"
+    render "$bin" map truth --backend truth --spp "$5"
+    scene light "$1, clearcoat_roughness = $2" "$4"
     render "$bin" light model --backend vulkan
     local truth model se
     truth=$(mean truth | cut -d' ' -f1)
     model=$(mean model | cut -d' ' -f1)
     se=$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" \
         | sed 's/.*standard error //' | cut -d' ' -f1)
-    awk -v r="$1" -v n="$5" -v t="$truth" -v m="$model" -v s="$se" 'BEGIN {
+    awk -v r="$2" -v n="$6" -v t="$truth" -v m="$model" -v s="$se" 'BEGIN {
         printf "| %s | %s | %.4f (%.1f %%) | %+.1f %% |\n", r, n, t, 100 * s / t, 100 * (m / t - 1) }'
 }
 # Under the sun: the truth under the sun map, the model under the sun's light.
-coat_alone 1.0 "[environment]
-map = \"sun.exr\"" "$light" $((4 * spp)) "the sun"
+coated "$void" 1.0 "$sun_map" "$light" $((4 * spp)) "the sun"
 uniform="[environment]
 radiance = [1, 1, 1]"
 for roughness in 0.1 0.3 0.5 0.7 0.85 1.0; do
-    coat_alone "$roughness" "$uniform" "$uniform" $((spp / 8)) uniform
+    coated "$void" "$roughness" "$uniform" "$uniform" $((spp / 8)) uniform
 done
 
 # The coat over a black metal (F0 = 0) on the sun map: the split sum against the truth
 # (4 x SPP spp under the roughest coat, whose exits rarely find the sun; SPP under 0.3).
 black="base_color = [0, 0, 0], metallic = 1, clearcoat = 1.0"
 echo
-echo "the coat over a black metal on the sun map"
-echo "| coat roughness | truth (its standard error) | split sum, the map |"
-echo "|---|---|---|"
-for roughness in 1.0 0.3; do
-    truth_spp=$spp
-    [ "$roughness" = 1.0 ] && truth_spp=$((4 * spp))
-    scene map "$black, clearcoat_roughness = $roughness" "[environment]
-map = \"sun.exr\""
-    render "$bin" map truth --backend truth --spp "$truth_spp"
-    render "$bin" map split --backend vulkan
-    truth=$(mean truth | cut -d' ' -f1)
-    split=$(mean split | cut -d' ' -f1)
-    se=$("$examples/ball_mean" --mask "$out/mask.exr" "$out/truth.exr" \
-        | sed 's/.*standard error //' | cut -d' ' -f1)
-    awk -v r="$roughness" -v t="$truth" -v m="$split" -v s="$se" 'BEGIN {
-        printf "| %s | %.4f (%.1f %%) | %+.1f %% |\n", r, t, 100 * s / t, 100 * (m / t - 1) }'
-done
+echo "the coat over a black metal on the sun map, the split sum"
+echo "| coat roughness | light | truth (its standard error) | the model |"
+echo "|---|---|---|---|"
+coated "$black" 1.0 "$sun_map" "$sun_map" $((4 * spp)) "the sun map"
+coated "$black" 0.3 "$sun_map" "$sun_map" "$spp" "the sun map"

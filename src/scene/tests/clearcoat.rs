@@ -783,13 +783,13 @@ fn coated_balls_under_a_light_meet_their_truth_under_a_sun() {
 /// 41.5 % over its walk and the test fails.
 #[test]
 fn a_black_metal_under_a_coat_is_as_dark_as_its_walk() {
+    const COAT_ROUGHNESS: [f64; 2] = [0.3, 1.0];
     let (w, h) = (160, 90);
     let black = Material::metallic_roughness(DVec3::ZERO, 1.0, 1.5);
     let mut scene = chart(1, 2, |_, c| {
-        let roughness = [0.3, 1.0][c];
         (
             0.4,
-            black.with_clearcoat(coat(1.0, roughness)),
+            black.with_clearcoat(coat(1.0, COAT_ROUGHNESS[c])),
             Model::KullaConty,
         )
     });
@@ -807,11 +807,11 @@ fn a_black_metal_under_a_coat_is_as_dark_as_its_walk() {
     let t_err = ball_errors(&truth.image.std_error, &pixels);
     let model = crate::cpu::render_radiance(&scene, &prepared, w, h);
     let m_means = ball_means(&model, &pixels);
-    for k in 0..2 {
+    for (k, roughness) in COAT_ROUGHNESS.into_iter().enumerate() {
         let signed = (m_means[k].x - t_means[k].x) / t_means[k].x;
         println!(
-            "coat roughness {}: truth {:.4} (standard error {:.4}), model {:.4}, {:+.1} %",
-            [0.3, 1.0][k],
+            "coat roughness {roughness}: truth {:.4} (standard error {:.4}), model {:.4}, \
+             {:+.1} %",
             t_means[k].x,
             t_err[k].x,
             m_means[k].x,
@@ -819,8 +819,7 @@ fn a_black_metal_under_a_coat_is_as_dark_as_its_walk() {
         );
         assert!(
             signed.abs() <= 0.2,
-            "a black metal under a coat of roughness {} is {:+.1} % off its walk",
-            [0.3, 1.0][k],
+            "a black metal under a coat of roughness {roughness} is {:+.1} % off its walk",
             100.0 * signed
         );
     }
