@@ -17,6 +17,7 @@
 #import shadeballs::screen::{VsOut, primary_ray}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
 #import shadeballs::footprint::{Footprint, ball_footprint, background_radiance}
+#import shadeballs::bindings::env_layer_set
 
 // The linear radiance of footprint f on ball b (f.t > 0): the ball shaded along the ray
 // through f.hit, mixed with the background along the ray through f.miss by the coverage.
@@ -57,6 +58,7 @@ fn fs_ball(in: BallOut) -> BallFragment {
     }
     var out: BallFragment;
     let pixel = vec2<u32>(in.position.xy);
+    env_layer_set = in.counts.x;
     out.colour = output_value(footprint_radiance(f, b, in.counts.y, pixel));
     out.depth = f.t * DEPTH_SCALE;
     return out;

@@ -20,6 +20,10 @@
 // dielectric single scattering E_F(mu) (coating_albedo in coating.wgsl). A storage buffer,
 // written with the balls: it changes with the scene, not with the tables.
 @group(0) @binding(5) var<storage, read> coating_rows: array<f32>;
+// The set of the map's prefiltered layers the ball being shaded reads (env_specular's
+// `layer_set`): 1 where the ball takes the map's sun as a light (fs_ball sets it from its vertex
+// stage's counts.x, vs_ball), else 0.
+var<private> env_layer_set: u32;
 
 // Group 1: the environment map, prefiltered (src/gpu/environment.rs). Stand-ins of one
 // texel when the scene has none (IBL = 0 compiles the reads out).

@@ -6,13 +6,13 @@
 
 #define_import_path shadeballs::clearcoat
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, clearcoat_through_physical, clearcoat_through_engine}
-#import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at}
+#import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at, light_roughness}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_multiple}
 #import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, DOMINANT_DIRECTION}
 #import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
-#import shadeballs::bindings::{env_specular_layers, env_convolved}
+#import shadeballs::bindings::{env_layer_set, env_specular_layers, env_convolved}
 #import shadeballs::coating::{coating_albedo, ClearcoatPoint, clearcoat_point, clearcoat_fresnel}
 
 // Forms ball b's coat at unit normal n towards v (ms: the ball's term weight) into
@@ -80,15 +80,18 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
             if mu_i <= 0.0 || mu_o <= 0.0 {
                 continue;
             }
-            lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i) * lights[k].radiance.xyz * mu_i;
+            // A light's disc (the map's sun) widens the lobe (light_roughness).
+            let roughness = light_roughness(b.clearcoat_roughness, lights[k].direction.w);
+            lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i, roughness) * lights[k].radiance.xyz * mu_i;
         }
     }
     return b.clearcoat * lo;
 }
 
 // The coat's own BRDF towards unit direction l under its form, without its weight (after
-// clearcoat_begin; mu_o = n.v and mu_i = n.l both above 0).
-fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, mu_i: f32) -> f32 {
+// clearcoat_begin; mu_o = n.v and mu_i = n.l both above 0), its GGX lobe at `roughness` (the
+// coat's, or widened by a light's disc).
+fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
     let p = clearcoat_point;
     let form = b.clearcoat_form;
     let h = normalize(v + l);
@@ -96,7 +99,7 @@ fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, 
     if form == COAT_FORM_GLTF {
         fresnel = 1.0;
     }
-    var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), b.clearcoat_roughness, GEOMETRY).x;
+    var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
     if form == COAT_FORM_GLTF {
         spec *= p.fresnel_o;
     }
@@ -115,7 +118,7 @@ fn clearcoat_brdf(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
     if mu_i <= 0.0 || mu_o <= 0.0 {
         return 0.0;
     }
-    return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i);
+    return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i, b.clearcoat_roughness);
 }
 
 // The map's part of shade_clearcoat under the split sum: the prefiltered radiance at the
@@ -128,12 +131,12 @@ fn shade_clearcoat_map(b: Ball, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let intensity = env.intensity;
     let r = 2.0 * dot(n, v) * n - v;
     let dominant = select(r, specular_direction(n, r, roughness), DOMINANT_DIRECTION == 1u);
-    let radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness);
+    let radiance = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), roughness, env_layer_set);
     var lo = radiance * p.albedo_o;
     if b.clearcoat_form != COAT_FORM_FILAMENT && b.clearcoat_form != COAT_FORM_GLTF && p.ms > 0.0 {
         // albedo_o holds the term's part too: the single scattering alone takes the
         // prefiltered radiance, the term the multiple-scattering convolution.
-        let multiple = intensity * env_multiple(env_convolved, env_sampler, env_to_map(n, rotation), roughness);
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, env_to_map(n, rotation), roughness, env_layer_set);
         let added = p.ms * b.clearcoat_f_add * p.loss_o;
         lo = radiance * p.e_f_o + added * multiple;
     }

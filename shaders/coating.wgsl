@@ -4,7 +4,7 @@
 
 #define_import_path shadeballs::coating
 #import shadeballs::constants::{PI, DIV_EPSILON, FRESNEL_SCHLICK}
-#import shadeballs::brdf::alpha_from_roughness
+#import shadeballs::brdf::{alpha_from_roughness, light_roughness}
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
@@ -16,7 +16,7 @@
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
 #import shadeballs::types::{COAT_FORM_PHYSICAL, COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
-#import shadeballs::bindings::{env_specular_layers, env_convolved, coating_rows}
+#import shadeballs::bindings::{env_layer_set, env_specular_layers, env_convolved, coating_rows}
 
 // The coating's single-scattering albedo E_F(mu) from the ball's row of coating_rows
 // (src/lut/coating.rs): values at sqrt(mu) = k / (COATING_ROW_LEN - 1), linear between.
@@ -296,7 +296,9 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         }
         let h = normalize(v + l);
         let fresnel = f_dielectric(clearcoat_base_fresnel_cosine(b, dot(v, h)), eta, b.fresnel);
-        let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY).x;
+        // A light's disc (the map's sun) widens the lobe (light_roughness).
+        let roughness_l = light_roughness(lobe_of.x, lights[k].direction.w);
+        let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness_l, GEOMETRY).x;
         var lobe = 0.0;
         var loss_i = 0.0;
         if ms > 0.0 {
@@ -350,13 +352,13 @@ fn shade_coating_map(
     }
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
     let dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness);
-    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness, env_layer_set);
+    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map, env_layer_set);
     let single = prefiltered * e_f_o;
     var lobe = single;
     if ms > 0.0 {
         let term = b.term;
-        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness, env_layer_set);
         // Each share added to the lobe in its own arm, as the shader always summed it.
         lobe = by_term(
             term,

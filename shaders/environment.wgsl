@@ -54,33 +54,39 @@ fn specular_mip(layer: u32, levels: u32) -> u32 {
     return min(m, levels - 1u);
 }
 
-// The prefiltered specular radiance about map-frame direction r at `roughness`: linear
-// between the two layers around it, each read at its own mip level (Prefiltered::specular).
-fn env_specular(tex: texture_2d_array<f32>, samp: sampler, r: vec3<f32>, roughness: f32) -> vec3<f32> {
+// The prefiltered specular radiance about map-frame direction r at `roughness` from layer
+// set `layer_set` (0: the map; 1: the map without its sun, for the balls that take it as a light,
+// src/environment/sun.rs): linear between the two layers around it, each read at its own
+// mip level (Prefiltered::specular).
+fn env_specular(tex: texture_2d_array<f32>, samp: sampler, r: vec3<f32>, roughness: f32, layer_set: u32) -> vec3<f32> {
     let uv = direction_to_uv(r);
     let s = clamp(roughness, 0.0, 1.0) * f32(SPECULAR_LEVELS - 1u);
     let k0 = min(u32(floor(s)), SPECULAR_LEVELS - 2u);
     let f = s - f32(k0);
     let levels = textureNumLevels(tex);
-    let a = textureSampleLevel(tex, samp, uv, k0, f32(specular_mip(k0, levels))).rgb;
-    let b = textureSampleLevel(tex, samp, uv, k0 + 1u, f32(specular_mip(k0 + 1u, levels))).rgb;
+    let first = layer_set * SPECULAR_LEVELS;
+    let a = textureSampleLevel(tex, samp, uv, first + k0, f32(specular_mip(k0, levels))).rgb;
+    let b = textureSampleLevel(tex, samp, uv, first + k0 + 1u, f32(specular_mip(k0 + 1u, levels))).rgb;
     return mix(a, b, f);
 }
 
-// Irradiance about map-frame normal n over pi (Prefiltered::irradiance): layer 0.
-fn env_irradiance(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>) -> vec3<f32> {
-    return textureSampleLevel(tex, samp, direction_to_uv(n), 0u, 0.0).rgb;
+// Irradiance about map-frame normal n over pi from layer set `layer_set` (Prefiltered::irradiance):
+// the set's layer 0.
+fn env_irradiance(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, layer_set: u32) -> vec3<f32> {
+    return textureSampleLevel(tex, samp, direction_to_uv(n), layer_set * (CONVOLVED_LEVELS + 1u), 0.0).rgb;
 }
 
 // int (1 - E(mu_i)) mu_i L dw_i / (pi (1 - E_avg)) about map-frame normal n at `roughness`
-// (Prefiltered::multiple): layers 1..=CONVOLVED_LEVELS, linear between the two around it.
-fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughness: f32) -> vec3<f32> {
+// from layer set `layer_set` (Prefiltered::multiple): the set's layers 1..=CONVOLVED_LEVELS,
+// linear between the two around it.
+fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughness: f32, layer_set: u32) -> vec3<f32> {
     let uv = direction_to_uv(n);
     let s = clamp(roughness, 0.0, 1.0) * f32(CONVOLVED_LEVELS - 1u);
     let k0 = min(u32(floor(s)), CONVOLVED_LEVELS - 2u);
     let f = s - f32(k0);
-    let a = textureSampleLevel(tex, samp, uv, k0 + 1u, 0.0).rgb;
-    let b = textureSampleLevel(tex, samp, uv, k0 + 2u, 0.0).rgb;
+    let first = layer_set * (CONVOLVED_LEVELS + 1u);
+    let a = textureSampleLevel(tex, samp, uv, first + k0 + 1u, 0.0).rgb;
+    let b = textureSampleLevel(tex, samp, uv, first + k0 + 2u, 0.0).rgb;
     return mix(a, b, f);
 }
 

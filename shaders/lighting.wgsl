@@ -6,6 +6,7 @@
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
+#import shadeballs::brdf::{light_alpha, light_roughness}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
@@ -18,7 +19,7 @@
 #import shadeballs::coating::{clearcoat_base_lobe, clearcoat_base_fresnel_cosine, clearcoat_base_f_avg}
 #import shadeballs::clearcoat::{clearcoat_begin, shade_clearcoat}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
-#import shadeballs::bindings::{env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
+#import shadeballs::bindings::{env_layer_set, env_specular_layers, env_convolved, env_split_sum, env_radiance, env_cdf}
 
 // Radiance leaving ball `b` at unit normal n towards unit direction v (to the eye), lit by
 // the first `n_lights` lights (a count the caller passes in, not read here from the uniform
@@ -140,12 +141,16 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, clearcoat_base_fresnel_cosine(b, dot(v, h)));
+        // A light's disc (the map's sun) widens the lobe (light_alpha).
+        let widening = lights[k].direction.w;
         var spec = vec3<f32>(0.0);
         if aniso {
             let alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
-            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, alphas.x, alphas.y, GEOMETRY);
+            let a_t = light_alpha(alphas.x, widening);
+            let a_b = light_alpha(alphas.y, widening);
+            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, a_t, a_b, GEOMETRY);
         } else {
-            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY);
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), light_roughness(lobe_of.x, widening), GEOMETRY);
         }
         spec *= lobe_of.y;
         var lobe = vec3<f32>(0.0);
@@ -190,7 +195,7 @@ fn shade_environment_map(
     let rotation = env.rotation;
     let intensity = env.intensity;
     let n_map = env_to_map(n, rotation);
-    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map);
+    let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map, env_layer_set);
     let e_o = 1.0 - loss_o;
     // An anisotropic lobe reflects about its bent normal (anisotropic_bent_normal).
     var n_spec = n;
@@ -206,12 +211,12 @@ fn shade_environment_map(
     }
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
     let dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
-    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness);
+    let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness, env_layer_set);
     let single = prefiltered * fss_ess;
     var lo = single;
     if ms > 0.0 {
         let term = b.term;
-        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness);
+        let multiple = intensity * env_multiple(env_convolved, env_sampler, n_map, roughness, env_layer_set);
         // Each share added to lo in its own arm, as the shader always summed it.
         lo = by_term(
             term,

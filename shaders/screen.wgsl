@@ -6,7 +6,7 @@
 
 #define_import_path shadeballs::screen
 #import shadeballs::constants::DIV_EPSILON
-#import shadeballs::types::{BallIn, BallOut, ball_out, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET}
+#import shadeballs::types::{BallIn, BallOut, ball_out, ball_of, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET, SUN_LIGHT}
 #import shadeballs::types::{TONE_MAP_ACES, TONE_MAP_AGX, TONE_MAP_KHRONOS_NEUTRAL, TONE_MAP_REINHARD, TRANSFER_SRGB}
 #import shadeballs::bindings::globals
 
@@ -133,7 +133,23 @@ fn vs_ball(@builtin(vertex_index) index: u32, in: BallIn) -> BallOut {
     let cy = f32((index >> 1u) & 1u);
     let rect = in.rect;
     let position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
-    return ball_out(in, position, loop_counts());
+    var counts = vec2<u32>(0u, loop_counts().y);
+    if SUN_LIGHT == 1u {
+        // The map's sun is the light after the scene's (src/scene SunLight): a ball that
+        // takes it loops over one light more and reads the layers without it (set 1).
+        let b = ball_of(ball_out(in, position, counts));
+        if sun_takes(b.roughness, b.clearcoat, b.clearcoat_roughness, globals.size.z) {
+            counts = vec2<u32>(1u, counts.y + 1u);
+        }
+    }
+    return ball_out(in, position, counts);
+}
+
+// Whether a ball of `roughness` (its shading roughness) under a coat of weight `coat` and
+// roughness `coat_roughness` takes the map's sun as a light: every lobe that reads the
+// prefiltered layers at least `roughness_min` rough (SunLight::takes).
+fn sun_takes(roughness: f32, coat: f32, coat_roughness: f32, roughness_min: f32) -> bool {
+    return roughness >= roughness_min && (coat <= 0.0 || coat_roughness >= roughness_min);
 }
 
 // The depth of a hit at distance t > 0: t scaled by the power of two DEPTH_SCALE, which is

@@ -60,6 +60,10 @@ override MS_TERM: u32 = 1u;
 // has none). Likewise the directional lights' loop.
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
+// 1: the map's sun is the light after the scene's, for the balls that take it (vs_ball in
+// screen.wgsl; src/environment/sun.rs); 0 (default): none (no sun, the lobe's samples, the
+// Monte Carlo and the walk, which read the map itself).
+override SUN_LIGHT: u32 = 0u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
 // 1: the map under the split sum; 2: the map by the lobe's samples.
 override IBL: u32 = 0u;
@@ -123,7 +127,8 @@ struct Globals {
     cam_up: vec4<f32>,
     // rgb: environment radiance (also the background); w: exposure.
     environment: vec4<f32>,
-    // width, height (pixels), unused, unused.
+    // width, height (pixels), the roughness from which a ball takes the map's sun as a light
+    // (SUN_LIGHT; vs_ball), unused.
     size: vec4<f32>,
     // ball count, light count, unused, unused.
     counts: vec4<u32>,
@@ -299,7 +304,8 @@ struct EnvUniform {
 }
 
 struct Light {
-    // xyz: unit direction towards the light.
+    // xyz: unit direction towards the light; w: what its disc adds to a lobe's alpha^2
+    // (light_alpha in brdf.wgsl; 0 for a point).
     direction: vec4<f32>,
     // rgb: radiance.
     radiance: vec4<f32>,

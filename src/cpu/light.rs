@@ -107,9 +107,13 @@ static LAST_PREPARED: KeptMap = KeptMap::new();
 /// layers and split-sum table the GPU binds (`gpu::environment`), computed on the CPU.
 pub struct CpuEnvironment {
     /// The map's mip chain (f16 values, as uploaded).
-    pub chain: MipChain,
+    pub chain: Arc<MipChain>,
     /// The prefiltered layers.
     pub prefiltered: Prefiltered,
+    /// The map as the balls that take its sun as a light read it: the same chain and
+    /// table, the layers without the sun ([`Prefiltered::sunless`]); `None` for a map
+    /// without a sun, and under the lobe mode.
+    sunless: Option<Box<CpuEnvironment>>,
     /// The split sum's bias table.
     pub split: SplitSum,
     /// The map's luminance tables, as the GPU binds them for the lobe mode (`None` for a
@@ -143,6 +147,20 @@ impl CpuEnvironment {
     ) -> Self {
         let chain = MipChain::new(&environment.map);
         let prefiltered = Prefiltered::new(&chain, kernels, geometry);
+        let chain = Arc::new(chain);
+        let split = SplitSum::shipped(geometry);
+        let sunless = (!lobe && environment.map.sun().is_some())
+            .then(|| crate::environment::prefilter::Bright::new(&chain))
+            .flatten()
+            .map(|bright| {
+                Box::new(CpuEnvironment {
+                    chain: chain.clone(),
+                    prefiltered: Prefiltered::sunless(&chain, &bright, kernels, geometry),
+                    sunless: None,
+                    split: split.clone(),
+                    luminance: None,
+                })
+            });
         // The tables of the map at unit intensity (its own is applied where it is read).
         let luminance = lobe
             .then(|| {
@@ -155,8 +173,18 @@ impl CpuEnvironment {
         CpuEnvironment {
             chain,
             prefiltered,
-            split: SplitSum::shipped(geometry),
+            sunless,
+            split,
             luminance,
+        }
+    }
+
+    /// The map as a ball reads it: without its sun where the ball takes the sun as a
+    /// light (`sun`, [`crate::scene::SunLight::takes`]), else whole.
+    pub(crate) fn for_ball(&self, sun: bool) -> &CpuEnvironment {
+        match &self.sunless {
+            Some(sunless) if sun => sunless,
+            _ => self,
         }
     }
 

@@ -94,6 +94,15 @@ pub(crate) fn render_radiance_at_lobe_frames(
         )
     });
     let ibl = &ibl;
+    // The map's sun as a light for the balls that take it (`Scene::sun_light`): they are
+    // lit by the scene's lights and the sun's, and read the map without it.
+    let sun = scene.sun_light();
+    let sun_scene = sun.map(|s| {
+        let mut lit = scene.clone();
+        lit.lights.push(s.light);
+        lit
+    });
+    let sun_scene = &sun_scene;
     let background = scene.background_radiance();
     let shows_map = scene.background_shows_map();
     // What a ray in unit direction d that hits no ball sees (`background_radiance`).
@@ -106,15 +115,20 @@ pub(crate) fn render_radiance_at_lobe_frames(
     let shade_hit = move |o: DVec3, d: DVec3, t: f64, k: usize, pixel: (u32, u32), lobe_frame| {
         let b = &balls[k];
         let n = surface_normal(o + t * d - b.center, d);
+        let takes_sun = sun.is_some_and(|s| s.takes(b));
         let forms = Forms {
             form,
             geometry,
-            map: ibl.as_ref().map(|(_, map)| &**map),
+            map: ibl.as_ref().map(|(_, map)| map.for_ball(takes_sun)),
             lobe: LobeSamples::of(scene, pixel, lobe_frame),
             coat: None,
         };
         let coats = (prepared.coat(k), prepared.clearcoat(k));
-        shade_point(scene, (b, coats), n, -d, e, &forms)
+        let lit = match sun_scene {
+            Some(lit) if takes_sun => lit,
+            _ => scene,
+        };
+        shade_point(lit, (b, coats), n, -d, e, &forms)
     };
     let o = basis.origin;
     let size = (width, height);

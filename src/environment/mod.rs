@@ -16,6 +16,7 @@ pub mod harmonics;
 pub mod lobe;
 pub mod prefilter;
 pub(crate) mod sampler;
+mod sun;
 #[cfg(all(test, feature = "cli"))]
 mod tests;
 
@@ -36,19 +37,30 @@ pub(crate) use lobe::MAX_IBL_SAMPLES;
 pub(crate) use prefilter::ChainOn;
 pub use prefilter::MipChain;
 pub use prefilter::Prefiltered;
+pub use sun::Sun;
 
 use crate::error::{Error, Result};
 
 /// An equirectangular map of linear RGB radiance, `width x height` texels, row-major, row
 /// 0 at the top. Every texel is finite and non-negative (the loaders clamp and count bad
 /// ones, `MapStats`).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct EnvMap {
     width: u32,
     height: u32,
     texels: Vec<[f32; 3]>,
     /// The largest channel of any texel.
     peak: f32,
+    /// The map's sun ([`EnvMap::sun`]), found at its first use.
+    sun: std::sync::OnceLock<Option<Sun>>,
+}
+
+impl PartialEq for EnvMap {
+    /// The same size and texels (the sun follows from them).
+    fn eq(&self, other: &Self) -> bool {
+        (self.width, self.height, self.peak) == (other.width, other.height, other.peak)
+            && self.texels == other.texels
+    }
 }
 
 impl EnvMap {
@@ -92,7 +104,17 @@ impl EnvMap {
             height,
             texels,
             peak,
+            sun: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The map's sun ([`Sun`]: its bright texels when they are one small source), found
+    /// once from its mip chain (a few milliseconds for a 1024-wide map).
+    pub fn sun(&self) -> Option<Sun> {
+        *self.sun.get_or_init(|| {
+            let chain = MipChain::new(self);
+            prefilter::Bright::new(&chain).and_then(|bright| Sun::of(&chain, &bright))
+        })
     }
 
     /// A map of one radiance everywhere (negative and non-finite channels as 0).

@@ -417,7 +417,7 @@ pub(crate) struct BrightTexel {
 }
 
 impl BrightTexel {
-    fn direction(&self) -> DVec3 {
+    pub(crate) fn direction(&self) -> DVec3 {
         DVec3::new(
             self.direction[0] as f64,
             self.direction[1] as f64,
@@ -425,7 +425,7 @@ impl BrightTexel {
         )
     }
 
-    fn power(&self) -> DVec3 {
+    pub(crate) fn power(&self) -> DVec3 {
         DVec3::new(
             self.power[0] as f64,
             self.power[1] as f64,
@@ -540,6 +540,14 @@ impl Bright {
     }
 }
 
+/// The level of `clipped` (a chain from one of `chain`'s levels down, [`Bright`]'s) that
+/// the convolutions sum over: `chain`'s convolution source, or `clipped`'s first level when
+/// that source is above it.
+pub(crate) fn sunless_source(chain: &MipChain, clipped: &MipChain) -> u32 {
+    let skipped = (chain.levels.len() - clipped.levels.len()) as u32;
+    chain.convolution_source().saturating_sub(skipped)
+}
+
 /// `prefilter_convolved` of `prefilter.wgsl`: the kernel-weighted average of `source`
 /// about unit `n`, with `n.w` formed from polar angles as the shader does.
 pub fn prefilter_convolved(source: &Level, kernels: &[f32], layer: u32, n: DVec3) -> DVec3 {
@@ -650,33 +658,62 @@ impl Prefiltered {
     /// Prefilters on the CPU (rayon) for `geometry`: what `gpu::EnvironmentTextures`
     /// computes on the GPU.
     pub fn new(chain: &MipChain, kernels: &[f32], geometry: Geometry) -> Self {
-        let (sw, sh) = specular_size(chain.levels[0].width);
-        let lod0 = (chain.levels[0].width as f64 / sw as f64).log2();
-        let levels = specular_mip_levels(chain.levels[0].width);
         let bright = Bright::new(chain);
         let (sampled, excess) = match &bright {
             Some(b) => (&b.chain, &b.texels[..]),
             None => (chain, &[][..]),
         };
+        let source = &chain.levels[chain.convolution_source() as usize];
+        let width = chain.levels[0].width;
+        Self::from_sources(width, (chain, sampled, excess), source, kernels, geometry)
+    }
+
+    /// The layers without the map's sun ([`crate::environment::Sun`]): every layer from
+    /// `bright`'s clipped chain, no excess added, the convolved layers summed over its
+    /// level of the convolution source's width. The balls that take the sun as a light read
+    /// these.
+    pub(crate) fn sunless(
+        chain: &MipChain,
+        bright: &Bright,
+        kernels: &[f32],
+        geometry: Geometry,
+    ) -> Self {
+        let clipped = &bright.chain;
+        let source = &clipped.levels[sunless_source(chain, clipped) as usize];
+        let width = chain.levels[0].width;
+        Self::from_sources(width, (clipped, clipped, &[]), source, kernels, geometry)
+    }
+
+    /// The layers of a map `width` texels across: the mirror layer from `mirror`, the
+    /// sampled ones from `sampled` plus `excess`, the convolved ones summed over `source`.
+    fn from_sources(
+        width: u32,
+        (mirror, sampled, excess): (&MipChain, &MipChain, &[BrightTexel]),
+        source: &Level,
+        kernels: &[f32],
+        geometry: Geometry,
+    ) -> Self {
+        let (sw, sh) = specular_size(width);
+        // The mirror layer reads `mirror` at this layer's scale (a clipped chain may start
+        // narrower than the layer: its level 0, magnified).
+        let lod0 = (mirror.levels[0].width as f64 / sw as f64).log2();
+        let levels = specular_mip_levels(width);
         let specular = (0..SPECULAR_LEVELS)
             .map(|k| {
                 let m = specular_mip(k, levels);
                 let (w, h) = (sw >> m, sh >> m);
                 if k == 0 {
                     // Roughness 0: the mirror, the map read at this layer's scale.
-                    layer(w, h, |r| chain.sample(r, lod0))
+                    layer(w, h, |r| mirror.sample(r, lod0))
                 } else {
                     let roughness = specular_roughness(k);
-                    {
-                        let samples = specular_samples(k);
-                        layer(w, h, |r| {
-                            prefilter_specular(sampled, excess, r, roughness, geometry, samples)
-                        })
-                    }
+                    let samples = specular_samples(k);
+                    layer(w, h, |r| {
+                        prefilter_specular(sampled, excess, r, roughness, geometry, samples)
+                    })
                 }
             })
             .collect();
-        let source = &chain.levels[chain.convolution_source() as usize];
         let cw = CONVOLVED_WIDTH;
         let convolved = (0..=CONVOLVED_LEVELS)
             .map(|j| layer(cw, cw / 2, |n| prefilter_convolved(source, kernels, j, n)))

@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 use super::shaders;
 use crate::environment::prefilter::{
     fis_max_level, specular_mip, specular_mip_levels, specular_roughness, specular_samples,
-    specular_size, Bright, BrightTexel, MipChain, BRIGHT_MAX, CONVOLVED_LEVELS, CONVOLVED_WIDTH,
-    SPECULAR_LEVELS,
+    specular_size, sunless_source, Bright, BrightTexel, MipChain, BRIGHT_MAX, CONVOLVED_LEVELS,
+    CONVOLVED_WIDTH, SPECULAR_LEVELS,
 };
 use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
@@ -158,9 +158,9 @@ pub(crate) fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
 pub(crate) struct EnvironmentTextures {
     /// The map and its mip chain.
     pub radiance: wgpu::TextureView,
-    /// [`SPECULAR_LEVELS`] layers.
+    /// [`SPECULAR_LEVELS`] layers, twice for a map with a sun (the second set without it).
     pub specular: wgpu::TextureView,
-    /// `1 + CONVOLVED_LEVELS` layers.
+    /// `1 + CONVOLVED_LEVELS` layers, twice for a map with a sun.
     pub convolved: wgpu::TextureView,
     /// The split-sum bias table, `R32Float`.
     pub split_sum: wgpu::TextureView,
@@ -295,10 +295,16 @@ impl EnvironmentTextures {
         let split_tex = upload_split_sum(device, queue, split);
         let layered = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
         let (sw, sh) = specular_size(base.width);
+        let bright = Bright::new(chain);
+        // A map with a sun has a second set of layers without it (src/environment/sun.rs).
+        let sunless = bright
+            .as_ref()
+            .is_some_and(|b| crate::environment::Sun::of(chain, b).is_some());
+        let sets = 1 + u32::from(sunless);
         let specular = texture(
             device,
             "specular layers",
-            (sw, sh, SPECULAR_LEVELS),
+            (sw, sh, SPECULAR_LEVELS * sets),
             specular_mip_levels(base.width),
             ENVIRONMENT_FORMAT,
             layered,
@@ -307,13 +313,12 @@ impl EnvironmentTextures {
         let convolved = texture(
             device,
             "convolved layers",
-            (cw, cw / 2, CONVOLVED_LEVELS + 1),
+            (cw, cw / 2, (CONVOLVED_LEVELS + 1) * sets),
             1,
             ENVIRONMENT_FORMAT,
             layered,
         );
         let radiance_view = radiance.create_view(&Default::default());
-        let bright = Bright::new(chain);
         let clipped = bright
             .as_ref()
             .map(|b| upload_chain(device, queue, &b.chain).create_view(&Default::default()));
@@ -321,6 +326,7 @@ impl EnvironmentTextures {
             chain,
             radiance: &radiance_view,
             bright: bright.as_ref().zip(clipped.as_ref()),
+            sunless,
         };
         prefilter(
             device,
@@ -435,6 +441,8 @@ struct Sources<'a> {
     chain: &'a MipChain,
     radiance: &'a wgpu::TextureView,
     bright: Option<(&'a Bright, &'a wgpu::TextureView)>,
+    /// Whether the map has a sun: the second set of layers, without it, is prefiltered too.
+    sunless: bool,
 }
 
 /// One compute dispatch per layer of the specular and the convolved layers' textures.
@@ -501,7 +509,8 @@ fn prefilter(
     };
     let mut encoder = device.create_command_encoder(&Default::default());
     let mut keep = Vec::new();
-    for job in prefilter_jobs(sources.chain, sources.bright.map(|(b, _)| b), geometry) {
+    let bright = sources.bright.map(|(b, _)| b);
+    for job in prefilter_jobs(sources.chain, bright, geometry, sources.sunless) {
         let target = [specular, convolved][job.pipeline];
         let pipeline = &pipelines[job.pipeline];
         keep.push(encode_job(
@@ -594,23 +603,51 @@ struct PrefilterJob {
 
 /// The dispatches of `chain` prefiltered for `geometry`: every specular layer (roughness
 /// `specular_roughness(k)`, its mip level and sample count; the sampled ones read
-/// `bright`'s clipped chain when there is one), then every convolved one.
+/// `bright`'s clipped chain when there is one), then every convolved one; with `sunless`
+/// (a map with a sun, `crate::environment::Sun`), the same layers again after them from the
+/// clipped chain alone, no excess added (`Prefiltered::sunless`).
 fn prefilter_jobs(
     chain: &MipChain,
     bright: Option<&Bright>,
     geometry: crate::brdf::Geometry,
+    sunless: bool,
+) -> Vec<PrefilterJob> {
+    let mut jobs = layer_jobs(chain, (chain, bright), geometry, 0);
+    if let (true, Some(b)) = (sunless, bright) {
+        jobs.extend(layer_jobs(chain, (&b.chain, None), geometry, 1));
+    }
+    jobs
+}
+
+/// The jobs of layer set `set` (`env_specular`'s) of a map whose chain is `chain`: the
+/// mirror read from `mirror`, the sampled layers from `bright`'s clipped chain plus its
+/// excess where there is one, else from `mirror`; the convolved ones over `mirror`'s
+/// convolution source.
+fn layer_jobs(
+    chain: &MipChain,
+    (mirror, bright): (&MipChain, Option<&Bright>),
+    geometry: crate::brdf::Geometry,
+    set: u32,
 ) -> Vec<PrefilterJob> {
     let base = &chain.levels[0];
-    let sampled = bright.map_or(chain, |b| &b.chain);
+    // Set 1 reads the clipped chain throughout (bound as the clipped texture).
+    let clipped_mirror = set == 1;
+    let sampled = bright.map_or(mirror, |b| &b.chain);
+    let clipped_sampled = bright.is_some() || clipped_mirror;
     let sampled_size = [sampled.levels[0].width, sampled.levels[0].height];
     let bright_count = bright.map_or(0, |b| b.texels.len() as u32);
     let (sw, sh) = specular_size(base.width);
-    let lod0 = (base.width as f64 / sw as f64).log2() as f32;
-    let source_level = chain.convolution_source();
-    let source = &chain.levels[source_level as usize];
+    let mirror_base = &mirror.levels[0];
+    let lod0 = (mirror_base.width as f64 / sw as f64).log2() as f32;
+    let source_level = if clipped_mirror {
+        sunless_source(chain, mirror)
+    } else {
+        chain.convolution_source()
+    };
+    let source = &mirror.levels[source_level as usize];
     let cw = CONVOLVED_WIDTH;
     let levels = specular_mip_levels(base.width);
-    let base_size = [base.width, base.height];
+    let mirror_size = [mirror_base.width, mirror_base.height];
     let mut jobs = Vec::new();
     for k in 0..SPECULAR_LEVELS {
         let alpha = if k == 0 {
@@ -625,15 +662,15 @@ fn prefilter_jobs(
         // The mirror layer reads the map at its own scale; the sampled layers read the
         // sampled chain, whose level 0 sets their texel solid angle.
         let (clipped, level0, limits) = if k == 0 {
-            (false, base_size, [0; 4])
+            (clipped_mirror, mirror_size, [0; 4])
         } else {
             let limits = [specular_samples(k), fis_max_level(sampled), bright_count, 0];
-            (bright.is_some(), sampled_size, limits)
+            (clipped_sampled, sampled_size, limits)
         };
         jobs.push(PrefilterJob {
             pipeline: 0,
             clipped,
-            layer: k,
+            layer: set * SPECULAR_LEVELS + k,
             mip: m,
             size,
             params: PrefilterParams {
@@ -648,12 +685,12 @@ fn prefilter_jobs(
         let size = (cw, cw / 2);
         jobs.push(PrefilterJob {
             pipeline: 1,
-            clipped: false,
-            layer: j,
+            clipped: clipped_mirror,
+            layer: set * (CONVOLVED_LEVELS + 1) + j,
             mip: 0,
             size,
             params: PrefilterParams {
-                size: [size.0, size.1, base_size[0], base_size[1]],
+                size: [size.0, size.1, mirror_size[0], mirror_size[1]],
                 source: [source.width, source.height, source_level, j],
                 layer: [0.0; 4],
                 limits: [0; 4],

@@ -89,6 +89,9 @@ pub struct Variant {
     pub environment: bool,
     /// The directional lights' loop compiled in.
     pub lights: bool,
+    /// The map's sun taken as a light by the balls it suits (`SUN_LIGHT`;
+    /// [`Scene::sun_light`]): the split sum's pipelines under a map with a sun.
+    pub sun: bool,
     /// The environment map's part (`IBL` in `types.wgsl`): 0 without a map, 1 with one
     /// under the split sum, 2 under the lobe's samples ([`Scene::ibl_method`]; each
     /// ball's term is its own, `Ball.term`).
@@ -143,7 +146,7 @@ impl Plan {
         let bake = BakeConfig { geometry, ..bake };
         let balls = &scene.balls[..scene.balls.len().min(MAX_BALLS)];
         let environment = scene.environment != glam::DVec3::ZERO;
-        let lights = !scene.lights.is_empty();
+        let scene_lights = !scene.lights.is_empty();
         let ibl = match (&scene.environment_map, scene.ibl_method) {
             (None, _) => 0,
             (Some(_), IblMethod::SplitSum) => 1,
@@ -154,6 +157,10 @@ impl Plan {
         } else {
             0
         };
+        // The split sum takes the map's sun as a light (and so compiles the lights' loop in);
+        // the walk and the Monte Carlo read the map itself.
+        let sun = ibl == 1 && scene.sun_light().is_some();
+        let lights = scene_lights || sun;
         let display = scene.display();
         let uses_term = |b: &crate::scene::Ball| options.term && b.model.has_term();
         let is_truth = |b: &crate::scene::Ball| b.model == Model::Truth;
@@ -197,6 +204,7 @@ impl Plan {
             term,
             environment,
             lights,
+            sun,
             ibl,
             ibl_samples,
             aa: scene.antialias,
@@ -263,7 +271,8 @@ impl Plan {
             truth_variant: Variant {
                 term: TermMode::Out,
                 environment,
-                lights,
+                lights: scene_lights,
+                sun: false,
                 ibl: ibl.min(1),
                 ibl_samples: 0,
                 aa: false,
@@ -302,6 +311,7 @@ impl fmt::Display for Variant {
         )?;
         match self.ibl {
             0 => Ok(()),
+            1 if self.sun => write!(f, ", environment map (its sun a light)"),
             1 => write!(f, ", environment map"),
             _ => write!(
                 f,

@@ -191,7 +191,7 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 }
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
-/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `IBL`, `IBL_SAMPLES`, `AA`,
+/// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `SUN_LIGHT`, `IBL`, `IBL_SAMPLES`, `AA`,
 /// `DOMINANT_DIRECTION`, `BALL_TERM`, `HAS_CLEARCOAT`, `HAS_ANISOTROPY`, the display
 /// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
 /// (`srgb`: the hardware encodes, so the shader writes linear).
@@ -201,7 +201,7 @@ pub(crate) fn overrides_for(
     mu_axis: MuAxis,
     variant: Variant,
     srgb: bool,
-) -> [(&'static str, f64); 16] {
+) -> [(&'static str, f64); 17] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -211,6 +211,7 @@ pub(crate) fn overrides_for(
         ("MS_TERM", variant.term as u32 as f64),
         ("HAS_ENVIRONMENT", flag(variant.environment)),
         ("HAS_LIGHTS", flag(variant.lights)),
+        ("SUN_LIGHT", flag(variant.sun)),
         ("IBL", variant.ibl as f64),
         ("IBL_SAMPLES", f64::from(variant.ibl_samples.max(1))),
         ("AA", flag(variant.aa)),

@@ -26,7 +26,8 @@ pub struct Globals {
     pub cam_up: [f32; 4],
     /// rgb: linear environment radiance (also the background); w: exposure.
     pub environment: [f32; 4],
-    /// Width and height of the image in pixels, 0, 0.
+    /// Width and height of the image in pixels, the roughness from which a ball takes the
+    /// map's sun as a light ([`crate::scene::SunLight::roughness_min`]; 0 without one), 0.
     pub size: [f32; 4],
     /// Ball count and light count (at most `MAX_BALLS` and `MAX_LIGHTS`), 0, 0.
     pub counts: [u32; 4],
@@ -127,7 +128,8 @@ super::ball::gpu_ball! {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct GpuLight {
-    /// xyz: unit vector from the surface towards the light; w: 0.
+    /// xyz: unit vector from the surface towards the light; w: what its disc adds to a
+    /// lobe's `alpha^2` ([`crate::scene::Light::widening`]; 0 for a point).
     pub direction: [f32; 4],
     /// rgb: linear radiance ([`crate::scene::Light::radiance`]); w: 0.
     pub radiance: [f32; 4],
@@ -153,7 +155,12 @@ pub(crate) fn globals(scene: &Scene, tables: &TableSet, width: u32, height: u32)
         cam_right: v4(basis.right, 0.0),
         cam_up: v4(basis.up, 0.0),
         environment: v4(scene.environment, scene.exposure),
-        size: [width as f32, height as f32, 0.0, 0.0],
+        size: [
+            width as f32,
+            height as f32,
+            scene.sun_light().map_or(0.0, |s| s.roughness_min),
+            0.0,
+        ],
         counts: [
             scene.balls.len().min(MAX_BALLS) as u32,
             scene.lights.len().min(MAX_LIGHTS) as u32,
@@ -316,14 +323,18 @@ pub(crate) const TERM_CODES: [(u32, IblTerm); 3] = [
     (3, IblTerm::FdezAguera),
 ];
 
-/// The lights array (the used prefix of the uniform array).
+/// The lights array (the used prefix of the uniform array): the scene's, then the map's
+/// sun where the split sum takes it as a light ([`Scene::sun_light`]; the balls that take
+/// it loop over one light more, `vs_ball`).
 pub(crate) fn lights(scene: &Scene) -> Vec<GpuLight> {
+    let sun = scene.sun_light().map(|s| s.light);
     scene
         .lights
         .iter()
         .take(MAX_LIGHTS)
+        .chain(sun.as_ref())
         .map(|l| GpuLight {
-            direction: v4(l.direction, 0.0),
+            direction: v4(l.direction, l.widening()),
             radiance: v4(l.radiance, 0.0),
         })
         .collect()

@@ -375,10 +375,7 @@ fn build(file: SceneFile, path: &Path) -> Spanned2<Scene> {
     let lights = file
         .light
         .into_iter()
-        .map(|l| Light {
-            direction: l.get_ref().direction.0,
-            radiance: l.get_ref().radiance.0,
-        })
+        .map(|l| Light::new(l.get_ref().direction.0, l.get_ref().radiance.0))
         .collect();
     let (environment, environment_map) = match file.environment {
         None => (DVec3::ZERO, None),

@@ -116,6 +116,48 @@ pub struct Light {
     pub direction: DVec3,
     /// Linear RGB radiance; a point it lights reflects `f_r * radiance * mu_i`.
     pub radiance: DVec3,
+    /// The angular radius of the light's disc (radians): 0, a point, for the scene's own
+    /// lights ([`Light::new`]); the map's sun's ([`Scene::sun_light`]), whose disc the
+    /// real-time renderers' specular lobes see widened ([`Light::widening`]). The Monte
+    /// Carlo and the walk never see the sun as a light: they read the map.
+    pub(crate) angular_radius: f64,
+}
+
+impl Light {
+    /// A point light (no disc) towards unit `direction`, of `radiance`.
+    pub fn new(direction: DVec3, radiance: DVec3) -> Self {
+        Light {
+            direction,
+            radiance,
+            angular_radius: 0.0,
+        }
+    }
+
+    /// What the disc adds to a lobe's `alpha^2` ([`crate::brdf::light_alpha`]): `R^2 / 4`.
+    pub fn widening(&self) -> f64 {
+        0.25 * self.angular_radius * self.angular_radius
+    }
+}
+
+/// A map's sun as a light ([`Scene::sun_light`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunLight {
+    /// The sun's direction in the world and its irradiance times the map's intensity.
+    pub light: Light,
+    /// The roughness from which a ball takes it ([`crate::environment::Sun::roughness_min`]),
+    /// in f32 as the GPU's vertex stage compares it.
+    pub roughness_min: f32,
+}
+
+impl SunLight {
+    /// Whether `ball` takes the sun as a light (and reads the layers without it): every
+    /// lobe that reads the prefiltered layers at least [`SunLight::roughness_min`] rough,
+    /// compared in f32 as `sun_takes` in `screen.wgsl`.
+    pub fn takes(&self, ball: &Ball) -> bool {
+        let coat = &ball.material.clearcoat;
+        ball.shading_roughness() as f32 >= self.roughness_min
+            && (!coat.is_on() || coat.roughness as f32 >= self.roughness_min)
+    }
 }
 
 /// A scene and its render settings.
@@ -200,10 +242,7 @@ impl Scene {
     pub fn reference() -> Self {
         Scene {
             balls: two_rows(Material::metal_gamma22(REFERENCE_ALBEDO_SRGB)),
-            lights: vec![Light {
-                direction: DVec3::Z,
-                radiance: DVec3::ONE,
-            }],
+            lights: vec![Light::new(DVec3::Z, DVec3::ONE)],
             environment: DVec3::ZERO,
             environment_map: None,
             background: Background::Environment,
@@ -269,6 +308,27 @@ impl Scene {
     /// Whether pixels that miss every ball show the environment map.
     pub(crate) fn background_shows_map(&self) -> bool {
         self.environment_map.is_some() && self.background == Background::Environment
+    }
+
+    /// The map's sun as the split sum shades it ([`crate::environment::Sun`]): a light
+    /// after the scene's own, for the balls it [`SunLight::takes`]. None without a map, a
+    /// sun, the split sum, or room in the lights' array ([`MAX_LIGHTS`]).
+    pub fn sun_light(&self) -> Option<SunLight> {
+        if self.ibl_method != crate::environment::IblMethod::SplitSum
+            || self.lights.len() >= MAX_LIGHTS
+        {
+            return None;
+        }
+        let environment = self.environment_map.as_ref()?;
+        let sun = environment.map.sun()?;
+        Some(SunLight {
+            light: Light {
+                direction: environment.from_map(sun.direction),
+                radiance: sun.irradiance * environment.intensity,
+                angular_radius: sun.radius,
+            },
+            roughness_min: sun.roughness_min() as f32,
+        })
     }
 
     /// Gives every ball with a real-time term (`kulla-conty`, `turquin` or `fdez-aguera`)

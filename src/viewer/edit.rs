@@ -296,10 +296,10 @@ impl LightControl {
             self.elevation_deg.to_radians(),
         );
         let direction = DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
-        vec![Light {
-            direction: direction.normalize(),
-            radiance: DVec3::splat(self.intensity),
-        }]
+        vec![Light::new(
+            direction.normalize(),
+            DVec3::splat(self.intensity),
+        )]
     }
 }
 

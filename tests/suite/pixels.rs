@@ -150,10 +150,10 @@ pub fn temp_dir(name: &str) -> PathBuf {
 pub fn mixed_scene() -> Scene {
     use shadeballs::scene::{Light, Material};
     let mut scene = Scene::reference();
-    scene.lights.push(Light {
-        direction: glam::DVec3::new(1.0, 1.0, 0.5).normalize(),
-        radiance: glam::DVec3::new(2.0, 1.5, 1.0),
-    });
+    scene.lights.push(Light::new(
+        glam::DVec3::new(1.0, 1.0, 0.5).normalize(),
+        glam::DVec3::new(2.0, 1.5, 1.0),
+    ));
     for b in scene.balls.iter_mut().step_by(2) {
         b.material = Material::dielectric(glam::DVec3::new(0.1, 0.4, 0.6), 1.5);
     }

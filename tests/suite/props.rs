@@ -128,10 +128,7 @@ fn radiance(s: &Sample, v: DVec3, l: DVec3) -> DVec3 {
     };
     let scene = Scene {
         balls: Vec::new(),
-        lights: vec![Light {
-            direction: l,
-            radiance: DVec3::ONE,
-        }],
+        lights: vec![Light::new(l, DVec3::ONE)],
         environment: DVec3::ZERO,
         ..Scene::reference()
     };

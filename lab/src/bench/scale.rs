@@ -71,10 +71,10 @@ pub fn chart(n: u32, lights: usize, roughness_values: Option<u32>) -> Scene {
             let a = k as f64 * 2.399_963; // the golden angle
             let z = 1.0 - 0.5 * (k as f64 + 0.5) / lights.max(1) as f64;
             let s = (1.0 - z * z).sqrt();
-            Light {
-                direction: DVec3::new(s * a.cos(), s * a.sin(), z),
-                radiance: DVec3::splat(1.0 / lights.max(1) as f64),
-            }
+            Light::new(
+                DVec3::new(s * a.cos(), s * a.sin(), z),
+                DVec3::splat(1.0 / lights.max(1) as f64),
+            )
         })
         .collect();
     Scene {

@@ -454,10 +454,7 @@ fn the_default_anisotropic_lobe_against_the_truth() {
         ));
     });
     let light = against_the_truth(|scene| {
-        scene.lights = vec![crate::scene::Light {
-            direction: DVec3::Z,
-            radiance: DVec3::ONE,
-        }];
+        scene.lights = vec![crate::scene::Light::new(DVec3::Z, DVec3::ONE)];
     });
     println!(
         "worst anisotropic ball under the studio {:.2} % (with the table {:.2} %), worst isotropic ball {:.2} %",

@@ -185,10 +185,10 @@ fn lit_chart(weight: f64) -> Scene {
         )
     });
     scene.environment = DVec3::splat(0.3);
-    scene.lights = vec![Light {
-        direction: DVec3::new(0.3, 0.5, 1.0).normalize(),
-        radiance: DVec3::splat(2.5),
-    }];
+    scene.lights = vec![Light::new(
+        DVec3::new(0.3, 0.5, 1.0).normalize(),
+        DVec3::splat(2.5),
+    )];
     scene
 }
 
@@ -693,10 +693,7 @@ fn sun_and_its_light(sun: DVec3) -> (Environment, Light) {
         rotation_deg: 0.0,
         intensity: 1.0,
     };
-    let light = Light {
-        direction,
-        radiance: DVec3::splat(irradiance),
-    };
+    let light = Light::new(direction, DVec3::splat(irradiance));
     (environment, light)
 }
 

@@ -91,10 +91,7 @@ fn the_exported_fragment_shades_as_the_renderer() {
             };
             let scene = Scene {
                 balls: vec![ball],
-                lights: vec![Light {
-                    direction: light,
-                    radiance,
-                }],
+                lights: vec![Light::new(light, radiance)],
                 environment,
                 base_reading: reading,
                 ..Scene::reference()
