@@ -9,7 +9,7 @@
 #import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at, light_roughness}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_multiple}
-#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, DOMINANT_DIRECTION}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, SUN_LIGHT, IBL, DOMINANT_DIRECTION}
 #import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_layer_set, env_specular_layers, env_convolved}
@@ -80,8 +80,12 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
             if mu_i <= 0.0 || mu_o <= 0.0 {
                 continue;
             }
-            // A light's disc (the map's sun) widens the lobe (light_roughness).
-            let roughness = light_roughness(b.clearcoat_roughness, lights[k].direction.w);
+            // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe
+            // (light_roughness).
+            var roughness = b.clearcoat_roughness;
+            if SUN_LIGHT == 1u {
+                roughness = light_roughness(b.clearcoat_roughness, lights[k].direction.w);
+            }
             lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i, roughness) * lights[k].radiance.xyz * mu_i;
         }
     }

@@ -13,7 +13,7 @@
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, SUN_LIGHT, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
 #import shadeballs::coating::{clearcoat_base_lobe, clearcoat_base_fresnel_cosine, clearcoat_base_f_avg}
@@ -141,16 +141,21 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, clearcoat_base_fresnel_cosine(b, dot(v, h)));
-        // A light's disc (the map's sun) widens the lobe (light_alpha).
-        let widening = lights[k].direction.w;
+        // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe (light_alpha).
+        let widening = select(0.0, lights[k].direction.w, SUN_LIGHT == 1u);
         var spec = vec3<f32>(0.0);
         if aniso {
-            let alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
-            let a_t = light_alpha(alphas.x, widening);
-            let a_b = light_alpha(alphas.y, widening);
-            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, a_t, a_b, GEOMETRY);
+            var alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+            if SUN_LIGHT == 1u {
+                alphas = vec2<f32>(light_alpha(alphas.x, widening), light_alpha(alphas.y, widening));
+            }
+            spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, alphas.x, alphas.y, GEOMETRY);
         } else {
-            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), light_roughness(lobe_of.x, widening), GEOMETRY);
+            var roughness_l = lobe_of.x;
+            if SUN_LIGHT == 1u {
+                roughness_l = light_roughness(lobe_of.x, widening);
+            }
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness_l, GEOMETRY);
         }
         spec *= lobe_of.y;
         var lobe = vec3<f32>(0.0);

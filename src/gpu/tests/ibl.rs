@@ -1198,6 +1198,28 @@ fn the_split_sum_under_a_sun_has_no_blotches() {
         rough
     };
     let (sun, control) = (ratios(&split), ratios(&split_kept));
+    // The balls' means against the Monte Carlo's (the low frequencies the high pass leaves).
+    let owner = cpu::ball_index_map(&scene, w, h);
+    let mean_error = |image: &[f64]| -> Vec<f64> {
+        (0..scene.balls.len())
+            .filter(|&k| scene.balls[k].roughness >= 0.3)
+            .map(|k| {
+                let (mut s, mut m) = (0.0, 0.0);
+                for (p, o) in owner.iter().enumerate() {
+                    if *o == Some(k) {
+                        s += image[p];
+                        m += a[p];
+                    }
+                }
+                s / m - 1.0
+            })
+            .collect()
+    };
+    println!(
+        "ball means over the Monte Carlo's, less 1: the sun a light {:.4?}, in the layers {:.4?}",
+        mean_error(&split),
+        mean_error(&split_kept)
+    );
     println!("MC noise: {noise:.4?}; ratios, the sun a light: {sun:.3?}; the sun in the layers: {control:.3?}");
     for &(roughness, ratio) in &sun {
         assert!(ratio <= 2.0, "roughness {roughness}: {ratio:.3}");
