@@ -149,7 +149,7 @@ impl CpuEnvironment {
         let prefiltered = Prefiltered::new(&chain, kernels, geometry);
         let chain = Arc::new(chain);
         let split = SplitSum::shipped(geometry);
-        let sunless = (!lobe && environment.map.sun().is_some())
+        let sunless = (!lobe && environment.map.sun_of_chain(&chain).is_some())
             .then(|| crate::environment::prefilter::Bright::new(&chain))
             .flatten()
             .map(|bright| {

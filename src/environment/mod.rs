@@ -111,10 +111,13 @@ impl EnvMap {
     /// The map's sun ([`Sun`]: its bright texels when they are one small source), found
     /// once from its mip chain (a few milliseconds for a 1024-wide map).
     pub fn sun(&self) -> Option<Sun> {
-        *self.sun.get_or_init(|| {
-            let chain = MipChain::new(self);
-            prefilter::Bright::new(&chain).and_then(|bright| Sun::of(&chain, &bright))
-        })
+        *self.sun.get_or_init(|| sun_of(&MipChain::new(self)))
+    }
+
+    /// [`EnvMap::sun`] from `chain`, this map's mip chain, already built: the preparations
+    /// that build it call this first, so that finding the sun builds no chain of its own.
+    pub(crate) fn sun_of_chain(&self, chain: &MipChain) -> Option<Sun> {
+        *self.sun.get_or_init(|| sun_of(chain))
     }
 
     /// A map of one radiance everywhere (negative and non-finite channels as 0).
@@ -222,6 +225,11 @@ pub(crate) fn direction_to_uv(d: DVec3) -> DVec2 {
     let u = d.x.atan2(-d.z) / (2.0 * PI) + 0.5;
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     DVec2::new(u, v)
+}
+
+/// The sun of a map whose mip chain is `chain` ([`Sun::of`] its bright texels).
+fn sun_of(chain: &MipChain) -> Option<Sun> {
+    prefilter::Bright::new(chain).and_then(|bright| Sun::of(chain, &bright))
 }
 
 /// The unit direction at `(u, v)` (the inverse of `direction_to_uv`).

@@ -193,6 +193,8 @@ fn prepare_map(
     let kernels = prefilter::kernels(&lut::bake(&config));
     let t_kernels = start.elapsed();
     let chain = ahead.unwrap_or_else(|| MipChain::new(&environment.map));
+    // The map's sun, found on this chain (the plan asks for it next).
+    environment.map.sun_of_chain(&chain);
     let t_chain = start.elapsed();
     let split = SplitSum::shipped(config.geometry);
     let t_split = start.elapsed();
