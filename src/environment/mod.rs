@@ -109,7 +109,8 @@ impl EnvMap {
     }
 
     /// The map's sun ([`Sun`]: its bright texels when they are one small source), found
-    /// once from its mip chain (a few milliseconds for a 1024-wide map).
+    /// once, from the mip chain the map's preparation builds (`EnvMap::sun_of_chain`) or
+    /// else from one of its own.
     pub fn sun(&self) -> Option<Sun> {
         *self.sun.get_or_init(|| sun_of(&MipChain::new(self)))
     }

@@ -133,7 +133,7 @@ impl Light {
         }
     }
 
-    /// What the disc adds to a lobe's `alpha^2` ([`crate::brdf::light_alpha`]): `R^2 / 4`.
+    /// What the disc adds to a lobe's `alpha^2` (`brdf::light_alpha`): `R^2 / 4`.
     pub fn widening(&self) -> f64 {
         0.25 * self.angular_radius * self.angular_radius
     }
