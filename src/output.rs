@@ -32,6 +32,19 @@ fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     IN_FLIGHT.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+/// [`remove_temp_files_in_flight`] unless the list is locked now (by the thread that calls
+/// this, in the middle of a write: the out-of-memory exit may come from there), when it
+/// removes none.
+pub(crate) fn try_remove_temp_files_in_flight() -> usize {
+    match IN_FLIGHT.try_lock() {
+        Ok(mut files) => files
+            .drain(..)
+            .filter(|f| std::fs::remove_file(f).is_ok())
+            .count(),
+        Err(_) => 0,
+    }
+}
+
 /// Removes every temporary file a write of this process has open now, and returns how many
 /// it removed. For a signal handler that then exits: a write still running fails to rename
 /// its file, which is gone.

@@ -93,7 +93,10 @@ fn with_progress<T>(estimate: f64, bake: impl FnOnce() -> T) -> T {
     let (done, wait) = std::sync::mpsc::channel::<()>();
     let start = Instant::now();
     std::thread::scope(|s| {
-        s.spawn(move || {
+        // A progress thread that cannot start (short of memory or threads) leaves the bake
+        // without its progress lines, rather than panicking as `Scope::spawn` would.
+        let progress = std::thread::Builder::new().name("progress".into());
+        let _progress = progress.spawn_scoped(s, move || {
             let every = std::time::Duration::from_secs(PROGRESS_EVERY_S);
             while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(every) {
                 let elapsed = start.elapsed().as_secs_f64();

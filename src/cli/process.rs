@@ -92,9 +92,76 @@ fn start_worker_threads() {
     }
 }
 
+/// The system's allocator, with an allocation that fails a one-line error and exit status
+/// 1 ([`out_of_memory`]) where Rust would abort with "memory allocation of N bytes failed"
+/// and a killed process: under `ulimit -v` of 100 MB a GPU driver that starts can leave too
+/// little for the built-in map's 6 MiB (`messages_under_memory_limits_name_the_memory`
+/// failed so in one CI run). The binary installs it (`src/main.rs`); the library leaves a
+/// host's allocator alone.
+pub struct ExitsWhenShortOfMemory;
+
+// SAFETY: every method forwards to `System` under the caller's own contract, and only looks
+// at the returned pointer.
+unsafe impl std::alloc::GlobalAlloc for ExitsWhenShortOfMemory {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        // SAFETY: the caller's contract for `alloc` is `System`'s.
+        let p = unsafe { std::alloc::System.alloc(layout) };
+        if p.is_null() {
+            out_of_memory(layout.size());
+        }
+        p
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
+        // SAFETY: as `alloc`.
+        let p = unsafe { std::alloc::System.alloc_zeroed(layout) };
+        if p.is_null() {
+            out_of_memory(layout.size());
+        }
+        p
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: as `alloc`: `ptr` and `layout` are the caller's, from this allocator.
+        let p = unsafe { std::alloc::System.realloc(ptr, layout, new_size) };
+        if p.is_null() {
+            out_of_memory(new_size);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        // SAFETY: `ptr` came from this allocator, that is from `System`, with `layout`.
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+}
+
+/// An allocation of `size` bytes failed: the unfinished output files removed where the
+/// list is free, one line (formatted on the stack: nothing more is allocated for it), exit
+/// status 1. A second failure on the way (the removal allocates a path) exits at once.
+fn out_of_memory(size: usize) -> ! {
+    use std::io::Write;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    static EXITING: AtomicBool = AtomicBool::new(false);
+    if !EXITING.swap(true, Ordering::SeqCst) {
+        let mut line = [0u8; 256];
+        let mut rest = &mut line[..];
+        let _ = writeln!(
+            rest,
+            "error: an allocation of {size} bytes failed, {}; raise the limit (ulimit -v, the \
+             cgroup) or choose a smaller size",
+            crate::error::SHORT_OF_MEMORY
+        );
+        let written = 256 - rest.len();
+        let _ = std::io::stderr().write_all(&line[..written]);
+        crate::output::try_remove_temp_files_in_flight();
+    }
+    std::process::exit(1);
+}
+
 /// A thread the process needs could not start (`what`, the error `e`): one line, exit
 /// status 1, where the standard library and rayon would panic.
-fn cannot_start(what: &str, e: impl std::fmt::Display) -> ! {
+pub(crate) fn cannot_start(what: &str, e: impl std::fmt::Display) -> ! {
     eprintln!(
         "error: {what} could not start, {} or of threads ({e}); raise the limit (ulimit -v, \
          ulimit -u, the cgroup)",

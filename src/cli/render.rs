@@ -66,7 +66,10 @@ fn scene_beside_the_device(
     phases: &mut Phases,
 ) -> anyhow::Result<(Scene, Option<Renderer>)> {
     let backend = args.backend;
-    let opening = std::thread::spawn(move || dispatch::open(backend));
+    let opening = std::thread::Builder::new()
+        .name("device".into())
+        .spawn(move || dispatch::open(backend))
+        .unwrap_or_else(|e| super::process::cannot_start("the thread that opens the device", e));
     let loaded = args.scene.load();
     // Reading the scene can wait (a FIFO, a slow disk): its own phase, not the device's.
     phases.mark("scene");

@@ -305,12 +305,15 @@ impl Renderer {
 
     /// Hands over `chain`, built from `map` ([`MipChain::new`](crate::environment::MipChain::new))
     /// beforehand (the CLI builds it while the device opens), for the next preparation of
-    /// that very map (the same `Arc`); a preparation of any other map builds its own.
+    /// that very map (the same `Arc`); a preparation of any other map builds its own. The
+    /// map's sun is found on it here: planning, which comes before the map's preparation
+    /// (`Renderer::prepare`), asks for it, and would otherwise build a chain of its own.
     pub(crate) fn offer_mip_chain(
         &mut self,
         map: Arc<crate::environment::EnvMap>,
         chain: crate::environment::MipChain,
     ) {
+        map.sun_of_chain(&chain);
         self.environment.offer_chain(map, chain);
     }
 

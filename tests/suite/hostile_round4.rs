@@ -694,6 +694,19 @@ fn messages_under_memory_limits_name_the_memory() {
         s(&dir.join("big.png"))
     ));
     one_line_failure(&o, &["needs about", "ulimit -v 0.41 GB less", "mapped"]);
+    // Tighter still, the process itself runs short: the built-in map's 6 MiB allocation
+    // aborted the process (SIGABRT, "memory allocation of 6291456 bytes failed") at 32 and
+    // 35 MB, and the device's opening thread panicked at 30 MB; each is one line now
+    // (cli::process::ExitsWhenShortOfMemory, cannot_start), exit status 1.
+    for limit in [30000, 32000, 35000] {
+        let o = bash(&format!(
+            "ulimit -v {limit}; \"$BIN\" render --backend cpu --width 16 --height 16 --out {}",
+            s(&dir.join("tiny.png"))
+        ));
+        if !o.status.success() {
+            one_line_failure(&o, &["for want of memory"]);
+        }
+    }
     // Vulkan where the driver cannot start: no package to install. Under these limits the
     // worker threads, started by the first parallel loop after the driver had mapped its
     // libraries, sometimes could not start and rayon panicked (seen at 100 MB and 300 MB,
