@@ -142,7 +142,7 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, clearcoat_base_fresnel_cosine(b, dot(v, h)));
         // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe (light_alpha).
-        let widening = select(0.0, lights[k].direction.w, SUN_LIGHT == 1u);
+        let widening = lights[k].direction.w;
         var spec = vec3<f32>(0.0);
         if aniso {
             var alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);

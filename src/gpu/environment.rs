@@ -281,13 +281,15 @@ impl EnvironmentTextures {
     /// Uploads `chain` and `split` and submits their prefiltering on the GPU with `kernels`
     /// ([`crate::environment::prefilter::kernels`]), without waiting for it: the queue runs
     /// it while the CPU goes on (with the render pipelines' compilation, in a fresh
-    /// process), and every later submission that reads the textures comes after it.
+    /// process), and every later submission that reads the textures comes after it. With
+    /// `sunless` (the map has a sun, `EnvMap::sun_of_chain`) a second set of layers, without
+    /// it, is prefiltered too (src/environment/sun.rs).
     pub(crate) fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         chain: &MipChain,
-        kernels: &[f32],
-        split: &SplitSum,
+        (kernels, split): (&[f32], &SplitSum),
+        sunless: bool,
     ) -> Self {
         let start = Instant::now();
         let base = &chain.levels[0];
@@ -296,10 +298,6 @@ impl EnvironmentTextures {
         let layered = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
         let (sw, sh) = specular_size(base.width);
         let bright = Bright::new(chain);
-        // A map with a sun has a second set of layers without it (src/environment/sun.rs).
-        let sunless = bright
-            .as_ref()
-            .is_some_and(|b| crate::environment::Sun::of(chain, b).is_some());
         let sets = 1 + u32::from(sunless);
         let specular = texture(
             device,

@@ -193,12 +193,14 @@ fn prepare_map(
     let kernels = prefilter::kernels(&lut::bake(&config));
     let t_kernels = start.elapsed();
     let chain = ahead.unwrap_or_else(|| MipChain::new(&environment.map));
-    // The map's sun, found on this chain (the plan asks for it next).
-    environment.map.sun_of_chain(&chain);
+    // The map's sun, found on this chain: the plan asks for it next, and a map with one
+    // has a second set of layers.
+    let sunless = environment.map.sun_of_chain(&chain).is_some();
     let t_chain = start.elapsed();
     let split = SplitSum::shipped(config.geometry);
     let t_split = start.elapsed();
-    let mut textures = EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, &kernels, &split);
+    let mut textures =
+        EnvironmentTextures::new(&gpu.device, &gpu.queue, &chain, (&kernels, &split), sunless);
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     log::debug!(
         "environment {}: kernels {:.1} ms, mip chain {:.1} ms, split sum {:.1} ms, \
