@@ -540,10 +540,12 @@ fn against_the_truth(light: impl Fn(&mut Scene)) -> [f64; 3] {
             let split = crate::cpu::render_radiance(&single, &prepared, w, h);
             let mc_single =
                 crate::cpu::render_montecarlo(&single, &prepared, w, h, spp, 41).unwrap();
+            let split_table = with_an_anisotropic_table(&single, &e, (w, h), &split, &pixels);
             (
                 ball_means(&mc.mean, &pixels),
                 ball_means(&split, &pixels),
                 ball_means(&mc_single.mean, &pixels),
+                ball_means(&split_table, &pixels),
             )
         });
     let mut worst = [0.0f64; 3];
@@ -561,13 +563,16 @@ fn against_the_truth(light: impl Fn(&mut Scene)) -> [f64; 3] {
             100.0 * rel_table,
             100.0 * noise
         );
-        if let Some((s_means, split, mc_single)) = &sampled {
+        if let Some((s_means, split, mc_single, split_table)) = &sampled {
             let rel_sampled = ((s_means[k] - t_means[k]) / t_means[k]).element_sum() / 3.0;
             let rel_single = ((split[k] - mc_single[k]) / mc_single[k]).element_sum() / 3.0;
+            let rel_table = ((split_table[k] - mc_single[k]) / mc_single[k]).element_sum() / 3.0;
             println!(
-                "  sampled model {:+.2} % of the truth; without the term, split sum {:+.2} % of sampled",
+                "  sampled model {:+.2} % of the truth; without the term, split sum {:+.2} % \
+                 of sampled, with the table {:+.2} %",
                 100.0 * rel_sampled,
-                100.0 * rel_single
+                100.0 * rel_single,
+                100.0 * rel_table
             );
         }
         if b.material.is_anisotropic() {
@@ -642,7 +647,7 @@ fn with_an_anisotropic_table(
                 let equivalent = PointTerms {
                     mu_o,
                     loss_o,
-                    ms: 1.0,
+                    ms: if b.model.has_term() { 1.0 } else { 0.0 },
                     term: IblTerm::KullaConty,
                     fss_ess: f0 * (1.0 - loss_o) + (DVec3::ONE - f0) * bias,
                     fms_ems: DVec3::ZERO,
@@ -663,7 +668,7 @@ fn with_an_anisotropic_table(
             for light in &scene.lights {
                 let l = light.direction;
                 let mu_i = n.dot(l);
-                if mu_i <= 0.0 || mu_o <= 0.0 {
+                if mu_i <= 0.0 || mu_o <= 0.0 || !b.model.has_term() {
                     continue;
                 }
                 let lobe = f_add * f_ms(loss_o, loss(e, mu_i, roughness), f_ms_norm(loss_avg));
