@@ -240,23 +240,6 @@ fn f_add_preset(form: u32, f0: vec3<f32>, edge_tint: vec3<f32>, e_avg: f32) -> v
     return f_add_accurate(f_avg_schlick(f0), e_avg);
 }
 
-// The alpha at which a lobe of `alpha` sees a light of angular `widening` (its disc's
-// angular radius R as R^2 / 4; 0 for a point): sqrt(alpha^2 + widening), the lobe's core
-// and the disc's spread of the half vector added in quadrature (src/brdf/mod.rs
-// light_alpha says why; after Karis 2013's sphere-light widening).
-// A select, not a branch: the widening is a uniform value (screen.wgsl loop_counts says
-// why no fragment branch reads one).
-fn light_alpha(alpha: f32, widening: f32) -> f32 {
-    return select(sqrt(alpha * alpha + widening), alpha, widening <= 0.0);
-}
-
-// The roughness at which a lobe of `roughness` sees a light of angular `widening`
-// (light_alpha); `roughness` itself for a point light.
-fn light_roughness(roughness: f32, widening: f32) -> f32 {
-    let widened = sqrt(light_alpha(alpha_from_roughness(roughness), widening));
-    return select(widened, roughness, widening <= 0.0);
-}
-
 // The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):
 // F G D / (4 mu_i mu_o) for a Fresnel value per channel, G of `geometry` (GEOMETRY_*);
 // below the horizon 0.

@@ -6,10 +6,10 @@
 
 #define_import_path shadeballs::clearcoat
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, clearcoat_through_physical, clearcoat_through_engine}
-#import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at, light_roughness}
+#import shadeballs::brdf::{clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_escape_at}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_multiple}
-#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, SUN_LIGHT, IBL, DOMINANT_DIRECTION}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, DOMINANT_DIRECTION}
 #import shadeballs::types::{COAT_FORM_FILAMENT, COAT_FORM_GLTF}
 #import shadeballs::bindings::{globals, lights, e_table, lut_params, env, env_sampler}
 #import shadeballs::bindings::{env_layer_set, env_specular_layers, env_convolved}
@@ -80,22 +80,15 @@ fn shade_clearcoat(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f
             if mu_i <= 0.0 || mu_o <= 0.0 {
                 continue;
             }
-            // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe
-            // (light_roughness).
-            var roughness = b.clearcoat_roughness;
-            if SUN_LIGHT == 1u {
-                roughness = light_roughness(b.clearcoat_roughness, lights[k].direction.w);
-            }
-            lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i, roughness) * lights[k].radiance.xyz * mu_i;
+            lo += clearcoat_lobe(b, n, v, l, mu_o, mu_i) * lights[k].radiance.xyz * mu_i;
         }
     }
     return b.clearcoat * lo;
 }
 
 // The coat's own BRDF towards unit direction l under its form, without its weight (after
-// clearcoat_begin; mu_o = n.v and mu_i = n.l both above 0), its GGX lobe at `roughness` (the
-// coat's, or widened by a light's disc).
-fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, mu_i: f32, roughness: f32) -> f32 {
+// clearcoat_begin; mu_o = n.v and mu_i = n.l both above 0).
+fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, mu_i: f32) -> f32 {
     let p = clearcoat_point;
     let form = b.clearcoat_form;
     let h = normalize(v + l);
@@ -103,7 +96,7 @@ fn clearcoat_lobe(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, mu_o: f32, 
     if form == COAT_FORM_GLTF {
         fresnel = 1.0;
     }
-    var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness, GEOMETRY).x;
+    var spec = f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), b.clearcoat_roughness, GEOMETRY).x;
     if form == COAT_FORM_GLTF {
         spec *= p.fresnel_o;
     }
@@ -122,7 +115,7 @@ fn clearcoat_brdf(b: Ball, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
     if mu_i <= 0.0 || mu_o <= 0.0 {
         return 0.0;
     }
-    return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i, b.clearcoat_roughness);
+    return b.clearcoat * clearcoat_lobe(b, n, v, l, mu_o, mu_i);
 }
 
 // The map's part of shade_clearcoat under the split sum: the prefiltered radiance at the

@@ -4,14 +4,14 @@
 
 #define_import_path shadeballs::coating
 #import shadeballs::constants::{PI, DIV_EPSILON, FRESNEL_SCHLICK}
-#import shadeballs::brdf::{alpha_from_roughness, light_roughness}
+#import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::brdf::{f_micro, f_ms, f_dielectric, f0_from_ior, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{f_base_constant, f_base_gltf, f_base_view_only, f_base_reciprocal, f_base_physical}
 #import shadeballs::brdf::{base_albedo_constant, base_albedo_gltf, base_albedo_view_only, base_albedo_physical}
 #import shadeballs::brdf::{clearcoat_through_physical, clearcoat_base_cosine, clearcoat_base_schlick_avg, f_avg_schlick}
 #import shadeballs::lut::{lut_loss_row, lut_row_unpack}
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance, env_multiple}
-#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, SUN_LIGHT, IBL, COATING_ROW_LEN}
+#import shadeballs::types::{Ball, GEOMETRY, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, COATING_ROW_LEN}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term, by_term_f32}
 #import shadeballs::types::{LAYERING_CONSTANT, LAYERING_GLTF, LAYERING_VIEW_ONLY, LAYERING_RECIPROCAL, LAYERING_PHYSICAL}
 #import shadeballs::types::{COAT_FORM_PHYSICAL, COAT_FORM_FILAMENT, COAT_FORM_GLTF, HAS_CLEARCOAT}
@@ -296,13 +296,7 @@ fn shade_coating(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, ms: f32) ->
         }
         let h = normalize(v + l);
         let fresnel = f_dielectric(clearcoat_base_fresnel_cosine(b, dot(v, h)), eta, b.fresnel);
-        // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe
-        // (light_roughness).
-        var roughness_l = lobe_of.x;
-        if SUN_LIGHT == 1u {
-            roughness_l = light_roughness(lobe_of.x, lights[k].direction.w);
-        }
-        let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), roughness_l, GEOMETRY).x;
+        let spec = lobe_of.y * f_micro(vec3<f32>(fresnel), mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY).x;
         var lobe = 0.0;
         var loss_i = 0.0;
         if ms > 0.0 {

@@ -6,14 +6,13 @@
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
 #import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
-#import shadeballs::brdf::{light_alpha, light_roughness}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, SUN_LIGHT, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
 #import shadeballs::coating::{clearcoat_base_lobe, clearcoat_base_fresnel_cosine, clearcoat_base_f_avg}
@@ -141,21 +140,12 @@ fn shade_metal(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32) -> vec3<f32> 
         }
         let h = normalize(v + l);
         let fresnel = f_schlick(f0, clearcoat_base_fresnel_cosine(b, dot(v, h)));
-        // A light's disc (the map's sun, only with SUN_LIGHT) widens the lobe (light_alpha).
-        let widening = lights[k].direction.w;
         var spec = vec3<f32>(0.0);
         if aniso {
-            var alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
-            if SUN_LIGHT == 1u {
-                alphas = vec2<f32>(light_alpha(alphas.x, widening), light_alpha(alphas.y, widening));
-            }
+            let alphas = lobe_of.z * vec2<f32>(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
             spec = f_micro_aniso(fresnel, v_local, l * frame, h * frame, alphas.x, alphas.y, GEOMETRY);
         } else {
-            var roughness_l = lobe_of.x;
-            if SUN_LIGHT == 1u {
-                roughness_l = light_roughness(lobe_of.x, widening);
-            }
-            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), roughness_l, GEOMETRY);
+            spec = f_micro(fresnel, mu_o, mu_i, dot(n, h), lobe_of.x, GEOMETRY);
         }
         spec *= lobe_of.y;
         var lobe = vec3<f32>(0.0);

@@ -6,7 +6,7 @@
 
 #define_import_path shadeballs::screen
 #import shadeballs::constants::DIV_EPSILON
-#import shadeballs::types::{BallIn, BallOut, ball_out, ball_of, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET, SUN_LIGHT}
+#import shadeballs::types::{BallIn, BallOut, ball_out, ball_of, MAX_BALLS, MAX_LIGHTS, OUTPUT_LINEAR, TONE_MAP, TRANSFER, SRGB_TARGET, SUN_LIGHT, SUN_POINTS}
 #import shadeballs::types::{TONE_MAP_ACES, TONE_MAP_AGX, TONE_MAP_KHRONOS_NEUTRAL, TONE_MAP_REINHARD, TRANSFER_SRGB}
 #import shadeballs::bindings::globals
 
@@ -135,11 +135,11 @@ fn vs_ball(@builtin(vertex_index) index: u32, in: BallIn) -> BallOut {
     let position = vec4<f32>(mix(rect.x, rect.z, cx), mix(rect.y, rect.w, cy), 0.0, 1.0);
     var counts = vec2<u32>(0u, loop_counts().y);
     if SUN_LIGHT == 1u {
-        // The map's sun is the light after the scene's (src/scene SunLight): a ball that
-        // takes it loops over one light more and reads the layers without it (set 1).
+        // The map's sun is SUN_POINTS lights after the scene's (src/scene SunLight): a
+        // ball that takes it loops over them too and reads the layers without it (set 1).
         let b = ball_of(ball_out(in, position, counts));
         if sun_takes(b.roughness, b.clearcoat, b.clearcoat_roughness, globals.size.z) {
-            counts = vec2<u32>(1u, counts.y + 1u);
+            counts = vec2<u32>(1u, counts.y + SUN_POINTS);
         }
     }
     return ball_out(in, position, counts);

@@ -6,7 +6,7 @@
 #import shadeballs::constants::LutParams
 
 // MAX_BALLS and MAX_LIGHTS: the sizes of the balls storage buffer and the lights uniform
-// array. TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
+// array. SUN_POINTS: the lights a map's sun is shaded as (src/scene SunLight). TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
 // ball's own, so one pipeline draws every model (a branch per ball, coherent over its
 // pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
 // (Ball.layering; src/scene Layering). COAT_FORM_*: how a clear coat weights the ball under
@@ -15,6 +15,7 @@
 // generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
 const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS
+const SUN_POINTS: u32 = 4u; // scene::SUN_POINTS
 const TERM_KULLA_CONTY: u32 = 1u; // gpu::uniforms::TERM_CODES
 const TERM_TURQUIN: u32 = 2u; // gpu::uniforms::TERM_CODES
 const TERM_FDEZ_AGUERA: u32 = 3u; // gpu::uniforms::TERM_CODES
@@ -304,8 +305,7 @@ struct EnvUniform {
 }
 
 struct Light {
-    // xyz: unit direction towards the light; w: what its disc adds to a lobe's alpha^2
-    // (light_alpha in brdf.wgsl; 0 for a point).
+    // xyz: unit direction towards the light; w: unused.
     direction: vec4<f32>,
     // rgb: radiance.
     radiance: vec4<f32>,

@@ -78,29 +78,6 @@ pub fn alpha_from_roughness(roughness: f64) -> f64 {
     r * r
 }
 
-/// The alpha at which a lobe of `alpha` sees a light of angular `widening` (its disc's
-/// angular radius `R` as `R^2 / 4`; 0 for a point): `sqrt(alpha^2 + widening)`. The lobe
-/// convolved with the disc: near its peak GGX's half-vector slopes spread as `alpha / 2`
-/// along each axis, and a disc of radius `R` moves the half vector by a uniform disc of
-/// radius `R / 2`, a spread of `R / 4`, so the spreads add in quadrature. Karis 2013 ("Real
-/// Shading in Unreal Engine 4", sphere lights) widens linearly, `alpha + R / 2`, with the
-/// lobe read at the disc's nearest point; here the lobe is read at the disc's centre.
-pub(crate) fn light_alpha(alpha: f64, widening: f64) -> f64 {
-    if widening <= 0.0 {
-        return alpha;
-    }
-    (alpha * alpha + widening).sqrt()
-}
-
-/// The roughness at which a lobe of `roughness` sees a light of angular `widening`
-/// ([`light_alpha`]); `roughness` itself for a point light.
-pub(crate) fn light_roughness(roughness: f64, widening: f64) -> f64 {
-    if widening <= 0.0 {
-        return roughness;
-    }
-    light_alpha(alpha_from_roughness(roughness), widening).sqrt()
-}
-
 /// The single-scattering Cook-Torrance BRDF (Cook & Torrance 1982; Walter et al. 2007):
 /// `F G D / (4 mu_i mu_o)` for a scalar Fresnel value `fresnel`. Directions below the
 /// horizon give 0.

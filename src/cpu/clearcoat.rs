@@ -8,8 +8,7 @@ use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
     alpha_from_roughness, clearcoat_base_cosine, clearcoat_base_schlick_avg, clearcoat_escape_at,
     clearcoat_inside_scale, clearcoat_lobe_scale, clearcoat_through_engine,
-    clearcoat_through_physical, f_avg_schlick, f_dielectric, f_micro, f_ms, light_roughness,
-    Geometry, DIV_EPSILON,
+    clearcoat_through_physical, f_avg_schlick, f_dielectric, f_micro, f_ms, Geometry, DIV_EPSILON,
 };
 use crate::lut::{coating_albedo, lut_row_unpack, TableSet, COATING_ROW_LEN};
 use crate::prepared::{Clearcoat, ClearcoatConstants};
@@ -242,11 +241,6 @@ impl ClearcoatPoint {
         self.environment_lobe
     }
 
-    /// The coat's roughness.
-    pub(crate) fn roughness(&self) -> f64 {
-        self.c.roughness
-    }
-
     /// The coat's own BRDF towards the light `l` under its form, times its weight (the
     /// lights' loop of `shade_clearcoat`; 0 with `l` or `v` below the horizon), its GGX
     /// lobe at `roughness` (the coat's, or widened by the light's disc).
@@ -254,7 +248,7 @@ impl ClearcoatPoint {
         &self,
         (n, v, l): (DVec3, DVec3, DVec3),
         e: &TableSet,
-        (geometry, roughness): (Geometry, f64),
+        geometry: Geometry,
     ) -> f64 {
         let c = &self.c;
         let mu_i = n.dot(l);
@@ -266,7 +260,7 @@ impl ClearcoatPoint {
             CoatForm::Gltf => 1.0,
             _ => f_dielectric(v.dot(h), c.eta, self.fresnel_form),
         };
-        let mut spec = f_micro(fresnel, self.mu_o, mu_i, n.dot(h), roughness, geometry);
+        let mut spec = f_micro(fresnel, self.mu_o, mu_i, n.dot(h), c.roughness, geometry);
         if c.form == CoatForm::Gltf {
             spec *= self.fresnel_o;
         }
@@ -294,11 +288,8 @@ pub(super) fn shade_clearcoat(
     }
     let mut lights = DVec3::ZERO;
     for light in &scene.lights {
-        // A light's disc (the map's sun) widens the lobe (`light_roughness`).
-        let roughness = light_roughness(p.roughness(), light.widening());
-        lights += p.brdf((n, v, light.direction), e, (geometry, roughness))
-            * light.radiance
-            * n.dot(light.direction);
+        lights +=
+            p.brdf((n, v, light.direction), e, geometry) * light.radiance * n.dot(light.direction);
     }
     c.weight * lo + lights
 }

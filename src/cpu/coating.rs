@@ -12,8 +12,7 @@ use super::light::{loss, CpuEnvironment};
 use crate::brdf::{
     base_albedo_constant, base_albedo_gltf, base_albedo_physical, base_albedo_view_only,
     f0_from_ior, f_base_constant, f_base_gltf, f_base_physical, f_base_reciprocal,
-    f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, light_roughness, term_fdez_aguera,
-    term_turquin,
+    f_base_view_only, f_dielectric, f_micro, f_ms, f_ms_norm, term_fdez_aguera, term_turquin,
 };
 use crate::environment::IblTerm;
 use crate::lut::{coating_albedo, TableSet, COATING_ROW_LEN};
@@ -242,12 +241,7 @@ pub(super) fn shade_coating(
         if mu_i <= 0.0 || point.mu_o <= 0.0 {
             continue;
         }
-        // A light's disc (the map's sun) widens the lobe (`light_roughness`).
-        let lobe = BaseLobe {
-            roughness: light_roughness(lobe_of.roughness, light.widening()),
-            ..lobe_of
-        };
-        let f = point.brdf((v, light.direction), n, e, lobe);
+        let f = point.brdf((v, light.direction), n, e, lobe_of);
         let (lobe, base) = forms.coat.map_or((DVec3::ONE, DVec3::ONE), |c| {
             let t_in = c.transmit(e, mu_i, v.dot((v + light.direction).normalize()));
             (c.through_lobe(t_in), c.through(t_in))

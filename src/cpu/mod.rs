@@ -99,7 +99,7 @@ pub(crate) fn render_radiance_at_lobe_frames(
     let sun = scene.sun_light();
     let sun_scene = sun.map(|s| {
         let mut lit = scene.clone();
-        lit.lights.push(s.light);
+        lit.lights.extend(s.lights);
         lit
     });
     let sun_scene = &sun_scene;

@@ -179,7 +179,7 @@ pub(crate) fn model_brdf(p: &ShadingPoint, l: DVec3, e: &TableSet) -> DVec3 {
         Some(cc) => {
             let t_in = cc.transmit(e, mu_i, p.v.dot(h));
             let coat = match p.part {
-                Part::Whole => cc.brdf((p.n, p.v, l), e, (p.geometry, cc.roughness())),
+                Part::Whole => cc.brdf((p.n, p.v, l), e, p.geometry),
                 Part::Multiple => 0.0,
             };
             (cc.through_lobe(t_in), cc.through(t_in), coat)

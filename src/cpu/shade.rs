@@ -16,7 +16,7 @@ use super::model::{
 };
 use crate::brdf::{
     alpha_from_roughness, anisotropic_bent_normal, f_micro, f_micro_aniso, f_ms, f_ms_norm,
-    f_schlick, light_alpha, light_roughness, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
+    f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
@@ -248,8 +248,6 @@ pub(super) fn shade_with_terms(
         let v_dot_h = v.dot(h);
         let n_dot_h = n.dot(h);
         let fresnel_cosine = clearcoat_base_fresnel_cosine(refraction, v_dot_h);
-        // A light's disc (the map's sun) widens the lobe (`light_alpha`).
-        let widening = light.widening();
         let spec = per_channel(f0, |f| {
             let fresnel = f_schlick(f, fresnel_cosine);
             match aniso {
@@ -258,16 +256,10 @@ pub(super) fn shade_with_terms(
                     frame.to_local(v),
                     frame.to_local(l),
                     frame.to_local(h),
-                    (
-                        light_alpha(lobe_of.alpha_scale * alpha_t, widening),
-                        light_alpha(lobe_of.alpha_scale * alpha_b, widening),
-                    ),
+                    (lobe_of.alpha_scale * alpha_t, lobe_of.alpha_scale * alpha_b),
                     geometry,
                 ),
-                None => {
-                    let roughness = light_roughness(lobe_of.roughness, widening);
-                    f_micro(fresnel, mu_o, mu_i, n_dot_h, roughness, geometry)
-                }
+                None => f_micro(fresnel, mu_o, mu_i, n_dot_h, lobe_of.roughness, geometry),
             }
         }) * lobe_of.energy;
         let lobe = match term {

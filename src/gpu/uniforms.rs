@@ -128,8 +128,7 @@ super::ball::gpu_ball! {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct GpuLight {
-    /// xyz: unit vector from the surface towards the light; w: what its disc adds to a
-    /// lobe's `alpha^2` ([`crate::scene::Light::widening`]; 0 for a point).
+    /// xyz: unit vector from the surface towards the light; w: 0.
     pub direction: [f32; 4],
     /// rgb: linear radiance ([`crate::scene::Light::radiance`]); w: 0.
     pub radiance: [f32; 4],
@@ -324,17 +323,17 @@ pub(crate) const TERM_CODES: [(u32, IblTerm); 3] = [
 ];
 
 /// The lights array (the used prefix of the uniform array): the scene's, then the map's
-/// sun where the split sum takes it as a light ([`Scene::sun_light`]; the balls that take
-/// it loop over one light more, `vs_ball`).
+/// sun's lights where the split sum takes it as lights ([`Scene::sun_light`]; the balls
+/// that take it loop over `SUN_POINTS` lights more, `vs_ball`).
 pub(crate) fn lights(scene: &Scene) -> Vec<GpuLight> {
-    let sun = scene.sun_light().map(|s| s.light);
+    let sun = scene.sun_light().map(|s| s.lights);
     scene
         .lights
         .iter()
         .take(MAX_LIGHTS)
-        .chain(sun.as_ref())
+        .chain(sun.iter().flatten())
         .map(|l| GpuLight {
-            direction: v4(l.direction, l.widening()),
+            direction: v4(l.direction, 0.0),
             radiance: v4(l.radiance, 0.0),
         })
         .collect()

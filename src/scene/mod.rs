@@ -116,34 +116,31 @@ pub struct Light {
     pub direction: DVec3,
     /// Linear RGB radiance; a point it lights reflects `f_r * radiance * mu_i`.
     pub radiance: DVec3,
-    /// The angular radius of the light's disc (radians): 0, a point, for the scene's own
-    /// lights ([`Light::new`]); the map's sun's ([`Scene::sun_light`]), whose disc the
-    /// real-time renderers' specular lobes see widened ([`Light::widening`]). The Monte
-    /// Carlo and the walk never see the sun as a light: they read the map.
-    pub(crate) angular_radius: f64,
 }
 
 impl Light {
-    /// A point light (no disc) towards unit `direction`, of `radiance`.
+    /// A light towards unit `direction`, of `radiance`.
     pub fn new(direction: DVec3, radiance: DVec3) -> Self {
         Light {
             direction,
             radiance,
-            angular_radius: 0.0,
         }
-    }
-
-    /// What the disc adds to a lobe's `alpha^2` (`brdf::light_alpha`): `R^2 / 4`.
-    pub fn widening(&self) -> f64 {
-        0.25 * self.angular_radius * self.angular_radius
     }
 }
 
-/// A map's sun as a light ([`Scene::sun_light`]).
+/// Point lights a map's sun is shaded as ([`SunLight::lights`]).
+pub const SUN_POINTS: usize = 4;
+
+/// A map's sun as lights ([`Scene::sun_light`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SunLight {
-    /// The sun's direction in the world and its irradiance times the map's intensity.
-    pub light: Light,
+    /// The sun's disc as [`SUN_POINTS`] point lights, each a quarter of its irradiance
+    /// times the map's intensity, at `R / sqrt 2` from its centre (`R` its angular
+    /// radius) a quarter turn apart: the four-point rule of a uniform disc, exact for
+    /// every polynomial of degree 3 over it, so that a lobe sees the disc's second moment
+    /// (Stroud 1971, "Approximate Calculation of Multiple Integrals", formula S2 3-1).
+    /// The Monte Carlo and the walk never see the sun as lights: they read the map.
+    pub lights: [Light; SUN_POINTS],
     /// The roughness from which a ball takes it ([`crate::environment::Sun::roughness_min`]),
     /// in f32 as the GPU's vertex stage compares it.
     pub roughness_min: f32,
@@ -310,23 +307,27 @@ impl Scene {
         self.environment_map.is_some() && self.background == Background::Environment
     }
 
-    /// The map's sun as the split sum shades it ([`crate::environment::Sun`]): a light
+    /// The map's sun as the split sum shades it ([`crate::environment::Sun`]): lights
     /// after the scene's own, for the balls it [`SunLight::takes`]. None without a map, a
     /// sun, the split sum, or room in the lights' array ([`MAX_LIGHTS`]).
     pub fn sun_light(&self) -> Option<SunLight> {
         if self.ibl_method != crate::environment::IblMethod::SplitSum
-            || self.lights.len() >= MAX_LIGHTS
+            || self.lights.len() + SUN_POINTS > MAX_LIGHTS
         {
             return None;
         }
         let environment = self.environment_map.as_ref()?;
         let sun = environment.map.sun()?;
+        let centre = environment.from_map(sun.direction);
+        let radiance = sun.irradiance * environment.intensity / SUN_POINTS as f64;
+        let (u, w) = centre.any_orthonormal_pair();
+        // On the plane tangent at the centre, `tan(R / sqrt 2)` out: the disc's radius
+        // is a few degrees at most (environment::sun::SUN_MAX_RADIUS).
+        let offset = (sun.radius * std::f64::consts::FRAC_1_SQRT_2).tan();
+        let lights =
+            [u, w, -u, -w].map(|t| Light::new((centre + offset * t).normalize(), radiance));
         Some(SunLight {
-            light: Light {
-                direction: environment.from_map(sun.direction),
-                radiance: sun.irradiance * environment.intensity,
-                angular_radius: sun.radius,
-            },
+            lights,
             roughness_min: sun.roughness_min() as f32,
         })
     }

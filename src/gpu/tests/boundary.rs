@@ -130,6 +130,11 @@ fn renderer_constants() -> Vec<Constant> {
     let mut c = vec![
         uint("MAX_BALLS".into(), scene, "scene::MAX_BALLS".into()),
         uint("MAX_LIGHTS".into(), lights, "scene::MAX_LIGHTS".into()),
+        uint(
+            "SUN_POINTS".into(),
+            crate::scene::SUN_POINTS as u64,
+            "scene::SUN_POINTS".into(),
+        ),
     ];
     for (code, term) in TERM_CODES {
         let name = format!("TERM_{}", upper(term.name()));
