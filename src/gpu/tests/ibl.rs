@@ -1134,6 +1134,42 @@ fn high_pass_rms(
         .collect()
 }
 
+/// The sun's lights (`Scene::sun_light`) under issue 37's sun map: four, their
+/// irradiance the sun's, each `R / sqrt 2` from the disc's centre and a quarter turn from
+/// the next, so that their mean is the centre and their mean squared angle from it `R^2 /
+/// 2`, a uniform disc's.
+#[test]
+fn the_sun_is_four_points_on_its_disc() {
+    let scene = under(
+        Scene::reference(),
+        map_environment(sun_map(), 30.0),
+        IblTerm::KullaConty,
+    );
+    let environment = scene.environment_map.as_ref().unwrap();
+    let sun = environment.map.sun().expect("the sun map has a sun");
+    let centre = environment.from_map(sun.direction);
+    let lights = scene.sun_light().expect("room for the sun").lights;
+    let total: DVec3 = lights.iter().map(|l| l.radiance).sum();
+    let irradiance = sun.irradiance * environment.intensity;
+    assert!((total - irradiance).length() <= 1e-12 * irradiance.length());
+    let spoke = |d: DVec3| (d - d.dot(centre) * centre).normalize();
+    let mut squared = 0.0;
+    for (k, l) in lights.iter().enumerate() {
+        let angle = l.direction.dot(centre).clamp(-1.0, 1.0).acos();
+        assert!(
+            (angle - sun.radius / 2f64.sqrt()).abs() < 1e-9,
+            "{angle} {}",
+            sun.radius
+        );
+        let next = lights[(k + 1) % lights.len()].direction;
+        assert!(spoke(l.direction).dot(spoke(next)).abs() < 1e-9);
+        squared += angle * angle / lights.len() as f64;
+    }
+    assert!((squared - sun.radius * sun.radius / 2.0).abs() < 1e-9);
+    let mean: DVec3 = lights.iter().map(|l| l.direction).sum();
+    assert!(mean.normalize().dot(centre) > 1.0 - 1e-12);
+}
+
 /// Issue 37, part 2, on the picture: the high-frequency part of the split sum's difference
 /// from the GPU Monte Carlo under [`sun_map`] ([`high_pass_rms`]: a box of 5 pixels on
 /// balls about 40 across, over the pixels where the sun is above both the surface's and
