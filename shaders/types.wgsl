@@ -61,7 +61,7 @@ override MS_TERM: u32 = 1u;
 // has none). Likewise the directional lights' loop.
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
-// 1: the map's sun is the light after the scene's, for the balls that take it (vs_ball in
+// 1: the map's sun is SUN_POINTS lights after the scene's, for the balls that take it (vs_ball in
 // screen.wgsl; src/environment/sun.rs); 0 (default): none (no sun, the lobe's samples, the
 // Monte Carlo and the walk, which read the map itself).
 override SUN_LIGHT: u32 = 0u;
