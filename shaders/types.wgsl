@@ -6,9 +6,9 @@
 #import shadeballs::constants::LutParams
 
 // MAX_BALLS and MAX_LIGHTS: the sizes of the balls storage buffer and the lights uniform
-// array. SUN_POINTS: the lights a map's sun is shaded as (src/scene SunLight). TERM_*: a ball's multiple-scattering term (Ball.term; src/scene Model), each
-// ball's own, so one pipeline draws every model (a branch per ball, coherent over its
-// pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
+// array. SUN_POINTS: the lights a map's sun is shaded as (src/scene SunLight). TERM_*: a
+// ball's multiple-scattering term (Ball.term; src/scene Model), each ball's own, so one
+// pipeline draws every model (a branch per ball, coherent over its pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
 // (Ball.layering; src/scene Layering). COAT_FORM_*: how a clear coat weights the ball under
 // it (Ball.clearcoat_form; src/scene CoatForm). COATING_ROW_LEN: the values of a coating row
 // (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
@@ -61,9 +61,9 @@ override MS_TERM: u32 = 1u;
 // has none). Likewise the directional lights' loop.
 override HAS_ENVIRONMENT: u32 = 1u;
 override HAS_LIGHTS: u32 = 1u;
-// 1: the map's sun is SUN_POINTS lights after the scene's, for the balls that take it (vs_ball in
-// screen.wgsl; src/environment/sun.rs); 0 (default): none (no sun, the lobe's samples, the
-// Monte Carlo and the walk, which read the map itself).
+// 1: the map's sun is SUN_POINTS lights after the scene's, for the balls that take it
+// (vs_ball in screen.wgsl; src/environment/sun.rs); 0 (default): none (no sun, the lobe's
+// samples, the Monte Carlo and the walk, which read the map itself).
 override SUN_LIGHT: u32 = 0u;
 // The environment map's part (src/gpu/plan.rs Variant::ibl): 0: no map (compiled out);
 // 1: the map under the split sum; 2: the map by the lobe's samples.

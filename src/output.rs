@@ -36,20 +36,20 @@ fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 /// this, in the middle of a write: the out-of-memory exit may come from there), when it
 /// removes none.
 pub(crate) fn try_remove_temp_files_in_flight() -> usize {
-    match IN_FLIGHT.try_lock() {
-        Ok(mut files) => files
-            .drain(..)
-            .filter(|f| std::fs::remove_file(f).is_ok())
-            .count(),
-        Err(_) => 0,
-    }
+    IN_FLIGHT
+        .try_lock()
+        .map_or(0, |mut files| remove_all(&mut files))
 }
 
 /// Removes every temporary file a write of this process has open now, and returns how many
 /// it removed. For a signal handler that then exits: a write still running fails to rename
 /// its file, which is gone.
 pub(crate) fn remove_temp_files_in_flight() -> usize {
-    let mut files = in_flight();
+    remove_all(&mut in_flight())
+}
+
+/// Removes the files `files` lists and empties it; how many it removed.
+fn remove_all(files: &mut Vec<PathBuf>) -> usize {
     files
         .drain(..)
         .filter(|f| std::fs::remove_file(f).is_ok())
