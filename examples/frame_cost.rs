@@ -8,14 +8,17 @@
 //! default view against the homework's (docs/viewer.md, "Frame times").
 //!
 //! ```text
-//! cargo run --release --example frame_cost --features scene-files -- FRAMES SCENE[,black][,noaa] ...
+//! cargo run --release --example frame_cost --features scene-files -- FRAMES SCENE[,black][,noaa][,sky][,lobe] ...
 //! ```
 //!
-//! `,black`: the background black (no map drawn behind the balls); `,noaa`: antialiasing off.
+//! `,black`: the background black (no map drawn behind the balls); `,noaa`: antialiasing off;
+//! `,sky`: the built-in sky in place of the scene's map; `,lobe`: the map lights the balls
+//! by the lobe mode (`ibl_method = "lobe"`, the scene's `ibl_samples`) instead of the split
+//! sum.
 
 use std::time::Instant;
 
-use shadeballs::environment::Background;
+use shadeballs::environment::{Background, Builtin, Environment, IblMethod};
 use shadeballs::{wgpu, Renderer, Target};
 
 /// The viewer's `--orbit` turn a frame, radians (`viewer::ORBIT_STEP`).
@@ -45,7 +48,7 @@ fn cpu_ms() -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: frame_cost FRAMES SCENE[,black][,noaa] ...";
+    let usage = "usage: frame_cost FRAMES SCENE[,black][,noaa][,sky][,lobe] ...";
     let frames: usize = args.get(1).ok_or(usage)?.parse()?;
     if args.len() < 3 || frames < 4 {
         return Err(format!("{usage} (FRAMES at least 4)").into());
@@ -77,6 +80,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             match part {
                 "black" => scene.background = Background::Black,
                 "noaa" => scene.antialias = false,
+                "sky" => scene.environment_map = Some(Environment::builtin(Builtin::Sky)),
+                "lobe" => scene.ibl_method = IblMethod::Lobe,
                 _ => return Err(format!("{spec}: unknown modifier {part}").into()),
             }
         }

@@ -231,13 +231,14 @@ fn shade_environment_map(
 // env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol sequence (lobe_frame_point: every frame a
 // net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; not for an all-metal ball,
-// whose model has no base), the map's luminance (luminance_sample, where the map has tables)
-// and a clear coat's visible normals, combined by the balance heuristic (balance_estimate,
-// Veach 1997). Each sample reads the map's base level (bilinear), as the Monte Carlo does:
-// reads at the footprint's level (filtered importance sampling, as the lobe mode did before)
-// blur the bright texels the map's samples find on purpose into the dim ones the other
-// strategies weigh as rare, a bias that measured 34 % at 64 samples under studio
-// (docs/design/environment.md). Mirrored by src/cpu/shade.rs shade_environment_mis.
+// whose model has no base), the map's luminance above its mean (luminance_sample, where the
+// map has tables: LuminanceCdf::compensated) and a clear coat's visible normals, combined by
+// the balance heuristic (balance_estimate, Veach 1997). Each sample reads the map's base
+// level (bilinear), as the Monte Carlo does: reads at the footprint's level (filtered
+// importance sampling, as the lobe mode did before) blur the bright texels the map's
+// samples find on purpose into the dim ones the other strategies weigh as rare, a bias that
+// measured 34 % at 64 samples under studio (docs/design/environment.md). Mirrored by
+// src/cpu/shade.rs shade_environment_mis.
 fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) -> vec3<f32> {
     var p = shading_point(b, n, v);
     if p.mu_o <= 0.0 {
@@ -274,7 +275,7 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
             let x = lobe_frame_point(first, j, strategy_scramble(scramble, 3u));
             let s = luminance_sample(vec4<f32>(t, x), size);
             if s.w > 0.0 {
-                sum += mis_contribution(b, p, env_to_map(s.xyz, from_map), has_cosine, size);
+                sum += mis_term(b, p, env_to_map(s.xyz, from_map), s.xyz, s.w, has_cosine);
             }
         }
         if HAS_CLEARCOAT == 1u && p.clearcoat {
@@ -285,22 +286,32 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     return env.intensity * sum / f32(IBL_SAMPLES);
 }
 
-// One direction l's share of shade_environment_mis (without the map's intensity): the
-// model's BRDF times the map's radiance (base level) and mu_i, over the sum of
-// the drawn strategies' densities at l; 0 below the horizon.
+// One direction l's share of shade_environment_mis (without the map's intensity): its
+// density under the map's strategy looked up (0 where the map has no tables), then
+// mis_term.
 fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, size: vec2<u32>) -> vec3<f32> {
+    let l_map = env_to_map(l, env.rotation);
+    var map_density = 0.0;
+    if size.x > 0u {
+        map_density = luminance_density(l_map, size);
+    }
+    return mis_term(b, p, l, l_map, map_density, has_cosine);
+}
+
+// The share of direction l (l_map in the map's frame, `map_density` its density under the
+// map's strategy: looked up, or the drawn texel's for the map's own samples): the model's
+// BRDF times the map's radiance (base level) and mu_i, over the sum of the drawn
+// strategies' densities at l; 0 below the horizon.
+fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_density: f32, has_cosine: bool) -> vec3<f32> {
     let mu_i = dot(p.n, l);
     if mu_i <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let l_map = env_to_map(l, env.rotation);
     var pdf = pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x));
     if has_cosine {
         pdf += mu_i / PI;
     }
-    if size.x > 0u {
-        pdf += luminance_density(l_map, size);
-    }
+    pdf += map_density;
     if HAS_CLEARCOAT == 1u && p.clearcoat {
         pdf += pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
@@ -330,18 +341,21 @@ fn luminance_partition(first: u32, count: u32, x: f32) -> u32 {
 
 // A map-frame direction drawn from the map's luminance tables of `size` with four uniform
 // numbers (LuminanceCdf::luminance_sample; the Monte Carlo's env_sample): a row by the
-// marginal, a texel by the row's CDF, a point uniformly in its (u, v) rectangle; w = 0 where
-// rounding lands on a texel of zero weight.
+// marginal, a texel by the row's CDF, a point uniformly in its (u, v) rectangle; w its
+// density there, the drawn texel's (not looked up again from the direction, whose rounding
+// may land in a neighbour), 0 where rounding lands on a texel of zero weight.
 fn luminance_sample(u: vec4<f32>, size: vec2<u32>) -> vec4<f32> {
     let w = size.x;
     let h = size.y;
     let j = min(luminance_partition(2u, h, u.x), h - 1u);
     let i = min(luminance_partition(2u + h + j * w, w, u.y), w - 1u);
-    if env_cdf[2u + h + w * h + j * w + i] <= 0.0 {
+    let p_texel = env_cdf[2u + h + w * h + j * w + i];
+    if p_texel <= 0.0 {
         return vec4<f32>(0.0);
     }
     let uv = vec2<f32>((f32(i) + u.z) / f32(w), (f32(j) + u.w) / f32(h));
-    return vec4<f32>(uv_to_direction(uv), 1.0);
+    let d = uv_to_direction(uv);
+    return vec4<f32>(d, equirect_density(p_texel, d, vec2<f32>(f32(w), f32(h))));
 }
 
 // The density per solid angle of luminance_sample at map-frame direction d

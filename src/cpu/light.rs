@@ -116,9 +116,10 @@ pub struct CpuEnvironment {
     sunless: Option<Box<CpuEnvironment>>,
     /// The split sum's bias table.
     pub split: SplitSum,
-    /// The map's luminance tables, as the GPU binds them for the lobe mode (`None` for a
-    /// map without, a constant one, and where the scene draws with the split sum: the
-    /// tables of a large map take hundreds of MB that the split sum never reads).
+    /// The map's luminance tables above their mean, as the GPU binds them for the lobe
+    /// mode (`None` for a map without, a constant one, and where the scene draws with the
+    /// split sum: the tables of a large map take hundreds of MB that the split sum never
+    /// reads).
     pub(crate) luminance: Option<LuminanceCdf>,
 }
 
@@ -161,10 +162,11 @@ impl CpuEnvironment {
                     luminance: None,
                 })
             });
-        // The tables of the map at unit intensity (its own is applied where it is read).
+        // The lobe mode's tables of the map at unit intensity (its own is applied where it
+        // is read), compensated as the GPU's (gpu::map_cache).
         let luminance = lobe
             .then(|| {
-                LuminanceCdf::of(&Environment {
+                LuminanceCdf::compensated(&Environment {
                     intensity: 1.0,
                     ..environment.clone()
                 })

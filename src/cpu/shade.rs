@@ -375,24 +375,28 @@ pub(super) fn shade_environment_mis(
     let v_local = frame.to_local(v);
     let has_cosine = p.metallic < 1.0;
     let map = ibl.luminance.as_ref();
-    let contribution = |l: DVec3| -> DVec3 {
+    // `mis_term` of `lighting.wgsl`: direction l's share, given its map-frame direction and
+    // its density under the map's strategy.
+    let mis_term = |l: DVec3, l_map: DVec3, map_density: f64| -> DVec3 {
         let mu_i = n.dot(l);
         if mu_i <= 0.0 {
             return DVec3::ZERO;
         }
-        let l_map = environment.to_map(l);
         let mut pdf = pdf_vndf_lobe(&p, l, alpha);
         if has_cosine {
             pdf += mu_i / std::f64::consts::PI;
         }
-        if let Some(m) = map {
-            pdf += m.luminance_density(l_map);
-        }
+        pdf += map_density;
         if let Some(a) = coat_alpha {
             pdf += pdf_vndf(&p, l, a);
         }
         let radiance = ibl.chain.sample(l_map, 0.0);
         balance_estimate(model_brdf(&p, l, e) * radiance * mu_i, pdf)
+    };
+    // `mis_contribution` of `lighting.wgsl`: the map's density looked up.
+    let contribution = |l: DVec3| -> DVec3 {
+        let l_map = environment.to_map(l);
+        mis_term(l, l_map, map.map_or(0.0, |m| m.luminance_density(l_map)))
     };
     let point = |j: u32, k: u32| {
         let s = lobe::strategy_scramble(lobe.scramble, k);
@@ -409,8 +413,8 @@ pub(super) fn shade_environment_mis(
         if let Some(m) = map {
             let (t1, t2) = point(j, 2);
             let (x1, x2) = point(j, 3);
-            if let Some(d) = m.luminance_sample([t1, t2, x1, x2]) {
-                sum += contribution(environment.from_map(d));
+            if let Some((d, density)) = m.luminance_sample([t1, t2, x1, x2]) {
+                sum += mis_term(environment.from_map(d), d, density);
             }
         }
         if let Some(a) = coat_alpha {

@@ -147,19 +147,61 @@ impl LuminanceCdf {
     /// The tables of `env`'s luminance sampler (`None`: no sampler, see the type).
     pub(crate) fn of(env: &Environment) -> Option<Self> {
         let s = EnvSampler::new(env)?;
+        Self::from_weights(s.width, s.height, &s.weight)
+    }
+
+    /// The lobe mode's tables of `env` (`None`: no sampler, or no texel above the mean):
+    /// the luminance sampler's density less its mean over the sphere, at least 0 (MIS
+    /// compensation: Karlik, Sik, Vevoda, Skrivan and Krivanek 2019, "MIS Compensation:
+    /// Optimizing Sampling Techniques in Multiple Importance Sampling", ACM TOG 38(6),
+    /// article 151: a tabulated density less a constant, for the balance heuristic's
+    /// sake). Beside the lobe's visible normals and the cosine, which sample the map's
+    /// dim parts well, the map's samples go to what stands out of it; those strategies
+    /// cover the texels left at 0, so the estimate stays unbiased. The Monte Carlo
+    /// references keep [`LuminanceCdf::of`]'s (docs/design/environment.md, "The map's
+    /// samples where they count").
+    pub(crate) fn compensated(env: &Environment) -> Option<Self> {
+        let s = EnvSampler::new(env)?;
         let (w, h) = (s.width, s.height);
-        let marginal = s.marginal.iter().map(|&c| (c / s.total) as f32).collect();
+        let omega: Vec<f64> = (0..h)
+            .map(|j| env.map.texel_solid_angle(j as u32))
+            .collect();
+        // The mean of the weights' luminance over the sphere (the weights are luminance
+        // times solid angle).
+        let mean = s.total / (w as f64 * omega.iter().sum::<f64>());
+        let weight: Vec<f64> = s
+            .weight
+            .iter()
+            .enumerate()
+            .map(|(k, &x)| (x - mean * omega[k / w]).max(0.0))
+            .collect();
+        Self::from_weights(w, h, &weight)
+    }
+
+    /// The tables of texel weights `weight` (row-major, `w` by `h`, each at least 0);
+    /// `None` where they sum to nothing.
+    fn from_weights(w: usize, h: usize, weight: &[f64]) -> Option<Self> {
         let mut row_cdf = vec![0.0f32; w * h];
+        let mut marginal64 = vec![0.0f64; h];
+        let mut total = 0.0;
         for j in 0..h {
-            let row = &s.row_cdf[j * w..(j + 1) * w];
-            let sum = row[w - 1];
+            let row = &weight[j * w..(j + 1) * w];
+            let sum: f64 = row.iter().sum();
             if sum > 0.0 {
-                for (out, &c) in row_cdf[j * w..(j + 1) * w].iter_mut().zip(row) {
-                    *out = (c / sum) as f32;
+                let mut run = 0.0;
+                for (out, &x) in row_cdf[j * w..(j + 1) * w].iter_mut().zip(row) {
+                    run += x;
+                    *out = (run / sum) as f32;
                 }
             }
+            total += sum;
+            marginal64[j] = total;
         }
-        let texel = s.weight.iter().map(|&x| (x / s.total) as f32).collect();
+        if total <= DIV_EPSILON {
+            return None;
+        }
+        let marginal = marginal64.iter().map(|&c| (c / total) as f32).collect();
+        let texel = weight.iter().map(|&x| (x / total) as f32).collect();
         Some(LuminanceCdf {
             width: w as u32,
             height: h as u32,
@@ -185,9 +227,10 @@ impl LuminanceCdf {
 
     /// `luminance_sample` of `lighting.wgsl`, in the same f32 arithmetic: a map-frame
     /// direction from four uniform numbers (each exact in f32: the lobe's 24-bit points), a
-    /// row by the marginal, a texel by its row's CDF, a point uniformly in the texel's
-    /// `(u, v)` rectangle; `None` where rounding lands on a texel of zero weight.
-    pub(crate) fn luminance_sample(&self, u: [f64; 4]) -> Option<DVec3> {
+    /// row by the marginal, a texel by its row's CDF, a point uniformly in the texel's `(u,
+    /// v)` rectangle, and its density there, the drawn texel's (not looked up again from
+    /// the direction); `None` where rounding lands on a texel of zero weight.
+    pub(crate) fn luminance_sample(&self, u: [f64; 4]) -> Option<(DVec3, f64)> {
         let (w, h) = (self.width as usize, self.height as usize);
         let j = self
             .marginal
@@ -195,14 +238,20 @@ impl LuminanceCdf {
             .min(h - 1);
         let row = &self.row_cdf[j * w..(j + 1) * w];
         let i = row.partition_point(|&c| c <= u[1] as f32).min(w - 1);
-        if self.texel[j * w + i] <= 0.0 {
+        let p_texel = self.texel[j * w + i];
+        if p_texel <= 0.0 {
             return None;
         }
         let uv = DVec2::new(
             f64::from((i as f32 + u[2] as f32) / w as f32),
             f64::from((j as f32 + u[3] as f32) / h as f32),
         );
-        Some(uv_to_direction(uv))
+        let d = uv_to_direction(uv);
+        let size = (w as f64, h as f64);
+        Some((
+            d,
+            crate::sampling::equirect_density(f64::from(p_texel), d, size),
+        ))
     }
 
     /// `luminance_density` of `lighting.wgsl`: the density per solid angle of

@@ -156,16 +156,17 @@ impl PrefilteredMaps {
     }
 }
 
-/// The luminance tables of `environment`'s map on the GPU (those of the Monte Carlo's
-/// sampler, whatever the intensity: they depend on the texels alone), or `None` where the
-/// map has none (a constant map) or they exceed the device's storage binding (then the lobe
-/// mode draws no map samples, and says so).
+/// The lobe mode's luminance tables of `environment`'s map on the GPU (the Monte Carlo
+/// sampler's weights less their mean, [`LuminanceCdf::compensated`], whatever the
+/// intensity: they depend on the texels alone), or `None` where the map has none (a
+/// constant map, or no texel above the mean) or they exceed the device's storage binding
+/// (then the lobe mode draws no map samples, and says so).
 fn luminance_tables(gpu: &Gpu, environment: &Environment) -> Option<wgpu::Buffer> {
     let unit = Environment {
         intensity: 1.0,
         ..environment.clone()
     };
-    let words = LuminanceCdf::of(&unit)?.gpu_words();
+    let words = LuminanceCdf::compensated(&unit)?.gpu_words();
     let bytes = std::mem::size_of_val(words.as_slice()) as u64;
     let max = gpu.device.limits().max_storage_buffer_binding_size;
     if bytes > max {

@@ -378,6 +378,66 @@ fn the_skys_brightest_texel_is_its_sun() {
     );
 }
 
+/// The lobe mode's tables (`LuminanceCdf::compensated`) are the Monte Carlo's less their
+/// mean: a texel's probability is `max(p - m, 0)` renormalised, `p` its probability in
+/// `LuminanceCdf::of`'s tables and `m` the mean's share of it (its solid angle over the
+/// sphere's); the dim texels are left to the other strategies, the bright ones kept in
+/// their proportions. A constant map has no tables either way.
+#[test]
+fn the_lobe_modes_tables_keep_what_stands_above_the_mean() {
+    use crate::environment::sampler::LuminanceCdf;
+    for b in [Builtin::Studio, Builtin::Sky] {
+        let env = Environment::builtin(b);
+        let plain = LuminanceCdf::of(&env).unwrap();
+        let kept = LuminanceCdf::compensated(&env).unwrap();
+        let (w, h) = (plain.width as usize, plain.height as usize);
+        assert_eq!((kept.width as usize, kept.height as usize), (w, h));
+        let omega: Vec<f64> = (0..h)
+            .map(|j| env.map.texel_solid_angle(j as u32))
+            .collect();
+        let sphere = w as f64 * omega.iter().sum::<f64>();
+        let above: Vec<f64> = (0..w * h)
+            .map(|k| (f64::from(plain.texel[k]) - omega[k / w] / sphere).max(0.0))
+            .collect();
+        let sum: f64 = above.iter().sum();
+        // Each kept probability against its share of what stands above the mean, the
+        // error relative to the texel's own probability (`above` is a difference of f32
+        // probabilities, exact to their rounding, not to its own size).
+        let mut worst = 0.0f64;
+        for (k, &a) in above.iter().enumerate() {
+            let p = f64::from(kept.texel[k]);
+            if a == 0.0 {
+                assert!(p == 0.0, "{b}: texel {k} at or below the mean kept at {p}");
+            } else {
+                worst = worst.max((p * sum - a).abs() / f64::from(plain.texel[k]));
+            }
+        }
+        let total: f64 = kept.texel.iter().map(|&p| f64::from(p)).sum();
+        let share = above.iter().filter(|&&a| a > 0.0).count() as f64 / (w * h) as f64;
+        println!(
+            "{b}: {:.1} % of the texels kept, {:.1} % of the luminance above the mean, \
+             worst relative error {worst:.1e}",
+            100.0 * share,
+            100.0 * sum
+        );
+        assert!(
+            worst < 1e-5,
+            "{b}: kept texels off their proportion by {worst}"
+        );
+        assert!(
+            (total - 1.0).abs() < 1e-4,
+            "{b}: probabilities sum to {total}"
+        );
+        assert!(share > 0.0 && share < 1.0, "{b}: {share}");
+        assert_eq!(kept.marginal.last().copied(), Some(1.0), "{b}");
+    }
+    let constant = Environment {
+        map: Arc::new(EnvMap::new(4, 2, vec![[0.5; 3]; 8]).unwrap()),
+        ..Environment::builtin(Builtin::White)
+    };
+    assert!(LuminanceCdf::compensated(&constant).is_none());
+}
+
 #[test]
 fn generating_a_built_in_is_fast() {
     for b in Builtin::ALL {
