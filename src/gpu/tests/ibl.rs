@@ -461,12 +461,14 @@ fn assert_lobe_matches_its_cpu_twin(what: &str, scene_of: impl Fn(Builtin, IblTe
 /// map's own samples of its brightest texels (studio's lights are 60 to 500 times the
 /// gradient) with the visible normals' and the cosine's: a direction that rounds to a
 /// neighbouring texel in f32 near a light's edge moves a pixel, by more where a pixel takes
-/// few samples (these scenes take 4). Measured with the Owen-scrambled Sobol
-/// points (the same points on both sides, integer arithmetic): studio 99.901 to 99.906 %
-/// within 1/255 and 99.990 to 99.993 % within 3/255 (4 to 6 pixels of 57600, three of them
-/// background pixels at 4/255 in every case; one ball pixel at 18/255, frame 0); sky 100 %
-/// within 1/255. With the net and the R2 points before: 99.899 % and 99.995 %, max 4/255,
-/// under a bound of 99.99 % within 3/255.
+/// few samples (these scenes take 4). A map sample carries its drawn texel's density
+/// (`luminance_sample`), so only the other strategies' directions look one up. Measured
+/// with the Owen-scrambled Sobol points (the same points on both sides, integer
+/// arithmetic) and the compensated tables (9cac3d5): studio 99.911 to 99.913 % within 1/255
+/// and 99.993 to 99.995 % within 3/255 (3 or 4 pixels of 57600), max 4/255; sky 100 %
+/// within 1/255. Before, with the map sample's density looked up again: 99.901 to 99.906 %
+/// and 99.990 to 99.993 %, one ball pixel at 18/255; with the net and the R2 points:
+/// 99.899 % and 99.995 %, max 4/255, under a bound of 99.99 % within 3/255.
 fn assert_close_sampled(d: &crate::pixels::Diff, what: &str) {
     let report = d.report(what);
     println!("{report}");
