@@ -161,20 +161,24 @@ impl LuminanceCdf {
     /// references keep [`LuminanceCdf::of`]'s (docs/design/environment.md, "The map's
     /// samples where they count").
     pub(crate) fn compensated(env: &Environment) -> Option<Self> {
-        let s = EnvSampler::new(env)?;
-        let (w, h) = (s.width, s.height);
+        let EnvSampler {
+            width: w,
+            height: h,
+            mut weight,
+            total,
+            ..
+        } = EnvSampler::new(env)?;
         let omega: Vec<f64> = (0..h)
             .map(|j| env.map.texel_solid_angle(j as u32))
             .collect();
         // The mean of the weights' luminance over the sphere (the weights are luminance
         // times solid angle).
-        let mean = s.total / (w as f64 * omega.iter().sum::<f64>());
-        let weight: Vec<f64> = s
-            .weight
-            .iter()
-            .enumerate()
-            .map(|(k, &x)| (x - mean * omega[k / w]).max(0.0))
-            .collect();
+        let mean = total / (w as f64 * omega.iter().sum::<f64>());
+        for (row, &o) in weight.chunks_mut(w).zip(&omega) {
+            for x in row {
+                *x = (*x - mean * o).max(0.0);
+            }
+        }
         Self::from_weights(w, h, &weight)
     }
 
