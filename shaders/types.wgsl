@@ -8,10 +8,11 @@
 // MAX_BALLS and MAX_LIGHTS: the sizes of the balls storage buffer and the lights uniform
 // array. SUN_POINTS: the lights a map's sun is shaded as (src/scene SunLight). TERM_*: a
 // ball's multiple-scattering term (Ball.term; src/scene Model), each ball's own, so one
-// pipeline draws every model (a branch per ball, coherent over its pixels); 0 without one. LAYERING_*: how a ball's dielectric base sits under its coating
-// (Ball.layering; src/scene Layering). COAT_FORM_*: how a clear coat weights the ball under
-// it (Ball.clearcoat_form; src/scene CoatForm). COATING_ROW_LEN: the values of a coating row
-// (coating_rows, lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
+// pipeline draws every model (a branch per ball, coherent over its pixels); 0 without one.
+// LAYERING_*: how a ball's dielectric base sits under its coating (Ball.layering; src/scene
+// Layering). COAT_FORM_*: how a clear coat weights the ball under it (Ball.clearcoat_form;
+// src/scene CoatForm). COATING_ROW_LEN: the values of a coating row (coating_rows,
+// lut::coating). TONE_MAP_*, TRANSFER_*: the values of TONE_MAP and TRANSFER.
 // generated from the Rust constants by src/gpu/tests/boundary.rs: do not edit
 const MAX_BALLS: u32 = 4096u; // scene::MAX_BALLS
 const MAX_LIGHTS: u32 = 16u; // scene::MAX_LIGHTS

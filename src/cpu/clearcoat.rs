@@ -243,7 +243,7 @@ impl ClearcoatPoint {
 
     /// The coat's own BRDF towards the light `l` under its form, times its weight (the
     /// lights' loop of `shade_clearcoat`; 0 with `l` or `v` below the horizon), its GGX
-    /// lobe at `roughness` (the coat's, or widened by the light's disc).
+    /// lobe at the coat's roughness.
     pub(crate) fn brdf(
         &self,
         (n, v, l): (DVec3, DVec3, DVec3),
