@@ -10,7 +10,7 @@
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
-#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, balance_estimate}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
@@ -230,10 +230,11 @@ fn shade_environment_map(
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy, the samples
 // env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol sequence (lobe_frame_point: every frame a
 // net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
-// anisotropic lobe's own), the cosine hemisphere (sample_cosine; not for an all-metal ball,
-// whose model has no base), the map's luminance above its mean (luminance_sample, where the
-// map has tables: LuminanceCdf::compensated) and a clear coat's visible normals, combined by
-// the balance heuristic (balance_estimate, Veach 1997). Each sample reads the map's base
+// anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
+// the term's lobe and the map's dim parts, which the map's strategy leaves to the others),
+// the map's luminance above its mean (luminance_sample, where the map has tables:
+// LuminanceCdf::compensated) and a clear coat's visible normals, combined by the power
+// heuristic (power_estimate, Veach 1997). Each sample reads the map's base
 // level (bilinear), as the Monte Carlo does: reads at the footprint's level (filtered
 // importance sampling, as the lobe mode did before) blur the bright texels the map's
 // samples find on purpose into the dim ones the other strategies weigh as rare, a bias that
@@ -257,7 +258,6 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     let scramble = pixel_scramble(pixel);
     let first = u32(env.lobe.x);
     let size = luminance_size();
-    let has_cosine = b.metallic < 1.0;
     let has_map = size.x > 0u;
     // The map's frame to the world's: the rotation's inverse (Environment::from_map).
     let from_map = vec2<f32>(env.rotation.x, -env.rotation.y);
@@ -265,58 +265,62 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     for (var j = 0u; j < IBL_SAMPLES; j++) {
         let u = lobe_frame_point(first, j, scramble);
         let l = sample_lobe(p, frame, v_local, alpha, u);
-        sum += mis_contribution(b, p, l, has_cosine, size);
-        if has_cosine {
-            let c = lobe_frame_point(first, j, strategy_scramble(scramble, 1u));
-            sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), has_cosine, size);
-        }
+        sum += mis_contribution(b, p, l, size, MIS_LOBE);
+        let c = lobe_frame_point(first, j, strategy_scramble(scramble, 1u));
+        sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), size, MIS_COSINE);
         if has_map {
             let t = lobe_frame_point(first, j, strategy_scramble(scramble, 2u));
             let x = lobe_frame_point(first, j, strategy_scramble(scramble, 3u));
             let s = luminance_sample(vec4<f32>(t, x), size);
             if s.w > 0.0 {
-                sum += mis_term(b, p, env_to_map(s.xyz, from_map), s.xyz, s.w, has_cosine);
+                sum += mis_term(b, p, env_to_map(s.xyz, from_map), s.xyz, s.w, MIS_MAP);
             }
         }
         if HAS_CLEARCOAT == 1u && p.clearcoat {
             let c = lobe_frame_point(first, j, strategy_scramble(scramble, 4u));
-            sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), has_cosine, size);
+            sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), size, MIS_COAT);
         }
     }
     return env.intensity * sum / f32(IBL_SAMPLES);
 }
 
-// One direction l's share of shade_environment_mis (without the map's intensity): its
-// density under the map's strategy looked up (0 where the map has no tables), then
-// mis_term.
-fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, has_cosine: bool, size: vec2<u32>) -> vec3<f32> {
+// The strategies of shade_environment_mis, as mis_term's `strategy`: the lobe's visible
+// normals, the cosine hemisphere, the map's luminance, a clear coat's visible normals.
+const MIS_LOBE: u32 = 0u;
+const MIS_COSINE: u32 = 1u;
+const MIS_MAP: u32 = 2u;
+const MIS_COAT: u32 = 3u;
+
+// One direction l's share of shade_environment_mis (without the map's intensity), drawn by
+// `strategy`: its density under the map's strategy looked up (0 where the map has no
+// tables), then mis_term.
+fn mis_contribution(b: Ball, p: ShadingPoint, l: vec3<f32>, size: vec2<u32>, strategy: u32) -> vec3<f32> {
     let l_map = env_to_map(l, env.rotation);
     var map_density = 0.0;
     if size.x > 0u {
         map_density = luminance_density(l_map, size);
     }
-    return mis_term(b, p, l, l_map, map_density, has_cosine);
+    return mis_term(b, p, l, l_map, map_density, strategy);
 }
 
-// The share of direction l (l_map in the map's frame, `map_density` its density under the
-// map's strategy: looked up, or the drawn texel's for the map's own samples): the model's
-// BRDF times the map's radiance (base level) and mu_i, over the sum of the drawn
-// strategies' densities at l; 0 below the horizon.
-fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_density: f32, has_cosine: bool) -> vec3<f32> {
+// The share of direction l drawn by `strategy` (MIS_*; l_map in the map's frame,
+// `map_density` its density under the map's strategy: looked up, or the drawn texel's for
+// the map's own samples): the model's BRDF times the map's radiance (base level) and mu_i,
+// weighted against every drawn strategy's density at l by the power heuristic; 0 below the
+// horizon.
+fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_density: f32, strategy: u32) -> vec3<f32> {
     let mu_i = dot(p.n, l);
     if mu_i <= 0.0 {
         return vec3<f32>(0.0);
     }
-    var pdf = pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x));
-    if has_cosine {
-        pdf += mu_i / PI;
-    }
-    pdf += map_density;
+    var coat = 0.0;
     if HAS_CLEARCOAT == 1u && p.clearcoat {
-        pdf += pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
+        coat = pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
+    // Indexed by MIS_*.
+    let pdf = vec4<f32>(pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x)), mu_i / PI, map_density, coat);
     let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
-    return balance_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf);
+    return power_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf[strategy], dot(pdf, pdf));
 }
 
 // The map's luminance tables' size (env_cdf's first two values): (0, 0) where it has none.

@@ -87,12 +87,15 @@ fn equirect_density(p_texel: f32, d: vec3<f32>, size: vec2<f32>) -> f32 {
     return p_texel * size.x * size.y / (2.0 * PI * PI * max(sin_theta, DIV_EPSILON));
 }
 
-// The balance heuristic's estimate of one sample of one of several strategies (Veach 1997,
-// "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis, Stanford, section
-// 9.2.2, one sample a strategy): f L mu_i / sum_k pdf_k(l), the integrand over the sum of
-// every strategy's density at l; 0 where that sum is not positive.
-fn balance_estimate(integrand: vec3<f32>, pdf_sum: f32) -> vec3<f32> {
-    return select(vec3<f32>(0.0), integrand / max(pdf_sum, DIV_EPSILON), pdf_sum > DIV_EPSILON);
+// The power heuristic's estimate, exponent 2, of one sample of one of several strategies
+// drawn equally often (Veach 1997, "Robust Monte Carlo Methods for Light Transport
+// Simulation", PhD thesis, Stanford, section 9.2.4): the integrand f L mu_i over the drawing
+// strategy's density `pdf_own`, weighted by pdf_own^2 / sum_k pdf_k(l)^2; written
+// f L mu_i pdf_own / sum_k pdf_k(l)^2 (`pdf_square_sum`), 0 where that sum is below
+// DIV_EPSILON^2 (a guard on densities, squared).
+fn power_estimate(integrand: vec3<f32>, pdf_own: f32, pdf_square_sum: f32) -> vec3<f32> {
+    let guard = DIV_EPSILON * DIV_EPSILON;
+    return select(vec3<f32>(0.0), integrand * (pdf_own / max(pdf_square_sum, guard)), pdf_square_sum > guard);
 }
 
 // Radiance arriving from world direction d: the uniform environment `environment` where

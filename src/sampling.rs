@@ -1,10 +1,10 @@
 //! The sampling maths once, the f64 twin of `shaders/sampling.wgsl` name for name: the
 //! orthonormal frame about a normal (`duff_frame`), GGX's visible normals reflected
 //! ([`sample_vndf`]) and their density ([`vndf_density`]), the cosine hemisphere
-//! (`sample_cosine`), the equirectangular map's density (`equirect_density`), the balance
-//! heuristic (`balance_estimate`) and the radiance arriving along a direction (`arriving`). The
-//! lobe (`cpu::shade`), the Monte Carlo (`cpu::montecarlo`), the truth (`cpu::truth`) and
-//! the prefilter's twin (`environment::prefilter`) take them from here. Above the maths
+//! (`sample_cosine`), the equirectangular map's density (`equirect_density`), the power
+//! heuristic (`power_estimate`) and the radiance arriving along a direction (`arriving`).
+//! The lobe (`cpu::shade`), the Monte Carlo (`cpu::montecarlo`), the truth (`cpu::truth`)
+//! and the prefilter's twin (`environment::prefilter`) take them from here. Above the maths
 //! (`brdf`) alone.
 
 use std::f64::consts::PI;
@@ -137,13 +137,16 @@ pub(crate) fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f6
     p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
 }
 
-/// The balance heuristic's estimate of one sample of one of several strategies (Veach 1997,
-/// *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford,
-/// section 9.2.2, one sample a strategy): `f L mu_i / sum_k pdf_k(l)`, the integrand over the
-/// sum of every strategy's density at `l`; 0 where that sum is not positive.
-pub(crate) fn balance_estimate(integrand: DVec3, pdf_sum: f64) -> DVec3 {
-    if pdf_sum > DIV_EPSILON {
-        integrand / pdf_sum
+/// The power heuristic's estimate, exponent 2, of one sample of one of several strategies
+/// drawn equally often (Veach 1997, *Robust Monte Carlo Methods for Light Transport
+/// Simulation*, PhD thesis, Stanford, section 9.2.4): the integrand `f L mu_i` over the
+/// drawing strategy's density `pdf_own`, weighted by `pdf_own^2 / sum_k pdf_k(l)^2`; written
+/// `f L mu_i pdf_own / sum_k pdf_k(l)^2` (`pdf_square_sum`), 0 where that sum is below
+/// `DIV_EPSILON^2` (a guard on densities, squared).
+pub(crate) fn power_estimate(integrand: DVec3, pdf_own: f64, pdf_square_sum: f64) -> DVec3 {
+    let guard = DIV_EPSILON * DIV_EPSILON;
+    if pdf_square_sum > guard {
+        integrand * (pdf_own / pdf_square_sum)
     } else {
         DVec3::ZERO
     }
@@ -157,4 +160,35 @@ pub(crate) fn arriving(
     map: Option<impl Fn(DVec3) -> DVec3>,
 ) -> DVec3 {
     environment + map.map_or(DVec3::ZERO, |m| m(d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The power heuristic's weights at one direction, `pdf_own^2 / sum_k pdf_k^2` (each
+    /// strategy's estimate times its density over the integrand), sum to 1 over the
+    /// strategies whose density is positive, which keeps the combined estimate unbiased;
+    /// an estimate whose square sum is under the guard is 0.
+    #[test]
+    fn the_power_heuristics_weights_sum_to_one() {
+        let f = DVec3::new(0.5, 2.0, 7.0);
+        for pdf in [
+            [3.0, 0.3, 0.0, 0.0],
+            [1e-3, 2.5, 40.0, 0.7],
+            [5e6, 0.1, 1e4, 0.0],
+            [0.0, 0.0, 1e-5, 0.0],
+        ] {
+            let square_sum: f64 = pdf.iter().map(|q| q * q).sum();
+            let weights: DVec3 = pdf
+                .iter()
+                .map(|&own| power_estimate(f, own, square_sum) * own / f)
+                .sum();
+            assert!(
+                (weights - DVec3::ONE).abs().max_element() < 1e-12,
+                "{pdf:?}: {weights}"
+            );
+        }
+        assert_eq!(power_estimate(f, 1e-13, 1e-26), DVec3::ZERO);
+    }
 }

@@ -21,7 +21,7 @@ use crate::brdf::{
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
 use crate::prepared::Coat;
-use crate::sampling::{balance_estimate, sample_cosine, sample_vndf};
+use crate::sampling::{power_estimate, sample_cosine, sample_vndf};
 use crate::scene::{Ball, Scene};
 
 /// `intersect_sphere` of `screen.wgsl`: nearest positive distance along unit `d` from `o`
@@ -340,12 +340,19 @@ pub(crate) fn shade_environment_map(
     lo
 }
 
+/// The strategies of [`shade_environment_mis`] (`MIS_*` of `lighting.wgsl`): the lobe's
+/// visible normals, the cosine hemisphere, the map's luminance, a clear coat's visible normals.
+const MIS_LOBE: usize = 0;
+const MIS_COSINE: usize = 1;
+const MIS_MAP: usize = 2;
+const MIS_COAT: usize = 3;
+
 /// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
 /// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`], a clear
 /// coat's lobe and shares included where `clearcoat` is formed) against the map by
-/// `lobe.count` samples of each strategy (the lobe's visible normals, the cosine hemisphere
-/// but for an all-metal ball, the map's luminance where it has tables, a clear coat's
-/// visible normals) combined by the balance heuristic ([`balance_estimate`]), each reading
+/// `lobe.count` samples of each strategy (the lobe's visible normals, the cosine hemisphere,
+/// the map's luminance where it has tables, a clear coat's visible normals) combined by the
+/// power heuristic ([`power_estimate`]), each reading
 /// the f16 chain's base level. The same points as the GPU (integer arithmetic), the same f32
 /// tables.
 pub(super) fn shade_environment_mis(
@@ -373,30 +380,39 @@ pub(super) fn shade_environment_mis(
     let alpha = alpha_from_roughness(p.lobe.roughness);
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
-    let has_cosine = p.metallic < 1.0;
     let map = ibl.luminance.as_ref();
-    // `mis_term` of `lighting.wgsl`: direction l's share, given its map-frame direction and
-    // its density under the map's strategy.
-    let mis_term = |l: DVec3, l_map: DVec3, map_density: f64| -> DVec3 {
+    // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
+    // given its map-frame direction and its density under the map's strategy.
+    let mis_term = |l: DVec3, l_map: DVec3, map_density: f64, strategy: usize| -> DVec3 {
         let mu_i = n.dot(l);
         if mu_i <= 0.0 {
             return DVec3::ZERO;
         }
-        let mut pdf = pdf_vndf_lobe(&p, l, alpha);
-        if has_cosine {
-            pdf += mu_i / std::f64::consts::PI;
-        }
-        pdf += map_density;
-        if let Some(a) = coat_alpha {
-            pdf += pdf_vndf(&p, l, a);
-        }
+        let coat = coat_alpha.map_or(0.0, |a| pdf_vndf(&p, l, a));
+        // Indexed by `MIS_*`.
+        let pdf = [
+            pdf_vndf_lobe(&p, l, alpha),
+            mu_i / std::f64::consts::PI,
+            map_density,
+            coat,
+        ];
+        let square_sum = pdf.iter().map(|q| q * q).sum();
         let radiance = ibl.chain.sample(l_map, 0.0);
-        balance_estimate(model_brdf(&p, l, e) * radiance * mu_i, pdf)
+        power_estimate(
+            model_brdf(&p, l, e) * radiance * mu_i,
+            pdf[strategy],
+            square_sum,
+        )
     };
     // `mis_contribution` of `lighting.wgsl`: the map's density looked up.
-    let contribution = |l: DVec3| -> DVec3 {
+    let contribution = |l: DVec3, strategy: usize| -> DVec3 {
         let l_map = environment.to_map(l);
-        mis_term(l, l_map, map.map_or(0.0, |m| m.luminance_density(l_map)))
+        mis_term(
+            l,
+            l_map,
+            map.map_or(0.0, |m| m.luminance_density(l_map)),
+            strategy,
+        )
     };
     let point = |j: u32, k: u32| {
         let s = lobe::strategy_scramble(lobe.scramble, k);
@@ -405,21 +421,19 @@ pub(super) fn shade_environment_mis(
     let mut sum = DVec3::ZERO;
     for j in 0..lobe.count {
         let (u1, u2) = point(j, 0);
-        sum += contribution(sample_lobe(&p, &frame, v_local, alpha, (u1, u2)));
-        if has_cosine {
-            let (c1, c2) = point(j, 1);
-            sum += contribution(frame.to_world(sample_cosine(c1, c2)));
-        }
+        sum += contribution(sample_lobe(&p, &frame, v_local, alpha, (u1, u2)), MIS_LOBE);
+        let (c1, c2) = point(j, 1);
+        sum += contribution(frame.to_world(sample_cosine(c1, c2)), MIS_COSINE);
         if let Some(m) = map {
             let (t1, t2) = point(j, 2);
             let (x1, x2) = point(j, 3);
             if let Some((d, density)) = m.luminance_sample([t1, t2, x1, x2]) {
-                sum += mis_term(environment.from_map(d), d, density);
+                sum += mis_term(environment.from_map(d), d, density, MIS_MAP);
             }
         }
         if let Some(a) = coat_alpha {
             let (c1, c2) = point(j, 4);
-            sum += contribution(frame.to_world(sample_vndf(v_local, a, c1, c2)));
+            sum += contribution(frame.to_world(sample_vndf(v_local, a, c1, c2)), MIS_COAT);
         }
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
