@@ -584,7 +584,8 @@ fn worst_ball_error(
 /// 3 % (measured 1.09 % at 160x90 by lab/examples/lobe_sweep, docs/design/environment.md,
 /// "Lighting that follows the lobe"; the split sum is 4.8 % there); under studio, 64 frames
 /// of 16 within 4 % (measured 2.3 %; the split sum 25.6 %) and closer than the split sum.
-/// (Here, at 96x54: sky 1.5 %, studio 2.8 %; the split sum 4.8 % and 23.8 %.)
+/// (Here, at 96x54, at a88643d: sky 0.99 %, studio 1.69 %; the split sum 4.4 % and
+/// 23.8 %.)
 #[test]
 fn lobe_converges_to_the_monte_carlo_of_the_model() {
     let mut r = vulkan();

@@ -1,0 +1,161 @@
+//! One configuration of the light bench (`bench --only light`, `lab/src/bench/light.rs`:
+//! its scene, its GPU Monte Carlo reference at 160x90 and 32768 estimates a pixel, its
+//! error measure) for trials of the lobe mode's estimator: the progressive lobe's error
+//! after each of the given frame counts of 16 samples, per ball and the worst of roughness
+//! >= 0.3, in seconds instead of the bench's minutes.
+//!
+//! ```text
+//! cargo run --release -p shadeballs-lab --example light_trial -- MAP MATERIAL FRAMES [--time]
+//! cargo run --release -p shadeballs-lab --example light_trial -- studio metal 1,8,16
+//! ```
+//!
+//! MAP is `studio`, `sky` or `sun` (the bench's generated sun map), MATERIAL `metal` or
+//! `plastic`, FRAMES a comma-separated list. `--time` also prints the median frame time
+//! of the split sum and of the lobe at 16 samples at 1280x720 (7 rounds, in turn). The
+//! reference is kept in `target/light_trial/` and read back by later runs: a trial that
+//! edits the shaders keeps the same reference, whose model it does not change.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use glam::DVec3;
+use shadeballs::environment::{Builtin, Environment};
+use shadeballs::stats::{median, MonteCarloImage};
+use shadeballs_lab::bench::device;
+use shadeballs_lab::bench::light::{
+    ball_errors, frame_times, light_scene, method_image, reference, sun_environment, Family,
+    LightMaterial, Method,
+};
+
+/// The light bench's error images and reference (`light::Settings`, the full run).
+const SIZE: (u32, u32) = (160, 90);
+const SPP: u32 = 32768;
+/// The timed frames' size and rounds.
+const FRAME: (u32, u32) = (1280, 720);
+const ROUNDS: usize = 7;
+
+/// The reference's file: its means and standard errors, f64 little-endian.
+fn cache(map: &str, material: LightMaterial) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/light_trial");
+    dir.join(format!(
+        "{map}-{}-{}x{}-{SPP}.bin",
+        material.name(),
+        SIZE.0,
+        SIZE.1
+    ))
+}
+
+fn save(path: &Path, r: &MonteCarloImage) -> Result<()> {
+    let bytes: Vec<u8> = r
+        .mean
+        .iter()
+        .chain(&r.std_error)
+        .flat_map(|v| v.to_array())
+        .flat_map(f64::to_le_bytes)
+        .collect();
+    std::fs::create_dir_all(path.parent().context("a folder")?)?;
+    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))
+}
+
+/// `shape` (a reference of the same scene and size, its coverage and filter) with the
+/// means and standard errors read from `path`; `None` where there is no such file or it
+/// does not fit.
+fn load(path: &Path, mut shape: MonteCarloImage) -> Option<MonteCarloImage> {
+    let bytes = std::fs::read(path).ok()?;
+    let n = shape.mean.len();
+    if bytes.len() != 2 * n * 24 {
+        return None;
+    }
+    let value = |k: usize| f64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap());
+    let vec = |i: usize| DVec3::new(value(3 * i), value(3 * i + 1), value(3 * i + 2));
+    shape.mean = (0..n).map(vec).collect();
+    shape.std_error = (n..2 * n).map(vec).collect();
+    shape.spp = SPP;
+    Some(shape)
+}
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [map, material, frames, ..] = args.as_slice() else {
+        bail!("usage: light_trial MAP MATERIAL FRAMES [--time] (e.g. studio metal 1,8,16)");
+    };
+    let environment = match map.as_str() {
+        "studio" => Environment::builtin(Builtin::Studio),
+        "sky" => Environment::builtin(Builtin::Sky),
+        "sun" => sun_environment(),
+        other => bail!("MAP: studio, sky or sun, not {other}"),
+    };
+    let material = match material.as_str() {
+        "metal" => LightMaterial::Metal,
+        "plastic" => LightMaterial::Plastic,
+        other => bail!("MATERIAL: metal or plastic, not {other}"),
+    };
+    let frames: Vec<u32> = frames
+        .split(',')
+        .map(|f| {
+            f.parse()
+                .with_context(|| format!("FRAMES: {f} is not a count"))
+        })
+        .collect::<Result<_>>()?;
+    let mut renderer = shadeballs::gpu::Renderer::new(device::open()?);
+    renderer.set_multiple_scattering_term(true);
+    let base = light_scene(environment, material);
+    let path = cache(map, material);
+    // Two estimates a pixel give the reference's shape (coverage, filter) in a moment.
+    let shape = reference(&mut renderer, &base, SIZE, 2)?;
+    let reference = match load(&path, shape) {
+        Some(r) => r,
+        None => {
+            let r = reference(&mut renderer, &base, SIZE, SPP)?;
+            save(&path, &r)?;
+            r
+        }
+    };
+    if args.iter().any(|a| a == "--time") {
+        let split = Method {
+            family: Family::SplitSum,
+            samples: 0,
+            frames: 1,
+        };
+        let lobe = Method {
+            family: Family::Lobe,
+            samples: 16,
+            frames: 1,
+        };
+        let scenes = [split, lobe].map(|m| (m.scene(&base), m.options()));
+        let (mut times, _) = frame_times(&mut renderer, &scenes, FRAME, ROUNDS)?;
+        println!(
+            "{map} {}: split sum {:.1} ms, lobe at 16 samples {:.1} ms a frame ({}x{})",
+            material.name(),
+            median(&mut times[0]),
+            median(&mut times[1]),
+            FRAME.0,
+            FRAME.1
+        );
+    }
+    for count in frames {
+        let method = Method {
+            family: Family::Progressive,
+            samples: 16,
+            frames: count,
+        };
+        let image = method_image(&mut renderer, &base, method, SIZE)?;
+        let errors = ball_errors(&method.scene(&base), material, SIZE, &image, &reference)?;
+        let worst = errors
+            .iter()
+            .filter(|e| e.roughness >= 0.3)
+            .map(|e| e.mean)
+            .fold(0.0, f64::max);
+        let balls: Vec<String> = errors
+            .iter()
+            .map(|e| format!("{} {:.2}: {:.2}", e.row, e.roughness, 100.0 * e.mean))
+            .collect();
+        println!(
+            "{map} {}, {count} frames of 16: worst {:.2} % ({})",
+            material.name(),
+            100.0 * worst,
+            balls.join(", ")
+        );
+    }
+    Ok(())
+}
