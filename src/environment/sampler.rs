@@ -154,12 +154,14 @@ impl LuminanceCdf {
     /// the luminance sampler's density less its mean over the sphere, at least 0 (MIS
     /// compensation: Karlik, Sik, Vevoda, Skrivan and Krivanek 2019, "MIS Compensation:
     /// Optimizing Sampling Techniques in Multiple Importance Sampling", ACM TOG 38(6),
-    /// article 151: a tabulated density less a constant, for the balance heuristic's
-    /// sake). Beside the lobe's visible normals and the cosine, which sample the map's
-    /// dim parts well, the map's samples go to what stands out of it; those strategies
-    /// cover the texels left at 0, so the estimate stays unbiased. The Monte Carlo
-    /// references keep [`LuminanceCdf::of`]'s (docs/design/environment.md, "The map's
-    /// samples where they count").
+    /// article 151: a tabulated density less a constant, derived for the balance
+    /// heuristic; the lobe mode now weighs its samples by the power heuristic, which
+    /// measured closer with these same tables). Beside the lobe's visible normals and the
+    /// cosine, which sample the map's dim parts well, the map's samples go to what stands
+    /// out of it; those strategies cover the texels left at 0, so the estimate stays
+    /// unbiased. The Monte Carlo references keep [`LuminanceCdf::of`]'s
+    /// (docs/design/environment.md, "The map's samples where they count", "Four
+    /// strategies, weighted by the power heuristic").
     pub(crate) fn compensated(env: &Environment) -> Option<Self> {
         let EnvSampler {
             width: w,
