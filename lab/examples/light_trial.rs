@@ -15,17 +15,16 @@
 //! reference is kept in `target/light_trial/` and read back by later runs: a trial that
 //! edits the shaders keeps the same reference, whose model it does not change.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use glam::DVec3;
 use shadeballs::environment::{Builtin, Environment};
 use shadeballs::stats::{median, MonteCarloImage};
-use shadeballs_lab::bench::device;
 use shadeballs_lab::bench::light::{
     ball_errors, frame_times, light_scene, method_image, reference, sun_environment, Family,
     LightMaterial, Method,
 };
+use shadeballs_lab::bench::{device, reference_cache};
 
 /// The light bench's error images and reference (`light::Settings`, the full run).
 const SIZE: (u32, u32) = (160, 90);
@@ -34,7 +33,7 @@ const SPP: u32 = 32768;
 const FRAME: (u32, u32) = (1280, 720);
 const ROUNDS: usize = 7;
 
-/// The reference's file: its means and standard errors, f64 little-endian.
+/// The reference's file in `target/light_trial/` ([`reference_cache`]).
 fn cache(map: &str, material: LightMaterial) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/light_trial");
     dir.join(format!(
@@ -43,35 +42,6 @@ fn cache(map: &str, material: LightMaterial) -> PathBuf {
         SIZE.0,
         SIZE.1
     ))
-}
-
-fn save(path: &Path, r: &MonteCarloImage) -> Result<()> {
-    let bytes: Vec<u8> = r
-        .mean
-        .iter()
-        .chain(&r.std_error)
-        .flat_map(|v| v.to_array())
-        .flat_map(f64::to_le_bytes)
-        .collect();
-    std::fs::create_dir_all(path.parent().context("a folder")?)?;
-    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))
-}
-
-/// `shape` (a reference of the same scene and size, its coverage and filter) with the
-/// means and standard errors read from `path`; `None` where there is no such file or it
-/// does not fit.
-fn load(path: &Path, mut shape: MonteCarloImage) -> Option<MonteCarloImage> {
-    let bytes = std::fs::read(path).ok()?;
-    let n = shape.mean.len();
-    if bytes.len() != 2 * n * 24 {
-        return None;
-    }
-    let value = |k: usize| f64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap());
-    let vec = |i: usize| DVec3::new(value(3 * i), value(3 * i + 1), value(3 * i + 2));
-    shape.mean = (0..n).map(vec).collect();
-    shape.std_error = (n..2 * n).map(vec).collect();
-    shape.spp = SPP;
-    Some(shape)
 }
 
 fn main() -> Result<()> {
@@ -102,12 +72,15 @@ fn main() -> Result<()> {
     let base = light_scene(environment, material);
     let path = cache(map, material);
     // Two estimates a pixel give the reference's shape (coverage, filter) in a moment.
-    let shape = reference(&mut renderer, &base, SIZE, 2)?;
-    let reference = match load(&path, shape) {
+    let shape = MonteCarloImage {
+        spp: SPP,
+        ..reference(&mut renderer, &base, SIZE, 2)?
+    };
+    let reference = match reference_cache::read(&path, shape) {
         Some(r) => r,
         None => {
             let r = reference(&mut renderer, &base, SIZE, SPP)?;
-            save(&path, &r)?;
+            reference_cache::write(&path, &r);
             r
         }
     };

@@ -32,6 +32,7 @@ use shadeballs::environment::{Builtin, Environment, IblMethod, IblTerm};
 use shadeballs::gpu::{Gpu, Renderer, Target};
 use shadeballs::lut::{self, BakeConfig, TableSet};
 use shadeballs::scene::{Material, Model, Scene};
+use shadeballs_lab::bench::reference_cache;
 
 /// Rec. 709 luminance.
 const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
@@ -177,26 +178,20 @@ fn reference(
     (w, h): (u32, u32),
     spp: u32,
 ) -> shadeballs::Result<MonteCarloImage> {
-    let dir = std::path::Path::new("target/lobe_sweep");
-    let path = dir.join(format!("mc-{name}-{w}x{h}-{spp}.bin"));
+    let path =
+        std::path::Path::new("target/lobe_sweep").join(format!("mc-{name}-{w}x{h}-{spp}.bin"));
     let pixels = (w * h) as usize;
-    if let Ok(bytes) = std::fs::read(&path) {
-        if bytes.len() == pixels * 48 {
-            let values: Vec<f64> = bytes
-                .chunks_exact(8)
-                .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-                .collect();
-            let vec = |k: usize| DVec3::new(values[k], values[k + 1], values[k + 2]);
-            return Ok(MonteCarloImage {
-                width: w,
-                height: h,
-                spp,
-                mean: (0..pixels).map(|i| vec(6 * i)).collect(),
-                std_error: (0..pixels).map(|i| vec(6 * i + 3)).collect(),
-                covered: vec![true; pixels],
-                antialias: scene.antialias,
-            });
-        }
+    let shape = MonteCarloImage {
+        width: w,
+        height: h,
+        spp,
+        mean: Vec::new(),
+        std_error: Vec::new(),
+        covered: vec![true; pixels],
+        antialias: scene.antialias,
+    };
+    if let Some(mc) = reference_cache::read(&path, shape) {
+        return Ok(mc);
     }
     let mc = cpu::render_montecarlo(
         scene,
@@ -206,17 +201,7 @@ fn reference(
         spp,
         7,
     )?;
-    let mut bytes = Vec::with_capacity(pixels * 48);
-    for (m, s) in mc.mean.iter().zip(&mc.std_error) {
-        for x in m.to_array().into_iter().chain(s.to_array()) {
-            bytes.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    // A cache: a failure to keep it costs the next run the render, nothing else.
-    let temporary = path.with_extension("part");
-    if std::fs::create_dir_all(dir).is_ok() && std::fs::write(&temporary, &bytes).is_ok() {
-        let _ = std::fs::rename(&temporary, &path);
-    }
+    reference_cache::write(&path, &mc);
     Ok(mc)
 }
 

@@ -19,6 +19,7 @@ pub mod light;
 pub mod lookup;
 mod plan;
 mod read;
+pub mod reference_cache;
 mod render;
 mod render_sweep;
 pub mod scale;
