@@ -40,7 +40,8 @@ var<private> env_layer_set: u32;
 // The map's luminance tables for the lobe mode's map samples (lighting.wgsl
 // luminance_sample; src/environment/sampler.rs LuminanceCdf::gpu_words): texels across and
 // down (0 and 0 where the map has none, or the scene does not use the lobe), then the
-// marginal (H values), each row's CDF (W H), each texel's probability (W H).
+// marginal (H values), each row's CDF (W H), each texel's probability (W H), the marginal's
+// guide (guide_buckets(H) + 1) and each row's (H (guide_buckets(W) + 1)).
 @group(1) @binding(6) var<storage, read> env_cdf: array<f32>;
 
 // The bound tables' read parameters, with the pipeline's MU_AXIS for the axis: a constant,

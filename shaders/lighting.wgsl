@@ -10,7 +10,7 @@
 #import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
-#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate, guide_buckets}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
@@ -328,10 +328,16 @@ fn luminance_size() -> vec2<u32> {
     return vec2<u32>(u32(env_cdf[0]), u32(env_cdf[1]));
 }
 
-// The first index in [first, first + count) of env_cdf whose value exceeds x (count if none).
-fn luminance_partition(first: u32, count: u32, x: f32) -> u32 {
-    var lo = 0u;
-    var hi = count;
+// The first index in [0, count) of the CDF at env_cdf[first] whose value exceeds x in
+// [0, 1) (count if none), found through its guide at env_cdf[guide_first] in a step or two
+// instead of log2(count) (the cutpoint method: LuminanceCdf's guide and luminance_partition
+// in src/environment/sampler.rs, which says why the search between entries k and k + 1 is
+// exact).
+fn luminance_partition(first: u32, guide_first: u32, count: u32, x: f32) -> u32 {
+    let m = guide_buckets(count);
+    let k = min(u32(x * f32(m)), m - 1u);
+    var lo = u32(env_cdf[guide_first + k]);
+    var hi = u32(env_cdf[guide_first + k + 1u]);
     while lo < hi {
         let mid = (lo + hi) / 2u;
         if env_cdf[first + mid] <= x {
@@ -345,14 +351,18 @@ fn luminance_partition(first: u32, count: u32, x: f32) -> u32 {
 
 // A map-frame direction drawn from the map's luminance tables of `size` with four uniform
 // numbers (LuminanceCdf::luminance_sample; the Monte Carlo's env_sample): a row by the
-// marginal, a texel by the row's CDF, a point uniformly in its (u, v) rectangle; w its
-// density there, the drawn texel's (not looked up again from the direction, whose rounding
-// may land in a neighbour), 0 where rounding lands on a texel of zero weight.
+// marginal, a texel by the row's CDF (each through its guide), a point uniformly in its
+// (u, v) rectangle; w its density there, the drawn texel's (not looked up again from the
+// direction, whose rounding may land in a neighbour), 0 where rounding lands on a texel of
+// zero weight.
 fn luminance_sample(u: vec4<f32>, size: vec2<u32>) -> vec4<f32> {
     let w = size.x;
     let h = size.y;
-    let j = min(luminance_partition(2u, h, u.x), h - 1u);
-    let i = min(luminance_partition(2u + h + j * w, w, u.y), w - 1u);
+    // The guides follow the tables: the marginal's, then one of guide_buckets(w) + 1 a row.
+    let guides = 2u + h + 2u * w * h;
+    let row_guides = guides + guide_buckets(h) + 1u;
+    let j = min(luminance_partition(2u, guides, h, u.x), h - 1u);
+    let i = min(luminance_partition(2u + h + j * w, row_guides + j * (guide_buckets(w) + 1u), w, u.y), w - 1u);
     let p_texel = env_cdf[2u + h + w * h + j * w + i];
     if p_texel <= 0.0 {
         return vec4<f32>(0.0);

@@ -17,7 +17,7 @@
 #import shadeballs::constants::{PI, DIV_EPSILON}
 #import shadeballs::brdf::alpha_from_roughness
 #import shadeballs::environment::{direction_to_uv, uv_to_direction, env_to_map}
-#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density}
+#import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, arriving, equirect_density, guide_buckets}
 #import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_CLEARCOAT}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, PART_WHOLE}
 #import shadeballs::coating::has_clearcoat
@@ -58,7 +58,8 @@ const STRATEGY_MAP: u32 = 4u;
 
 // Group 2 (src/gpu/montecarlo.rs layout): the previous pass's means (rgb; a: estimates so
 // far) and sums of squared deviations (rgb), the parameters, and the luminance tables:
-// the marginal (H values), then each row's CDF (W H), then each texel's probability (W H).
+// the marginal (H values), then each row's CDF (W H), each texel's probability (W H), the
+// marginal's guide (guide_buckets(H) + 1) and each row's (H (guide_buckets(W) + 1)).
 @group(2) @binding(0) var mc_mean: texture_2d<f32>;
 @group(2) @binding(1) var mc_m2: texture_2d<f32>;
 @group(2) @binding(2) var<uniform> mc: McParams;
@@ -92,11 +93,14 @@ fn incident(w: vec3<f32>) -> vec3<f32> {
     return arriving(w, HAS_ENVIRONMENT == 1u, globals.environment.xyz, IBL != 0u, env_radiance, env_sampler, env.rotation, env.intensity);
 }
 
-// The first index in [first, first + count) whose value exceeds x (count if none): the
-// CPU's partition_point(|c| c <= x).
-fn partition_point(first: u32, count: u32, x: f32) -> u32 {
-    var lo = 0u;
-    var hi = count;
+// The first index in [0, count) of the CDF at mc_cdf[first] whose value exceeds x in
+// [0, 1) (count if none), the CPU's partition_point(|c| c <= x), found through the CDF's
+// guide at mc_cdf[guide_first] as lighting.wgsl's luminance_partition finds it.
+fn partition_point(first: u32, guide_first: u32, count: u32, x: f32) -> u32 {
+    let m = guide_buckets(count);
+    let k = min(u32(x * f32(m)), m - 1u);
+    var lo = u32(mc_cdf[guide_first + k]);
+    var hi = u32(mc_cdf[guide_first + k + 1u]);
     while lo < hi {
         let mid = (lo + hi) / 2u;
         if mc_cdf[first + mid] <= x {
@@ -113,8 +117,11 @@ fn partition_point(first: u32, count: u32, x: f32) -> u32 {
 fn env_sample(u: vec4<f32>) -> vec4<f32> {
     let w = mc.map_size.x;
     let h = mc.map_size.y;
-    let j = min(partition_point(0u, h, u.x), h - 1u);
-    let i = min(partition_point(h + j * w, w, u.y), w - 1u);
+    // The guides follow the tables: the marginal's, then one of guide_buckets(w) + 1 a row.
+    let guides = h + 2u * w * h;
+    let row_guides = guides + guide_buckets(h) + 1u;
+    let j = min(partition_point(0u, guides, h, u.x), h - 1u);
+    let i = min(partition_point(h + j * w, row_guides + j * (guide_buckets(w) + 1u), w, u.y), w - 1u);
     if mc_cdf[h + w * h + j * w + i] <= 0.0 {
         return vec4<f32>(0.0);
     }

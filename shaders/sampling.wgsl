@@ -87,6 +87,13 @@ fn equirect_density(p_texel: f32, d: vec3<f32>, size: vec2<f32>) -> f32 {
     return p_texel * size.x * size.y / (2.0 * PI * PI * max(sin_theta, DIV_EPSILON));
 }
 
+// The buckets of the guide of a CDF of n >= 1 values (the cutpoint method; LuminanceCdf's
+// guide in src/environment/sampler.rs): n rounded up to a power of two, so that a uniform
+// number's bucket, floor(x buckets), is exact in f32.
+fn guide_buckets(n: u32) -> u32 {
+    return 1u << (32u - countLeadingZeros(n - 1u));
+}
+
 // The power heuristic's estimate, exponent 2, of one sample of one of several strategies
 // drawn equally often (Veach 1997, "Robust Monte Carlo Methods for Light Transport
 // Simulation", PhD thesis, Stanford, section 9.2.4): the integrand f L mu_i over the drawing

@@ -137,6 +137,13 @@ pub(crate) fn equirect_density(p_texel: f64, d: DVec3, (w, h): (f64, f64)) -> f6
     p_texel * w * h / (2.0 * PI * PI * sin_theta.max(DIV_EPSILON))
 }
 
+/// The buckets of the guide of a CDF of `n >= 1` values (the cutpoint method;
+/// `crate::environment::sampler::luminance_partition`): `n` rounded up to a power of two,
+/// so that a uniform number's bucket, `floor(x buckets)`, is exact in f32.
+pub(crate) fn guide_buckets(n: usize) -> usize {
+    n.next_power_of_two()
+}
+
 /// The power heuristic's estimate, exponent 2, of one sample of one of several strategies
 /// drawn equally often (Veach 1997, *Robust Monte Carlo Methods for Light Transport
 /// Simulation*, PhD thesis, Stanford, section 9.2.4): the integrand `f L mu_i` over the

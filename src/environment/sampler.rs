@@ -6,6 +6,7 @@ use glam::{DVec2, DVec3};
 
 use super::{direction_to_uv, uv_to_direction, Environment};
 use crate::brdf::DIV_EPSILON;
+use crate::sampling::guide_buckets;
 
 /// Rec. 709 luminance weights: what the environment strategy samples in proportion to, and
 /// how `MonteCarloImage::mean_relative_std_error` reduces a colour to one number.
@@ -141,6 +142,48 @@ pub(crate) struct LuminanceCdf {
     pub row_cdf: Vec<f32>,
     /// Per texel, the probability of drawing it, its weight over the total.
     pub texel: Vec<f32>,
+    /// The marginal's guide ([`guide`]).
+    pub marginal_guide: Vec<f32>,
+    /// Each row's guide, one after another ([`guide`] of each row of `row_cdf`).
+    pub row_guide: Vec<f32>,
+}
+
+/// The guide of a CDF `cdf` of `n` values, for [`luminance_partition`] (the cutpoint
+/// method: Chen and Asau 1974, "On generating random variates from an empirical
+/// distribution", AIIE Transactions 6(2)): with `m` buckets ([`guide_buckets`]: `n`
+/// rounded up to a power of two), entry `k < m` is the first index whose value exceeds `k
+/// / m` and entry `m` is `n`; `m + 1` values, indices as f32 (exact: `n` is at most a map's
+/// width).
+fn guide(cdf: &[f32]) -> Vec<f32> {
+    let m = guide_buckets(cdf.len());
+    (0..m)
+        .map(|k| cdf.partition_point(|&c| c <= k as f32 / m as f32))
+        .chain([cdf.len()])
+        .map(|i| i as f32)
+        .collect()
+}
+
+/// `luminance_partition` of `lighting.wgsl` (and `partition_point` of `montecarlo.wgsl`):
+/// the first index of `cdf` whose value exceeds `x` in `[0, 1)` (`cdf.len()` if none), what
+/// `partition_point(|c| c <= x)` gives, found from the guide of `cdf` ([`guide`]) in a step
+/// or two instead of `log2 n`. With `m` a power of two, `k = floor(x m)` is exact; every
+/// value before guide entry `k` is at most `k / m <= x`, so the index is at least entry
+/// `k`; the value at entry `k + 1` exceeds `(k + 1) / m > x`, so the index is at most entry
+/// `k + 1`: the search runs between the two.
+pub(crate) fn luminance_partition(cdf: &[f32], guide: &[f32], x: f32) -> usize {
+    let m = guide.len() - 1;
+    let k = ((x * m as f32) as usize).min(m - 1);
+    let mut lo = guide[k] as usize;
+    let mut hi = guide[k + 1] as usize;
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if cdf[mid] <= x {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
 }
 
 impl LuminanceCdf {
@@ -206,11 +249,13 @@ impl LuminanceCdf {
         if total <= DIV_EPSILON {
             return None;
         }
-        let marginal = marginal64.iter().map(|&c| (c / total) as f32).collect();
+        let marginal: Vec<f32> = marginal64.iter().map(|&c| (c / total) as f32).collect();
         let texel = weight.iter().map(|&x| (x / total) as f32).collect();
         Some(LuminanceCdf {
             width: w as u32,
             height: h as u32,
+            marginal_guide: guide(&marginal),
+            row_guide: row_cdf.chunks(w).flat_map(guide).collect(),
             marginal,
             row_cdf,
             texel,
@@ -220,15 +265,33 @@ impl LuminanceCdf {
 
 impl LuminanceCdf {
     /// The tables as group 1's `env_cdf` holds them (`bindings.wgsl`): the width and the
-    /// height, then the marginal, the rows' CDFs and the texels' probabilities.
+    /// height, then the marginal, the rows' CDFs, the texels' probabilities, the
+    /// marginal's guide and the rows' guides.
     pub(crate) fn gpu_words(&self) -> Vec<f32> {
-        let mut words = Vec::with_capacity(2 + self.marginal.len() + 2 * self.texel.len());
+        let parts = [
+            &self.marginal[..],
+            &self.row_cdf,
+            &self.texel,
+            &self.marginal_guide,
+            &self.row_guide,
+        ];
+        let mut words = Vec::with_capacity(2 + parts.iter().map(|p| p.len()).sum::<usize>());
         words.push(self.width as f32);
         words.push(self.height as f32);
-        words.extend_from_slice(&self.marginal);
-        words.extend_from_slice(&self.row_cdf);
-        words.extend_from_slice(&self.texel);
+        for part in parts {
+            words.extend_from_slice(part);
+        }
         words
+    }
+
+    /// Row `j`'s CDF and its guide.
+    pub(crate) fn row(&self, j: usize) -> (&[f32], &[f32]) {
+        let w = self.width as usize;
+        let g = guide_buckets(w) + 1;
+        (
+            &self.row_cdf[j * w..(j + 1) * w],
+            &self.row_guide[j * g..(j + 1) * g],
+        )
     }
 
     /// `luminance_sample` of `lighting.wgsl`, in the same f32 arithmetic: a map-frame
@@ -238,12 +301,9 @@ impl LuminanceCdf {
     /// the direction); `None` where rounding lands on a texel of zero weight.
     pub(crate) fn luminance_sample(&self, u: [f64; 4]) -> Option<(DVec3, f64)> {
         let (w, h) = (self.width as usize, self.height as usize);
-        let j = self
-            .marginal
-            .partition_point(|&c| c <= u[0] as f32)
-            .min(h - 1);
-        let row = &self.row_cdf[j * w..(j + 1) * w];
-        let i = row.partition_point(|&c| c <= u[1] as f32).min(w - 1);
+        let j = luminance_partition(&self.marginal, &self.marginal_guide, u[0] as f32).min(h - 1);
+        let (row, row_guide) = self.row(j);
+        let i = luminance_partition(row, row_guide, u[1] as f32).min(w - 1);
         let p_texel = self.texel[j * w + i];
         if p_texel <= 0.0 {
             return None;

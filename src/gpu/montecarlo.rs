@@ -217,7 +217,14 @@ fn inputs(
         padding: 0,
     };
     let tables: Vec<f32> = match &cdf {
-        Some(c) => [&c.marginal[..], &c.row_cdf, &c.texel].concat(),
+        Some(c) => [
+            &c.marginal[..],
+            &c.row_cdf,
+            &c.texel,
+            &c.marginal_guide,
+            &c.row_guide,
+        ]
+        .concat(),
         None => vec![0.0],
     };
     let bytes = std::mem::size_of_val(tables.as_slice()) as u64;

@@ -378,6 +378,76 @@ fn the_skys_brightest_texel_is_its_sun() {
     );
 }
 
+/// The guided search both shaders run (`luminance_partition`: a CDF's guide, then a search
+/// between two of its entries) finds the index a binary search over the whole CDF finds,
+/// for uniform numbers on a grid finer than any bucket and at and beside every value of the
+/// tables: the Monte Carlo's and the lobe mode's tables of the studio and the sky (long runs
+/// of zero-weight texels in the latter) and of a small map whose sides are not powers of
+/// two, with black rows.
+#[test]
+fn the_guided_search_finds_what_a_binary_search_finds() {
+    use crate::environment::sampler::{luminance_partition, LuminanceCdf};
+    // 12 x 6: rows 2 and 3 black (the sampler's weights take each texel's neighbours).
+    let mut texels = vec![[0.0; 3]; 72];
+    texels[1] = [2.0; 3];
+    texels[4] = [5.0; 3];
+    texels[5] = [0.1; 3];
+    texels[5 * 12 + 7] = [1.0; 3];
+    let small = Environment {
+        map: Arc::new(EnvMap::new(12, 6, texels).unwrap()),
+        ..Environment::builtin(Builtin::White)
+    };
+    let check = |what: &str, cdf: &[f32], guide: &[f32]| -> usize {
+        let mut xs: Vec<f32> = (0..1 << 14).map(|i| i as f32 / (1 << 14) as f32).collect();
+        for &c in cdf {
+            xs.extend([c.next_down(), c, c.next_up()]);
+        }
+        let mut checked = 0;
+        for x in xs.into_iter().filter(|x| (0.0..1.0).contains(x)) {
+            let expected = cdf.partition_point(|&c| c <= x);
+            assert_eq!(
+                luminance_partition(cdf, guide, x),
+                expected,
+                "{what}: x = {x:e}"
+            );
+            checked += 1;
+        }
+        checked
+    };
+    let mut tables = 0;
+    for env in [
+        Environment::builtin(Builtin::Studio),
+        Environment::builtin(Builtin::Sky),
+        small,
+    ] {
+        let (w, h) = (env.map.width(), env.map.height());
+        for (kind, cdf) in [
+            ("plain", LuminanceCdf::of(&env)),
+            ("compensated", LuminanceCdf::compensated(&env)),
+        ] {
+            let cdf = cdf.unwrap();
+            let what = format!("{w}x{h} {kind}");
+            if w == 12 {
+                for j in [2, 3] {
+                    assert!(cdf.row(j).0.iter().all(|&c| c == 0.0), "{what}: row {j}");
+                }
+            }
+            let mut checked = check(
+                &format!("{what}, marginal"),
+                &cdf.marginal,
+                &cdf.marginal_guide,
+            );
+            for j in 0..h as usize {
+                let (row, guide) = cdf.row(j);
+                checked += check(&format!("{what}, row {j}"), row, guide);
+            }
+            println!("{what}: {checked} searches agree");
+            tables += 1;
+        }
+    }
+    assert_eq!(tables, 6);
+}
+
 /// The lobe mode's tables (`LuminanceCdf::compensated`) are the Monte Carlo's less their
 /// mean: a texel's probability is `max(p - m, 0)` renormalised, `p` its probability in
 /// `LuminanceCdf::of`'s tables and `m` the mean's share of it (its solid angle over the
