@@ -156,11 +156,18 @@ pub(crate) struct LuminanceCdf {
 /// width).
 fn guide(cdf: &[f32]) -> Vec<f32> {
     let m = guide_buckets(cdf.len());
-    (0..m)
-        .map(|k| cdf.partition_point(|&c| c <= k as f32 / m as f32))
-        .chain([cdf.len()])
-        .map(|i| i as f32)
-        .collect()
+    let mut guide = Vec::with_capacity(m + 1);
+    // One sweep: the bounds k / m rise with k, and so does the first index past each.
+    let mut i = 0;
+    for k in 0..m {
+        let bound = k as f32 / m as f32;
+        while i < cdf.len() && cdf[i] <= bound {
+            i += 1;
+        }
+        guide.push(i as f32);
+    }
+    guide.push(cdf.len() as f32);
+    guide
 }
 
 /// `luminance_partition` of `lighting.wgsl` (and `partition_point` of `montecarlo.wgsl`):
