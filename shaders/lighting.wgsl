@@ -13,6 +13,7 @@
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate, guide_buckets}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
 #import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
+#import shadeballs::types::{HAS_METAL, HAS_DIELECTRIC}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
 #import shadeballs::coating::{clearcoat_base_lobe, clearcoat_base_fresnel_cosine, clearcoat_base_f_avg}
@@ -48,11 +49,11 @@ fn shade_base(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, pixel: vec2<u3
         map_part = shade_environment_mis(b, n, v, pixel);
     }
     let metallic = b.metallic;
-    if metallic >= 1.0 {
+    if HAS_DIELECTRIC == 0u || metallic >= 1.0 {
         return shade_metal(b, n, v, n_lights) + map_part;
     }
     let coating = shade_coating(b, n, v, n_lights, term_weight(b));
-    if metallic <= 0.0 {
+    if HAS_METAL == 0u || metallic <= 0.0 {
         return coating + map_part;
     }
     return metallic * shade_metal(b, n, v, n_lights) + (1.0 - metallic) * coating + map_part;

@@ -10,7 +10,7 @@
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{split_sum_bias, split_sum_scale}
 #import shadeballs::sampling::{sample_vndf, sample_vndf_aniso, vndf_density, vndf_density_aniso}
-#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, by_term, by_term_f32}
+#import shadeballs::types::{Ball, GEOMETRY, IBL, TERM_FDEZ_AGUERA, HAS_ANISOTROPY, HAS_CLEARCOAT, HAS_METAL, HAS_DIELECTRIC, by_term, by_term_f32}
 #import shadeballs::coating::{coating_albedo, coating_spec_albedo, coating_base, two_sided}
 #import shadeballs::coating::{clearcoat_in, clearcoat_through, clearcoat_through_lobe, clearcoat_base_lobe, clearcoat_base_fresnel_cosine}
 #import shadeballs::clearcoat::clearcoat_brdf
@@ -75,7 +75,7 @@ fn shading_point(b: Ball, n: vec3<f32>, v: vec3<f32>) -> ShadingPoint {
     if IBL != 0u {
         p.fss_ess = split_sum_scale(p.f0, e_o, split_sum_bias(env_split_sum, p.mu_o, p.roughness));
     }
-    if b.metallic < 1.0 {
+    if HAS_DIELECTRIC == 1u && b.metallic < 1.0 {
         let f0 = f0_from_ior(b.eta);
         let loss = p.loss_o * p.ms;
         // Under a clear coat the coating's Fresnel is read inside the coat (a refracted
@@ -134,10 +134,10 @@ fn model_brdf(b: Ball, p: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
     }
     let metallic = b.metallic;
     var f = vec3<f32>(0.0);
-    if metallic > 0.0 {
+    if HAS_METAL == 1u && metallic > 0.0 {
         f = metallic * through_lobe * metal_brdf(b, p, l, mu_i, h, loss_i);
     }
-    if metallic < 1.0 {
+    if HAS_DIELECTRIC == 1u && metallic < 1.0 {
         f += (1.0 - metallic) * coating_brdf(b, p, l, mu_i, h, loss_i, through_lobe, through_base);
     }
     return f + vec3<f32>(coat);

@@ -93,6 +93,13 @@ override BALL_TERM: u32 = 0u;
 // or not a ball takes it.
 override HAS_CLEARCOAT: u32 = 1u;
 override HAS_ANISOTROPY: u32 = 1u;
+// 1 (default): a metal base's code (lighting.wgsl shade_metal, model.wgsl metal_brdf) and a
+// dielectric one's (coating.wgsl), each under a branch on the ball's metallic; 0: compiled
+// out, as no ball the pipeline draws has metallic above 0 (HAS_METAL) or below 1
+// (HAS_DIELECTRIC) (src/gpu/plan.rs Variant::metal, Variant::dielectric). An all-metal
+// chart's pixels ran the dielectric's code under a mask on lavapipe.
+override HAS_METAL: u32 = 1u;
+override HAS_DIELECTRIC: u32 = 1u;
 
 // Which of a value's three shares the ball's term (TERM_*; src/gpu/uniforms.rs term_code)
 // takes: 1 Turquin's, 2 Fdez-Aguera's, 0 Kulla-Conty's. The one choice among the terms:

@@ -113,6 +113,12 @@ pub struct Variant {
     /// The anisotropic lobe's code compiled in (`HAS_ANISOTROPY`): some ball the pipeline
     /// draws is anisotropic.
     pub anisotropy: bool,
+    /// A metal base's code compiled in (`HAS_METAL`): some ball the pipeline draws has
+    /// metallic above 0.
+    pub metal: bool,
+    /// A dielectric base's code compiled in (`HAS_DIELECTRIC`): some ball the pipeline
+    /// draws has metallic below 1.
+    pub dielectric: bool,
     /// The display transform of a display target (`TONE_MAP`, `TRANSFER`;
     /// [`Scene::display`]).
     pub display: DisplayTransform,
@@ -212,6 +218,8 @@ impl Plan {
             ball_term: 0,
             clearcoat: false,
             anisotropy: false,
+            metal: true,
+            dielectric: true,
             display,
         };
         let truth: Vec<usize> = (0..balls.len()).filter(|&k| is_truth(&balls[k])).collect();
@@ -254,6 +262,8 @@ impl Plan {
                 let variant = Variant {
                     clearcoat: any(|b| b.material.clearcoat.is_on()),
                     anisotropy: any(|b| b.material.anisotropy > 0.0),
+                    metal: any(|b| b.material.metallic > 0.0),
+                    dielectric: any(|b| b.material.metallic < 1.0),
                     ..v
                 };
                 (variant, drawn)
@@ -280,6 +290,8 @@ impl Plan {
                 ball_term: 0,
                 clearcoat: balls.iter().any(|b| b.material.clearcoat.is_on()),
                 anisotropy: balls.iter().any(|b| b.material.anisotropy > 0.0),
+                metal: balls.iter().any(|b| b.material.metallic > 0.0),
+                dielectric: balls.iter().any(|b| b.material.metallic < 1.0),
                 display,
             },
         }
@@ -330,6 +342,11 @@ impl fmt::Display for Variant {
         }
         if self.anisotropy {
             write!(f, ", anisotropy")?;
+        }
+        match (self.metal, self.dielectric) {
+            (true, false) => write!(f, ", metals only")?,
+            (false, true) => write!(f, ", dielectrics only")?,
+            _ => {}
         }
         Ok(())
     }

@@ -192,7 +192,8 @@ pub fn overrides(geometry: Geometry, linear: bool, mu_axis: MuAxis) -> [(&'stati
 
 /// [`overrides`] plus the scene's shader variant (`types.wgsl`): `MS_TERM`
 /// ([`crate::gpu::TermMode`]), `HAS_ENVIRONMENT`, `HAS_LIGHTS`, `SUN_LIGHT`, `IBL`, `IBL_SAMPLES`, `AA`,
-/// `DOMINANT_DIRECTION`, `BALL_TERM`, `HAS_CLEARCOAT`, `HAS_ANISOTROPY`, the display
+/// `DOMINANT_DIRECTION`, `BALL_TERM`, `HAS_CLEARCOAT`, `HAS_ANISOTROPY`, `HAS_METAL`,
+/// `HAS_DIELECTRIC`, the display
 /// transform (`TONE_MAP`, `TRANSFER`), and `SRGB_TARGET` for a target whose format is sRGB
 /// (`srgb`: the hardware encodes, so the shader writes linear).
 pub(crate) fn overrides_for(
@@ -201,7 +202,7 @@ pub(crate) fn overrides_for(
     mu_axis: MuAxis,
     variant: Variant,
     srgb: bool,
-) -> [(&'static str, f64); 17] {
+) -> [(&'static str, f64); 19] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -219,6 +220,8 @@ pub(crate) fn overrides_for(
         ("BALL_TERM", f64::from(variant.ball_term)),
         ("HAS_CLEARCOAT", flag(variant.clearcoat)),
         ("HAS_ANISOTROPY", flag(variant.anisotropy)),
+        ("HAS_METAL", flag(variant.metal)),
+        ("HAS_DIELECTRIC", flag(variant.dielectric)),
         ("TONE_MAP", variant.display.tone_map.code() as f64),
         ("TRANSFER", variant.display.transfer.code() as f64),
         ("SRGB_TARGET", flag(srgb)),

@@ -49,6 +49,9 @@ fn variant(term: TermMode) -> Variant {
         ball_term: if term == TermMode::In { 1 } else { 0 },
         clearcoat: false,
         anisotropy: false,
+        // The reference scene's balls are metals.
+        metal: true,
+        dielectric: false,
         // The reference scene's display (the homework's).
         display: DisplayTransform::HOMEWORK,
     }
@@ -92,6 +95,53 @@ fn layers_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
     assert!(p.truth_variant.clearcoat && p.truth_variant.anisotropy);
 }
 
+/// Each pipeline compiles in a metal base's code and a dielectric one's only where a ball
+/// it draws has metallic above 0 or below 1 (`HAS_METAL`, `HAS_DIELECTRIC`: an all-metal
+/// chart ran the dielectric's code under a mask on lavapipe); the truth's variant (and the
+/// Monte Carlo's) has what any ball has.
+#[test]
+fn bases_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
+    use crate::scene::Material;
+    let mut s = Scene::reference();
+    let p = plan(&s);
+    assert!(p.variants().iter().all(|v| v.metal && !v.dielectric), "{p}");
+    assert!(p.to_string().contains("metals only"), "{p}");
+    // The bottom row (without the term) dielectrics, then one of them half metal.
+    for b in &mut s.balls[5..] {
+        b.material = Material::dielectric(DVec3::splat(0.5), 1.5);
+    }
+    let p = plan(&s);
+    let bases: Vec<(bool, bool)> = p
+        .variants()
+        .iter()
+        .map(|v| (v.metal, v.dielectric))
+        .collect();
+    assert_eq!(bases, vec![(true, false), (false, true)], "{p}");
+    assert!(p.to_string().contains("dielectrics only"), "{p}");
+    assert!(p.truth_variant.metal && p.truth_variant.dielectric);
+    s.balls[7].material = Material::metallic_roughness(DVec3::splat(0.5), 0.5, 1.5);
+    let p = plan(&s);
+    let bases: Vec<(bool, bool)> = p
+        .variants()
+        .iter()
+        .map(|v| (v.metal, v.dielectric))
+        .collect();
+    assert_eq!(bases, vec![(true, false), (true, true)], "{p}");
+    // Every ball metallic 1, but one at 1 - 1e-12 (1 in the GPU's f32): both compiled in,
+    // the side that cannot miss a ball.
+    let mut s = Scene::reference();
+    s.balls[9].material.metallic = 1.0 - 1e-12;
+    let p = plan(&s);
+    assert_eq!(
+        p.variants()
+            .iter()
+            .map(|v| v.dielectric)
+            .collect::<Vec<_>>(),
+        vec![false, true],
+        "{p}"
+    );
+}
+
 #[test]
 fn default_scene_bakes_one_row_per_roughness_and_two_pipelines() {
     let p = plan(&Scene::reference());
@@ -109,7 +159,8 @@ fn default_scene_bakes_one_row_per_roughness_and_two_pipelines() {
     let text = p.to_string();
     println!("{text}");
     assert!(
-        text.contains("5 exact rows") && text.contains("term in, lights, no environment: 5 balls")
+        text.contains("5 exact rows")
+            && text.contains("term in, lights, no environment, metals only: 5 balls")
     );
 }
 
@@ -150,6 +201,8 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             ball_term: 0,
             clearcoat: false,
             anisotropy: false,
+            metal: true,
+            dielectric: false,
             display: DisplayTransform::HOMEWORK,
         }]
     );
