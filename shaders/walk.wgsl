@@ -28,7 +28,7 @@
 #import shadeballs::brdf::{alpha_from_roughness, d_ggx, lambda_smith, f_schlick, fresnel_dielectric}
 #import shadeballs::brdf::{f_micro, f_micro_aniso, d_ggx_aniso, lambda_smith_aniso, ball_tangent_frame}
 #import shadeballs::sampling::{duff_frame, arriving}
-#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_ANISOTROPY, HAS_CLEARCOAT}
+#import shadeballs::types::{Ball, BallOut, ball_of, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, HAS_ANISOTROPY, HAS_CLEARCOAT, HAS_METAL, HAS_DIELECTRIC}
 #import shadeballs::bindings::{globals, lights, env, env_radiance, env_sampler}
 #import shadeballs::screen::{VsOut, primary_ray, intersect_sphere}
 #import shadeballs::screen::{surface_normal, output_value, Colour, DEPTH_SCALE}
@@ -546,18 +546,17 @@ fn shade_truth(b: Ball, n: vec3<f32>, v: vec3<f32>, n_lights: u32, rng: ptr<func
     if walk_has_clearcoat(b) {
         return clearcoat_walk(b, frame, wi, s, rng);
     }
+    // A part no ball of the pipeline has is compiled out (HAS_METAL, HAS_DIELECTRIC); a
+    // partial metal walks its coating first, then its metal.
     let metallic = b.metallic;
-    var coated = vec3<f32>(0.0);
-    if metallic < 1.0 {
-        coated = coating_walk(frame, wi, b.diffuse, alpha, b.eta, n_lights, rng);
-        if metallic <= 0.0 {
-            return coated;
-        }
+    if HAS_METAL == 0u || metallic <= 0.0 {
+        return coating_walk(frame, wi, b.diffuse, alpha, b.eta, n_lights, rng);
     }
+    if HAS_DIELECTRIC == 0u || metallic >= 1.0 {
+        return shade_truth_metal(b, n, v, frame, s, n_lights, rng);
+    }
+    let coated = coating_walk(frame, wi, b.diffuse, alpha, b.eta, n_lights, rng);
     let metal = shade_truth_metal(b, n, v, frame, s, n_lights, rng);
-    if metallic >= 1.0 {
-        return metal;
-    }
     return metallic * metal + (1.0 - metallic) * coated;
 }
 
