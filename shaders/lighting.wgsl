@@ -330,10 +330,10 @@ fn luminance_size() -> vec2<u32> {
 }
 
 // The first index in [0, count) of the CDF at env_cdf[first] whose value exceeds x in
-// [0, 1) (count if none), found through its guide at env_cdf[guide_first] in a step or two
-// instead of log2(count) (the cutpoint method: LuminanceCdf's guide and luminance_partition
-// in src/environment/sampler.rs, which says why the search between entries k and k + 1 is
-// exact).
+// [0, 1) (count if none), found through its guide at env_cdf[guide_first]: a search of the
+// entries between two of the guide's, not of all count (the cutpoint method: LuminanceCdf's
+// guide and luminance_partition in src/environment/sampler.rs, which says why the search
+// between entries k and k + 1 is exact).
 fn luminance_partition(first: u32, guide_first: u32, count: u32, x: f32) -> u32 {
     let m = guide_buckets(count);
     let k = min(u32(x * f32(m)), m - 1u);

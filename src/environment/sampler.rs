@@ -172,11 +172,11 @@ fn guide(cdf: &[f32]) -> Vec<f32> {
 
 /// `luminance_partition` of `lighting.wgsl` (and `partition_point` of `montecarlo.wgsl`):
 /// the first index of `cdf` whose value exceeds `x` in `[0, 1)` (`cdf.len()` if none), what
-/// `partition_point(|c| c <= x)` gives, found from the guide of `cdf` ([`guide`]) in a step
-/// or two instead of `log2 n`. With `m` a power of two, `k = floor(x m)` is exact; every
-/// value before guide entry `k` is at most `k / m <= x`, so the index is at least entry
-/// `k`; the value at entry `k + 1` exceeds `(k + 1) / m > x`, so the index is at most entry
-/// `k + 1`: the search runs between the two.
+/// `partition_point(|c| c <= x)` gives, found from the guide of `cdf` ([`guide`]): a search
+/// of the entries between two of the guide's, not of all `n`. With `m` a power of two,
+/// `k = floor(x m)` is exact; every value before guide entry `k` is at most `k / m <= x`,
+/// so the index is at least entry `k`; the value at entry `k + 1` exceeds `(k + 1) / m >
+/// x`, so the index is at most entry `k + 1`: the search runs between the two.
 pub(crate) fn luminance_partition(cdf: &[f32], guide: &[f32], x: f32) -> usize {
     let m = guide.len() - 1;
     let k = ((x * m as f32) as usize).min(m - 1);
