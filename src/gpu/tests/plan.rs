@@ -102,6 +102,13 @@ fn layers_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
 #[test]
 fn bases_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
     use crate::scene::Material;
+    // Each pipeline's (metal, dielectric).
+    let bases = |p: &Plan| -> Vec<(bool, bool)> {
+        p.variants()
+            .iter()
+            .map(|v| (v.metal, v.dielectric))
+            .collect()
+    };
     let mut s = Scene::reference();
     let p = plan(&s);
     assert!(p.variants().iter().all(|v| v.metal && !v.dielectric), "{p}");
@@ -111,35 +118,18 @@ fn bases_are_compiled_in_only_for_the_pipelines_whose_balls_have_them() {
         b.material = Material::dielectric(DVec3::splat(0.5), 1.5);
     }
     let p = plan(&s);
-    let bases: Vec<(bool, bool)> = p
-        .variants()
-        .iter()
-        .map(|v| (v.metal, v.dielectric))
-        .collect();
-    assert_eq!(bases, vec![(true, false), (false, true)], "{p}");
+    assert_eq!(bases(&p), vec![(true, false), (false, true)], "{p}");
     assert!(p.to_string().contains("dielectrics only"), "{p}");
     assert!(p.truth_variant.metal && p.truth_variant.dielectric);
     s.balls[7].material = Material::metallic_roughness(DVec3::splat(0.5), 0.5, 1.5);
     let p = plan(&s);
-    let bases: Vec<(bool, bool)> = p
-        .variants()
-        .iter()
-        .map(|v| (v.metal, v.dielectric))
-        .collect();
-    assert_eq!(bases, vec![(true, false), (true, true)], "{p}");
+    assert_eq!(bases(&p), vec![(true, false), (true, true)], "{p}");
     // Every ball metallic 1, but one at 1 - 1e-12 (1 in the GPU's f32): both compiled in,
     // the side that cannot miss a ball.
     let mut s = Scene::reference();
     s.balls[9].material.metallic = 1.0 - 1e-12;
     let p = plan(&s);
-    assert_eq!(
-        p.variants()
-            .iter()
-            .map(|v| v.dielectric)
-            .collect::<Vec<_>>(),
-        vec![false, true],
-        "{p}"
-    );
+    assert_eq!(bases(&p), vec![(true, false), (true, true)], "{p}");
 }
 
 #[test]
