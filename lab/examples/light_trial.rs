@@ -22,25 +22,22 @@ use shadeballs::environment::{Builtin, Environment};
 use shadeballs::stats::{median, MonteCarloImage};
 use shadeballs_lab::bench::light::{
     ball_errors, frame_times, light_scene, method_image, reference, sun_environment, Family,
-    LightMaterial, Method,
+    LightMaterial, Method, Settings,
 };
 use shadeballs_lab::bench::{device, reference_cache};
 
-/// The light bench's error images and reference (`light::Settings`, the full run).
-const SIZE: (u32, u32) = (160, 90);
-const SPP: u32 = 32768;
-/// The timed frames' size and rounds.
-const FRAME: (u32, u32) = (1280, 720);
+/// Rounds of timed frames (the bench's full run takes more).
 const ROUNDS: usize = 7;
 
-/// The reference's file in `target/light_trial/` ([`reference_cache`]).
-fn cache(map: &str, material: LightMaterial) -> PathBuf {
+/// The reference's file in `target/light_trial/` ([`reference_cache`]) for the full run's
+/// `settings`.
+fn cache(map: &str, material: LightMaterial, settings: &Settings) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/light_trial");
+    let (w, h) = settings.size;
     dir.join(format!(
-        "{map}-{}-{}x{}-{SPP}.bin",
+        "{map}-{}-{w}x{h}-{}.bin",
         material.name(),
-        SIZE.0,
-        SIZE.1
+        settings.spp
     ))
 }
 
@@ -67,19 +64,22 @@ fn main() -> Result<()> {
                 .with_context(|| format!("FRAMES: {f} is not a count"))
         })
         .collect::<Result<_>>()?;
+    // The bench's full run: its error images, reference and timed frames.
+    let settings = Settings::new(false);
+    let (size, spp) = (settings.size, settings.spp);
     let mut renderer = shadeballs::gpu::Renderer::new(device::open()?);
     renderer.set_multiple_scattering_term(true);
     let base = light_scene(environment, material);
-    let path = cache(map, material);
+    let path = cache(map, material, &settings);
     // Two estimates a pixel give the reference's shape (coverage, filter) in a moment.
     let shape = MonteCarloImage {
-        spp: SPP,
-        ..reference(&mut renderer, &base, SIZE, 2)?
+        spp,
+        ..reference(&mut renderer, &base, size, 2)?
     };
     let reference = match reference_cache::read(&path, shape) {
         Some(r) => r,
         None => {
-            let r = reference(&mut renderer, &base, SIZE, SPP)?;
+            let r = reference(&mut renderer, &base, size, spp)?;
             reference_cache::write(&path, &r);
             r
         }
@@ -96,14 +96,14 @@ fn main() -> Result<()> {
             frames: 1,
         };
         let scenes = [split, lobe].map(|m| (m.scene(&base), m.options()));
-        let (mut times, _) = frame_times(&mut renderer, &scenes, FRAME, ROUNDS)?;
+        let (mut times, _) = frame_times(&mut renderer, &scenes, settings.frame, ROUNDS)?;
         println!(
             "{map} {}: split sum {:.1} ms, lobe at 16 samples {:.1} ms a frame ({}x{})",
             material.name(),
             median(&mut times[0]),
             median(&mut times[1]),
-            FRAME.0,
-            FRAME.1
+            settings.frame.0,
+            settings.frame.1
         );
     }
     for count in frames {
@@ -112,8 +112,8 @@ fn main() -> Result<()> {
             samples: 16,
             frames: count,
         };
-        let image = method_image(&mut renderer, &base, method, SIZE)?;
-        let errors = ball_errors(&method.scene(&base), material, SIZE, &image, &reference)?;
+        let image = method_image(&mut renderer, &base, method, size)?;
+        let errors = ball_errors(&method.scene(&base), material, size, &image, &reference)?;
         let worst = errors
             .iter()
             .filter(|e| e.roughness >= 0.3)

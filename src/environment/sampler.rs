@@ -272,23 +272,27 @@ impl LuminanceCdf {
 
 impl LuminanceCdf {
     /// The tables as group 1's `env_cdf` holds them (`bindings.wgsl`): the width and the
-    /// height, then the marginal, the rows' CDFs, the texels' probabilities, the
-    /// marginal's guide and the rows' guides.
+    /// height, then [`LuminanceCdf::table_words`].
     pub(crate) fn gpu_words(&self) -> Vec<f32> {
-        let parts = [
+        [
+            &[self.width as f32, self.height as f32][..],
+            &self.table_words(),
+        ]
+        .concat()
+    }
+
+    /// The tables in the order both shaders read them (`env_cdf` after its size,
+    /// `montecarlo.wgsl`'s `mc_cdf` whole): the marginal, the rows' CDFs, the texels'
+    /// probabilities, the marginal's guide and the rows' guides.
+    pub(crate) fn table_words(&self) -> Vec<f32> {
+        [
             &self.marginal[..],
             &self.row_cdf,
             &self.texel,
             &self.marginal_guide,
             &self.row_guide,
-        ];
-        let mut words = Vec::with_capacity(2 + parts.iter().map(|p| p.len()).sum::<usize>());
-        words.push(self.width as f32);
-        words.push(self.height as f32);
-        for part in parts {
-            words.extend_from_slice(part);
-        }
-        words
+        ]
+        .concat()
     }
 
     /// Row `j`'s CDF and its guide.

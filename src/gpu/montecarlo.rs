@@ -217,14 +217,7 @@ fn inputs(
         padding: 0,
     };
     let tables: Vec<f32> = match &cdf {
-        Some(c) => [
-            &c.marginal[..],
-            &c.row_cdf,
-            &c.texel,
-            &c.marginal_guide,
-            &c.row_guide,
-        ]
-        .concat(),
+        Some(c) => c.table_words(),
         None => vec![0.0],
     };
     let bytes = std::mem::size_of_val(tables.as_slice()) as u64;
