@@ -1,8 +1,9 @@
 //! One configuration of the light bench (`bench --only light`, `lab/src/bench/light.rs`:
-//! its scene, its GPU Monte Carlo reference at 160x90 and 32768 estimates a pixel, its
-//! error measure) for trials of the lobe mode's estimator: the progressive lobe's error
-//! after each of the given frame counts of 16 samples, per ball and the worst of roughness
-//! >= 0.3, in seconds instead of the bench's minutes.
+//! its scene, its GPU Monte Carlo reference at 160x90 with the full run's estimates a
+//! pixel, its error measure) for trials of the lobe mode's estimator: the progressive lobe's error
+//! after each of the given frame counts of 16 samples, per ball (and, in brackets, the
+//! reference's own mean relative standard error there) and the worst of roughness >= 0.3,
+//! in seconds instead of the bench's minutes once the reference is kept.
 //!
 //! ```text
 //! cargo run --release -p shadeballs-lab --example light_trial -- MAP MATERIAL FRAMES [--time]
@@ -121,7 +122,15 @@ fn main() -> Result<()> {
             .fold(0.0, f64::max);
         let balls: Vec<String> = errors
             .iter()
-            .map(|e| format!("{} {:.2}: {:.2}", e.row, e.roughness, 100.0 * e.mean))
+            .map(|e| {
+                format!(
+                    "{} {:.2}: {:.2} ({:.2})",
+                    e.row,
+                    e.roughness,
+                    100.0 * e.mean,
+                    100.0 * e.noise
+                )
+            })
             .collect();
         println!(
             "{map} {}, {count} frames of 16: worst {:.2} % ({})",

@@ -33,11 +33,11 @@ use crate::plot::{Plot, Series, Style};
 use shadeballs::environment::{
     uv_to_direction, Builtin, EnvMap, Environment, IblMethod, IblTerm, Source, DEFAULT_IBL_SAMPLES,
 };
-use shadeballs::error::Result;
+use shadeballs::error::{Error, Result};
 use shadeballs::gpu::{DrawOptions, Renderer, Target};
 use shadeballs::lut::BakeConfig;
 use shadeballs::scene::{srgb_decode, Material, Scene};
-use shadeballs::stats::MonteCarloImage;
+use shadeballs::stats::{MonteCarloImage, MAX_SPP};
 
 /// Lobe samples a pixel of the one-frame lobe rows.
 pub const LOBE_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
@@ -272,14 +272,65 @@ pub fn method_image(
     Ok(linear(&image?.rgba))
 }
 
-/// The Monte Carlo of `scene`'s model on the GPU: `spp` estimates a pixel at `size`.
+/// The Monte Carlo of `scene`'s model on the GPU: `spp` estimates a pixel at `size`. Above
+/// [`MAX_SPP`] (one render's limit), `spp` is split into equal renders of seeds
+/// [`MC_SEED`], `MC_SEED + 1`, ..., pooled ([`pool`]); it must then divide evenly.
 pub fn reference(
     renderer: &mut Renderer,
     scene: &Scene,
     size: (u32, u32),
     spp: u32,
 ) -> Result<MonteCarloImage> {
-    renderer.render_montecarlo(scene, size, spp, MC_SEED)
+    let runs = spp.div_ceil(MAX_SPP).max(1);
+    if !spp.is_multiple_of(runs) {
+        return Err(Error::Invalid {
+            what: "reference samples per pixel",
+            message: format!("{spp}: above {MAX_SPP}, a multiple of {runs} renders"),
+        });
+    }
+    let images = (0..runs)
+        .map(|k| renderer.render_montecarlo(scene, size, spp / runs, MC_SEED + u64::from(k)))
+        .collect::<Result<Vec<_>>>()?;
+    pool(&images)
+}
+
+/// Independent Monte Carlo images of one scene (same size, coverage and pixel filter, the
+/// same estimates a pixel) as one: per pixel the mean of their means and the standard error
+/// of that mean, `sqrt(sum of se^2) / n`.
+pub fn pool(images: &[MonteCarloImage]) -> Result<MonteCarloImage> {
+    let [first, rest @ ..] = images else {
+        return Err(Error::Invalid {
+            what: "Monte Carlo images to pool",
+            message: "none".into(),
+        });
+    };
+    if rest.iter().any(|i| {
+        (i.width, i.height, i.spp, i.antialias)
+            != (first.width, first.height, first.spp, first.antialias)
+            || i.covered != first.covered
+    }) {
+        return Err(Error::Invalid {
+            what: "Monte Carlo images to pool",
+            message: "their sizes, coverage, filters or estimates a pixel differ".into(),
+        });
+    }
+    let n = images.len() as f64;
+    let pixels = first.mean.len();
+    let mean = (0..pixels)
+        .map(|p| images.iter().map(|i| i.mean[p]).sum::<DVec3>() / n)
+        .collect();
+    let std_error = (0..pixels)
+        .map(|p| {
+            let sum: DVec3 = images.iter().map(|i| i.std_error[p] * i.std_error[p]).sum();
+            DVec3::new(sum.x.sqrt(), sum.y.sqrt(), sum.z.sqrt()) / n
+        })
+        .collect();
+    Ok(MonteCarloImage {
+        spp: first.spp * images.len() as u32,
+        mean,
+        std_error,
+        ..first.clone()
+    })
 }
 
 /// Frames of each of `scenes` (drawn with its options) at `(w, h)`, in turn, `repeats` rounds after a warm-up
@@ -364,13 +415,14 @@ impl Settings {
                 sun: false,
             }
         } else {
-            // 32768 estimates keep the reference's mean relative standard error near
-            // 0.45 % under the studio and 0.25 % under the sky (0.62 % and 0.33 % at 16384
-            // in a run of this bench), under the errors measured but those of the most
-            // frames of the progressive lobe (noise_over_err, per row).
+            // The reference's mean relative standard error goes as 1 / sqrt(spp): under
+            // the studio 0.62 % at 16384 estimates and 0.45 % at 32768 in runs of this
+            // bench, above a fifth (NOISE_FRACTION) of the progressive lobe's error after
+            // 16 frames (about 1 %). Four renders of MAX_SPP (pooled: `reference`) bring
+            // it near 0.18 %, at about 90 s a reference on lavapipe.
             Settings {
                 size: (160, 90),
-                spp: 32768,
+                spp: 4 * MAX_SPP,
                 frame: FRAME_SIZE,
                 repeats: 11,
                 lobe_samples: LOBE_SAMPLES.to_vec(),

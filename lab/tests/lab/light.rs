@@ -4,12 +4,14 @@
 
 use std::collections::HashSet;
 
+use glam::DVec3;
 use shadeballs::cpu::{render_montecarlo_part, Part};
 use shadeballs::environment::{Builtin, Environment, IblTerm};
 use shadeballs::lut::{self, BakeConfig, TableSet};
+use shadeballs::stats::{MonteCarloImage, MAX_SPP};
 use shadeballs_lab::bench::ibl::{errors_by_roughness, ibl_scene};
 use shadeballs_lab::bench::light::{
-    ball_errors, light_scene, method_image, methods, reference, row_scenes, sun_environment,
+    ball_errors, light_scene, method_image, methods, pool, reference, row_scenes, sun_environment,
     Family, LightMaterial, Settings, SUN_RADIANCE, SUN_SHARE,
 };
 
@@ -242,4 +244,56 @@ fn light_split_sum_error_is_the_ibl_benchs() {
             );
         }
     }
+}
+
+/// The light bench's references above one render's limit are pooled renders: the mean of
+/// their means and the standard error of that mean, `sqrt(sum of se^2) / n`; images that do
+/// not describe the same pixels are refused, and so is a count the renders cannot share.
+#[test]
+fn a_reference_above_one_renders_limit_pools_its_renders() {
+    let image = |mean: [f64; 2], se: [f64; 2]| MonteCarloImage {
+        width: 2,
+        height: 1,
+        spp: 4,
+        mean: mean.map(DVec3::splat).to_vec(),
+        std_error: se.map(DVec3::splat).to_vec(),
+        covered: vec![true, false],
+        antialias: false,
+    };
+    let a = image([1.0, 0.5], [0.3, 0.0]);
+    let b = image([3.0, 0.5], [0.4, 0.0]);
+    let pooled = pool(&[a.clone(), b.clone()]).unwrap();
+    assert_eq!(pooled.spp, 8);
+    assert_eq!(pooled.mean, vec![DVec3::splat(2.0), DVec3::splat(0.5)]);
+    // sqrt(0.3^2 + 0.4^2) / 2 = 0.25.
+    assert!(
+        (pooled.std_error[0] - DVec3::splat(0.25))
+            .abs()
+            .max_element()
+            < 1e-15
+    );
+    assert_eq!(pooled.std_error[1], DVec3::ZERO);
+    assert_eq!(pooled.covered, a.covered);
+    for other in [
+        MonteCarloImage {
+            covered: vec![true, true],
+            ..b.clone()
+        },
+        MonteCarloImage {
+            antialias: true,
+            ..b.clone()
+        },
+        MonteCarloImage {
+            spp: 8,
+            ..b.clone()
+        },
+    ] {
+        assert!(pool(&[a.clone(), other]).is_err());
+    }
+    assert!(pool(&[]).is_err());
+    // 3 MAX_SPP + 1 estimates cannot be split into equal renders of at most MAX_SPP.
+    let mut renderer = vulkan();
+    let scene = light_scene(Environment::builtin(Builtin::Sky), LightMaterial::Metal);
+    let err = reference(&mut renderer, &scene, (8, 4), 3 * MAX_SPP + 1).unwrap_err();
+    assert!(err.to_string().contains("a multiple of 4 renders"), "{err}");
 }
