@@ -350,8 +350,9 @@ const MIS_COAT: usize = 3;
 /// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
 /// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`], a clear
 /// coat's lobe and shares included where `clearcoat` is formed) against the map by
-/// `lobe.count` samples of each strategy (the lobe's visible normals, the cosine hemisphere,
-/// the map's luminance where it has tables, a clear coat's visible normals) combined by the
+/// `lobe.count` samples of each strategy but the cosine's ([`cosine_samples`]) (the lobe's
+/// visible normals, the cosine hemisphere, the map's luminance where it has tables, a clear
+/// coat's visible normals) combined by the
 /// power heuristic ([`power_estimate`]), each reading
 /// the f16 chain's base level. The same points as the GPU (integer arithmetic), the same f32
 /// tables.
@@ -383,6 +384,9 @@ pub(super) fn shade_environment_mis(
     let map = ibl.luminance.as_ref();
     // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
     // given its map-frame direction and its density under the map's strategy.
+    // Each density in the heuristic times its strategy's share of the samples.
+    let cosine_count = cosine_samples(lobe.count);
+    let cosine_share = (cosine_count as f32 / lobe.count as f32) as f64;
     let mis_term = |l: DVec3, l_map: DVec3, map_density: f64, strategy: usize| -> DVec3 {
         let mu_i = n.dot(l);
         if mu_i <= 0.0 {
@@ -392,7 +396,7 @@ pub(super) fn shade_environment_mis(
         // Indexed by `MIS_*`.
         let pdf = [
             pdf_vndf_lobe(&p, l, alpha),
-            mu_i / std::f64::consts::PI,
+            cosine_share * mu_i / std::f64::consts::PI,
             map_density,
             coat,
         ];
@@ -422,8 +426,6 @@ pub(super) fn shade_environment_mis(
     for j in 0..lobe.count {
         let (u1, u2) = point(j, 0);
         sum += contribution(sample_lobe(&p, &frame, v_local, alpha, (u1, u2)), MIS_LOBE);
-        let (c1, c2) = point(j, 1);
-        sum += contribution(frame.to_world(sample_cosine(c1, c2)), MIS_COSINE);
         if let Some(m) = map {
             let (t1, t2) = point(j, 2);
             let (x1, x2) = point(j, 3);
@@ -436,7 +438,19 @@ pub(super) fn shade_environment_mis(
             sum += contribution(frame.to_world(sample_vndf(v_local, a, c1, c2)), MIS_COAT);
         }
     }
+    let cosine_first = (lobe.first / lobe.count) * cosine_count;
+    let cosine_scramble = lobe::strategy_scramble(lobe.scramble, 1);
+    for j in 0..cosine_count {
+        let (c1, c2) = lobe::lobe_frame_point(cosine_first, j, cosine_scramble);
+        sum += contribution(frame.to_world(sample_cosine(c1, c2)), MIS_COSINE);
+    }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
+}
+
+/// `cosine_samples` of `lighting.wgsl`: the cosine strategy's samples in a frame whose
+/// other strategies draw `count` each, half of them rounded up.
+pub(crate) fn cosine_samples(count: u32) -> u32 {
+    count.div_ceil(2)
 }
 
 /// [`term_turquin`] per channel.
