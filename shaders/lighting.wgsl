@@ -229,7 +229,7 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (cosine_samples, half), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
+// (env.lobe.y: all, or half), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
 // sequence (the cosine's: the same frame's share of its own; lobe_frame_point: every frame
 // a net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
@@ -281,10 +281,11 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
             sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), size, MIS_COAT);
         }
     }
-    // The cosine's samples, fewer (cosine_samples), in a loop of their own: lavapipe runs
-    // the body of a branch no pixel takes, so skipping every other one in the loop above
-    // saves nothing.
-    let cosine_count = cosine_samples(IBL_SAMPLES);
+    // The cosine's samples (env.lobe.y: Scene::cosine_samples, half of IBL_SAMPLES under
+    // a map whose light mostly stands above its mean), in a loop of their own: lavapipe
+    // runs the body of a branch no pixel takes, so skipping every other one in the loop
+    // above saved nothing.
+    let cosine_count = u32(env.lobe.y);
     let cosine_first = (first / IBL_SAMPLES) * cosine_count;
     for (var j = 0u; j < cosine_count; j++) {
         let c = lobe_frame_point(cosine_first, j, strategy_scramble(scramble, 1u));
@@ -293,14 +294,6 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     return env.intensity * sum / f32(IBL_SAMPLES);
 }
 
-// The cosine strategy's samples in a frame whose other strategies draw `count` each: half,
-// rounded up. Under the studio and the sky, the map's samples find the light that the
-// cosine's would; halving them left the progressive lobe's error within its noise (issue
-// 37, docs/design/environment.md, "Fewer cosine samples"). Mirrored by src/cpu/shade.rs
-// cosine_samples.
-fn cosine_samples(count: u32) -> u32 {
-    return (count + 1u) / 2u;
-}
 
 // The strategies of shade_environment_mis, as mis_term's `strategy`: the lobe's visible
 // normals, the cosine hemisphere, the map's luminance, a clear coat's visible normals.
@@ -336,8 +329,9 @@ fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_densit
         coat = pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
     // Indexed by MIS_*; each density times its strategy's share of the samples (the
-    // cosine's: cosine_samples), as the heuristic weighs them (Veach 1997, sec. 9.2.4).
-    let cosine_share = f32(cosine_samples(IBL_SAMPLES)) / f32(IBL_SAMPLES);
+    // cosine's: env.lobe.y of IBL_SAMPLES), as the heuristic weighs them (Veach 1997,
+    // sec. 9.2.4).
+    let cosine_share = f32(u32(env.lobe.y)) / f32(IBL_SAMPLES);
     let pdf = vec4<f32>(pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x)), cosine_share * mu_i / PI, map_density, coat);
     let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
     return power_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf[strategy], dot(pdf, pdf));

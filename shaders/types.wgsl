@@ -307,8 +307,8 @@ struct EnvUniform {
     shows_map: f32,
     // rgb: the background's fixed radiance.
     background: vec4<f32>,
-    // The lobe's samples: x: this frame's first sample index; y: unused; zw: the map's
-    // base level size (texels).
+    // The lobe's samples: x: this frame's first sample index; y: the cosine strategy's
+    // samples a frame; zw: the map's base level size (texels).
     lobe: vec4<f32>,
 }
 

@@ -29,6 +29,8 @@ pub(crate) struct LobeSamples {
     pub scramble: [u32; 2],
     pub first: u32,
     pub count: u32,
+    /// The cosine strategy's samples ([`Scene::cosine_samples`]; the GPU's `env.lobe.y`).
+    pub cosine: u32,
 }
 
 impl LobeSamples {
@@ -44,6 +46,7 @@ impl LobeSamples {
                 // As the GPU's uniform holds it: an f32.
                 first: (u64::from(frame) * u64::from(count)) as f32 as u32,
                 count,
+                cosine: scene.cosine_samples(),
             }
         })
     }

@@ -350,7 +350,7 @@ const MIS_COAT: usize = 3;
 /// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
 /// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`], a clear
 /// coat's lobe and shares included where `clearcoat` is formed) against the map by
-/// `lobe.count` samples of each strategy but the cosine's ([`cosine_samples`]) (the lobe's
+/// `lobe.count` samples of each strategy but the cosine's (`lobe.cosine`) (the lobe's
 /// visible normals, the cosine hemisphere, the map's luminance where it has tables, a clear
 /// coat's visible normals) combined by the
 /// power heuristic ([`power_estimate`]), each reading
@@ -385,7 +385,7 @@ pub(super) fn shade_environment_mis(
     // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
     // given its map-frame direction and its density under the map's strategy.
     // Each density in the heuristic times its strategy's share of the samples.
-    let cosine_count = cosine_samples(lobe.count);
+    let cosine_count = lobe.cosine;
     let cosine_share = (cosine_count as f32 / lobe.count as f32) as f64;
     let mis_term = |l: DVec3, l_map: DVec3, map_density: f64, strategy: usize| -> DVec3 {
         let mu_i = n.dot(l);
@@ -445,12 +445,6 @@ pub(super) fn shade_environment_mis(
         sum += contribution(frame.to_world(sample_cosine(c1, c2)), MIS_COSINE);
     }
     ibl.intensity(environment) * sum / f64::from(lobe.count)
-}
-
-/// `cosine_samples` of `lighting.wgsl`: the cosine strategy's samples in a frame whose
-/// other strategies draw `count` each, half of them rounded up.
-pub(crate) fn cosine_samples(count: u32) -> u32 {
-    count.div_ceil(2)
 }
 
 /// [`term_turquin`] per channel.

@@ -53,6 +53,8 @@ pub struct EnvMap {
     peak: f32,
     /// The map's sun ([`EnvMap::sun`]), found at its first use.
     sun: std::sync::OnceLock<Option<Sun>>,
+    /// [`EnvMap::light_below_mean`], found at its first use.
+    below_mean: std::sync::OnceLock<f64>,
 }
 
 impl PartialEq for EnvMap {
@@ -105,7 +107,40 @@ impl EnvMap {
             texels,
             peak,
             sun: std::sync::OnceLock::new(),
+            below_mean: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The share of the map's light (luminance times solid angle, over the sphere) that
+    /// lies below its mean luminance: `sum min(Y, mean) omega / sum Y omega`, 1 for a
+    /// constant or black map. The lobe mode's map samples follow what stands above the
+    /// mean ([`crate::environment::sampler::LuminanceCdf`]'s compensated tables) and leave
+    /// this share to the other strategies ([`lobe::cosine_samples`]). The built-ins: the
+    /// studio 0.16, the sky 0.72. Found once.
+    pub fn light_below_mean(&self) -> f64 {
+        *self.below_mean.get_or_init(|| {
+            let luminance = |t: &[f32; 3]| {
+                sampler::LUMINANCE.dot(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64))
+            };
+            let rows = || {
+                self.texels
+                    .chunks(self.width as usize)
+                    .zip(0..)
+                    .map(|(row, j)| (row, self.texel_solid_angle(j)))
+            };
+            let (light, area) = rows().fold((0.0, 0.0), |(l, a), (row, omega)| {
+                let sum: f64 = row.iter().map(luminance).sum();
+                (l + sum * omega, a + omega * row.len() as f64)
+            });
+            if light <= 0.0 {
+                return 1.0;
+            }
+            let mean = light / area;
+            let below: f64 = rows()
+                .map(|(row, omega)| row.iter().map(|t| luminance(t).min(mean)).sum::<f64>() * omega)
+                .sum();
+            (below / light).min(1.0)
+        })
     }
 
     /// The map's sun ([`Sun`]: its bright texels when they are one small source), found

@@ -302,6 +302,20 @@ impl Scene {
         }
     }
 
+    /// The lobe mode's cosine samples a pixel a frame under this scene's map
+    /// ([`crate::environment::lobe::cosine_samples`] of the clamped `ibl_samples`; all of
+    /// them without a map).
+    pub(crate) fn cosine_samples(&self) -> u32 {
+        let count = self
+            .ibl_samples
+            .clamp(1, crate::environment::MAX_IBL_SAMPLES);
+        let below_mean = self
+            .environment_map
+            .as_ref()
+            .map_or(1.0, |e| e.map.light_below_mean());
+        crate::environment::lobe::cosine_samples(count, below_mean)
+    }
+
     /// Whether pixels that miss every ball show the environment map.
     pub(crate) fn background_shows_map(&self) -> bool {
         self.environment_map.is_some() && self.background == Background::Environment

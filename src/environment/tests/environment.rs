@@ -812,3 +812,36 @@ fn a_chain_built_ahead_serves_its_own_map_only() {
     assert_eq!(draw(&mut r, &sky), want_sky);
     assert_eq!(draw(&mut r, &studio), want_studio);
 }
+
+/// The lobe mode's cosine samples follow the share of the map's light below its mean: the
+/// studio's panels stand above it (0.16), the sky's light mostly does not (0.72), so the
+/// studio's frame of 16 draws 8 cosine samples and the sky's 16; a constant map is all
+/// "below" (its mean), a map dark but for one texel almost none of it; odd counts round up.
+#[test]
+fn the_cosine_keeps_its_samples_where_the_maps_light_is_below_its_mean() {
+    use crate::environment::lobe::{cosine_samples, COSINE_FULL_SHARE};
+    let studio = Environment::builtin(Builtin::Studio).map.light_below_mean();
+    let sky = Environment::builtin(Builtin::Sky).map.light_below_mean();
+    assert!((0.1..0.2).contains(&studio), "studio {studio}");
+    assert!((0.65..0.8).contains(&sky), "sky {sky}");
+    let constant = EnvMap::new(4, 2, vec![[0.5; 3]; 8]).unwrap();
+    assert!((constant.light_below_mean() - 1.0).abs() < 1e-12);
+    let black = EnvMap::new(4, 2, vec![[0.0; 3]; 8]).unwrap();
+    assert_eq!(black.light_below_mean(), 1.0);
+    let mut texels = vec![[0.0; 3]; 64 * 32];
+    texels[16 * 64 + 10] = [100.0; 3];
+    let one = EnvMap::new(64, 32, texels).unwrap().light_below_mean();
+    // Its mean is its light over 4 pi; the texel's share of that is its solid angle's.
+    assert!(one > 0.0 && one < 1e-3, "{one}");
+    assert_eq!(cosine_samples(16, studio), 8);
+    assert_eq!(cosine_samples(16, sky), 16);
+    assert_eq!(cosine_samples(5, 0.0), 3);
+    assert_eq!(cosine_samples(1, 0.0), 1);
+    assert_eq!(cosine_samples(16, COSINE_FULL_SHARE), 16);
+    let mut scene = Scene::reference();
+    scene.environment_map = Some(Environment::builtin(Builtin::Studio));
+    scene.ibl_samples = 16;
+    assert_eq!(scene.cosine_samples(), 8);
+    scene.environment_map = None;
+    assert_eq!(scene.cosine_samples(), 16);
+}
