@@ -114,7 +114,7 @@ impl EnvMap {
     /// The share of the map's light (luminance times solid angle, over the sphere) that
     /// lies below its mean luminance: `sum min(Y, mean) omega / sum Y omega`, 1 for a
     /// constant or black map. The lobe mode's map samples follow what stands above the
-    /// mean ([`crate::environment::sampler::LuminanceCdf`]'s compensated tables) and leave
+    /// mean (the compensated luminance tables, `LuminanceCdf::compensated`) and leave
     /// this share to the other strategies ([`lobe::cosine_samples`]). The built-ins: the
     /// studio 0.16, the sky 0.72. Found once.
     pub fn light_below_mean(&self) -> f64 {
