@@ -294,7 +294,6 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     return env.intensity * sum / f32(IBL_SAMPLES);
 }
 
-
 // The strategies of shade_environment_mis, as mis_term's `strategy`: the lobe's visible
 // normals, the cosine hemisphere, the map's luminance, a clear coat's visible normals.
 const MIS_LOBE: u32 = 0u;
