@@ -12,7 +12,7 @@
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate, guide_buckets}
 #import shadeballs::model::{ShadingPoint, shading_point, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe}
-#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
+#import shadeballs::types::{Ball, GEOMETRY, MS_TERM, HAS_ENVIRONMENT, HAS_LIGHTS, IBL, IBL_SAMPLES, IBL_COSINE_SAMPLES, HAS_ANISOTROPY, HAS_CLEARCOAT}
 #import shadeballs::types::{HAS_METAL, HAS_DIELECTRIC}
 #import shadeballs::types::{TERM_FDEZ_AGUERA, DOMINANT_DIRECTION, by_term}
 #import shadeballs::coating::{shade_coating, has_clearcoat, clearcoat_in, clearcoat_through_lobe, clearcoat_environment_lobe}
@@ -229,7 +229,7 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (env.lobe.y: all, or half), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
+// (IBL_COSINE_SAMPLES: all, or half), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
 // sequence (the cosine's: the same frame's share of its own; lobe_frame_point: every frame
 // a net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
@@ -281,11 +281,11 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
             sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), size, MIS_COAT);
         }
     }
-    // The cosine's samples (env.lobe.y: Scene::cosine_samples, half of IBL_SAMPLES under
-    // a map whose light mostly stands above its mean), in a loop of their own: lavapipe
-    // runs the body of a branch no pixel takes, so skipping every other one in the loop
-    // above saved nothing.
-    let cosine_count = u32(env.lobe.y);
+    // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half of IBL_SAMPLES
+    // under a map whose light mostly stands above its mean), in a loop of their own:
+    // lavapipe runs the body of a branch no pixel takes, so skipping every other one in
+    // the loop above saved nothing.
+    let cosine_count = IBL_COSINE_SAMPLES;
     let cosine_first = (first / IBL_SAMPLES) * cosine_count;
     for (var j = 0u; j < cosine_count; j++) {
         let c = lobe_frame_point(cosine_first, j, strategy_scramble(scramble, 1u));
@@ -328,9 +328,9 @@ fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_densit
         coat = pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
     // Indexed by MIS_*; each density times its strategy's share of the samples (the
-    // cosine's: env.lobe.y of IBL_SAMPLES), as the heuristic weighs them (Veach 1997,
-    // sec. 9.2.4).
-    let cosine_share = f32(u32(env.lobe.y)) / f32(IBL_SAMPLES);
+    // cosine's: IBL_COSINE_SAMPLES of IBL_SAMPLES), as the heuristic weighs them (Veach
+    // 1997, sec. 9.2.4).
+    let cosine_share = f32(IBL_COSINE_SAMPLES) / f32(IBL_SAMPLES);
     let pdf = vec4<f32>(pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x)), cosine_share * mu_i / PI, map_density, coat);
     let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
     return power_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf[strategy], dot(pdf, pdf));

@@ -72,6 +72,9 @@ override IBL: u32 = 0u;
 // With IBL = 2: each strategy's samples a pixel a frame (lighting.wgsl shade_environment_mis): a pipeline-time count, never a loop bound read from a uniform
 // (screen.wgsl loop_counts says why).
 override IBL_SAMPLES: u32 = 1u;
+// With IBL = 2: the cosine strategy's samples a pixel a frame (Scene::cosine_samples: all
+// of IBL_SAMPLES, or half under a map whose light mostly stands above its mean).
+override IBL_COSINE_SAMPLES: u32 = 1u;
 // 1 (default): antialiased silhouettes (balls.wgsl ball_footprint: a pixel the silhouette
 // crosses mixes the ball and the background by the fraction it covers); 0: one ray through
 // each pixel's centre, the image of before (src/scene Scene::antialias).
@@ -307,8 +310,8 @@ struct EnvUniform {
     shows_map: f32,
     // rgb: the background's fixed radiance.
     background: vec4<f32>,
-    // The lobe's samples: x: this frame's first sample index; y: the cosine strategy's
-    // samples a frame; zw: the map's base level size (texels).
+    // The lobe's samples: x: this frame's first sample index; y: unused; zw: the map's
+    // base level size (texels).
     lobe: vec4<f32>,
 }
 

@@ -29,7 +29,7 @@ pub(crate) struct LobeSamples {
     pub scramble: [u32; 2],
     pub first: u32,
     pub count: u32,
-    /// The cosine strategy's samples ([`Scene::cosine_samples`]; the GPU's `env.lobe.y`).
+    /// The cosine strategy's samples ([`Scene::cosine_samples`]; the GPU's `IBL_COSINE_SAMPLES`).
     pub cosine: u32,
 }
 

@@ -202,7 +202,7 @@ pub fn lobe_frame_point(first: u32, j: u32, scramble: [u32; 2]) -> (f64, f64) {
 /// find what the cosine's would, and halving them left the progressive lobe's error within
 /// its noise for about 0.88x the frame; under the sky (0.72) they cost it 0.73 % -> 0.84 %
 /// after 8 frames (docs/design/environment.md, "Fewer cosine samples where the map's find
-/// the light"). The GPU reads it from `env.lobe.y`.
+/// the light"). The GPU takes it as the pipeline constant `IBL_COSINE_SAMPLES`.
 pub fn cosine_samples(count: u32, below_mean: f64) -> u32 {
     if below_mean >= COSINE_FULL_SHARE {
         count

@@ -12,7 +12,7 @@ use crate::environment::prefilter::{
     specular_size, sunless_source, Bright, BrightTexel, MipChain, BRIGHT_MAX, CONVOLVED_LEVELS,
     CONVOLVED_WIDTH, SPECULAR_LEVELS,
 };
-use crate::environment::{Environment, IblMethod};
+use crate::environment::Environment;
 use crate::lut::{SplitSum, SPLIT_SUM_SIZE};
 use crate::scene::Scene;
 
@@ -37,9 +37,8 @@ pub(crate) struct EnvUniform {
     /// rgb: the background's fixed radiance (added to the map where it shows).
     pub background: [f32; 4],
     /// The lobe's samples (`ibl_method = "lobe"`): x: the index of this frame's first
-    /// sample in each pixel's sequence (frame k of N samples: k N); y: the cosine
-    /// strategy's samples a frame (`Scene::cosine_samples`; 0 under the split sum); z, w:
-    /// the map's base level, texels across and down.
+    /// sample in each pixel's sequence (frame k of N samples: k N); y: unused; z, w: the
+    /// map's base level, texels across and down.
     pub lobe: [f32; 4],
 }
 
@@ -54,12 +53,6 @@ impl EnvUniform {
         let (s, c) = (-rotation.to_radians()).sin_cos();
         let shows_map = scene.background_shows_map();
         let colour = scene.background_radiance();
-        // The share of the map's light below its mean is found once per map, and only for
-        // the lobe mode.
-        let cosine = match scene.ibl_method {
-            IblMethod::Lobe => scene.cosine_samples(),
-            _ => 0,
-        };
         let (w, h) = scene
             .environment_map
             .as_ref()
@@ -69,7 +62,7 @@ impl EnvUniform {
             intensity: intensity as f32,
             shows_map: shows_map as u32 as f32,
             background: [colour.x as f32, colour.y as f32, colour.z as f32, 0.0],
-            lobe: [0.0, cosine as f32, w as f32, h as f32],
+            lobe: [0.0, 0.0, w as f32, h as f32],
         }
     }
 

@@ -99,6 +99,9 @@ pub struct Variant {
     /// Lobe samples a pixel a frame with `ibl = 2` (`IBL_SAMPLES`; [`Scene::ibl_samples`]),
     /// else 0.
     pub ibl_samples: u16,
+    /// The cosine strategy's samples a pixel a frame with `ibl = 2`
+    /// (`IBL_COSINE_SAMPLES`; [`Scene::cosine_samples`]), else 0.
+    pub ibl_cosine_samples: u16,
     /// Antialiased silhouettes (`AA` in `types.wgsl`; [`Scene::antialias`]).
     pub aa: bool,
     /// The split sum's read along the dominant direction (`DOMINANT_DIRECTION`;
@@ -158,10 +161,13 @@ impl Plan {
             (Some(_), IblMethod::SplitSum) => 1,
             (Some(_), IblMethod::Lobe) => 2,
         };
-        let ibl_samples = if ibl == 2 {
-            scene.ibl_samples.clamp(1, MAX_IBL_SAMPLES) as u16
+        let (ibl_samples, ibl_cosine_samples) = if ibl == 2 {
+            (
+                scene.ibl_samples.clamp(1, MAX_IBL_SAMPLES) as u16,
+                scene.cosine_samples() as u16,
+            )
         } else {
-            0
+            (0, 0)
         };
         // The split sum takes the map's sun as a light (and so compiles the lights' loop in);
         // the walk and the Monte Carlo read the map itself.
@@ -213,6 +219,7 @@ impl Plan {
             sun,
             ibl,
             ibl_samples,
+            ibl_cosine_samples,
             aa: scene.antialias,
             dominant: options.dominant_direction,
             ball_term: 0,
@@ -285,6 +292,7 @@ impl Plan {
                 sun: false,
                 ibl: ibl.min(1),
                 ibl_samples: 0,
+                ibl_cosine_samples: 0,
                 aa: false,
                 dominant: options.dominant_direction,
                 ball_term: 0,

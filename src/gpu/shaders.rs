@@ -202,7 +202,7 @@ pub(crate) fn overrides_for(
     mu_axis: MuAxis,
     variant: Variant,
     srgb: bool,
-) -> [(&'static str, f64); 19] {
+) -> [(&'static str, f64); 20] {
     let [a, b, c] = overrides(geometry, linear, mu_axis);
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     [
@@ -215,6 +215,7 @@ pub(crate) fn overrides_for(
         ("SUN_LIGHT", flag(variant.sun)),
         ("IBL", variant.ibl as f64),
         ("IBL_SAMPLES", f64::from(variant.ibl_samples.max(1))),
+        ("IBL_COSINE_SAMPLES", f64::from(variant.ibl_cosine_samples)),
         ("AA", flag(variant.aa)),
         ("DOMINANT_DIRECTION", flag(variant.dominant)),
         ("BALL_TERM", f64::from(variant.ball_term)),

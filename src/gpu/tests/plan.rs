@@ -43,6 +43,7 @@ fn variant(term: TermMode) -> Variant {
         sun: false,
         ibl: 0,
         ibl_samples: 0,
+        ibl_cosine_samples: 0,
         aa: true,
         dominant: true,
         // The reference scene's top row has the Kulla-Conty term (code 1), its only one.
@@ -186,6 +187,7 @@ fn an_environment_needs_rows_for_balls_without_the_term_and_compiles_its_part_in
             sun: false,
             ibl: 0,
             ibl_samples: 0,
+            ibl_cosine_samples: 0,
             aa: true,
             dominant: true,
             ball_term: 0,
