@@ -382,11 +382,11 @@ pub(super) fn shade_environment_mis(
     let frame = crate::sampling::duff_frame(n);
     let v_local = frame.to_local(v);
     let map = ibl.luminance.as_ref();
-    // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
-    // given its map-frame direction and its density under the map's strategy.
     // Each density in the heuristic times its strategy's share of the samples.
     let cosine_count = lobe.cosine;
     let cosine_share = (cosine_count as f32 / lobe.count as f32) as f64;
+    // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
+    // given its map-frame direction and its density under the map's strategy.
     let mis_term = |l: DVec3, l_map: DVec3, map_density: f64, strategy: usize| -> DVec3 {
         let mu_i = n.dot(l);
         if mu_i <= 0.0 {
