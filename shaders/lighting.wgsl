@@ -229,7 +229,7 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (IBL_COSINE_SAMPLES: all, or half), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
+// (IBL_COSINE_SAMPLES: all, or half) and the lobe's (lobe_samples), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
 // sequence (the cosine's: the same frame's share of its own; lobe_frame_point: every frame
 // a net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
@@ -260,26 +260,23 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     let scramble = pixel_scramble(pixel);
     let first = u32(env.lobe.x);
     let size = luminance_size();
-    let has_map = size.x > 0u;
-    // The map's frame to the world's: the rotation's inverse (Environment::from_map).
-    let from_map = vec2<f32>(env.rotation.x, -env.rotation.y);
     var sum = vec3<f32>(0.0);
-    for (var j = 0u; j < IBL_SAMPLES; j++) {
-        let u = lobe_frame_point(first, j, scramble);
+    // The lobe's samples (lobe_samples: half of them on a dielectric under a map whose
+    // samples find most of its light) with the map's and the coat's of the same j, then
+    // the map's and the coat's alone. Drawing fewer, the lobe takes the same frame's share
+    // of its own sequence (as the cosine's below), else the others' indices, whose points
+    // then share their bits (a loop of the lobe's own cost metals and the sky 4 % to 8 %
+    // of the frame).
+    let lobe_count = lobe_samples(b);
+    let lobe_first = select(first, (first / IBL_SAMPLES) * lobe_count, lobe_count < IBL_SAMPLES);
+    for (var j = 0u; j < lobe_count; j++) {
+        let u = lobe_frame_point(lobe_first, j, scramble);
         let l = sample_lobe(p, frame, v_local, alpha, u);
         sum += mis_contribution(b, p, l, size, MIS_LOBE);
-        if has_map {
-            let t = lobe_frame_point(first, j, strategy_scramble(scramble, 2u));
-            let x = lobe_frame_point(first, j, strategy_scramble(scramble, 3u));
-            let s = luminance_sample(vec4<f32>(t, x), size);
-            if s.w > 0.0 {
-                sum += mis_term(b, p, env_to_map(s.xyz, from_map), s.xyz, s.w, MIS_MAP);
-            }
-        }
-        if HAS_CLEARCOAT == 1u && p.clearcoat {
-            let c = lobe_frame_point(first, j, strategy_scramble(scramble, 4u));
-            sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), size, MIS_COAT);
-        }
+        sum += mis_map_and_coat(b, p, vec2<u32>(first, j), scramble, size, frame, coat_alpha);
+    }
+    for (var j = lobe_count; j < IBL_SAMPLES; j++) {
+        sum += mis_map_and_coat(b, p, vec2<u32>(first, j), scramble, size, frame, coat_alpha);
     }
     // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half of IBL_SAMPLES
     // under a map whose light mostly stands above its mean), in a loop of their own:
@@ -292,6 +289,31 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
         sum += mis_contribution(b, p, frame * sample_cosine(c.x, c.y), size, MIS_COSINE);
     }
     return env.intensity * sum / f32(IBL_SAMPLES);
+}
+
+// Sample j of the map's and of a clear coat's strategies in shade_environment_mis (their
+// shares: mis_term), the map's where it has tables: index first + j of the pixel's
+// sequence (scramble), the coat's visible normals of coat_alpha about `frame`.
+fn mis_map_and_coat(b: Ball, p: ShadingPoint, index: vec2<u32>, scramble: vec2<u32>, size: vec2<u32>, frame: mat3x3<f32>, coat_alpha: f32) -> vec3<f32> {
+    let first = index.x;
+    let j = index.y;
+    var sum = vec3<f32>(0.0);
+    if size.x > 0u {
+        let t = lobe_frame_point(first, j, strategy_scramble(scramble, 2u));
+        let x = lobe_frame_point(first, j, strategy_scramble(scramble, 3u));
+        let s = luminance_sample(vec4<f32>(t, x), size);
+        if s.w > 0.0 {
+            // The map's frame to the world's: the rotation's inverse (Environment::from_map).
+            let from_map = vec2<f32>(env.rotation.x, -env.rotation.y);
+            sum += mis_term(b, p, env_to_map(s.xyz, from_map), s.xyz, s.w, MIS_MAP);
+        }
+    }
+    if HAS_CLEARCOAT == 1u && p.clearcoat {
+        let c = lobe_frame_point(first, j, strategy_scramble(scramble, 4u));
+        let v_local = p.v * frame;
+        sum += mis_contribution(b, p, frame * sample_vndf(v_local, coat_alpha, c.x, c.y), size, MIS_COAT);
+    }
+    return sum;
 }
 
 // The strategies of shade_environment_mis, as mis_term's `strategy`: the lobe's visible
@@ -328,10 +350,11 @@ fn mis_term(b: Ball, p: ShadingPoint, l: vec3<f32>, l_map: vec3<f32>, map_densit
         coat = pdf_vndf(p, l, alpha_from_roughness(b.clearcoat_roughness));
     }
     // Indexed by MIS_*; each density times its strategy's share of the samples (the
-    // cosine's: IBL_COSINE_SAMPLES of IBL_SAMPLES), as the heuristic weighs them (Veach
-    // 1997, sec. 9.2.4).
+    // lobe's: lobe_samples of IBL_SAMPLES; the cosine's: IBL_COSINE_SAMPLES), as the
+    // heuristic weighs them (Veach 1997, sec. 9.2.4).
     let cosine_share = f32(IBL_COSINE_SAMPLES) / f32(IBL_SAMPLES);
-    let pdf = vec4<f32>(pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x)), cosine_share * mu_i / PI, map_density, coat);
+    let lobe_share = f32(lobe_samples(b)) / f32(IBL_SAMPLES);
+    let pdf = vec4<f32>(lobe_share * pdf_vndf_lobe(p, l, alpha_from_roughness(p.lobe.x)), cosine_share * mu_i / PI, map_density, coat);
     let radiance = textureSampleLevel(env_radiance, env_sampler, direction_to_uv(l_map), 0.0).rgb;
     return power_estimate(model_brdf(b, p, l) * radiance * mu_i, pdf[strategy], dot(pdf, pdf));
 }
@@ -395,6 +418,18 @@ fn luminance_density(d: vec3<f32>, size: vec2<u32>) -> f32 {
     let i = u32(fi - f32(w) * floor(fi / f32(w))) % w;
     let j = min(u32(max(floor(uv.y * f32(h)), 0.0)), h - 1u);
     return equirect_density(env_cdf[2u + h + w * h + j * w + i], d, vec2<f32>(f32(w), f32(h)));
+}
+
+// The lobe strategy's samples a frame of ball b in shade_environment_mis
+// (src/environment/lobe.rs lobe_samples): half of IBL_SAMPLES, rounded up, on a dielectric
+// (metallic 0) where the cosine's are halved too (a map whose own samples find most of its
+// light), whose lobe is its specular, at most the Fresnel's share of its light; else all.
+// A constant in a pipeline of dielectrics only.
+fn lobe_samples(b: Ball) -> u32 {
+    if IBL_COSINE_SAMPLES < IBL_SAMPLES && (HAS_METAL == 0u || b.metallic <= 0.0) {
+        return (IBL_SAMPLES + 1u) / 2u;
+    }
+    return IBL_SAMPLES;
 }
 
 // Whether ball b's lobe is anisotropic (alpha_t > alpha_b); false wherever the pipeline

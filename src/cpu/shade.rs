@@ -350,7 +350,8 @@ const MIS_COAT: usize = 3;
 /// `shade_environment_mis` of `lighting.wgsl`: the map's part of ball `b`'s shading at
 /// normal `n` towards `v` in the lobe mode, the whole model's BRDF ([`model_brdf`], a clear
 /// coat's lobe and shares included where `clearcoat` is formed) against the map by
-/// `lobe.count` samples of each strategy but the cosine's (`lobe.cosine`) (the lobe's
+/// `lobe.count` samples of each strategy but the cosine's (`lobe.cosine`) and the lobe's
+/// ([`lobe::lobe_samples`]) (the lobe's
 /// visible normals, the cosine hemisphere, the map's luminance where it has tables, a clear
 /// coat's visible normals) combined by the
 /// power heuristic ([`power_estimate`]), each reading
@@ -385,6 +386,8 @@ pub(super) fn shade_environment_mis(
     // Each density in the heuristic times its strategy's share of the samples.
     let cosine_count = lobe.cosine;
     let cosine_share = (cosine_count as f32 / lobe.count as f32) as f64;
+    let lobe_count = lobe::lobe_samples(lobe.count, cosine_count, p.metallic);
+    let lobe_share = (lobe_count as f32 / lobe.count as f32) as f64;
     // `mis_term` of `lighting.wgsl`: the share of direction l drawn by `strategy` (`MIS_*`),
     // given its map-frame direction and its density under the map's strategy.
     let mis_term = |l: DVec3, l_map: DVec3, map_density: f64, strategy: usize| -> DVec3 {
@@ -395,7 +398,7 @@ pub(super) fn shade_environment_mis(
         let coat = coat_alpha.map_or(0.0, |a| pdf_vndf(&p, l, a));
         // Indexed by `MIS_*`.
         let pdf = [
-            pdf_vndf_lobe(&p, l, alpha),
+            lobe_share * pdf_vndf_lobe(&p, l, alpha),
             cosine_share * mu_i / std::f64::consts::PI,
             map_density,
             coat,
@@ -423,9 +426,15 @@ pub(super) fn shade_environment_mis(
         lobe::lobe_frame_point(lobe.first, j, s)
     };
     let mut sum = DVec3::ZERO;
-    for j in 0..lobe.count {
-        let (u1, u2) = point(j, 0);
+    // The lobe's samples in a loop of their own, their Sobol indices the frame's share of
+    // the lobe's own (all of `lobe.count` but on a dielectric under a map whose samples
+    // find its light: `lobe::lobe_samples`).
+    let lobe_first = (lobe.first / lobe.count) * lobe_count;
+    for j in 0..lobe_count {
+        let (u1, u2) = lobe::lobe_frame_point(lobe_first, j, lobe.scramble);
         sum += contribution(sample_lobe(&p, &frame, v_local, alpha, (u1, u2)), MIS_LOBE);
+    }
+    for j in 0..lobe.count {
         if let Some(m) = map {
             let (t1, t2) = point(j, 2);
             let (x1, x2) = point(j, 3);

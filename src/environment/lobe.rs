@@ -211,6 +211,22 @@ pub fn cosine_samples(count: u32, below_mean: f64) -> u32 {
     }
 }
 
+/// The lobe strategy's samples a frame in the lobe mode for a ball of `metallic`, whose
+/// other strategies draw `count` each and the cosine `cosine` ([`cosine_samples`]): half,
+/// rounded up, on a dielectric (`metallic` 0) where the cosine's are halved (a map whose own
+/// samples find most of its light), else all `count`. A dielectric's lobe is its specular,
+/// at most its Fresnel's share of the light; under the studio the other half of its samples
+/// left the progressive lobe's error where it was for 0.85x the frame
+/// (docs/design/environment.md, "Half the lobe's samples on a dielectric"). The GPU's twin
+/// is `lobe_samples` of `lighting.wgsl`.
+pub fn lobe_samples(count: u32, cosine: u32, metallic: f64) -> u32 {
+    if cosine < count && metallic <= 0.0 {
+        count.div_ceil(2)
+    } else {
+        count
+    }
+}
+
 /// The share of a map's light below its mean from which the cosine strategy keeps all its
 /// samples ([`cosine_samples`]): where most of the light is where the map's samples do
 /// not go.

@@ -845,3 +845,19 @@ fn the_cosine_keeps_its_samples_where_the_maps_light_is_below_its_mean() {
     scene.environment_map = None;
     assert_eq!(scene.cosine_samples(), 16);
 }
+
+#[test]
+fn a_dielectric_halves_its_lobe_only_where_the_cosine_is_halved() {
+    use crate::environment::lobe::lobe_samples;
+    // Under the studio (the cosine at 8 of 16): a dielectric's lobe halves, a metal's and a
+    // partial metal's do not.
+    assert_eq!(lobe_samples(16, 8, 0.0), 8);
+    assert_eq!(lobe_samples(16, 8, 1.0), 16);
+    assert_eq!(lobe_samples(16, 8, 0.5), 16);
+    assert_eq!(lobe_samples(16, 8, 1e-6), 16);
+    // Under the sky, or without a map (every cosine sample kept): all of them.
+    assert_eq!(lobe_samples(16, 16, 0.0), 16);
+    // Odd counts round up; one sample stays one.
+    assert_eq!(lobe_samples(5, 3, 0.0), 3);
+    assert_eq!(lobe_samples(1, 1, 0.0), 1);
+}
