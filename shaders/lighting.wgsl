@@ -424,9 +424,10 @@ fn luminance_density(d: vec3<f32>, size: vec2<u32>) -> f32 {
 // (src/environment/lobe.rs lobe_samples): half of IBL_SAMPLES, rounded up, on a dielectric
 // (metallic 0) where the cosine's are halved too (a map whose own samples find most of its
 // light), whose lobe is its specular, at most the Fresnel's share of its light; else all.
-// A constant in a pipeline of dielectrics only.
+// A constant in a pipeline of metals only or of dielectrics only (so that the metals'
+// lobe and map samples share their points' bits: shade_environment_mis).
 fn lobe_samples(b: Ball) -> u32 {
-    if IBL_COSINE_SAMPLES < IBL_SAMPLES && (HAS_METAL == 0u || b.metallic <= 0.0) {
+    if IBL_COSINE_SAMPLES < IBL_SAMPLES && HAS_DIELECTRIC == 1u && (HAS_METAL == 0u || b.metallic <= 0.0) {
         return (IBL_SAMPLES + 1u) / 2u;
     }
     return IBL_SAMPLES;
