@@ -265,7 +265,7 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     // samples find most of its light) with the map's and the coat's of the same j, then
     // the map's and the coat's alone. Drawing fewer, the lobe takes the same frame's share
     // of its own sequence (as the cosine's below), else the others' indices, whose points
-    // then share their bits (a loop of the lobe's own cost metals and the sky 4 % to 8 %
+    // then share their bits (a loop of the lobe's own cost metals and the sky 3 % to 11 %
     // of the frame).
     let lobe_count = lobe_samples(b);
     let lobe_first = select(first, (first / IBL_SAMPLES) * lobe_count, lobe_count < IBL_SAMPLES);

@@ -38,9 +38,7 @@ impl LobeSamples {
     /// under the split sum).
     pub(crate) fn of(scene: &Scene, (px, py): (u32, u32), frame: u32) -> Option<Self> {
         (scene.ibl_method == IblMethod::Lobe).then(|| {
-            let count = scene
-                .ibl_samples
-                .clamp(1, crate::environment::MAX_IBL_SAMPLES);
+            let count = scene.lobe_sample_count();
             LobeSamples {
                 scramble: lobe::pixel_scramble(px, py),
                 // As the GPU's uniform holds it: an f32.

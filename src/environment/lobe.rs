@@ -216,7 +216,7 @@ pub fn cosine_samples(count: u32, below_mean: f64) -> u32 {
 /// rounded up, on a dielectric (`metallic` 0) where the cosine's are halved (a map whose own
 /// samples find most of its light), else all `count`. A dielectric's lobe is its specular,
 /// at most its Fresnel's share of the light; under the studio the other half of its samples
-/// left the progressive lobe's error where it was for 0.85x the frame
+/// left the progressive lobe's error where it was for about 0.86x the frame
 /// (docs/design/environment.md, "Half the lobe's samples on a dielectric"). The GPU's twin
 /// is `lobe_samples` of `lighting.wgsl`.
 pub fn lobe_samples(count: u32, cosine: u32, metallic: f64) -> u32 {

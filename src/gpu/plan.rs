@@ -22,7 +22,7 @@ use std::fmt;
 
 use crate::brdf::Geometry;
 use crate::display::DisplayTransform;
-use crate::environment::{IblMethod, MAX_IBL_SAMPLES};
+use crate::environment::IblMethod;
 use crate::lut::{roughness_coord, BakeConfig, Method, TableKey, TableSet};
 use crate::prepared::base_roughness_under_coat;
 use crate::scene::{CoatForm, Model, Scene, MAX_BALLS};
@@ -163,7 +163,7 @@ impl Plan {
         };
         let (ibl_samples, ibl_cosine_samples) = if ibl == 2 {
             (
-                scene.ibl_samples.clamp(1, MAX_IBL_SAMPLES) as u16,
+                scene.lobe_sample_count() as u16,
                 scene.cosine_samples() as u16,
             )
         } else {

@@ -302,13 +302,18 @@ impl Scene {
         }
     }
 
+    /// The lobe mode's samples of each strategy a pixel a frame (the GPU's `IBL_SAMPLES`):
+    /// `ibl_samples` within `1..=MAX_IBL_SAMPLES`.
+    pub(crate) fn lobe_sample_count(&self) -> u32 {
+        self.ibl_samples
+            .clamp(1, crate::environment::MAX_IBL_SAMPLES)
+    }
+
     /// The lobe mode's cosine samples a pixel a frame under this scene's map
-    /// ([`crate::environment::lobe::cosine_samples`] of the clamped `ibl_samples`; all of
+    /// ([`crate::environment::lobe::cosine_samples`] of [`Self::lobe_sample_count`]; all of
     /// them without a map).
     pub(crate) fn cosine_samples(&self) -> u32 {
-        let count = self
-            .ibl_samples
-            .clamp(1, crate::environment::MAX_IBL_SAMPLES);
+        let count = self.lobe_sample_count();
         let below_mean = self
             .environment_map
             .as_ref()
