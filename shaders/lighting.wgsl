@@ -229,9 +229,10 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (IBL_COSINE_SAMPLES: all, or half) and the lobe's (lobe_samples), the samples env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol
-// sequence (the cosine's: the same frame's share of its own; lobe_frame_point: every frame
-// a net, and its first frames together): GGX's visible normals reflected (sample_lobe: an
+// (IBL_COSINE_SAMPLES: all, or half) and the lobe's (lobe_samples), the samples env.lobe.x
+// .. + IBL_SAMPLES of the pixel's Sobol sequence (the cosine's, and a lobe of fewer: the
+// same frame's share of its own; lobe_frame_point: every frame a net, and its first frames
+// together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
 // the term's lobe and the map's dim parts, which the map's strategy leaves to the others),
 // the map's luminance above its mean (luminance_sample, where the map has tables:
