@@ -229,7 +229,7 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (IBL_COSINE_SAMPLES: all, or half) and the lobe's (lobe_samples), the samples env.lobe.x
+// (IBL_COSINE_SAMPLES: all, half or a quarter) and the lobe's (lobe_samples), the samples env.lobe.x
 // .. + IBL_SAMPLES of the pixel's Sobol sequence (the cosine's, and a lobe of fewer: the
 // same frame's share of its own; lobe_frame_point: every frame a net, and its first frames
 // together): GGX's visible normals reflected (sample_lobe: an
@@ -279,8 +279,8 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     for (var j = lobe_count; j < IBL_SAMPLES; j++) {
         sum += mis_map_and_coat(b, p, vec2<u32>(first, j), scramble, size, frame, coat_alpha);
     }
-    // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half of IBL_SAMPLES
-    // under a map whose light mostly stands above its mean), in a loop of their own:
+    // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half or a quarter of
+    // IBL_SAMPLES under a map whose light mostly stands above its mean), in a loop of their own:
     // lavapipe runs the body of a branch no pixel takes, so skipping every other one in
     // the loop above saved nothing.
     let cosine_count = IBL_COSINE_SAMPLES;
@@ -423,7 +423,7 @@ fn luminance_density(d: vec3<f32>, size: vec2<u32>) -> f32 {
 
 // The lobe strategy's samples a frame of ball b in shade_environment_mis
 // (src/environment/lobe.rs lobe_samples): half of IBL_SAMPLES, rounded up, on a dielectric
-// (metallic 0) where the cosine's are halved too (a map whose own samples find most of its
+// (metallic 0) where the cosine's are fewer too (a map whose own samples find most of its
 // light), whose lobe is its specular, at most the Fresnel's share of its light; else all.
 // A constant in a pipeline of metals only or of dielectrics only (so that the metals'
 // lobe and map samples share their points' bits: shade_environment_mis).

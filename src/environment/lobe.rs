@@ -197,23 +197,28 @@ pub fn lobe_frame_point(first: u32, j: u32, scramble: [u32; 2]) -> (f64, f64) {
 
 /// The cosine strategy's samples a frame in the lobe mode, whose other strategies draw
 /// `count` each, under a map that leaves `below_mean` of its light to them
-/// ([`super::EnvMap::light_below_mean`]): all `count` where that is at least
-/// [`COSINE_FULL_SHARE`], else half, rounded up. Under the studio (0.16) the map's samples
-/// find what the cosine's would, and halving them left the progressive lobe's error within
-/// its noise for about 0.88x the frame; under the sky (0.72) they cost it 0.73 % -> 0.84 %
-/// after 8 frames (docs/design/environment.md, "Fewer cosine samples where the map's find
-/// the light"). The GPU takes it as the pipeline constant `IBL_COSINE_SAMPLES`.
+/// ([`super::EnvMap::light_below_mean`]): the smallest share of `count` among all, a half
+/// and a quarter that is at least `below_mean` (all from [`COSINE_FULL_SHARE`], half from
+/// [`COSINE_HALF_SHARE`]), rounded up. Under the sky (0.72) all: half cost the progressive
+/// lobe 0.73 % -> 0.84 % after 8 frames. Under the studio (0.16) a quarter: the map's samples
+/// find what the cosine's would, and a quarter left its error within its noise for about
+/// 0.96x the metals' frame and 0.89x the plastics' against half, where an eighth put the
+/// metals above 1 % (docs/design/environment.md, "Fewer cosine samples where the map's find
+/// the light" and "A quarter of them under the studio"). The GPU takes it as the pipeline
+/// constant `IBL_COSINE_SAMPLES`.
 pub fn cosine_samples(count: u32, below_mean: f64) -> u32 {
     if below_mean >= COSINE_FULL_SHARE {
         count
-    } else {
+    } else if below_mean >= COSINE_HALF_SHARE {
         count.div_ceil(2)
+    } else {
+        count.div_ceil(4)
     }
 }
 
 /// The lobe strategy's samples a frame in the lobe mode for a ball of `metallic`, whose
 /// other strategies draw `count` each and the cosine `cosine` ([`cosine_samples`]): half,
-/// rounded up, on a dielectric (`metallic` 0) where the cosine's are halved (a map whose own
+/// rounded up, on a dielectric (`metallic` 0) where the cosine's are fewer (a map whose own
 /// samples find most of its light), else all `count`. A dielectric's lobe is its specular,
 /// at most its Fresnel's share of the light; under the studio the other half of its samples
 /// left the progressive lobe's error where it was for about 0.86x the frame
@@ -231,6 +236,10 @@ pub fn lobe_samples(count: u32, cosine: u32, metallic: f64) -> u32 {
 /// samples ([`cosine_samples`]): where most of the light is where the map's samples do
 /// not go.
 pub const COSINE_FULL_SHARE: f64 = 0.5;
+
+/// The share of a map's light below its mean from which the cosine strategy keeps half its
+/// samples, and below which a quarter ([`cosine_samples`]).
+pub const COSINE_HALF_SHARE: f64 = 0.25;
 
 /// The mip level a lobe sample of density `pdf` reads (filtered importance sampling):
 /// `0.5 log2(Omega_s / Omega_p) + LOBE_LOD_BIAS`, `Omega_s = 1 / (count pdf)` the solid

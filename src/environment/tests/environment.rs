@@ -815,11 +815,12 @@ fn a_chain_built_ahead_serves_its_own_map_only() {
 
 /// The lobe mode's cosine samples follow the share of the map's light below its mean: the
 /// studio's panels stand above it (0.16), the sky's light mostly does not (0.72), so the
-/// studio's frame of 16 draws 8 cosine samples and the sky's 16; a constant map is all
-/// "below" (its mean), a map dark but for one texel almost none of it; odd counts round up.
+/// studio's frame of 16 draws 4 cosine samples and the sky's 16, a map between a quarter
+/// and a half of its light below its mean 8; a constant map is all "below" (its mean), a
+/// map dark but for one texel almost none of it; odd counts round up.
 #[test]
 fn the_cosine_keeps_its_samples_where_the_maps_light_is_below_its_mean() {
-    use crate::environment::lobe::{cosine_samples, COSINE_FULL_SHARE};
+    use crate::environment::lobe::{cosine_samples, COSINE_FULL_SHARE, COSINE_HALF_SHARE};
     let studio = Environment::builtin(Builtin::Studio).map.light_below_mean();
     let sky = Environment::builtin(Builtin::Sky).map.light_below_mean();
     assert!((0.1..0.2).contains(&studio), "studio {studio}");
@@ -833,28 +834,31 @@ fn the_cosine_keeps_its_samples_where_the_maps_light_is_below_its_mean() {
     let one = EnvMap::new(64, 32, texels).unwrap().light_below_mean();
     // Its mean is its light over 4 pi; the texel's share of that is its solid angle's.
     assert!(one > 0.0 && one < 1e-3, "{one}");
-    assert_eq!(cosine_samples(16, studio), 8);
+    assert_eq!(cosine_samples(16, studio), 4);
     assert_eq!(cosine_samples(16, sky), 16);
-    assert_eq!(cosine_samples(5, 0.0), 3);
+    assert_eq!(cosine_samples(16, 0.3), 8);
+    assert_eq!(cosine_samples(5, 0.0), 2);
+    assert_eq!(cosine_samples(5, COSINE_HALF_SHARE), 3);
     assert_eq!(cosine_samples(1, 0.0), 1);
     assert_eq!(cosine_samples(16, COSINE_FULL_SHARE), 16);
     let mut scene = Scene::reference();
     scene.environment_map = Some(Environment::builtin(Builtin::Studio));
     scene.ibl_samples = 16;
-    assert_eq!(scene.cosine_samples(), 8);
+    assert_eq!(scene.cosine_samples(), 4);
     scene.environment_map = None;
     assert_eq!(scene.cosine_samples(), 16);
 }
 
 #[test]
-fn a_dielectric_halves_its_lobe_only_where_the_cosine_is_halved() {
+fn a_dielectric_halves_its_lobe_only_where_the_cosine_draws_fewer() {
     use crate::environment::lobe::lobe_samples;
-    // Under the studio (the cosine at 8 of 16): a dielectric's lobe halves, a metal's and a
-    // partial metal's do not.
+    // Under the studio (the cosine at 4 of 16) or a map of half (8): a dielectric's lobe
+    // halves, a metal's and a partial metal's do not.
+    assert_eq!(lobe_samples(16, 4, 0.0), 8);
     assert_eq!(lobe_samples(16, 8, 0.0), 8);
-    assert_eq!(lobe_samples(16, 8, 1.0), 16);
-    assert_eq!(lobe_samples(16, 8, 0.5), 16);
-    assert_eq!(lobe_samples(16, 8, 1e-6), 16);
+    assert_eq!(lobe_samples(16, 4, 1.0), 16);
+    assert_eq!(lobe_samples(16, 4, 0.5), 16);
+    assert_eq!(lobe_samples(16, 4, 1e-6), 16);
     // Under the sky, or without a map (every cosine sample kept): all of them.
     assert_eq!(lobe_samples(16, 16, 0.0), 16);
     // Odd counts round up; one sample stays one.
