@@ -229,10 +229,10 @@ fn shade_environment_map(
 // model's BRDF (model_brdf: the metal's and the coating's single scattering, their terms and
 // the coating's base, mixed by metallic, and a clear coat's lobe and shares) times the map's
 // radiance and mu_i, estimated from IBL_SAMPLES samples of each strategy but the cosine's
-// (IBL_COSINE_SAMPLES: all, half or a quarter) and the lobe's (lobe_samples), the samples env.lobe.x
-// .. + IBL_SAMPLES of the pixel's Sobol sequence (the cosine's, and a lobe of fewer: the
-// same frame's share of its own; lobe_frame_point: every frame a net, and its first frames
-// together): GGX's visible normals reflected (sample_lobe: an
+// (IBL_COSINE_SAMPLES: all, half or a quarter) and the lobe's (lobe_samples), the samples
+// env.lobe.x .. + IBL_SAMPLES of the pixel's Sobol sequence (the cosine's, and a lobe of
+// fewer: the same frame's share of its own; lobe_frame_point: every frame a net, and its
+// first frames together): GGX's visible normals reflected (sample_lobe: an
 // anisotropic lobe's own), the cosine hemisphere (sample_cosine; for every ball, metals too:
 // the term's lobe and the map's dim parts, which the map's strategy leaves to the others),
 // the map's luminance above its mean (luminance_sample, where the map has tables:
@@ -279,10 +279,10 @@ fn shade_environment_mis(b: Ball, n: vec3<f32>, v: vec3<f32>, pixel: vec2<u32>) 
     for (var j = lobe_count; j < IBL_SAMPLES; j++) {
         sum += mis_map_and_coat(b, p, vec2<u32>(first, j), scramble, size, frame, coat_alpha);
     }
-    // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half or a quarter of
-    // IBL_SAMPLES under a map whose light mostly stands above its mean), in a loop of their own:
-    // lavapipe runs the body of a branch no pixel takes, so skipping every other one in
-    // the loop above saved nothing.
+    // The cosine's samples (IBL_COSINE_SAMPLES: Scene::cosine_samples, half or a quarter
+    // of IBL_SAMPLES under a map whose light mostly stands above its mean), in a loop of
+    // their own: lavapipe runs the body of a branch no pixel takes, so skipping every
+    // other one in the loop above saved nothing.
     let cosine_count = IBL_COSINE_SAMPLES;
     let cosine_first = (first / IBL_SAMPLES) * cosine_count;
     for (var j = 0u; j < cosine_count; j++) {
