@@ -27,6 +27,8 @@ pub(crate) use layout::{layout_rows_at, RowSide};
 pub use raster::draw_labels;
 #[cfg(feature = "labels")]
 pub use raster::text_width;
+#[cfg(feature = "labels")]
+pub use raster::{label_image, LabelImage};
 
 use std::borrow::Cow;
 

@@ -100,10 +100,90 @@ fn draw(
         return false;
     }
     let (mw, mh) = ((x1 - x0) as usize, (y1 - y0) as usize);
-    let mut mask = vec![0.0f32; mw * mh];
-    let (glyphs, _) = line(font, &label.text, place.size_px);
     // The text box's top-left in mask coordinates.
-    let (ox, oy) = (place.text.x0 - x0 as f32, place.text.y0 - y0 as f32);
+    let origin = (place.text.x0 - x0 as f32, place.text.y0 - y0 as f32);
+    let mask = coverage(font, &label.text, place.size_px, origin, (mw, mh));
+    let outline = halo(&mask, (mw, mh), place.size_px);
+    for my in 0..mh {
+        for mx in 0..mw {
+            let at = 4 * ((y0 as usize + my) * width as usize + x0 as usize + mx);
+            let i = my * mw + mx;
+            blend(&mut rgba[at..at + 4], mask[i], outline[i]);
+        }
+    }
+    true
+}
+
+/// One line of label text with its halo on a transparent ground, as the viewer draws each
+/// label (one image a text and size, one quad a frame, instead of the glyphs nine times):
+/// premultiplied RGBA8, `width x height` pixels, the text box `margin` pixels in from each
+/// edge (the halo's reach).
+#[derive(Clone, Debug)]
+pub struct LabelImage {
+    /// Pixels across.
+    pub width: u32,
+    /// Pixels down.
+    pub height: u32,
+    /// Pixels from each edge to the text box.
+    pub margin: u32,
+    /// Premultiplied RGBA8 display values, rows top to bottom.
+    pub rgba: Vec<u8>,
+}
+
+/// The most pixels a label's image may have ([`label_image`]): a line of a thousand
+/// characters at 64 px is about 2.5 million.
+const MAX_LABEL_IMAGE_PIXELS: f32 = 16_777_216.0;
+
+/// `text` on one line at `size_px` with its halo ([`LabelImage`]): the same mask, halo and
+/// blending as a PNG's labels ([`draw_labels`]), over transparent black, so that the RGBA
+/// holds colours already multiplied by their opacity.
+pub fn label_image(text: &str, size_px: f32) -> Result<LabelImage> {
+    if !(size_px.is_finite() && size_px > 0.0) {
+        return Err(Error::Invalid {
+            what: "label",
+            message: format!("a font size of {size_px} px"),
+        });
+    }
+    let font = font()?;
+    let advance = line(&font, text, size_px).1;
+    let margin = 2 * outline_radius(size_px) + 1;
+    let (w, h) = (
+        advance.ceil() + 2.0 * margin as f32,
+        size_px.ceil() + 2.0 * margin as f32,
+    );
+    if w * h > MAX_LABEL_IMAGE_PIXELS {
+        return Err(Error::Invalid {
+            what: "label",
+            message: format!("{text:?} at {size_px} px needs an image of {w} x {h} pixels"),
+        });
+    }
+    let (w, h) = (w as usize, h as usize);
+    let origin = (margin as f32, margin as f32);
+    let mask = coverage(&font, text, size_px, origin, (w, h));
+    let outline = halo(&mask, (w, h), size_px);
+    let mut rgba = vec![0u8; 4 * w * h];
+    for (i, px) in rgba.chunks_exact_mut(4).enumerate() {
+        blend(px, mask[i], outline[i]);
+    }
+    Ok(LabelImage {
+        width: w as u32,
+        height: h as u32,
+        margin: margin as u32,
+        rgba,
+    })
+}
+
+/// The glyphs' coverage of `text` at `size_px` in a `mw x mh` mask, the text box's top-left
+/// at `origin` (mask pixels); glyphs outside are cut.
+fn coverage(
+    font: &FontRef<'_>,
+    text: &str,
+    size_px: f32,
+    (ox, oy): (f32, f32),
+    (mw, mh): (usize, usize),
+) -> Vec<f32> {
+    let mut mask = vec![0.0f32; mw * mh];
+    let (glyphs, _) = line(font, text, size_px);
     for mut glyph in glyphs {
         glyph.position.x += ox;
         glyph.position.y += oy;
@@ -121,22 +201,28 @@ fn draw(
             }
         });
     }
-    let radius = (OUTLINE_PER_FONT_PX * place.size_px).round().max(1.0) as usize;
-    // A soft dark halo: the glyphs widened by the radius, then blurred by it.
-    let outline = blur(&dilate(&mask, mw, mh, radius), mw, mh, radius);
-    for my in 0..mh {
-        for mx in 0..mw {
-            let (t, o) = (mask[my * mw + mx], outline[my * mw + mx]);
-            if o <= 0.0 {
-                continue;
-            }
-            let at = 4 * ((y0 as usize + my) * width as usize + x0 as usize + mx);
-            let px = &mut rgba[at..at + 4];
-            over(px, OUTLINE, OUTLINE_ALPHA * (HALO_GAIN * o).min(1.0));
-            over(px, TEXT, (TEXT_GAIN * t).min(1.0));
-        }
+    mask
+}
+
+/// The outline's width in whole pixels at font size `size_px` (at least one).
+fn outline_radius(size_px: f32) -> usize {
+    (OUTLINE_PER_FONT_PX * size_px).round().max(1.0) as usize
+}
+
+/// A soft dark halo around `mask`: the glyphs widened by the outline's radius, then
+/// blurred by it.
+fn halo(mask: &[f32], (w, h): (usize, usize), size_px: f32) -> Vec<f32> {
+    let radius = outline_radius(size_px);
+    blur(&dilate(mask, w, h, radius), w, h, radius)
+}
+
+/// The halo of coverage `o` in dark, then the text of coverage `t` in light, over the pixel.
+fn blend(px: &mut [u8], t: f32, o: f32) {
+    if o <= 0.0 {
+        return;
     }
-    true
+    over(px, OUTLINE, OUTLINE_ALPHA * (HALO_GAIN * o).min(1.0));
+    over(px, TEXT, (TEXT_GAIN * t).min(1.0));
 }
 
 /// `colour` with opacity `alpha` over the pixel (display values; alpha composited too).

@@ -1,11 +1,12 @@
 //! The chart's labels in the viewer: laid out by [`crate::labels::layout`] in the same
 //! rooms as a PNG's and fitted by `crate::labels::Label::place`, set in egui's own Ubuntu
-//! Light: light text over a dark outline (the text drawn at eight offsets in dark first).
-//! They are egui shapes of their own, drawn into the scene image right after the balls
+//! Light: light text over a dark halo, each text and size rasterised once into an image as
+//! a PNG's labels are (`labels::label_image`), then drawn as one quad a frame. They are
+//! egui shapes of their own, drawn into the scene image right after the balls
 //! (`compose.rs`), so that a frame that does not shade the balls again does not draw them
 //! either, and the panel is not redrawn for them.
 
-use crate::labels::{self, Labels, MIN_FONT_PX, OUTLINE_PER_FONT_PX};
+use crate::labels::{self, Labels, MIN_FONT_PX};
 use crate::scene::Scene;
 
 /// The smallest font the viewer sets a label in, as a fraction of the layout's size for the
@@ -55,49 +56,107 @@ pub(crate) fn paint(
         egui::pos2(shift / ppp, 0.0),
         egui::pos2((shift + width as f32) / ppp, height as f32 / ppp),
     );
-    let painter = ui.painter();
-    let font = |px: f32| egui::FontId::proportional(px / ppp);
-    let light = egui::Color32::from_gray(245);
-    let dark = egui::Color32::from_black_alpha(200);
+    let ctx = ui.ctx();
+    // The same widths as a PNG's labels: the images below are set by the same rasteriser.
+    let width_at =
+        |text: &str, size_px: f32| labels::text_width(text, size_px).unwrap_or(f32::INFINITY);
     let mut out = Vec::new();
-    let width_at = |text: &str, size_px: f32| {
-        painter
-            .layout_no_wrap(text.to_string(), font(size_px), light)
-            .size()
-            .x
-            * ppp
-    };
     let lines = layout.iter().flat_map(|label| label.fit(width_at));
     for (label, place) in lines {
         if place.size_px < readable_px(label.size_px) * (1.0 - 1e-4) {
             continue;
         }
-        let centre = egui::pos2(
-            (shift + 0.5 * (place.text.x0 + place.text.x1)) / ppp,
-            0.5 * (place.text.y0 + place.text.y1) / ppp,
-        );
-        // Whole pixel sizes: egui keeps each size's glyphs in its font atlas, and a size
-        // that followed the rooms as the camera moves would add glyphs every frame (the
-        // atlas, and so the panel, would change every frame). A hair of tolerance keeps a
-        // size `place` trimmed by rounding whole.
+        // Whole pixel sizes: each size of a text is an image of its own (label_texture),
+        // and a size that followed the rooms as the camera moves would make one every
+        // frame. A hair of tolerance keeps a size `place` trimmed by rounding whole.
         let size_px = (place.size_px + 1e-3).floor();
-        let radius = (OUTLINE_PER_FONT_PX * size_px).round().max(1.0) / ppp;
-        let mut add = |offset: egui::Vec2, colour: egui::Color32| {
-            let galley = painter.layout_no_wrap(label.text.clone(), font(size_px), colour);
-            // On whole pixels: the glyphs' sub-pixel positions (and so the font atlas)
-            // stay the same as the labels move with the camera.
-            let min = ((centre + offset - 0.5 * galley.size()) * ppp).round() / ppp;
-            out.push(egui::epaint::ClippedShape {
-                clip_rect: area,
-                shape: egui::Shape::galley(min, galley, colour),
-                transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
-            });
+        let Some(image) = label_texture(ctx, &label.text, size_px) else {
+            continue;
         };
-        for k in 0..8 {
-            let angle = k as f32 * std::f32::consts::FRAC_PI_4;
-            add(egui::vec2(angle.cos(), angle.sin()) * radius, dark);
-        }
-        add(egui::Vec2::ZERO, light);
+        // The text box centred where the layout put it, on whole pixels (the image is
+        // drawn texel for pixel).
+        let centre_x = shift + 0.5 * (place.text.x0 + place.text.x1);
+        let centre_y = 0.5 * (place.text.y0 + place.text.y1);
+        let margin = image.margin as f32;
+        let text_w = image.width as f32 - 2.0 * margin;
+        let text_h = image.height as f32 - 2.0 * margin;
+        let x = (centre_x - 0.5 * text_w).round() - margin;
+        let y = (centre_y - 0.5 * text_h).round() - margin;
+        let rect = egui::Rect::from_min_size(
+            egui::pos2(x / ppp, y / ppp),
+            egui::vec2(image.width as f32 / ppp, image.height as f32 / ppp),
+        );
+        let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+        // Nothing outside the label's outer box (its halo's room), as in a PNG.
+        let outer = egui::Rect::from_min_max(
+            egui::pos2((shift + place.outer.x0) / ppp, place.outer.y0 / ppp),
+            egui::pos2((shift + place.outer.x1) / ppp, place.outer.y1 / ppp),
+        );
+        out.push(egui::epaint::ClippedShape {
+            clip_rect: area.intersect(outer),
+            shape: egui::Shape::image(image.handle.id(), rect, uv, egui::Color32::WHITE),
+            transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
+        });
     }
     out
+}
+
+/// The most label images kept (texts times sizes): past it the cache starts again, and
+/// egui frees the textures no longer held.
+const MAX_LABEL_IMAGES: usize = 256;
+
+/// The label images made so far, by text and whole font size, kept in egui's memory.
+#[derive(Clone, Default)]
+struct LabelImages(std::collections::HashMap<(String, u32), LabelTexture>);
+
+/// A label's image as a texture: its size and margin (`labels::LabelImage` without its
+/// pixels), and the handle that keeps the texture alive.
+#[derive(Clone)]
+struct LabelTexture {
+    width: u32,
+    height: u32,
+    margin: u32,
+    handle: egui::TextureHandle,
+}
+
+/// The texture of `text` at `size_px` with its halo (`labels::label_image`), made and
+/// uploaded the first time it is asked for; None where the text cannot be set or its image
+/// is wider than a texture may be.
+fn label_texture(ctx: &egui::Context, text: &str, size_px: f32) -> Option<LabelTexture> {
+    let id = egui::Id::unique("shadeballs label images");
+    let key = (text.to_string(), size_px as u32);
+    let found = ctx.data(|d| {
+        d.get_temp::<LabelImages>(id)
+            .and_then(|c| c.0.get(&key).cloned())
+    });
+    if found.is_some() {
+        return found;
+    }
+    let image = labels::label_image(text, size_px).ok()?;
+    // A text too long for one texture of this device is left out, as one too big for its
+    // room is.
+    let side = ctx.input(|i| i.max_texture_side);
+    if image.width.max(image.height) as usize > side {
+        return None;
+    }
+    let colour = egui::ColorImage::from_rgba_premultiplied(
+        [image.width as usize, image.height as usize],
+        &image.rgba,
+    );
+    let name = format!("label {size_px} {text}");
+    let handle = ctx.load_texture(name, colour, egui::TextureOptions::NEAREST);
+    let texture = LabelTexture {
+        width: image.width,
+        height: image.height,
+        margin: image.margin,
+        handle,
+    };
+    ctx.data_mut(|d| {
+        let cache = d.get_temp_mut_or_default::<LabelImages>(id);
+        if cache.0.len() >= MAX_LABEL_IMAGES {
+            cache.0.clear();
+        }
+        cache.0.insert(key, texture.clone());
+    });
+    Some(texture)
 }

@@ -194,3 +194,50 @@ fn text_is_readable_on_black_and_on_white_and_stays_in_its_room() {
         assert!(darkest <= 60, "on {background}: darkest {darkest}");
     }
 }
+
+/// The viewer's label image (`label_image`: one line with its halo on a transparent
+/// ground, drawn as one quad a frame): as wide as the text plus its margins, transparent
+/// along its edges (the halo ends inside the margin), premultiplied (no channel above its
+/// opacity), and laid over black and over white as readable as a PNG's label; a size that
+/// is not a positive number, or one whose image would be too big, is an error.
+#[test]
+fn a_label_image_is_the_text_with_its_halo_on_a_transparent_ground() {
+    let (text, size) = ("r = 0.35", 16.0);
+    let image = labels::label_image(text, size).unwrap();
+    let (w, h, m) = (image.width, image.height, image.margin);
+    let advance = labels::text_width(text, size).unwrap();
+    assert_eq!(w, advance.ceil() as u32 + 2 * m);
+    assert_eq!(h, size as u32 + 2 * m);
+    assert_eq!(image.rgba.len(), (4 * w * h) as usize);
+    let at = |x: u32, y: u32| &image.rgba[(4 * (y * w + x)) as usize..][..4];
+    for x in 0..w {
+        assert_eq!(at(x, 0)[3], 0, "top edge at {x}");
+        assert_eq!(at(x, h - 1)[3], 0, "bottom edge at {x}");
+    }
+    for y in 0..h {
+        assert_eq!(at(0, y)[3], 0, "left edge at {y}");
+        assert_eq!(at(w - 1, y)[3], 0, "right edge at {y}");
+    }
+    for px in image.rgba.chunks_exact(4) {
+        assert!(
+            px[..3].iter().all(|&c| c <= px[3]),
+            "not premultiplied: {px:?}"
+        );
+    }
+    for ground in [0u8, 255] {
+        let (mut brightest, mut darkest) = (0u8, 255u8);
+        for px in image.rgba.chunks_exact(4) {
+            let a = f32::from(px[3]) / 255.0;
+            let v = (f32::from(px[0]) + f32::from(ground) * (1.0 - a)).round() as u8;
+            if px[3] > 0 {
+                brightest = brightest.max(v);
+                darkest = darkest.min(v);
+            }
+        }
+        assert!(brightest >= 200, "on {ground}: brightest {brightest}");
+        assert!(darkest <= 60, "on {ground}: darkest {darkest}");
+    }
+    for bad in [0.0, -3.0, f32::NAN, f32::INFINITY, 1e6] {
+        assert!(labels::label_image(text, bad).is_err(), "size {bad}");
+    }
+}
