@@ -197,14 +197,14 @@ pub fn lobe_frame_point(first: u32, j: u32, scramble: [u32; 2]) -> (f64, f64) {
 
 /// The cosine strategy's samples a frame in the lobe mode, whose other strategies draw
 /// `count` each, under a map that leaves `below_mean` of its light to them
-/// ([`super::EnvMap::light_below_mean`]): the smallest share of `count` among all, a half
-/// and a quarter that is at least `below_mean` (all from [`COSINE_FULL_SHARE`], half from
-/// [`COSINE_HALF_SHARE`]), rounded up. Under the sky (0.72) all: half cost the progressive
-/// lobe 0.73 % -> 0.84 % after 8 frames. Under the studio (0.16) a quarter: the map's samples
-/// find what the cosine's would, and a quarter left its error within its noise for about
-/// 0.96x the metals' frame and 0.89x the plastics' against half, where an eighth put the
-/// metals above 1 % (docs/design/environment.md, "Fewer cosine samples where the map's find
-/// the light" and "A quarter of them under the studio"). The GPU takes it as the pipeline
+/// ([`super::EnvMap::light_below_mean`]): all `count` from a share of
+/// [`COSINE_FULL_SHARE`], half from [`COSINE_HALF_SHARE`], else a quarter, rounded up.
+/// Under the sky (0.72) all: half cost the progressive lobe 0.73 % -> 0.84 % after 8
+/// frames. Under the studio (0.16) a quarter: the map's samples find what the cosine's
+/// would, and a quarter left its error within its noise for 0.98x the metals' frame and
+/// 0.91x the plastics' against half, where an eighth put the metals above 1 %
+/// (docs/design/environment.md, "Fewer cosine samples where the map's find the light" and
+/// "A quarter of the cosine's samples under the studio"). The GPU takes it as the pipeline
 /// constant `IBL_COSINE_SAMPLES`.
 pub fn cosine_samples(count: u32, below_mean: f64) -> u32 {
     if below_mean >= COSINE_FULL_SHARE {

@@ -131,7 +131,7 @@ pub struct LabelImage {
 }
 
 /// The most pixels a label's image may have ([`label_image`]): a line of a thousand
-/// characters at 64 px is about 2.5 million.
+/// characters at 64 px is about 3 million.
 const MAX_LABEL_IMAGE_PIXELS: f32 = 16_777_216.0;
 
 /// `text` on one line at `size_px` with its halo ([`LabelImage`]): the same mask, halo and

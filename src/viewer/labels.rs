@@ -125,9 +125,12 @@ struct LabelTexture {
 fn label_texture(ctx: &egui::Context, text: &str, size_px: f32) -> Option<LabelTexture> {
     let id = egui::Id::unique("shadeballs label images");
     let key = (text.to_string(), size_px as u32);
-    let found = ctx.data(|d| {
-        d.get_temp::<LabelImages>(id)
-            .and_then(|c| c.0.get(&key).cloned())
+    // A look-up in place (get_temp would clone the whole cache).
+    let found = ctx.data_mut(|d| {
+        d.get_temp_mut_or_default::<LabelImages>(id)
+            .0
+            .get(&key)
+            .cloned()
     });
     if found.is_some() {
         return found;
