@@ -174,9 +174,9 @@ fn crop(rgba: &[u8], width: u32, (w, h): (u32, u32)) -> Vec<u8> {
 /// bound (`assert_close`).
 ///
 /// With the scene's labels on (the built-in scene's default), the viewer paints them over
-/// the scene area (an image a label, drawn by egui) in the rooms of `labels::layout`: each room must differ from
-/// the bare render (the labels are there), and the comparison covers every pixel outside
-/// the rooms (which the layout keeps off the balls).
+/// the scene area (an image a label, drawn by egui) in the rooms of `labels::layout`: each
+/// room must differ from the bare render (the labels are there), and the comparison covers
+/// every pixel outside the rooms (which the layout keeps off the balls).
 fn assert_scene_matches(shot: &Path, stderr: &str, scene: &Scene, what: &str) {
     let image = image::open(shot).unwrap().to_rgba8();
     let area = scene_area(stderr);
@@ -870,7 +870,8 @@ fn difference_view_is_the_scaled_difference_with_a_colour_bar() {
 /// The viewer's `--save-scene` after an orbit with a map: `shadeballs render` of the file at
 /// the scene area's size draws the screenshot's scene area byte for byte (no labels: the
 /// viewer blends each label's image on the GPU, a PNG on the CPU; with labels, every pixel
-/// outside their rooms), and its EXR equals the viewer's `--screenshot x.exr` value for value.
+/// outside their rooms), and its EXR equals the viewer's `--screenshot x.exr` value for
+/// value.
 #[test]
 fn saved_scene_renders_the_viewers_picture() {
     let x = Xvfb::start();
