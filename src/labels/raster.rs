@@ -5,6 +5,8 @@
 //! the "over" operator (Porter and Duff 1984, "Compositing Digital Images") on the 8-bit
 //! display values.
 
+use std::sync::OnceLock;
+
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
 use super::{Label, Labels, OUTLINE_PER_FONT_PX};
@@ -21,8 +23,15 @@ const HALO_GAIN: f32 = 1.5;
 /// The text's coverage is strengthened a little: Ubuntu Light's strokes are thin.
 const TEXT_GAIN: f32 = 1.3;
 
-fn font() -> Result<FontRef<'static>> {
-    FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT).map_err(|e| Error::Invalid {
+/// The embedded Ubuntu Light, parsed once: the viewer measures and sets its labels every
+/// frame, and a parse of the font's tables each time would be work done over and over.
+fn font() -> Result<&'static FontRef<'static>> {
+    static FONT: OnceLock<std::result::Result<FontRef<'static>, String>> = OnceLock::new();
+    FONT.get_or_init(|| {
+        FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT).map_err(|e| e.to_string())
+    })
+    .as_ref()
+    .map_err(|e| Error::Invalid {
         what: "font",
         message: format!("the embedded Ubuntu Light font does not parse: {e}"),
     })
@@ -31,7 +40,7 @@ fn font() -> Result<FontRef<'static>> {
 /// The width in pixels of `text` in one line at font size `size_px` (a line's height:
 /// ascent minus descent), kerning included.
 pub fn text_width(text: &str, size_px: f32) -> Result<f32> {
-    Ok(line(&font()?, text, size_px).1)
+    Ok(line(font()?, text, size_px).1)
 }
 
 /// The glyphs of `text` laid out on one line at `size_px`, the baseline at the ascent (so
@@ -70,11 +79,11 @@ pub fn draw_labels(rgba: &mut [u8], width: u32, height: u32, labels: &Labels) ->
         });
     }
     let font = font()?;
-    let width_at = |text: &str, size: f32| line(&font, text, size).1;
+    let width_at = |text: &str, size: f32| line(font, text, size).1;
     let mut drawn = 0;
     for label in labels.iter() {
         for (line, place) in label.fit(width_at) {
-            if draw(&font, rgba, width, height, &line, place) {
+            if draw(font, rgba, width, height, &line, place) {
                 drawn += 1;
             }
         }
@@ -145,7 +154,7 @@ pub fn label_image(text: &str, size_px: f32) -> Result<LabelImage> {
         });
     }
     let font = font()?;
-    let advance = line(&font, text, size_px).1;
+    let advance = line(font, text, size_px).1;
     let margin = 2 * outline_radius(size_px) + 1;
     let (w, h) = (
         advance.ceil() + 2.0 * margin as f32,
@@ -159,7 +168,7 @@ pub fn label_image(text: &str, size_px: f32) -> Result<LabelImage> {
     }
     let (w, h) = (w as usize, h as usize);
     let origin = (margin as f32, margin as f32);
-    let mask = coverage(&font, text, size_px, origin, (w, h));
+    let mask = coverage(font, text, size_px, origin, (w, h));
     let outline = halo(&mask, (w, h), size_px);
     let mut rgba = vec![0u8; 4 * w * h];
     for (i, px) in rgba.chunks_exact_mut(4).enumerate() {
