@@ -14,6 +14,7 @@ use std::collections::HashMap;
 use super::pipelines::{self, is_bits, PipelineKey, Shape};
 use super::plan::{DrawOptions, Plan};
 use super::shaders;
+use super::specialise::ParsedProgram;
 use super::sums::{self, same_scene, Draw, Sums, SumsSpec};
 use crate::lut::{BakeConfig, TableKey};
 use crate::scene::Scene;
@@ -68,12 +69,12 @@ enum Role {
     Resolve,
 }
 
-/// The accumulation's layout (group 2), module (made on first use), pipelines and sums.
+/// The accumulation's layout (group 2), programs (parsed on first use), pipelines and sums.
 pub(crate) struct LobePass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     /// Float or display output, and bits output (each made on first use).
-    modules: [Option<wgpu::ShaderModule>; 2],
+    programs: [Option<ParsedProgram>; 2],
     pipelines: HashMap<(Role, PipelineKey), wgpu::RenderPipeline>,
     sums: Option<Held>,
 }
@@ -111,7 +112,7 @@ impl LobePass {
         LobePass {
             layout,
             pipeline_layout,
-            modules: [None, None],
+            programs: [None, None],
             pipelines: HashMap::new(),
             sums: None,
         }
@@ -207,15 +208,11 @@ impl LobePass {
             mu_axis: draw.mu_axis,
             variant: draw.variant,
         };
-        // The accumulation writes bits whatever the module; only a resolve into a bits
-        // target needs the bits module's output.
+        // The accumulation writes bits whatever the program; only a resolve into a bits
+        // target needs the bits program's output.
         let bits = role == Role::Resolve && is_bits(format);
-        let module = self.modules[bits as usize].get_or_insert_with(|| {
-            draw.device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("lobe accumulation"),
-                    source: wgpu::ShaderSource::Wgsl(shaders::accumulate_source(bits).into()),
-                })
+        let program = self.programs[bits as usize].get_or_insert_with(|| {
+            ParsedProgram::new("lobe accumulation", shaders::accumulate_source(bits))
         });
         let layout = &self.pipeline_layout;
         self.pipelines.entry((role, key)).or_insert_with(|| {
@@ -230,7 +227,7 @@ impl LobePass {
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 depth: None,
             };
-            pipelines::create(draw.device, layout, module, key, shape)
+            pipelines::create(draw.device, layout, program, key, shape)
         })
     }
 }

@@ -18,6 +18,7 @@ pub(crate) mod plan;
 pub mod readback;
 mod renderer;
 pub mod shaders;
+mod specialise;
 mod sums;
 mod table_cache;
 #[cfg(all(test, feature = "cli"))]

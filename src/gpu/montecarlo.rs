@@ -20,6 +20,7 @@ use super::pipelines::DEPTH_FORMAT;
 use super::plan::Variant;
 use super::readback::Readback;
 use super::shaders;
+use super::specialise::ParsedProgram;
 use super::sums::{self, Sums, SumsSpec, SUM_FORMAT};
 use super::uniforms::GpuBall;
 use super::Gpu;
@@ -79,12 +80,12 @@ pub(crate) struct McFrame<'a> {
     pub part: Part,
 }
 
-/// Group 2's layout, the module, the pipelines by their choices and samples a pass, and
+/// Group 2's layout, the program, the pipelines by their choices and samples a pass, and
 /// the quads' buffer.
 pub(crate) struct MonteCarloPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    module: Option<wgpu::ShaderModule>,
+    program: Option<ParsedProgram>,
     pipelines: HashMap<(Geometry, MuAxis, Variant, u32), wgpu::RenderPipeline>,
     instances: wgpu::Buffer,
 }
@@ -99,7 +100,7 @@ impl MonteCarloPass {
         MonteCarloPass {
             pipeline_layout: sums::pipeline_layout(device, "montecarlo", [group0, group1, &layout]),
             layout,
-            module: None,
+            program: None,
             pipelines: HashMap::new(),
             instances: sums::quad_buffer(device, "montecarlo quads"),
         }
@@ -178,16 +179,13 @@ impl MonteCarloPass {
         k: u32,
     ) -> &wgpu::RenderPipeline {
         let key = (frame.geometry, frame.mu_axis, frame.variant, k);
-        let module = self.module.get_or_insert_with(|| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("montecarlo"),
-                source: wgpu::ShaderSource::Wgsl(shaders::montecarlo_source().into()),
-            })
-        });
+        let program = self
+            .program
+            .get_or_insert_with(|| ParsedProgram::new("montecarlo", shaders::montecarlo_source()));
         let layout = &self.pipeline_layout;
         self.pipelines
             .entry(key)
-            .or_insert_with(|| create_pipeline(device, layout, module, key))
+            .or_insert_with(|| create_pipeline(device, layout, program, key))
     }
 }
 
@@ -363,7 +361,7 @@ fn read_state(
 fn create_pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
+    program: &ParsedProgram,
     (geometry, mu_axis, variant, k): (Geometry, MuAxis, Variant, u32),
 ) -> wgpu::RenderPipeline {
     let mut constants: Vec<(&str, f64)> =
@@ -374,10 +372,18 @@ fn create_pipeline(
         }
     }
     constants.push(("MC_SAMPLES", f64::from(k)));
-    let options = wgpu::PipelineCompilationOptions {
-        constants: &constants,
-        ..Default::default()
-    };
+    let vertex = program.stage(
+        device,
+        naga::ShaderStage::Vertex,
+        shaders::VS_BALL,
+        &constants,
+    );
+    let fragment = program.stage(
+        device,
+        naga::ShaderStage::Fragment,
+        shaders::FS_MONTECARLO,
+        &constants,
+    );
     let target = Some(wgpu::ColorTargetState {
         format: SUM_FORMAT,
         blend: None,
@@ -387,9 +393,12 @@ fn create_pipeline(
         label: Some("montecarlo"),
         layout: Some(layout),
         vertex: wgpu::VertexState {
-            module,
+            module: &vertex.module,
             entry_point: Some(shaders::VS_BALL),
-            compilation_options: options.clone(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: vertex.constants,
+                ..Default::default()
+            },
             buffers: &[Some(BallInstance::LAYOUT)],
         },
         primitive: wgpu::PrimitiveState {
@@ -405,9 +414,12 @@ fn create_pipeline(
         }),
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
-            module,
+            module: &fragment.module,
             entry_point: Some(shaders::FS_MONTECARLO),
-            compilation_options: options,
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: fragment.constants,
+                ..Default::default()
+            },
             targets: &[target.clone(), target],
         }),
         multiview_mask: None,

@@ -1,13 +1,15 @@
 //! The ball renderer's pipelines: one per shader variant and target, created on first use
-//! with the variant's override constants (`types.wgsl`) from the module of the target's
-//! output (bits or not: the shader def `OUTPUT_BITS`): the per-ball entry points with
-//! their instance buffer, and the background's full-screen triangle.
+//! from the program of the target's output (bits or not: the shader def `OUTPUT_BITS`)
+//! specialised to the variant's override constants (`types.wgsl`; `specialise.rs`): the
+//! per-ball entry points with their instance buffer, and the background's full-screen
+//! triangle.
 
 use std::collections::HashMap;
 
 use super::bindings::{BallInstance, Bindings};
 use super::plan::{Plan, Variant};
 use super::shaders;
+use super::specialise::ParsedProgram;
 use crate::brdf::Geometry;
 use crate::lut::MuAxis;
 
@@ -62,10 +64,13 @@ pub(crate) fn is_bits(format: wgpu::TextureFormat) -> bool {
     format == wgpu::TextureFormat::Rgba32Uint
 }
 
-/// The ball modules (float or display output, and bits output: each created on first use),
+/// The ball programs (float or display output, and bits output: each parsed on first use),
 /// their pipeline layout and the pipelines made so far.
 pub(crate) struct Pipelines {
-    modules: [Option<wgpu::ShaderModule>; 2],
+    programs: [Option<ParsedProgram>; 2],
+    /// Whether the programs are specialised per pipeline (always, but in the tests that
+    /// compare the two).
+    specialise: bool,
     layout: wgpu::PipelineLayout,
     made: HashMap<PipelineKey, wgpu::RenderPipeline>,
     backgrounds: HashMap<PipelineKey, wgpu::RenderPipeline>,
@@ -83,7 +88,8 @@ impl Pipelines {
             immediate_size: 0,
         });
         Pipelines {
-            modules: [None, None],
+            programs: [None, None],
+            specialise: true,
             layout,
             made: HashMap::new(),
             backgrounds: HashMap::new(),
@@ -106,7 +112,7 @@ impl Pipelines {
             mu_axis,
             variant,
         };
-        let module = module(&mut self.modules, device, is_bits(format));
+        let program = program(&mut self.programs, is_bits(format), self.specialise);
         let layout = &self.layout;
         self.backgrounds.entry(key).or_insert_with(|| {
             let shape = Shape {
@@ -119,13 +125,24 @@ impl Pipelines {
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 depth: Some((false, wgpu::CompareFunction::LessEqual)),
             };
-            create(device, layout, module, key, shape)
+            create(device, layout, program, key, shape)
         })
+    }
+
+    /// From now on, pipelines from the whole programs with their constants handed to wgpu
+    /// (`false`) or from the programs specialised to them (`true`, the default); drops
+    /// what was made.
+    #[cfg(test)]
+    pub(crate) fn set_specialise(&mut self, on: bool) {
+        self.specialise = on;
+        self.programs = [None, None];
+        self.made.clear();
+        self.backgrounds.clear();
     }
 
     /// The pipeline of `key`, created on first use.
     pub(crate) fn get(&mut self, device: &wgpu::Device, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let module = module(&mut self.modules, device, is_bits(key.format));
+        let program = program(&mut self.programs, is_bits(key.format), self.specialise);
         let layout = &self.layout;
         self.made.entry(key).or_insert_with(|| {
             let shape = Shape {
@@ -139,22 +156,26 @@ impl Pipelines {
                 // The quads write each hit's depth (`fs_ball`); the nearest ball stays.
                 depth: Some((true, wgpu::CompareFunction::Less)),
             };
-            create(device, layout, module, key, shape)
+            create(device, layout, program, key, shape)
         })
     }
 }
 
-/// The ball module for a bits target (`bits`) or another, created on first use.
-fn module<'a>(
-    modules: &'a mut [Option<wgpu::ShaderModule>; 2],
-    device: &wgpu::Device,
+/// The ball program for a bits target (`bits`) or another, parsed on first use
+/// (`specialise` false: handed to wgpu whole, in the tests).
+fn program(
+    programs: &mut [Option<ParsedProgram>; 2],
     bits: bool,
-) -> &'a wgpu::ShaderModule {
-    modules[bits as usize].get_or_insert_with(|| {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(if bits { "balls bits" } else { "balls" }),
-            source: wgpu::ShaderSource::Wgsl(shaders::balls_source(bits).into()),
-        })
+    specialise: bool,
+) -> &ParsedProgram {
+    programs[bits as usize].get_or_insert_with(|| {
+        let label = if bits { "balls bits" } else { "balls" };
+        let source = shaders::balls_source(bits);
+        if specialise {
+            ParsedProgram::new(label, source)
+        } else {
+            ParsedProgram::unspecialised(label, source)
+        }
     })
 }
 
@@ -169,13 +190,13 @@ pub(super) struct Shape<'a> {
     pub depth: Option<(bool, wgpu::CompareFunction)>,
 }
 
-/// A pipeline of the ball module of `shape`, compiled with the override constants of
-/// `key` (its G, mu axis and variant; linear or bits output for its format, and whether
-/// the format is sRGB) into its format.
+/// A pipeline of `program`'s entry points in `shape`, each specialised to the override
+/// constants of `key` (its G, mu axis and variant; linear or bits output for its format,
+/// and whether the format is sRGB), into its format.
 pub(super) fn create(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
+    program: &ParsedProgram,
     key: PipelineKey,
     shape: Shape<'_>,
 ) -> wgpu::RenderPipeline {
@@ -193,17 +214,18 @@ pub(super) fn create(
         variant,
         format.is_srgb(),
     );
-    let options = wgpu::PipelineCompilationOptions {
-        constants: &constants,
-        ..Default::default()
-    };
+    let vertex = program.stage(device, naga::ShaderStage::Vertex, shape.vs, &constants);
+    let fragment = program.stage(device, naga::ShaderStage::Fragment, shape.fs, &constants);
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(shape.label),
         layout: Some(layout),
         vertex: wgpu::VertexState {
-            module,
+            module: &vertex.module,
             entry_point: Some(shape.vs),
-            compilation_options: options.clone(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: vertex.constants,
+                ..Default::default()
+            },
             buffers: shape.buffers,
         },
         primitive: wgpu::PrimitiveState {
@@ -219,9 +241,12 @@ pub(super) fn create(
         }),
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
-            module,
+            module: &fragment.module,
             entry_point: Some(shape.fs),
-            compilation_options: options,
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: fragment.constants,
+                ..Default::default()
+            },
             targets: &[Some(wgpu::ColorTargetState {
                 format,
                 blend: None,

@@ -224,6 +224,13 @@ impl Renderer {
         self.plan.insert(plan)
     }
 
+    /// Whether the ball pipelines are made from programs specialised to their constants
+    /// (the default) or from the whole programs (the tests' control).
+    #[cfg(test)]
+    pub(crate) fn set_specialise(&mut self, on: bool) {
+        self.pipelines.set_specialise(on);
+    }
+
     /// The plan of the latest scene planned or drawn.
     pub(crate) fn plan(&self) -> Option<&Plan> {
         self.plan.as_ref()

@@ -21,6 +21,7 @@ use super::bindings::BallInstance;
 use super::pipelines::{self, is_bits, PipelineKey, Shape};
 use super::plan::Variant;
 use super::shaders;
+use super::specialise::ParsedProgram;
 use super::sums::{self, same_scene, Draw, Sums, SumsSpec, QUAD_PAD_PX, SUM_FORMAT};
 use super::uniforms::GpuBall;
 use crate::brdf::Geometry;
@@ -36,16 +37,16 @@ enum Role {
     Truth,
     /// `fs_truth_occluder` into the sums.
     Occluder,
-    /// `fs_truth_resolve` into a target of this format (from the bits module for a bits
+    /// `fs_truth_resolve` into a target of this format (from the bits program for a bits
     /// target).
     Resolve(wgpu::TextureFormat),
 }
 
-/// The truth's layout (group 2), modules (float or display output, and bits output: each
-/// created on first use), pipelines, quads and the running sums.
+/// The truth's layout (group 2), programs (float or display output, and bits output: each
+/// parsed on first use), pipelines, quads and the running sums.
 pub(crate) struct TruthPass {
     layout: wgpu::BindGroupLayout,
-    modules: [Option<wgpu::ShaderModule>; 2],
+    programs: [Option<ParsedProgram>; 2],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<Key, wgpu::RenderPipeline>,
     /// The accumulation pass's quads: the truth balls', then the others'.
@@ -84,7 +85,7 @@ impl TruthPass {
         TruthPass {
             pipeline_layout: sums::pipeline_layout(device, "truth", [group0, group1, &layout]),
             layout,
-            modules: [None, None],
+            programs: [None, None],
             pipelines: HashMap::new(),
             instances: sums::quad_buffer(device, "truth quads"),
             sums: None,
@@ -186,17 +187,16 @@ impl TruthPass {
     fn pipeline(&mut self, draw: &Draw<'_>, role: Role) -> &wgpu::RenderPipeline {
         let key = (draw.geometry, draw.mu_axis, draw.variant, role);
         let bits = matches!(role, Role::Resolve(f) if is_bits(f));
-        let module = self.modules[bits as usize].get_or_insert_with(|| {
-            draw.device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(if bits { "truth bits" } else { "truth" }),
-                    source: wgpu::ShaderSource::Wgsl(shaders::truth_source(bits).into()),
-                })
+        let program = self.programs[bits as usize].get_or_insert_with(|| {
+            ParsedProgram::new(
+                if bits { "truth bits" } else { "truth" },
+                shaders::truth_source(bits),
+            )
         });
         let layout = &self.pipeline_layout;
         self.pipelines
             .entry(key)
-            .or_insert_with(|| create(draw, layout, module, role))
+            .or_insert_with(|| create(draw, layout, program, role))
     }
 }
 
@@ -206,7 +206,7 @@ impl TruthPass {
 fn create(
     draw: &Draw<'_>,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
+    program: &ParsedProgram,
     role: Role,
 ) -> wgpu::RenderPipeline {
     let quads = [Some(BallInstance::LAYOUT)];
@@ -244,5 +244,5 @@ fn create(
         mu_axis: draw.mu_axis,
         variant: draw.variant,
     };
-    pipelines::create(draw.device, layout, module, key, shape)
+    pipelines::create(draw.device, layout, program, key, shape)
 }

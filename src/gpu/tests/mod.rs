@@ -13,6 +13,7 @@ mod plan;
 mod planned;
 mod render;
 mod shaders;
+mod specialise;
 mod stress;
 mod tone_map;
 mod uniform_flow;
