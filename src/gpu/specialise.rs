@@ -20,7 +20,7 @@ use std::sync::OnceLock;
 
 use naga::{
     Arena, BinaryOperator, Block, Constant, Expression, Function, Handle, Literal, LocalVariable,
-    Statement, UnaryOperator,
+    Scalar, Statement, Type, TypeInner, UnaryOperator, UniqueArena,
 };
 
 /// One WGSL program (a composed module of `shaders`), parsed and validated once.
@@ -156,6 +156,7 @@ pub(crate) fn specialise(
 /// are dropped (`naga::compact` keeps every named expression alive).
 pub(crate) fn cut_decided_branches(module: &mut naga::Module) {
     let naga::Module {
+        types,
         functions,
         entry_points,
         constants,
@@ -163,6 +164,7 @@ pub(crate) fn cut_decided_branches(module: &mut naga::Module) {
         ..
     } = module;
     let mut known = Known {
+        types,
         constants,
         global_expressions,
         returns: HashMap::new(),
@@ -183,9 +185,16 @@ pub(crate) fn cut_decided_branches(module: &mut naga::Module) {
 /// What decides a condition beyond the function's own expressions: the module's constants
 /// and the functions known to return a constant `bool`.
 struct Known<'a> {
+    types: &'a UniqueArena<Type>,
     constants: &'a Arena<Constant>,
     global_expressions: &'a Arena<Expression>,
     returns: HashMap<Handle<Function>, bool>,
+}
+
+impl Known<'_> {
+    fn is_bool(&self, ty: Handle<Type>) -> bool {
+        self.types[ty].inner == TypeInner::Scalar(Scalar::BOOL)
+    }
 }
 
 fn cut_function(function: &mut Function, known: &Known<'_>) {
@@ -217,6 +226,13 @@ fn cut_function(function: &mut Function, known: &Known<'_>) {
 /// `has_clearcoat` with the coat compiled out. (A body that does anything else, a call
 /// for one, is not taken.)
 fn constant_return(function: &Function, known: &Known<'_>) -> Option<bool> {
+    if !function
+        .result
+        .as_ref()
+        .is_some_and(|r| known.is_bool(r.ty))
+    {
+        return None;
+    }
     let locals = constant_locals(function, known);
     let mut value = None;
     for statement in function.body.iter() {
@@ -236,7 +252,7 @@ fn is_store(statement: &Statement) -> bool {
     matches!(statement, Statement::Store { .. } | Statement::Emit(_))
 }
 
-/// The locals of `function` that hold one constant `bool` wherever they are read: every
+/// The `bool` locals of `function` that hold one constant wherever they are read: every
 /// store into one stores that value, its initialiser is that value (or, for `false`, it has
 /// none: a local starts at zero), and nothing but loads and stores touches it.
 fn constant_locals(function: &Function, known: &Known<'_>) -> HashMap<Handle<LocalVariable>, bool> {
@@ -255,7 +271,12 @@ fn constant_locals(function: &Function, known: &Known<'_>) -> HashMap<Handle<Loc
         }
     };
     for (l, var) in function.local_variables.iter() {
-        see(l, var.init.map_or(Some(false), value));
+        let start = if known.is_bool(var.ty) {
+            var.init.map_or(Some(false), value)
+        } else {
+            None
+        };
+        see(l, start);
     }
     // Any expression that takes a local's pointer other than a load (a member's access).
     for (_, e) in function.expressions.iter() {

@@ -286,3 +286,49 @@ fn specialised_pipelines_draw_what_the_whole_programs_draw() {
         assert_eq!(differing, 0, "{name}: {differing} pixels differ");
     }
 }
+
+/// The conditions naga does not fold itself: a flag and-ed with a varying value, in a
+/// helper that returns it (naga lowers `&&` to a local and an `if`), and or-ed inline.
+#[test]
+fn a_flag_behind_a_helper_and_a_logical_operator_is_cut() {
+    let source = "
+        override HAS_X: bool = false;
+        fn has_x(v: f32) -> bool { return HAS_X && v > 0.0; }
+        fn heavy(v: f32) -> f32 { return v * 3.0; }
+        @fragment fn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+            var x = p.x;
+            if has_x(x) { x = heavy(x); }
+            if HAS_X || x > 2.0 { x = x + 7.0; }
+            return vec4<f32>(x);
+        }";
+    let (module, info) = parsed(source);
+    let names = |flag: f64| {
+        let m = specialise(
+            &module,
+            &info,
+            naga::ShaderStage::Fragment,
+            "main",
+            &[("HAS_X", flag)],
+        )
+        .unwrap();
+        let main = &m.entry_points[0].function;
+        let mut ifs = 0;
+        for s in main.body.iter() {
+            if let naga::Statement::If { .. } = s {
+                ifs += 1;
+            }
+        }
+        (function_names(&m), ifs, decided_ifs(&m))
+    };
+    let (off, off_ifs, off_decided) = names(0.0);
+    assert!(!off.contains("heavy"), "HAS_X false: {off:?}");
+    // `x > 2.0` still decides the second branch.
+    assert_eq!((off_ifs, off_decided), (1, 0));
+    let (on, on_ifs, on_decided) = names(1.0);
+    assert!(on.contains("heavy"), "HAS_X true: {on:?}");
+    // The first branch rests on `v > 0.0`. The second is taken whatever `x`, but naga
+    // writes the or's `true` into a local declared without a value, which the pass does not
+    // take for a constant (a read before the store would see false). The branch stays; its
+    // body is code the variant runs, so nothing it cannot run is left.
+    assert_eq!((on_ifs, on_decided), (2, 0));
+}
