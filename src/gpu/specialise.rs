@@ -307,7 +307,7 @@ fn constant_locals(function: &Function, known: &Known<'_>) -> HashMap<Handle<Loc
 }
 
 /// Calls `f` on every statement of `block` and of the blocks in it.
-fn visit(block: &Block, f: &mut dyn FnMut(&Statement)) {
+pub(crate) fn visit(block: &Block, f: &mut dyn FnMut(&Statement)) {
     for statement in block.iter() {
         f(statement);
         match *statement {

@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 
 use crate::display::DisplayTransform;
 use crate::environment::IblMethod;
-use crate::gpu::specialise::{cut_decided_branches, specialise};
+use crate::gpu::specialise::{cut_decided_branches, specialise, visit};
 use crate::gpu::{shaders, TermMode, Variant};
 use crate::pixels::vulkan;
 use crate::scene::Scene;
@@ -53,46 +53,22 @@ fn function_names(module: &naga::Module) -> BTreeSet<String> {
 
 /// How many `if`s of `module` still branch on a constant `bool`.
 fn decided_ifs(module: &naga::Module) -> usize {
-    fn count(block: &naga::Block, f: &naga::Function, module: &naga::Module, n: &mut usize) {
-        for s in block.iter() {
-            match s {
-                naga::Statement::If {
-                    condition,
-                    accept,
-                    reject,
-                } => {
-                    let e = match f.expressions[*condition] {
-                        naga::Expression::Constant(c) => {
-                            &module.global_expressions[module.constants[c].init]
-                        }
-                        ref e => e,
-                    };
-                    if matches!(e, naga::Expression::Literal(naga::Literal::Bool(_))) {
-                        *n += 1;
-                    }
-                    count(accept, f, module, n);
-                    count(reject, f, module, n);
-                }
-                naga::Statement::Block(b) => count(b, f, module, n),
-                naga::Statement::Loop {
-                    body, continuing, ..
-                } => {
-                    count(body, f, module, n);
-                    count(continuing, f, module, n);
-                }
-                naga::Statement::Switch { cases, .. } => {
-                    for c in cases {
-                        count(&c.body, f, module, n);
-                    }
-                }
-                _ => {}
-            }
-        }
-    }
     let mut n = 0;
     let functions = module.functions.iter().map(|(_, f)| f);
     for f in functions.chain(module.entry_points.iter().map(|ep| &ep.function)) {
-        count(&f.body, f, module, &mut n);
+        visit(&f.body, &mut |s| {
+            if let naga::Statement::If { condition, .. } = *s {
+                let e = match f.expressions[condition] {
+                    naga::Expression::Constant(c) => {
+                        &module.global_expressions[module.constants[c].init]
+                    }
+                    ref e => e,
+                };
+                if matches!(e, naga::Expression::Literal(naga::Literal::Bool(_))) {
+                    n += 1;
+                }
+            }
+        });
     }
     n
 }
