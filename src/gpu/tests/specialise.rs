@@ -225,9 +225,11 @@ fn a_cut_branch_keeps_the_side_its_constant_takes() {
     assert_eq!(decided_ifs(&m), 0);
 }
 
-/// The pictures: specialised pipelines draw every pixel the whole programs draw, on the
-/// showcase (split sum under the studio), the homework's scene (one light), the lobe mode,
-/// and a coated and an anisotropic chart.
+/// The pictures: specialised ball pipelines draw every pixel the whole ball programs draw,
+/// on the showcase (split sum under the studio), the homework's scene (one light), the lobe
+/// mode, and a coated and an anisotropic chart. (The truth's, the Monte Carlo's and the
+/// lobe accumulation's programs are specialised on both sides; tests/same_pictures.sh
+/// compares whole binaries.)
 #[test]
 fn specialised_pipelines_draw_what_the_whole_programs_draw() {
     let (w, h) = (320, 180);
