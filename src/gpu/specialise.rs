@@ -44,16 +44,10 @@ pub(crate) struct Stage<'a> {
 impl ParsedProgram {
     /// Parses and validates `source` (named `label` in wgpu's messages).
     pub(crate) fn new(label: &'static str, source: &'static str) -> Self {
-        let parsed = naga::front::wgsl::parse_str(source)
-            .map_err(|e| e.emit_to_string(source))
-            .and_then(|module| {
-                let info = validator().validate(&module).map_err(|e| e.to_string())?;
-                Ok((module, info))
-            });
         ParsedProgram {
             label,
             source,
-            parsed: Some(parsed),
+            parsed: Some(parse(source)),
             whole: OnceLock::new(),
         }
     }
@@ -115,11 +109,21 @@ impl ParsedProgram {
     }
 }
 
-fn validator() -> naga::valid::Validator {
+/// `source` parsed, and the module's validation; or why it does not parse or validate.
+pub(crate) fn parse(source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    let info = validate(&module)?;
+    Ok((module, info))
+}
+
+/// `module`'s validation by naga, every check and capability on.
+pub(crate) fn validate(module: &naga::Module) -> Result<naga::valid::ModuleInfo, String> {
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     )
+    .validate(module)
+    .map_err(|e| e.to_string())
 }
 
 /// `module` with only entry point `entry` of `stage`, its overrides set to `constants`,
@@ -145,9 +149,7 @@ pub(crate) fn specialise(
     let mut module = folded.into_owned();
     cut_decided_branches(&mut module);
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
-    validator()
-        .validate(&module)
-        .map_err(|e| format!("the specialised module does not validate: {e}"))?;
+    validate(&module).map_err(|e| format!("the specialised module does not validate: {e}"))?;
     Ok(module)
 }
 
@@ -172,8 +174,8 @@ pub(crate) fn cut_decided_branches(module: &mut naga::Module) {
     // A callee comes before its callers in the arena: each function's constant result
     // is known before a caller branches on it.
     for (handle, function) in functions.iter_mut() {
-        cut_function(function, &known);
-        if let Some(value) = constant_return(function, &known) {
+        let locals = cut_function(function, &known);
+        if let Some(value) = constant_return(function, &known, &locals) {
             known.returns.insert(handle, value);
         }
     }
@@ -197,19 +199,23 @@ impl Known<'_> {
     }
 }
 
-fn cut_function(function: &mut Function, known: &Known<'_>) {
+/// Cuts `function`'s decided branches; returns its constant locals after the cuts.
+fn cut_function(
+    function: &mut Function,
+    known: &Known<'_>,
+) -> HashMap<Handle<LocalVariable>, bool> {
     // naga writes `a && b` as a local set to `a` and, under `if a`, to `b`: once that `if`
     // is cut, the local is a constant that a later branch reads (`has_clearcoat`), so cut
     // again until nothing changes.
-    loop {
+    let locals = loop {
         let locals = constant_locals(function, known);
         let expressions = &function.expressions;
         if !cut(&mut function.body, &|h| {
             constant_bool(expressions, known, &locals, h)
         }) {
-            break;
+            break locals;
         }
-    }
+    };
     let mut emitted = HashSet::new();
     visit(&function.body, &mut |statement| {
         if let Statement::Emit(ref range) = *statement {
@@ -219,13 +225,18 @@ fn cut_function(function: &mut Function, known: &Known<'_>) {
     function
         .named_expressions
         .retain(|h, _| emitted.contains(h));
+    locals
 }
 
 /// The constant `bool` a function returns whatever its arguments: one whose body only
 /// evaluates expressions, stores constants into its locals and returns a constant, as
 /// `has_clearcoat` with the coat compiled out. (A body that does anything else, a call
 /// for one, is not taken.)
-fn constant_return(function: &Function, known: &Known<'_>) -> Option<bool> {
+fn constant_return(
+    function: &Function,
+    known: &Known<'_>,
+    locals: &HashMap<Handle<LocalVariable>, bool>,
+) -> Option<bool> {
     if !function
         .result
         .as_ref()
@@ -233,14 +244,13 @@ fn constant_return(function: &Function, known: &Known<'_>) -> Option<bool> {
     {
         return None;
     }
-    let locals = constant_locals(function, known);
     let mut value = None;
     for statement in function.body.iter() {
         match *statement {
             Statement::Emit(_) | Statement::Store { .. } if value.is_none() => {}
             Statement::Block(ref b) if value.is_none() && b.iter().all(is_store) => {}
             Statement::Return { value: Some(e) } if value.is_none() => {
-                value = Some(constant_bool(&function.expressions, known, &locals, e)?);
+                value = Some(constant_bool(&function.expressions, known, locals, e)?);
             }
             _ => return None,
         }

@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 
 use crate::display::DisplayTransform;
 use crate::environment::IblMethod;
-use crate::gpu::specialise::{cut_decided_branches, specialise, visit};
+use crate::gpu::specialise::{cut_decided_branches, parse, specialise, validate, visit};
 use crate::gpu::{shaders, TermMode, Variant};
 use crate::pixels::vulkan;
 use crate::scene::Scene;
@@ -33,14 +33,7 @@ fn variant(ibl: u8, clearcoat: bool, anisotropy: bool, lights: bool) -> Variant 
 }
 
 fn parsed(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
-    let module = naga::front::wgsl::parse_str(source).expect("the ball program parses");
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .expect("the ball program validates");
-    (module, info)
+    parse(source).unwrap_or_else(|e| panic!("the program does not parse or validate: {e}"))
 }
 
 fn function_names(module: &naga::Module) -> BTreeSet<String> {
@@ -197,12 +190,7 @@ fn a_cut_branch_keeps_the_side_its_constant_takes() {
         assert_eq!(decided_ifs(&m), 0);
         let wgsl = naga::back::wgsl::write_string(
             &m,
-            &naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&m)
-            .unwrap(),
+            &validate(&m).unwrap(),
             naga::back::wgsl::WriterFlags::empty(),
         )
         .unwrap();
