@@ -77,14 +77,15 @@ pub(crate) fn paint(
         // drawn texel for pixel).
         let centre_x = shift + 0.5 * (place.text.x0 + place.text.x1);
         let centre_y = 0.5 * (place.text.y0 + place.text.y1);
+        let [width_px, height_px] = image.handle.size().map(|n| n as f32);
         let margin = image.margin as f32;
-        let text_w = image.width as f32 - 2.0 * margin;
-        let text_h = image.height as f32 - 2.0 * margin;
+        let text_w = width_px - 2.0 * margin;
+        let text_h = height_px - 2.0 * margin;
         let x = (centre_x - 0.5 * text_w).round() - margin;
         let y = (centre_y - 0.5 * text_h).round() - margin;
         let rect = egui::Rect::from_min_size(
             egui::pos2(x / ppp, y / ppp),
-            egui::vec2(image.width as f32 / ppp, image.height as f32 / ppp),
+            egui::vec2(width_px / ppp, height_px / ppp),
         );
         let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
         // Nothing outside the label's outer box (its halo's room), as in a PNG.
@@ -109,12 +110,10 @@ const MAX_LABEL_IMAGES: usize = 256;
 #[derive(Clone, Default)]
 struct LabelImages(std::collections::HashMap<(String, u32), LabelTexture>);
 
-/// A label's image as a texture: its size and margin (`labels::LabelImage` without its
-/// pixels), and the handle that keeps the texture alive.
+/// A label's image as a texture: its margin (`labels::LabelImage::margin`) and the handle
+/// that keeps the texture alive (and knows its size).
 #[derive(Clone)]
 struct LabelTexture {
-    width: u32,
-    height: u32,
     margin: u32,
     handle: egui::TextureHandle,
 }
@@ -149,8 +148,6 @@ fn label_texture(ctx: &egui::Context, text: &str, size_px: f32) -> Option<LabelT
     let name = format!("label {size_px} {text}");
     let handle = ctx.load_texture(name, colour, egui::TextureOptions::NEAREST);
     let texture = LabelTexture {
-        width: image.width,
-        height: image.height,
         margin: image.margin,
         handle,
     };
