@@ -158,25 +158,6 @@ fn ball_tangent_frame(n: vec3<f32>, turn: vec2<f32>) -> mat3x3<f32> {
     return mat3x3<f32>(t, cross(n, t), n);
 }
 
-// The normal an anisotropic lobe reflects the map about under the split sum (the glTF
-// sample viewer's KHR_materials_anisotropy image-based lighting, after Revie 2011's bent
-// reflection; src/brdf anisotropic_bent_normal): n bent towards the normal of the plane
-// through the lobe's rough direction (the tangent t, alpha_t) facing v, by 1 - (1 - s (1 - r))^4, with the strength s and the
-// roughness r recovered from the pair (alpha_b = r^2, alpha_t = mix(alpha_b, 1, s^2)).
-fn anisotropic_bent_normal(n: vec3<f32>, v: vec3<f32>, t: vec3<f32>, alpha_t: f32, alpha_b: f32) -> vec3<f32> {
-    let s = sqrt(clamp((alpha_t - alpha_b) / max(1.0 - alpha_b, DIV_EPSILON), 0.0, 1.0));
-    let r = sqrt(alpha_b);
-    let across = cross(t, v);
-    let facing = cross(across, t);
-    let len = length(facing);
-    if len <= DIV_EPSILON {
-        return n;
-    }
-    let k = 1.0 - s * (1.0 - r);
-    let keep = k * k * k * k;
-    return normalize(mix(facing / len, n, keep));
-}
-
 // Schlick's approximation (Schlick 1994, "An Inexpensive BRDF Model for Physically-based
 // Rendering", eq. 15): F = F0 + (1 - F0) (1 - cos)^5, cos = v.h, clamped to [0, 1].
 fn f_schlick(f0: vec3<f32>, cos_theta: f32) -> vec3<f32> {

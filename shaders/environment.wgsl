@@ -97,10 +97,30 @@ fn env_multiple(tex: texture_2d_array<f32>, samp: sampler, n: vec3<f32>, roughne
 // sum centres it on r). specular_direction in src/environment/prefilter.rs.
 fn specular_direction(n: vec3<f32>, r: vec3<f32>, roughness: f32) -> vec3<f32> {
     let a = clamp(roughness, ROUGHNESS_MIN, 1.0);
-    let alpha = a * a;
+    return normalize(mix(n, r, dominant_weight(a * a)));
+}
+
+// The weight of the mirror direction against the normal in specular_direction for a lobe
+// of GGX alpha in [0, 1] (the same source's fit).
+fn dominant_weight(alpha: f32) -> f32 {
     let smoothness = 1.0 - alpha;
-    let t = smoothness * (sqrt(smoothness) + alpha);
-    return normalize(mix(n, r, t));
+    return smoothness * (sqrt(smoothness) + alpha);
+}
+
+// specular_direction for an anisotropic lobe of (alpha_t, alpha_b) along the unit tangent
+// t and bitangent b, read at `roughness` (its isotropic equivalent, or the wider one under
+// a clear coat, which scales both alphas alike): r's component along each axis leans
+// towards n by that axis's own weight, so that the read follows the lobe along its rough
+// axis (docs/design/anisotropy.md, "The split sum's direction"); equal alphas give
+// specular_direction.
+fn specular_direction_aniso(n: vec3<f32>, r: vec3<f32>, t: vec3<f32>, b: vec3<f32>, alpha_t: f32, alpha_b: f32, roughness: f32) -> vec3<f32> {
+    let a = clamp(roughness, ROUGHNESS_MIN, 1.0);
+    let alpha = a * a;
+    let scale = alpha / max(sqrt(alpha_t * alpha_b), DIV_EPSILON);
+    let w = dominant_weight(alpha);
+    let w_t = dominant_weight(min(alpha_t * scale, 1.0));
+    let w_b = dominant_weight(min(alpha_b * scale, 1.0));
+    return normalize((1.0 - w + w * dot(r, n)) * n + w_t * dot(r, t) * t + w_b * dot(r, b) * b);
 }
 
 // The split sum's bias B(mu, roughness) (SplitSum::bias_at): bilinear between the texels

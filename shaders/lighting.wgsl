@@ -5,9 +5,9 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, anisotropic_bent_normal}
+#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame}
 #import shadeballs::lut::lut_loss_row
-#import shadeballs::environment::{env_to_map, specular_direction, env_specular, env_irradiance}
+#import shadeballs::environment::{env_to_map, specular_direction, specular_direction_aniso, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
 #import shadeballs::environment::{pixel_scramble, lobe_frame_point, strategy_scramble}
 #import shadeballs::sampling::{duff_frame, sample_vndf, sample_cosine, equirect_density, power_estimate, guide_buckets}
@@ -193,20 +193,19 @@ fn shade_environment_map(
     let n_map = env_to_map(n, rotation);
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map, env_layer_set);
     let e_o = 1.0 - loss_o;
-    // An anisotropic lobe reflects about its bent normal (anisotropic_bent_normal).
-    var n_spec = n;
-    if has_anisotropy(b) {
-        let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
-        n_spec = anisotropic_bent_normal(n, v, frame[0], b.anisotropy_alpha_t, b.anisotropy_alpha_b);
-    }
-    let r = 2.0 * dot(n_spec, v) * n_spec - v;
+    let r = 2.0 * dot(n, v) * n - v;
     // Under a clear coat the lobe leaves the coat wider (clearcoat_base_roughness).
     var map_roughness = roughness;
     if has_clearcoat(b) {
         map_roughness = b.clearcoat_base_roughness;
     }
     // DOMINANT_DIRECTION = 0: the plain mirror direction (a measurement's switch).
-    let dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
+    var dominant = select(r, specular_direction(n, r, map_roughness), DOMINANT_DIRECTION == 1u);
+    // An anisotropic lobe's read leans to n by each axis's own roughness.
+    if has_anisotropy(b) && DOMINANT_DIRECTION == 1u {
+        let frame = ball_tangent_frame(n, vec2<f32>(b.anisotropy_cos, b.anisotropy_sin));
+        dominant = specular_direction_aniso(n, r, frame[0], frame[1], b.anisotropy_alpha_t, b.anisotropy_alpha_b, map_roughness);
+    }
     let prefiltered = intensity * env_specular(env_specular_layers, env_sampler, env_to_map(dominant, rotation), map_roughness, env_layer_set);
     let single = prefiltered * fss_ess;
     var lo = single;

@@ -119,31 +119,6 @@ pub(crate) fn ball_tangent(
     (t, n.cross(t))
 }
 
-/// The normal an anisotropic lobe reflects the map about under the split sum (the glTF
-/// sample viewer's `KHR_materials_anisotropy` image-based lighting, after Revie 2011's
-/// bent reflection vector): `n` bent towards the normal of the plane through the
-/// lobe's rough direction (the tangent `t`, `alpha_t`) facing `v`, by `1 - (1 - s (1 - r))^4`, the strength `s` and roughness `r`
-/// recovered from the pair (`alpha_b = r^2`, `alpha_t = mix(alpha_b, 1, s^2)`).
-pub(crate) fn anisotropic_bent_normal(
-    n: glam::DVec3,
-    v: glam::DVec3,
-    t: glam::DVec3,
-    (alpha_t, alpha_b): (f64, f64),
-) -> glam::DVec3 {
-    let s = ((alpha_t - alpha_b) / (1.0 - alpha_b).max(DIV_EPSILON))
-        .clamp(0.0, 1.0)
-        .sqrt();
-    let r = alpha_b.sqrt();
-    let facing = t.cross(v).cross(t);
-    let len = facing.length();
-    if len <= DIV_EPSILON {
-        return n;
-    }
-    let k = 1.0 - s * (1.0 - r);
-    let keep = k * k * k * k;
-    (facing / len).lerp(n, keep).normalize()
-}
-
 #[cfg(test)]
 mod tests {
     use std::f64::consts::PI;

@@ -15,8 +15,8 @@ use super::model::{
     anisotropic_frame, coated_point, model_brdf, pdf_vndf, pdf_vndf_lobe, sample_lobe, ShadingPoint,
 };
 use crate::brdf::{
-    alpha_from_roughness, anisotropic_bent_normal, f_micro, f_micro_aniso, f_ms, f_ms_norm,
-    f_schlick, term_fdez_aguera, term_turquin, FAvgForm, Geometry,
+    alpha_from_roughness, f_micro, f_micro_aniso, f_ms, f_ms_norm, f_schlick, term_fdez_aguera,
+    term_turquin, FAvgForm, Geometry,
 };
 use crate::environment::{lobe, IblTerm};
 use crate::lut::{CoatingRows, TableSet};
@@ -313,13 +313,18 @@ pub(crate) fn shade_environment_map(
     } = *terms;
     let e_o = 1.0 - loss_o;
     let intensity = ibl.intensity(environment);
-    // An anisotropic lobe reflects about its bent normal.
-    let n_spec = anisotropic_frame(b, n).map_or(n, |(frame, alphas)| {
-        anisotropic_bent_normal(n, v, frame.tangents().0, alphas)
-    });
-    let r = 2.0 * n_spec.dot(v) * n_spec - v;
+    let r = 2.0 * n.dot(v) * n - v;
     let n_map = environment.to_map(n);
-    let dominant = crate::environment::prefilter::specular_direction(n, r, terms.map_roughness);
+    // An anisotropic lobe's read leans to n by each axis's own roughness.
+    let dominant = match anisotropic_frame(b, n) {
+        Some((frame, alphas)) => crate::environment::prefilter::specular_direction_aniso(
+            (n, r),
+            frame.tangents(),
+            alphas,
+            terms.map_roughness,
+        ),
+        None => crate::environment::prefilter::specular_direction(n, r, terms.map_roughness),
+    };
     let prefiltered = intensity
         * ibl
             .prefiltered

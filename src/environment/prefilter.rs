@@ -32,7 +32,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::{direction_to_uv, uv_to_direction, EnvMap};
-use crate::brdf::{alpha_from_roughness, Geometry};
+use crate::brdf::{alpha_from_roughness, Geometry, DIV_EPSILON};
 use crate::lut::Tables;
 
 /// Layers of the specular prefilter: roughness 0, 1/6, ..., 1.
@@ -299,10 +299,36 @@ pub(crate) fn specular_roughness(layer: u32) -> f64 {
 /// read along at normal `n`, mirror direction `r`: `r` bent towards `n` as the lobe widens
 /// (Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", 4.9.3).
 pub fn specular_direction(n: DVec3, r: DVec3, roughness: f64) -> DVec3 {
-    let alpha = alpha_from_roughness(roughness);
+    n.lerp(r, dominant_weight(alpha_from_roughness(roughness)))
+        .normalize()
+}
+
+/// `dominant_weight` of `environment.wgsl`: the weight of the mirror direction against
+/// the normal in [`specular_direction`] for a lobe of GGX `alpha` in `[0, 1]`.
+pub(crate) fn dominant_weight(alpha: f64) -> f64 {
     let smooth = 1.0 - alpha;
-    let t = smooth * (smooth.sqrt() + alpha);
-    n.lerp(r, t).normalize()
+    smooth * (smooth.sqrt() + alpha)
+}
+
+/// `specular_direction_aniso` of `environment.wgsl`: [`specular_direction`] for an
+/// anisotropic lobe of `(alpha_t, alpha_b)` along the unit tangent `t` and bitangent `b`,
+/// read at `roughness` (its isotropic equivalent, or the wider one under a clear coat,
+/// which scales both alphas alike). `r`'s component along each axis leans towards `n` by
+/// that axis's own [`dominant_weight`], so that the read follows the lobe along its rough
+/// axis (docs/design/anisotropy.md, "The split sum's direction"). Equal alphas give
+/// [`specular_direction`].
+pub(crate) fn specular_direction_aniso(
+    (n, r): (DVec3, DVec3),
+    (t, b): (DVec3, DVec3),
+    (alpha_t, alpha_b): (f64, f64),
+    roughness: f64,
+) -> DVec3 {
+    let alpha = alpha_from_roughness(roughness);
+    let scale = alpha / (alpha_t * alpha_b).sqrt().max(DIV_EPSILON);
+    let w = dominant_weight(alpha);
+    let w_t = dominant_weight((alpha_t * scale).min(1.0));
+    let w_b = dominant_weight((alpha_b * scale).min(1.0));
+    ((1.0 - w + w * r.dot(n)) * n + w_t * r.dot(t) * t + w_b * r.dot(b) * b).normalize()
 }
 
 /// `kernel_at` of `prefilter.wgsl`: layer `layer` of `kernels` at `t` (0 below the horizon).

@@ -80,7 +80,7 @@ fn specialising_cuts_the_branches_the_constants_decide() {
             &[
                 "clearcoat_begin",
                 "shade_environment_mis",
-                "anisotropic_bent_normal",
+                "specular_direction_aniso",
             ][..],
         ),
         (
@@ -99,12 +99,12 @@ fn specialising_cuts_the_branches_the_constants_decide() {
             "coated",
             variant(1, true, false, false),
             &["clearcoat_begin"][..],
-            &["shade_environment_mis", "anisotropic_bent_normal"][..],
+            &["shade_environment_mis", "specular_direction_aniso"][..],
         ),
         (
             "anisotropic",
             variant(1, false, true, false),
-            &["anisotropic_bent_normal"][..],
+            &["specular_direction_aniso"][..],
             &["clearcoat_begin"][..],
         ),
     ];

@@ -113,7 +113,7 @@ fn anisotropy_vulkan_matches_cpu() {
         }
     }
     // The check can fail: the chart's anisotropic balls differ from the same balls made
-    // isotropic (the lights' lobe and the map's bent normal show).
+    // isotropic (the lights' lobe and the map's read along the lobe show).
     let scene = chart_lit(false);
     let mut iso = scene.clone();
     for b in &mut iso.balls {
@@ -439,7 +439,7 @@ fn the_anisotropic_walk_keeps_its_laws() {
 }
 
 /// The default anisotropic lobe (the isotropic-equivalent Kulla-Conty term, the lights'
-/// anisotropic lobe, the map's split sum about the bent normal) against the truth (the
+/// anisotropic lobe, the map's split sum along `specular_direction_aniso`) against the truth (the
 /// walk on the stretched microsurface, `cpu::render_truth`) per ball under the studio:
 /// anisotropy 0 (the control), 0.5, 0.8 and 1 at roughness 0.3 and 0.7. Beside it, the same
 /// model with the albedos of a table with the anisotropy as a dimension
@@ -468,8 +468,13 @@ fn the_default_anisotropic_lobe_against_the_truth() {
         100.0 * light[1],
         100.0 * light[2]
     );
+    // The worst is the smoothest, most stretched ball (roughness 0.3, anisotropy 1:
+    // +11.5 %), whose isotropic-equivalent albedo overstates its single scattering under
+    // the split sum. This bound was 6 % while the split sum read the map turned by a
+    // quarter turn (its worst 4.4 %, errors that cancelled: docs/design/anisotropy.md, "The
+    // split sum's direction"); the read that follows the lobe took it to 11.5 %.
     assert!(
-        studio[0] < 0.06,
+        studio[0] < 0.12,
         "an anisotropic ball is {:.2} % from the truth",
         100.0 * studio[0]
     );
@@ -480,6 +485,69 @@ fn the_default_anisotropic_lobe_against_the_truth() {
         "under the light: {:.2} %, with the table {:.2} %",
         100.0 * light[0],
         100.0 * light[1]
+    );
+}
+
+/// The split sum's picture of a stretched lobe follows the lobe: under the studio, the
+/// single scattering of the CPU twin (its split sum, every ball without the term) against
+/// the same model integrated by sampling its BRDF (`cpu::render_montecarlo`, no split sum),
+/// pixel by pixel. Per anisotropic ball, the correlation of the two pictures' luminance
+/// over the ball's pixels is held above a bound; a read that spreads the map across the
+/// rough direction instead of along it fails it: the bent normal of the glTF sample viewer
+/// bent about the tangent (this renderer's read before 2026-12-05) gave 0.07 at worst, and
+/// bent about the bitangent (Filament's, three.js's) 0.61. No truth is involved: the
+/// sampled model is the split sum's own reference.
+#[test]
+fn the_split_sum_follows_the_stretched_lobe() {
+    let (w, h) = (256, 144);
+    const ANISOTROPY: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
+    const ROUGHNESS: [f64; 2] = [0.3, 0.7];
+    let mut scene = chart(2, 4, |r, c| {
+        (
+            ROUGHNESS[r],
+            Material::metal_srgb([0.91, 0.91, 0.9]).with_anisotropy(ANISOTROPY[c], 0.0),
+            Model::None,
+        )
+    });
+    scene.environment = DVec3::ZERO;
+    scene.environment_map = Some(crate::environment::Environment::builtin(
+        crate::environment::Builtin::Studio,
+    ));
+    scene.geometry = Geometry::SmithCorrelated;
+    scene.antialias = false;
+    let tables = crate::lut::bake(&crate::lut::BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..Default::default()
+    });
+    let e = crate::lut::TableSet::full(tables);
+    let prepared = crate::prepared::Prepared::new(&scene, &e);
+    let split = crate::cpu::render_radiance(&scene, &prepared, w, h);
+    let sampled = crate::cpu::render_montecarlo(&scene, &prepared, w, h, 256, 43).unwrap();
+    let luminance = |c: DVec3| c.dot(DVec3::new(0.2126, 0.7152, 0.0722));
+    let mut worst = f64::INFINITY;
+    for (k, b) in scene.balls.iter().enumerate() {
+        let pixels = interior(&scene, k, w, h);
+        let a: Vec<f64> = pixels.iter().map(|&p| luminance(split[p])).collect();
+        let m: Vec<f64> = pixels.iter().map(|&p| luminance(sampled.mean[p])).collect();
+        let n = a.len() as f64;
+        let (ma, mm) = (a.iter().sum::<f64>() / n, m.iter().sum::<f64>() / n);
+        let cov: f64 = a.iter().zip(&m).map(|(x, y)| (x - ma) * (y - mm)).sum();
+        let va: f64 = a.iter().map(|x| (x - ma) * (x - ma)).sum();
+        let vm: f64 = m.iter().map(|y| (y - mm) * (y - mm)).sum();
+        let correlation = cov / (va * vm).sqrt().max(f64::MIN_POSITIVE);
+        println!(
+            "r {} anisotropy {}: the split sum's picture against the sampled model's, \
+             correlation {correlation:.3}",
+            b.roughness, b.material.anisotropy
+        );
+        if b.material.is_anisotropic() {
+            worst = worst.min(correlation);
+        }
+    }
+    println!("worst anisotropic ball: correlation {worst:.3}");
+    assert!(
+        worst > 0.7,
+        "the split sum's picture strays from its lobe's: {worst:.3}"
     );
 }
 
@@ -526,7 +594,7 @@ fn against_the_truth(light: impl Fn(&mut Scene)) -> [f64; 3] {
     // of its BRDF: no split sum), at SHADEBALLS_ANISO_MC samples a pixel: the model's own
     // error apart from the split sum's (docs/design/anisotropy.md).
     // The same without the term (every ball Model::None), split sum against sampled: the
-    // split sum's own error on the single scattering (the bent normal's), no truth needed.
+    // split sum's own error on the single scattering (its read's), no truth needed.
     let sampled = std::env::var("SHADEBALLS_ANISO_MC")
         .ok()
         .and_then(|s| s.parse::<u32>().ok())
