@@ -50,7 +50,7 @@ pub struct TruthArgs {
 /// Flags of `shadeballs-lab compare`.
 #[derive(clap::Args)]
 pub struct CompareArgs {
-    /// The scene: its roughness values, first material, lights and environment.
+    /// The scene: its roughness values, one ball's material (--ball), lights and environment.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Folder for compare.csv, compare.png, heatmaps.png, time_vs_error.png, summary.md.
@@ -63,6 +63,10 @@ pub struct CompareArgs {
     /// Random seed of the truth.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
+    /// The ball whose material the rows take, counted from 1 in the scene's order.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub ball: u32,
     /// Smaller rows (64 pixels a ball instead of 160), 32 truth estimates a pixel, frame
     /// times at 640x360: seconds instead of a minute.
     #[arg(long)]

@@ -12,6 +12,7 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     shadeballs::cli::check_wgpu_backend_env(args.backend)?;
     // The homework's scene by default: the one docs/truth.md's figures are of.
     let scene = args.scene.load_or(shadeballs::scene::Scene::reference)?;
+    let scene = compare::with_rows_material(scene, args.ball as usize - 1)?;
     // The library's opening of a backend, with its fallbacks (`shadeballs::render::open`).
     let (mut renderer, notice) = shadeballs::render::open(args.backend)?;
     if let Some(notice) = notice {

@@ -3,8 +3,9 @@
 //!
 //! One row of balls over the scene's roughness values (its first ball's material, its
 //! lights and environment, a camera framing the row) is rendered once per model: `none`,
-//! Kulla-Conty under both presets, Turquin, Fdez-Aguera, on the GPU when there is one
-//! (else the CPU reference renderer), and the truth by the CPU random walk
+//! Kulla-Conty under both presets, Turquin, Fdez-Aguera, and Kulla-Conty under each other
+//! form the material has ([`rows`]), on the GPU when there is one (else the CPU reference
+//! renderer), and the truth by the CPU random walk
 //! ([`shadeballs::cpu::render_truth`]). Every row is the same geometry, so a model's image
 //! compares with the truth's pixel for pixel ([`image_error`]). Writes `compare.csv`,
 //! `compare.png` (the rows stacked, labelled), `heatmaps.png` (each model's relative error,
@@ -74,6 +75,9 @@ pub struct Row {
     /// How a clear coat weights the base (the scene's, except in the rows of the other
     /// coat forms).
     pub coat_form: CoatForm,
+    /// Whether the row draws the material without its anisotropy (the same roughness,
+    /// isotropic): what a renderer without glTF's `KHR_materials_anisotropy` draws.
+    pub anisotropy_ignored: bool,
 }
 
 /// One row's measurements.
@@ -123,7 +127,8 @@ impl Comparison {
 /// The model rows compared with the truth for `scene`: every model under the scene's
 /// layering and coat forms; where its first ball (the rows' material) has a dielectric
 /// part, Kulla-Conty under each other layering form; where it has a clear coat, Kulla-Conty
-/// under each other coat form.
+/// under each other coat form; where its lobe is anisotropic, Kulla-Conty with the
+/// anisotropy ignored.
 pub fn rows(scene: &Scene) -> Vec<Row> {
     let layering = scene.layering;
     let coat_form = scene.coat_form;
@@ -133,6 +138,7 @@ pub fn rows(scene: &Scene) -> Vec<Row> {
         preset,
         layering,
         coat_form,
+        anisotropy_ignored: false,
     };
     let mut rows = vec![
         row("none", Model::None, Preset::Accurate),
@@ -156,7 +162,7 @@ pub fn rows(scene: &Scene) -> Vec<Row> {
     {
         for form in Layering::ALL.into_iter().filter(|&f| f != layering) {
             rows.push(Row {
-                name: format!("kulla-conty, {form} layering"),
+                name: format!("kulla-conty ({form} layering)"),
                 layering: form,
                 ..row("", Model::KullaConty, Preset::Accurate)
             });
@@ -169,13 +175,55 @@ pub fn rows(scene: &Scene) -> Vec<Row> {
     {
         for form in CoatForm::ALL.into_iter().filter(|&f| f != coat_form) {
             rows.push(Row {
-                name: format!("kulla-conty, {form} coat"),
+                name: format!("kulla-conty ({form} coat)"),
                 coat_form: form,
                 ..row("", Model::KullaConty, Preset::Accurate)
             });
         }
     }
+    if scene
+        .balls
+        .first()
+        .is_some_and(|b| b.material.anisotropy > 0.0)
+    {
+        rows.push(Row {
+            anisotropy_ignored: true,
+            ..row(
+                "kulla-conty (anisotropy ignored)",
+                Model::KullaConty,
+                Preset::Accurate,
+            )
+        });
+    }
     rows
+}
+
+/// `scene` with its ball `ball` (counted from 0) moved first, so that the rows take its
+/// material (`shadeballs-lab compare --ball`); a one-line error where there is no such
+/// ball.
+pub fn with_rows_material(mut scene: Scene, ball: usize) -> Result<Scene> {
+    if ball >= scene.balls.len() {
+        return Err(Error::Invalid {
+            what: "--ball",
+            message: format!(
+                "no ball {} (counted from 1) in a scene of {}",
+                ball + 1,
+                scene.balls.len()
+            ),
+        });
+    }
+    let chosen = scene.balls.remove(ball);
+    scene.balls.insert(0, chosen);
+    Ok(scene)
+}
+
+/// `scene`'s balls with their lobes made isotropic where `row` ignores the anisotropy.
+fn apply_anisotropy(row: &Row, scene: &mut Scene) {
+    if row.anisotropy_ignored {
+        for b in &mut scene.balls {
+            b.material.anisotropy = 0.0;
+        }
+    }
 }
 
 /// The distinct roughness values of `scene`'s balls, ascending.
@@ -272,11 +320,12 @@ pub fn run(options: &CompareOptions, mut renderer: Option<&mut Renderer>) -> Res
     let mut pictures = Vec::new();
     let mut heatmaps = Vec::new();
     for row in rows(&options.scene) {
-        let scene = Scene {
+        let mut scene = Scene {
             layering: row.layering,
             coat_form: row.coat_form,
             ..row_scene(&options.scene, &roughness, row.model, row.preset)
         };
+        apply_anisotropy(&row, &mut scene);
         truth.image.compares_with(scene.antialias)?;
         let radiance = radiance(&scene, renderer.as_deref_mut(), w, h)?;
         let ldr = cpu::to_rgba8(&radiance, exposure);
@@ -493,6 +542,7 @@ fn frame_ms(
     for b in &mut scene.balls {
         b.model = row.model;
     }
+    apply_anisotropy(row, &mut scene);
     let (w, h) = options.timing_size;
     let mut times = Vec::new();
     match renderer {

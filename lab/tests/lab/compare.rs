@@ -108,6 +108,76 @@ fn a_row_is_the_scene_s_roughness_values_with_one_model() {
         !forms.contains(&coated.coat_form) && forms.len() == 2,
         "{forms:?}"
     );
+    // An anisotropic chart adds Kulla-Conty with the anisotropy ignored.
+    let mut brushed = scene.clone();
+    for b in &mut brushed.balls {
+        b.material.anisotropy = 0.8;
+    }
+    let rows = shadeballs_lab::compare::rows(&brushed);
+    assert_eq!(rows.len(), 6, "{rows:?}");
+    assert!(rows[..5].iter().all(|r| !r.anisotropy_ignored));
+    assert!(rows[5].anisotropy_ignored && rows[5].model == Model::KullaConty);
+    // --ball: the rows take that ball's material, and there is no ball 0 or past the last.
+    let moved = shadeballs_lab::compare::with_rows_material(brushed.clone(), 2).unwrap();
+    assert_eq!(moved.balls[0], brushed.balls[2]);
+    assert_eq!(moved.balls.len(), brushed.balls.len());
+    let err = shadeballs_lab::compare::with_rows_material(brushed.clone(), 99).unwrap_err();
+    assert!(
+        err.to_string().contains("no ball 100 (counted from 1)"),
+        "{err}"
+    );
+}
+
+/// `compare --ball` on the anisotropy chart: its ball 16 (anisotropy 1) gives the rows
+/// their material, and the row that ignores the anisotropy draws another picture.
+#[test]
+fn compare_takes_a_ball_s_material_and_rows_the_anisotropy_ignored() {
+    let dir = temp_dir("compare-anisotropy");
+    let out = dir.join("results");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/scenes/anisotropy.toml"
+    );
+    let (ok, stderr) = lab(&[
+        "compare",
+        "--quick",
+        "--spp",
+        "16",
+        "--scene",
+        scene,
+        "--ball",
+        "16",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 6 * 5, "{csv}");
+    // A row's name holds no comma: every line splits into the header's ten columns.
+    assert!(rows.iter().all(|r| r.len() == 10), "{csv}");
+    let err = |model: &str| -> f64 {
+        let row = rows
+            .iter()
+            .find(|c| c[0] == model && c[1] == "0.1")
+            .unwrap();
+        row[2].parse().unwrap()
+    };
+    // At roughness 0.1 the stretched lobe (alpha_t 1, alpha_b 0.01) and the isotropic
+    // one (alpha 0.01) are different balls: their errors against the same truth differ
+    // by a factor of about 3.4 (measured at 900fe83).
+    let (default, ignored) = (
+        err("kulla-conty (accurate)"),
+        err("kulla-conty (anisotropy ignored)"),
+    );
+    assert!(
+        default > 1.5 * ignored || ignored > 1.5 * default,
+        "{default} against {ignored}: {csv}"
+    );
 }
 
 #[test]
@@ -176,6 +246,11 @@ fn compare_writes_its_files_and_the_truth_favours_the_term_on_rough_balls() {
         (
             vec!["--backend", "truth"],
             "the truth row is always the CPU's",
+        ),
+        (vec!["--ball", "0"], "--ball"),
+        (
+            vec!["--ball", "11"],
+            "no ball 11 (counted from 1) in a scene of 10",
         ),
     ] {
         let mut all = vec!["compare", "--quick", "--out", out.to_str().unwrap()];
