@@ -158,6 +158,13 @@ fn ball_tangent_frame(n: vec3<f32>, turn: vec2<f32>) -> mat3x3<f32> {
     return mat3x3<f32>(t, cross(n, t), n);
 }
 
+// The roughness of the isotropic lobe of an anisotropic pair's solid angle, alpha =
+// sqrt(alpha_t alpha_b): the level the split sum reads the prefiltered map at (src/brdf
+// equal_area_roughness).
+fn equal_area_roughness(alpha_t: f32, alpha_b: f32) -> f32 {
+    return sqrt(sqrt(max(alpha_t * alpha_b, 0.0)));
+}
+
 // Schlick's approximation (Schlick 1994, "An Inexpensive BRDF Model for Physically-based
 // Rendering", eq. 15): F = F0 + (1 - F0) (1 - cos)^5, cos = v.h, clamped to [0, 1].
 fn f_schlick(f0: vec3<f32>, cos_theta: f32) -> vec3<f32> {

@@ -5,7 +5,7 @@
 #define_import_path shadeballs::lighting
 #import shadeballs::constants::PI
 #import shadeballs::brdf::{f_schlick, f_micro, f_ms, term_turquin, term_fdez_aguera}
-#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame}
+#import shadeballs::brdf::{alpha_from_roughness, f_micro_aniso, ball_tangent_frame, equal_area_roughness}
 #import shadeballs::lut::lut_loss_row
 #import shadeballs::environment::{env_to_map, specular_direction, specular_direction_aniso, env_specular, env_irradiance}
 #import shadeballs::environment::{env_multiple, split_sum_bias, split_sum_scale, direction_to_uv, uv_to_direction}
@@ -194,8 +194,13 @@ fn shade_environment_map(
     let irradiance = intensity * env_irradiance(env_convolved, env_sampler, n_map, env_layer_set);
     let e_o = 1.0 - loss_o;
     let r = 2.0 * dot(n, v) * n - v;
-    // Under a clear coat the lobe leaves the coat wider (clearcoat_base_roughness).
+    // An anisotropic lobe reads the map at its equal solid angle (its albedos at its
+    // stand-in's roughness); under a clear coat the lobe leaves the coat wider
+    // (clearcoat_base_roughness).
     var map_roughness = roughness;
+    if has_anisotropy(b) {
+        map_roughness = equal_area_roughness(b.anisotropy_alpha_t, b.anisotropy_alpha_b);
+    }
     if has_clearcoat(b) {
         map_roughness = b.clearcoat_base_roughness;
     }

@@ -18,9 +18,21 @@ pub(crate) fn anisotropic_alphas(roughness: f64, anisotropy: f64) -> (f64, f64) 
     (alpha + (1.0 - alpha) * k2, alpha)
 }
 
-/// The isotropic-equivalent roughness of the pair, what engines feed the isotropic
-/// multiple-scattering term: `alpha = sqrt(alpha_t alpha_b)`, roughness `sqrt(alpha)`.
+/// The roughness of the isotropic lobe that stands in for the pair's energy (its E rows,
+/// `E_avg`, the term's `f_add`, the split sum's tables): the lobe of equal mean squared
+/// slope, `alpha^2 = (alpha_t^2 + alpha_b^2) / 2`, roughness `sqrt(alpha)`. Of the
+/// stand-ins measured, its loss `1 - E(v)` is the nearest to the stretched lobe's own
+/// (docs/design/anisotropy.md, "Other equivalents"); engines take `sqrt(alpha_t alpha_b)`.
 pub(crate) fn isotropic_roughness(alpha_t: f64, alpha_b: f64) -> f64 {
+    (0.5 * (alpha_t * alpha_t + alpha_b * alpha_b))
+        .sqrt()
+        .sqrt()
+}
+
+/// The roughness of the isotropic lobe of the pair's solid angle, `alpha = sqrt(alpha_t
+/// alpha_b)`, roughness `sqrt(alpha)`: the level the split sum reads the prefiltered map at
+/// (the map blurred over as much of the sphere as the lobe covers).
+pub(crate) fn equal_area_roughness(alpha_t: f64, alpha_b: f64) -> f64 {
     (alpha_t * alpha_b).max(0.0).sqrt().sqrt()
 }
 

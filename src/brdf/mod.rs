@@ -17,8 +17,8 @@ mod layering;
 mod ndf;
 
 pub(crate) use anisotropy::{
-    anisotropic_alphas, ball_tangent, d_ggx_aniso, f_micro_aniso, isotropic_roughness,
-    lambda_smith_aniso,
+    anisotropic_alphas, ball_tangent, d_ggx_aniso, equal_area_roughness, f_micro_aniso,
+    isotropic_roughness, lambda_smith_aniso,
 };
 pub use clearcoat::clearcoat_escape_nodes;
 pub(crate) use clearcoat::{

@@ -281,7 +281,11 @@ pub(super) fn shade_with_terms(
         fss_ess,
         fms_ems,
         f_add,
-        map_roughness: forms.coat.map_or(roughness, |c| c.base_roughness()),
+        map_roughness: forms
+            .coat
+            .map_or(b.material.map_roughness(b.roughness), |c| {
+                c.base_roughness()
+            }),
     };
     (lo, terms, lights)
 }

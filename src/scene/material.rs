@@ -110,7 +110,8 @@ impl Material {
 
     /// Whether the lobe is anisotropic (`anisotropy > 0`): then its lights' single
     /// scattering is the anisotropic lobe's, and everything isotropic about the ball reads
-    /// its isotropic-equivalent roughness ([`Material::shading_roughness`]).
+    /// its isotropic stand-in's roughness ([`Material::shading_roughness`]), the
+    /// prefiltered map's level excepted ([`Material::map_roughness`]).
     pub(crate) fn is_anisotropic(&self) -> bool {
         self.anisotropy > 0.0
     }
@@ -121,15 +122,27 @@ impl Material {
     }
 
     /// The roughness every isotropic part of the ball reads at `roughness` (its E and
-    /// E_avg, the term's `f_add`, the split sum, the prefiltered map, the coating): the
-    /// isotropic equivalent `sqrt(sqrt(alpha_t alpha_b))` of an anisotropic lobe (what
-    /// engines feed their isotropic terms), `roughness` itself otherwise.
+    /// E_avg, the term's `f_add`, the split sum's tables, the coating): for an anisotropic
+    /// lobe its isotropic stand-in of equal mean squared slope
+    /// ([`crate::brdf::isotropic_roughness`]), `roughness` itself otherwise.
     pub(crate) fn shading_roughness(&self, roughness: f64) -> f64 {
         if !self.is_anisotropic() {
             return roughness;
         }
         let (t, b) = self.anisotropic_alphas(roughness);
         crate::brdf::isotropic_roughness(t, b)
+    }
+
+    /// The level the split sum reads the prefiltered map at for a lobe of `roughness`: an
+    /// anisotropic lobe's equal solid angle ([`crate::brdf::equal_area_roughness`]),
+    /// `roughness` itself otherwise (`equal_area_roughness` of `brdf.wgsl` in
+    /// `lighting.wgsl`'s `shade_environment`).
+    pub(crate) fn map_roughness(&self, roughness: f64) -> f64 {
+        if !self.is_anisotropic() {
+            return roughness;
+        }
+        let (t, b) = self.anisotropic_alphas(roughness);
+        crate::brdf::equal_area_roughness(t, b)
     }
 
     /// `(cos, sin)` of the anisotropy's rotation.
