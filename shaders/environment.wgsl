@@ -108,8 +108,8 @@ fn dominant_weight(alpha: f32) -> f32 {
 }
 
 // specular_direction for an anisotropic lobe of (alpha_t, alpha_b) along the unit tangent
-// t and bitangent b, read at `roughness` (its isotropic equivalent, or the wider one under
-// a clear coat, which scales both alphas alike): r's component along each axis leans
+// t and bitangent b, read at the level `roughness` (the lobe's equal solid angle, or the
+// wider one under a clear coat, which scales both alphas alike): r's component along each axis leans
 // towards n by that axis's own weight, so that the read follows the lobe along its rough
 // axis (docs/design/anisotropy.md, "The split sum's direction"); equal alphas give
 // specular_direction.

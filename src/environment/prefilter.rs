@@ -312,8 +312,8 @@ pub(crate) fn dominant_weight(alpha: f64) -> f64 {
 
 /// `specular_direction_aniso` of `environment.wgsl`: [`specular_direction`] for an
 /// anisotropic lobe of `(alpha_t, alpha_b)` along the unit tangent `t` and bitangent `b`,
-/// read at `roughness` (its isotropic equivalent, or the wider one under a clear coat,
-/// which scales both alphas alike). `r`'s component along each axis leans towards `n` by
+/// read at the level `roughness` (the lobe's equal solid angle, or the wider one under a
+/// clear coat, which scales both alphas alike). `r`'s component along each axis leans towards `n` by
 /// that axis's own [`dominant_weight`], so that the read follows the lobe along its rough
 /// axis (docs/design/anisotropy.md, "The split sum's direction"). Equal alphas give
 /// [`specular_direction`].

@@ -136,7 +136,7 @@ impl Material {
     /// The level the split sum reads the prefiltered map at for a lobe of `roughness`: an
     /// anisotropic lobe's equal solid angle ([`crate::brdf::equal_area_roughness`]),
     /// `roughness` itself otherwise (`equal_area_roughness` of `brdf.wgsl` in
-    /// `lighting.wgsl`'s `shade_environment`).
+    /// `lighting.wgsl`'s `shade_environment_map`).
     pub(crate) fn map_roughness(&self, roughness: f64) -> f64 {
         if !self.is_anisotropic() {
             return roughness;
