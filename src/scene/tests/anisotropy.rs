@@ -500,38 +500,53 @@ fn the_default_anisotropic_lobe_against_the_truth() {
     );
 }
 
-/// The split sum's picture of a stretched lobe follows the lobe: under the studio, the
-/// single scattering of the CPU twin (its split sum, every ball without the term) against
-/// the same model integrated by sampling its BRDF (`cpu::render_montecarlo`, no split sum),
-/// pixel by pixel. Per anisotropic ball, the correlation of the two pictures' luminance
-/// over the ball's pixels is held above a bound; a read that spreads the map across the
-/// rough direction instead of along it fails it: the bent normal of the glTF sample viewer
-/// bent about the tangent (this renderer's read before 2026-12-05) gave 0.07 at worst, and
-/// bent about the bitangent (Filament's, three.js's) 0.61. No truth is involved: the
-/// sampled model is the split sum's own reference.
-#[test]
-fn the_split_sum_follows_the_stretched_lobe() {
-    let (w, h) = (256, 144);
+/// The pixels of [`brushed_chart`]'s pictures.
+const BRUSHED_SIZE: (u32, u32) = (256, 144);
+
+/// Brushed aluminium (sRGB 0.91, 0.91, 0.9): roughness 0.3 and 0.7 down the rows,
+/// anisotropy 0, 0.5, 0.8 and 1 across, every ball `model`, unlit (no uniform light), with
+/// height-correlated Smith and one ray through each pixel's centre.
+fn brushed_chart(model: Model) -> Scene {
     const ANISOTROPY: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
     const ROUGHNESS: [f64; 2] = [0.3, 0.7];
     let mut scene = chart(2, 4, |r, c| {
         (
             ROUGHNESS[r],
             Material::metal_srgb([0.91, 0.91, 0.9]).with_anisotropy(ANISOTROPY[c], 0.0),
-            Model::None,
+            model,
         )
     });
     scene.environment = DVec3::ZERO;
+    scene.geometry = Geometry::SmithCorrelated;
+    scene.antialias = false;
+    scene
+}
+
+/// Every table `scene`'s geometry reads, baked whole.
+fn full_tables(scene: &Scene) -> crate::lut::TableSet {
+    crate::lut::TableSet::full(crate::lut::bake(&crate::lut::BakeConfig {
+        geometry: scene.effective_geometry(),
+        ..Default::default()
+    }))
+}
+
+/// The split sum's picture of a stretched lobe follows the lobe: under the studio, the
+/// single scattering of the CPU twin (its split sum, every ball without the term) against
+/// the same model integrated by sampling its BRDF (`cpu::render_montecarlo`, no split sum),
+/// pixel by pixel. Per anisotropic ball, the correlation of the two pictures' luminance
+/// over the ball's pixels is held above a bound; a read that spreads the map across the
+/// rough direction instead of along it fails it: the bent normal of the glTF sample viewer
+/// bent about the tangent (this renderer's read before 900fe83) gave 0.07 at worst, and
+/// bent about the bitangent (Filament's, three.js's) 0.61. No truth is involved: the
+/// sampled model is the split sum's own reference.
+#[test]
+fn the_split_sum_follows_the_stretched_lobe() {
+    let (w, h) = BRUSHED_SIZE;
+    let mut scene = brushed_chart(Model::None);
     scene.environment_map = Some(crate::environment::Environment::builtin(
         crate::environment::Builtin::Studio,
     ));
-    scene.geometry = Geometry::SmithCorrelated;
-    scene.antialias = false;
-    let tables = crate::lut::bake(&crate::lut::BakeConfig {
-        geometry: scene.effective_geometry(),
-        ..Default::default()
-    });
-    let e = crate::lut::TableSet::full(tables);
+    let e = full_tables(&scene);
     let prepared = crate::prepared::Prepared::new(&scene, &e);
     let split = crate::cpu::render_radiance(&scene, &prepared, w, h);
     let sampled = crate::cpu::render_montecarlo(&scene, &prepared, w, h, 256, 43).unwrap();
@@ -568,25 +583,10 @@ fn the_split_sum_follows_the_stretched_lobe() {
 /// of the model with the table, and the worst isotropic ball's (the channels' mean of the
 /// ball means' signed relative errors).
 fn against_the_truth(light: impl Fn(&mut Scene)) -> [f64; 3] {
-    let (w, h) = (256, 144);
-    const ANISOTROPY: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
-    const ROUGHNESS: [f64; 2] = [0.3, 0.7];
-    let mut scene = chart(2, 4, |r, c| {
-        (
-            ROUGHNESS[r],
-            Material::metal_srgb([0.91, 0.91, 0.9]).with_anisotropy(ANISOTROPY[c], 0.0),
-            Model::KullaConty,
-        )
-    });
-    scene.environment = DVec3::ZERO;
+    let (w, h) = BRUSHED_SIZE;
+    let mut scene = brushed_chart(Model::KullaConty);
     light(&mut scene);
-    scene.geometry = Geometry::SmithCorrelated;
-    scene.antialias = false;
-    let tables = crate::lut::bake(&crate::lut::BakeConfig {
-        geometry: scene.effective_geometry(),
-        ..Default::default()
-    });
-    let e = crate::lut::TableSet::full(tables);
+    let e = full_tables(&scene);
     let settings = crate::cpu::TruthSettings {
         spp: 64,
         seed: 3,
