@@ -395,10 +395,7 @@ fn create_pipeline(
         vertex: wgpu::VertexState {
             module: &vertex.module,
             entry_point: Some(shaders::VS_BALL),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: vertex.constants,
-                ..Default::default()
-            },
+            compilation_options: vertex.options(),
             buffers: &[Some(BallInstance::LAYOUT)],
         },
         primitive: wgpu::PrimitiveState {
@@ -416,10 +413,7 @@ fn create_pipeline(
         fragment: Some(wgpu::FragmentState {
             module: &fragment.module,
             entry_point: Some(shaders::FS_MONTECARLO),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: fragment.constants,
-                ..Default::default()
-            },
+            compilation_options: fragment.options(),
             targets: &[target.clone(), target],
         }),
         multiview_mask: None,

@@ -222,10 +222,7 @@ pub(super) fn create(
         vertex: wgpu::VertexState {
             module: &vertex.module,
             entry_point: Some(shape.vs),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: vertex.constants,
-                ..Default::default()
-            },
+            compilation_options: vertex.options(),
             buffers: shape.buffers,
         },
         primitive: wgpu::PrimitiveState {
@@ -243,10 +240,7 @@ pub(super) fn create(
         fragment: Some(wgpu::FragmentState {
             module: &fragment.module,
             entry_point: Some(shape.fs),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: fragment.constants,
-                ..Default::default()
-            },
+            compilation_options: fragment.options(),
             targets: &[Some(wgpu::ColorTargetState {
                 format,
                 blend: None,

@@ -41,6 +41,16 @@ pub(crate) struct Stage<'a> {
     pub constants: &'a [(&'a str, f64)],
 }
 
+impl<'a> Stage<'a> {
+    /// The stage's compilation options: the constants it still needs.
+    pub(crate) fn options(&self) -> wgpu::PipelineCompilationOptions<'a> {
+        wgpu::PipelineCompilationOptions {
+            constants: self.constants,
+            ..Default::default()
+        }
+    }
+}
+
 impl ParsedProgram {
     /// Parses and validates `source` (named `label` in wgpu's messages).
     pub(crate) fn new(label: &'static str, source: &'static str) -> Self {
@@ -248,7 +258,7 @@ fn constant_return(
     for statement in function.body.iter() {
         match *statement {
             Statement::Emit(_) | Statement::Store { .. } if value.is_none() => {}
-            Statement::Block(ref b) if value.is_none() && b.iter().all(is_store) => {}
+            Statement::Block(ref b) if value.is_none() && b.iter().all(stores_or_emits) => {}
             Statement::Return { value: Some(e) } if value.is_none() => {
                 value = Some(constant_bool(&function.expressions, known, locals, e)?);
             }
@@ -258,7 +268,7 @@ fn constant_return(
     value
 }
 
-fn is_store(statement: &Statement) -> bool {
+fn stores_or_emits(statement: &Statement) -> bool {
     matches!(statement, Statement::Store { .. } | Statement::Emit(_))
 }
 
